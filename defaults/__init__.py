@@ -1,0 +1,83 @@
+"""The paper's default parameters and tables as data (TOML), loaded once and validated.
+
+Files
+-----
+parameters.toml
+    Every canonical parameter (SPEC 3.2) with value, unit, source and valid range.
+tables.toml
+    Class tables (Tables 11, 14, 16, 18, 27, 30), lookup tables (Tables 20, 21,
+    31, 38, 41) and the printed values that ``csuas defaults check`` recomputes.
+presets.toml
+    Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
+    environments (the paper's condition classes).
+scenarios/
+    Embedded scenario files.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+from importlib import resources
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+from csuas.errors import CsuasError
+
+#: Sections of parameters.toml, in the order of the paper.
+SECTIONS = ("target", "environment", "eo", "tir", "acoustic", "rf", "radar", "lidar")
+MODALITIES = ("eo", "tir", "acoustic", "rf", "radar", "lidar")
+
+
+def _load(name: str) -> dict:
+    with resources.files(__name__).joinpath(name).open("rb") as fh:
+        return tomllib.load(fh)
+
+
+def _validate_parameters(params: dict) -> dict:
+    for section, entries in params.items():
+        for name, spec in entries.items():
+            key = f"{section}.{name}"
+            for field in ("unit", "source", "description"):
+                if field not in spec:
+                    raise CsuasError(f"defaults: {key} lacks '{field}'")
+            if "value" not in spec and not spec.get("optional"):
+                raise CsuasError(f"defaults: {key} has no value and is not optional")
+            value = spec.get("value")
+            if "choices" in spec:
+                if value is not None and value not in spec["choices"]:
+                    raise CsuasError(f"defaults: {key} = {value!r} not in its choices")
+            elif value is not None and not (spec["min"] <= value <= spec["max"]):
+                raise CsuasError(f"defaults: {key} = {value!r} outside [{spec['min']}, {spec['max']}]")
+    return params
+
+
+@functools.lru_cache(maxsize=None)
+def load_parameters() -> dict:
+    """Parameter registry: ``{section: {name: spec}}`` (validated at first load)."""
+    return _validate_parameters(_load("parameters.toml"))
+
+
+@functools.lru_cache(maxsize=None)
+def load_tables() -> dict:
+    """Class, lookup and printed-value tables."""
+    return _load("tables.toml")
+
+
+@functools.lru_cache(maxsize=None)
+def load_presets() -> dict:
+    """Named target, sensor and environment presets."""
+    return _load("presets.toml")
+
+
+def default_values(section: str) -> dict:
+    """``{name: default}`` of one section (optional parameters omitted)."""
+    return {k: v["value"] for k, v in load_parameters()[section].items() if "value" in v}
+
+
+def scenario_path(name: str):
+    """Path of an embedded scenario file (``default``, ``fog``, ...)."""
+    return resources.files(__name__).joinpath("scenarios", f"{name}.toml")

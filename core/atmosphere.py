@@ -1,0 +1,129 @@
+"""Optical atmosphere: Beer-Lambert (Eq. 10), Koschmieder (Eq. 12) and Kruse (Eqs. 19-20).
+
+Convention note (SPEC 3.4 point 1): Kruse and Koschmieder give an extinction
+coefficient in km^-1, which the paper labels dB/km and inserts in the decibel
+form of Beer-Lambert, Eq. 10 (Table 47's eta_TL = 0.681 is computed that way).
+The ``paper`` convention reproduces this; ``physical`` uses tau = exp(-beta R).
+
+References
+----------
+Kruse, P. W., McGlauchlin, L. D., McQuistan, R. B. (1962). Elements of Infrared Technology.
+Kim, I. I., McArthur, B., Korevaar, E. (2001). Comparison of laser beam propagation at 785 nm and
+1550 nm in fog and haze for optical wireless communications. Proc. SPIE 4214 (the q of Eq. 20).
+Koschmieder, H. (1924). Theorie der horizontalen Sichtweite.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csuas.core.checks import require
+from csuas.core.result import check_convention
+
+#: -ln(0.02): Koschmieder constant for a 2 % contrast threshold (Eq. 12).
+KOSCHMIEDER_2PCT = -np.log(0.02)
+#: Visibility breakpoints of Kim's q (Eq. 20) [km].
+KRUSE_BREAKPOINTS_KM = (0.5, 1.0, 6.0, 50.0)
+
+
+def koschmieder_extinction_per_km(visibility_km, threshold=0.02):
+    """Extinction coefficient [1/km] from meteorological visibility (Eq. 12).
+
+    Parameters
+    ----------
+    visibility_km : array_like
+        Visibility V [km], > 0.
+    threshold : float
+        Contrast threshold of the visibility definition (0.02 in the paper;
+        WMO uses 0.05).
+
+    Returns
+    -------
+    ndarray
+        sigma = -ln(threshold) / V [1/km]; Table 16: 4.89, 9.78, 39.12 at 0.8, 0.4, 0.1 km.
+    """
+    v = require("visibility_km", visibility_km, gt=0, allow_inf=True)
+    require("threshold", threshold, gt=0, lt=1)
+    return -np.log(threshold) / v
+
+
+def kruse_q(visibility_km):
+    """Size-distribution exponent q of the Kruse/Kim model (Eq. 20).
+
+    Breakpoints at 0.5, 1, 6 and 50 km. q is continuous at 0.5, 1 and 6 km and
+    jumps from 1.3 to 1.6 above 50 km; exactly at a breakpoint the lower branch
+    applies (the paper's strict inequalities leave the breakpoints open).
+    """
+    v = require("visibility_km", visibility_km, gt=0, allow_inf=True)
+    return np.select(
+        [v > 50.0, v > 6.0, v > 1.0, v > 0.5],
+        [1.6, 1.3, 0.16 * v + 0.34, v - 0.5],
+        default=0.0,
+    )
+
+
+def kruse_extinction_per_km(wavelength_nm, visibility_km):
+    """Kruse/Kim extinction coefficient (Eq. 19) [1/km] (labelled dB/km in the paper).
+
+    Parameters
+    ----------
+    wavelength_nm : array_like
+        Wavelength [nm]; the model is empirical for visible and near-IR light.
+    visibility_km : array_like
+        Visibility [km].
+
+    Returns
+    -------
+    ndarray
+        sigma = 3.912/V * (lambda/550 nm)^-q.
+    """
+    lam = require("wavelength_nm", wavelength_nm, gt=0)
+    v = require("visibility_km", visibility_km, gt=0, allow_inf=True)
+    return KOSCHMIEDER_2PCT / v * (lam / 550.0) ** (-kruse_q(v))
+
+
+def transmittance(extinction, range_m, convention="physical"):
+    """One-way atmospheric transmittance over ``range_m``.
+
+    Parameters
+    ----------
+    extinction : array_like
+        Extinction coefficient; read as dB/km by the ``paper`` convention
+        (Eq. 10: tau = 10^(-sigma z/10)) and as 1/km by ``physical``
+        (tau = exp(-beta z)).
+    range_m : array_like
+        Path length [m], >= 0.
+    convention : {"paper", "physical"}
+
+    Returns
+    -------
+    ndarray
+        Transmittance in [0, 1].
+    """
+    check_convention(convention)
+    k = require("extinction", extinction, ge=0)
+    z_km = require("range_m", range_m, ge=0, allow_inf=True) / 1000.0
+    with np.errstate(invalid="ignore"):
+        optical = np.where(k == 0, 0.0, k * z_km)
+    if convention == "paper":
+        return np.power(10.0, -optical / 10.0)
+    return np.exp(-optical)
+
+
+def range_for_transmittance(extinction, tau, convention="physical"):
+    """Inverse of :func:`transmittance`: the range [m] at which tau is reached.
+
+    Returns +inf where the extinction is 0 and 0 where tau >= 1.
+    """
+    check_convention(convention)
+    k = require("extinction", extinction, ge=0)
+    t = require("tau", tau, gt=0)
+    optical = -np.log10(t) * 10.0 if convention == "paper" else -np.log(t)
+    optical = np.maximum(optical, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(optical == 0, 0.0, np.where(k == 0, np.inf, 1000.0 * optical / np.where(k == 0, 1.0, k)))
+
+
+def koschmieder_apparent_contrast(c0, extinction_per_km, range_m):
+    """Apparent contrast against the horizon sky, C(R) = C0 exp(-beta R) (Koschmieder)."""
+    return np.asarray(c0, dtype=float) * transmittance(extinction_per_km, range_m, "physical")

@@ -1,0 +1,55 @@
+"""Argument validation for the analytic core: clear errors, never silent NaN.
+
+Every public model function validates its inputs with :func:`require`, which
+raises :class:`csuas.errors.ParameterError` naming the parameter, the first
+offending value and the allowed domain.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csuas.errors import ParameterError
+
+
+def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False):
+    """Return ``value`` as a float array after checking its domain.
+
+    Parameters
+    ----------
+    name : str
+        Canonical parameter name used in the error message.
+    value : array_like
+        Value(s) to check.
+    gt, ge, lt, le : float, optional
+        Strict / inclusive lower and upper bounds.
+    allow_inf : bool
+        Whether +/-inf values are allowed (e.g. a -inf dB noise term).
+
+    Raises
+    ------
+    ParameterError
+        If any element is NaN, infinite (unless allowed) or outside the bounds.
+    """
+    arr = np.asarray(value, dtype=float)
+    bad = np.isnan(arr) | (~allow_inf & np.isinf(arr))
+    parts = []
+    if gt is not None:
+        bad |= ~(arr > gt)
+        parts.append(f"> {gt:g}")
+    if ge is not None:
+        bad |= ~(arr >= ge)
+        parts.append(f">= {ge:g}")
+    if lt is not None:
+        bad |= ~(arr < lt)
+        parts.append(f"< {lt:g}")
+    if le is not None:
+        bad |= ~(arr <= le)
+        parts.append(f"<= {le:g}")
+    bad |= np.isnan(arr)
+    if np.any(bad):
+        first = arr[bad].flat[0] if arr.ndim else float(arr)
+        allowed = " and ".join(parts) if parts else "a number"
+        allowed += "" if allow_inf else " (finite)"
+        raise ParameterError(name, float(first), allowed)
+    return arr

@@ -1,0 +1,150 @@
+"""Radar detection range: range equation, SNR model, pulse integration and losses (Eqs. 62-86).
+
+Conventions:
+
+* ``paper``: non-coherent integration gain n_p^(1/n_p) (Eqs. 78, 81-82, as
+  printed); rain and fog losses at ``loss_frequency_ghz`` (Table 44: 12 GHz)
+  over the fixed paths d_rain, d_fog (Table 44: 1 km); the total loss scales the
+  range by 10^(-L/40) (Eq. 86).
+* ``physical`` (SPEC 3.4 points 4-6): non-coherent gain sqrt(n_p); weather
+  losses at the radar's own frequency over the actual two-way path, solved
+  exactly from 40 log10 R + 2 gamma R = budget.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csuas.core.checks import require
+from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
+from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.solve import solve_log_linear
+from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, linear_to_db
+from csuas.errors import ParameterError
+
+INTEGRATIONS = ("coherent", "noncoherent", "none")
+
+
+def received_power_w(p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, range_m):
+    """Monostatic received power (Eq. 68) [W]: P G_t G_r lambda^2 sigma / ((4 pi)^3 R^4)."""
+    p = require("p_tx_w", p_tx_w, ge=0)
+    lam = require("wavelength_m", wavelength_m, gt=0)
+    s = require("sigma_m2", sigma_m2, ge=0)
+    r = require("range_m", range_m, gt=0)
+    return p * db_to_linear(g_tx_db) * db_to_linear(g_rx_db) * lam**2 * s / ((4 * np.pi) ** 3 * r**4)
+
+
+def thermal_noise_power_w(t0_k, noise_figure_db, bandwidth_mhz, k_b=K_BOLTZMANN):
+    """Receiver noise power (Eq. 73) [W]: k_B T0 F B."""
+    t0 = require("t0_k", t0_k, gt=0)
+    b = require("bandwidth_mhz", bandwidth_mhz, gt=0)
+    return k_b * t0 * db_to_linear(noise_figure_db) * b * 1e6
+
+
+def integration_gain(n_pulses, integration="coherent", convention="paper"):
+    """SNR gain of pulse integration (Eqs. 77-78).
+
+    ``coherent``: n_p (Eq. 77). ``noncoherent``: the paper's lower bound
+    n_p^(1/n_p) (Eq. 78) or, in the physical convention, sqrt(n_p) (the usual
+    approximation of non-coherent integration efficiency). ``none``: 1.
+    """
+    if integration not in INTEGRATIONS:
+        raise ParameterError("radar.integration", integration, ", ".join(INTEGRATIONS))
+    n = require("n_pulses", n_pulses, ge=1)
+    if integration == "coherent":
+        return n
+    if integration == "noncoherent":
+        return n ** (1.0 / n) if convention == "paper" else np.sqrt(n)
+    return np.ones_like(n)
+
+
+def total_loss_db(l_hardware_db, l_processing_db, gamma_rain_db_km=0.0, gamma_fog_db_km=0.0,
+                  d_rain_km=1.0, d_fog_km=1.0):
+    """Total radar loss (Eqs. 83-84) [dB]: L_hw + L_proc + d_rain gamma_rain + d_fog gamma_fog."""
+    return (np.asarray(l_hardware_db, float) + np.asarray(l_processing_db, float)
+            + np.asarray(d_rain_km, float) * gamma_rain_db_km + np.asarray(d_fog_km, float) * gamma_fog_db_km)
+
+
+def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr", p_rx_min_w=None,
+                snr_min_db=10.0, t0_k=290.0, noise_figure_db=10.0, bandwidth_mhz=200.0, n_pulses=1,
+                integration="none", l_hardware_db=0.0, l_processing_db=0.0, rain_rate_mm_h=0.0,
+                lwc_g_m3=0.0, temperature_k=293.15, loss_frequency_ghz=12.0, d_rain_km=1.0, d_fog_km=1.0,
+                k_b=None, convention="paper") -> RangeResult:
+    """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86).
+
+    Parameters
+    ----------
+    p_tx_w, g_tx_db, g_rx_db, wavelength_m : array_like
+        Transmit power [W], antenna gains [dB], wavelength [m] (Table 39).
+    sigma_m2 : array_like
+        Target RCS [m^2] (Table 8).
+    model : {"snr", "range_equation"}
+        SNR model (Eq. 75 with integration, Eqs. 80/82) or the range equation
+        with a minimum received power ``p_rx_min_w`` (Eq. 69).
+    snr_min_db, t0_k, noise_figure_db, bandwidth_mhz : array_like
+        Detection threshold and noise parameters (Table 39).
+    n_pulses, integration : array_like, str
+        Pulses integrated and how (Table 39, Eqs. 77-82).
+    l_hardware_db, l_processing_db : array_like
+        Loss budget terms (Tables 41, 44); zero adds no term.
+    rain_rate_mm_h, lwc_g_m3, temperature_k : array_like
+        Weather; zero rain or LWC adds no term.
+    loss_frequency_ghz, d_rain_km, d_fog_km : array_like
+        Paper convention: frequency and fixed paths of the weather losses (Table 44).
+    k_b : float, optional
+        Boltzmann constant [J/K]; default Table 39's 1.38e-23 (paper) or the
+        exact SI value (physical).
+    convention : {"paper", "physical"}
+    """
+    check_convention(convention)
+    if model not in ("snr", "range_equation"):
+        raise ParameterError("radar.model", model, "snr, range_equation")
+    lam = require("wavelength_m", wavelength_m, gt=0)
+    numerator = (require("p_tx_w", p_tx_w, gt=0) * db_to_linear(g_tx_db) * db_to_linear(g_rx_db)
+                 * lam**2 * require("sigma_m2", sigma_m2, gt=0) / (4 * np.pi) ** 3)
+    terms = []
+    if model == "range_equation":
+        if p_rx_min_w is None:
+            raise ParameterError("radar.p_rx_min_w", None, "a power > 0 [W] with model = range_equation")
+        p_min = require("p_rx_min_w", p_rx_min_w, gt=0)
+        terms.append(Term("p_rx_min_w", p_min, "W", "Eq. 69"))
+        name = "range_equation (Eq. 69)"
+    else:
+        kb = k_b if k_b is not None else (K_BOLTZMANN_TABLE_39 if convention == "paper" else K_BOLTZMANN)
+        noise = thermal_noise_power_w(t0_k, noise_figure_db, bandwidth_mhz, kb)
+        gain = integration_gain(n_pulses, integration, convention)
+        p_min = db_to_linear(snr_min_db) * noise / gain
+        terms += [Term("noise_power_w", noise, "W", "Eq. 73"),
+                  Term("integration_gain_db", linear_to_db(gain), "dB",
+                       {"coherent": "Eq. 77", "noncoherent": "Eq. 78", "none": "Eq. 75"}[integration])]
+        name = {"coherent": "snr_coherent (Eq. 80)", "noncoherent": "snr_noncoherent (Eq. 82)",
+                "none": "snr (Eq. 75)"}[integration]
+    budget_db = linear_to_db(numerator / p_min)  # 40 log10 R at the threshold, before losses
+    fixed_loss = np.asarray(l_hardware_db, float) + np.asarray(l_processing_db, float)
+    if np.any(fixed_loss != 0):
+        terms.append(Term("l_hardware_db", np.asarray(l_hardware_db, float), "dB", "Table 41"))
+        terms.append(Term("l_processing_db", np.asarray(l_processing_db, float), "dB", "Table 44"))
+    rain, fog = np.any(np.asarray(rain_rate_mm_h) > 0), np.any(np.asarray(lwc_g_m3) > 0)
+    f_loss = loss_frequency_ghz if convention == "paper" else 299_792_458.0 / lam / 1e9
+    gamma_rain = rain_specific_attenuation_db_km(f_loss, rain_rate_mm_h) if rain else 0.0
+    gamma_fog = fog_specific_attenuation_db_km(f_loss, lwc_g_m3, temperature_k) if fog else 0.0
+    if rain:
+        terms.append(Term("gamma_rain_db_km", gamma_rain, "dB/km", "Eq. 58 (ITU-R P.838-3)"))
+    if fog:
+        terms.append(Term("gamma_fog_db_km", gamma_fog, "dB/km", "Eq. 60 (ITU-R P.840)"))
+    if convention == "paper":
+        propagation = (np.asarray(d_rain_km, float) * gamma_rain if rain else 0.0) \
+            + (np.asarray(d_fog_km, float) * gamma_fog if fog else 0.0)
+        loss = total_loss_db(l_hardware_db, l_processing_db) + propagation
+        if rain or fog:
+            terms.append(Term("l_propagation_db", propagation, "dB", "Eq. 83"))
+        r = solve_log_linear(budget_db - loss, 0.0, n=4.0)
+    else:
+        two_way = 2.0 * (np.asarray(gamma_rain) + np.asarray(gamma_fog)) / 1000.0
+        r = solve_log_linear(budget_db - fixed_loss, two_way, n=4.0)
+        loss = fixed_loss + two_way * r
+        if rain or fog:
+            terms.append(Term("l_propagation_db", two_way * r, "dB", "Eqs. 59, 61 over the two-way path"))
+    if np.any(loss != 0):
+        terms.append(Term("l_total_db", loss, "dB", "Eqs. 84-86"))
+    return RangeResult(r, "radar", name, terms)

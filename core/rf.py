@@ -1,0 +1,90 @@
+"""Passive RF detection range: Friis (Eqs. 50-57) with rain and fog losses (Eqs. 58-61).
+
+Conventions (SPEC 3.4 point 4): ``paper`` applies the rain and fog losses over
+fixed path lengths d_rain, d_fog (Table 37: 1 km); ``physical`` applies the
+specific attenuations over the actual range and solves
+20 log10(4 pi R / lambda) + (gamma_rain + gamma_fog) R = budget exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csuas.core.checks import require
+from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
+from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.solve import solve_log_linear
+from csuas.core.units import wavelength_m, watt_to_dbm
+
+
+def free_space_path_loss_db(frequency_ghz, distance_m):
+    """Free-space path loss (Eq. 54): 20 log10(4 pi d / lambda) [dB]."""
+    f = require("frequency_ghz", frequency_ghz, gt=0)
+    d = require("distance_m", distance_m, gt=0)
+    return 20.0 * np.log10(4.0 * np.pi * d / wavelength_m(f))
+
+
+def received_power_dbm(p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, distance_m):
+    """Received power in free space (Eq. 55) [dBm]."""
+    p = require("rf_power_w", p_tx_w, gt=0)
+    return watt_to_dbm(p) + np.asarray(g_tx_dbi) + np.asarray(g_rx_db) - free_space_path_loss_db(frequency_ghz, distance_m)
+
+
+def weather_attenuation_db_km(frequency_ghz, rain_rate_mm_h, lwc_g_m3, temperature_k):
+    """Specific attenuations (rain, fog) [dB/km]; zero-valued effects are exact zeros."""
+    rain = rain_specific_attenuation_db_km(frequency_ghz, rain_rate_mm_h)
+    fog = fog_specific_attenuation_db_km(frequency_ghz, lwc_g_m3, temperature_k)
+    return rain, fog
+
+
+def rf_range(*, p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, s_rx_dbm, rain_rate_mm_h=0.0, lwc_g_m3=0.0,
+             temperature_k=293.15, d_rain_km=1.0, d_fog_km=1.0, convention="paper") -> RangeResult:
+    """Passive RF detection range [m] (Eq. 57 with the losses of Eqs. 59, 61).
+
+    Parameters
+    ----------
+    p_tx_w, g_tx_dbi : array_like
+        Power [W] and gain [dBi] of the sUAS transmitter (Table 8).
+    g_rx_db, s_rx_dbm : array_like
+        Sensor antenna gain [dB] and sensitivity [dBm] (Table 33).
+    frequency_ghz : array_like
+        Carrier frequency [GHz].
+    rain_rate_mm_h, lwc_g_m3, temperature_k : array_like
+        Rain rate, fog liquid water content and air temperature; a zero rate
+        or LWC adds no term.
+    d_rain_km, d_fog_km : array_like
+        Fixed loss path lengths of the paper convention (Table 37).
+    convention : {"paper", "physical"}
+    """
+    check_convention(convention)
+    f = require("frequency_ghz", frequency_ghz, gt=0)
+    budget = watt_to_dbm(require("rf_power_w", p_tx_w, gt=0)) + np.asarray(g_tx_dbi, float) \
+        + np.asarray(g_rx_db, float) - np.asarray(s_rx_dbm, float)
+    lam = wavelength_m(f)
+    terms = [Term("p_tx_dbm", watt_to_dbm(p_tx_w), "dBm", "Eq. 52"),
+             Term("link_budget_db", budget, "dB", "Eq. 57")]
+    rain_present, fog_present = np.any(np.asarray(rain_rate_mm_h) > 0), np.any(np.asarray(lwc_g_m3) > 0)
+    gamma = 0.0
+    if rain_present:
+        g_rain = rain_specific_attenuation_db_km(f, rain_rate_mm_h)
+        terms.append(Term("gamma_rain_db_km", g_rain, "dB/km", "Eq. 58 (ITU-R P.838-3)"))
+        gamma = gamma + g_rain
+    if fog_present:
+        g_fog = fog_specific_attenuation_db_km(f, lwc_g_m3, temperature_k)
+        terms.append(Term("gamma_fog_db_km", g_fog, "dB/km", "Eq. 60 (ITU-R P.840)"))
+        gamma = gamma + g_fog
+    k_db = budget + 20.0 * np.log10(lam / (4.0 * np.pi))
+    if convention == "paper":
+        fixed = 0.0
+        if rain_present:
+            fixed = fixed + g_rain * require("d_rain_km", d_rain_km, ge=0)
+            terms.append(Term("rain_loss_db", g_rain * d_rain_km, "dB", "Eq. 59"))
+        if fog_present:
+            fixed = fixed + g_fog * require("d_fog_km", d_fog_km, ge=0)
+            terms.append(Term("fog_loss_db", g_fog * d_fog_km, "dB", "Eq. 61"))
+        r = solve_log_linear(k_db - fixed, 0.0, n=2.0)
+    else:
+        r = solve_log_linear(k_db, np.asarray(gamma, float) / 1000.0, n=2.0)
+        if rain_present or fog_present:
+            terms.append(Term("weather_loss_db", np.asarray(gamma) * r / 1000.0, "dB", "Eqs. 59, 61 over R"))
+    return RangeResult(r, "rf", "friis (Eq. 57)", terms)

@@ -1,0 +1,70 @@
+"""Command line of csuas (SPEC 8).
+
+Each command lives in ``csuas.commands.<name>`` and exposes
+
+``add_arguments(parser)``
+    declares its options (``--json`` is added for every command here);
+``run(args) -> dict``
+    does the work and returns the JSON object printed with ``--json``;
+``render_text(result) -> str``
+    the human-readable form printed otherwise.
+
+Errors derived from :class:`csuas.errors.CsuasError` end the program with exit
+code 2 and a single line on standard error, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from csuas.errors import CsuasError
+from csuas.fileio import dumps
+
+#: Command name -> one-line help. The module ``csuas.commands.<name>`` implements it.
+COMMANDS = {
+    "range": "predicted detection range of each sensor of a scenario",
+    "defaults": "list the paper's default parameters, or check every derivable default",
+    "sensitivity": "one-at-a-time sensitivity (tornado) analysis and platform comparison",
+    "bench": "benchmarks of the analytic core",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose usage errors are one line and exit code 2."""
+
+    def error(self, message):  # noqa: D102 - argparse hook
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The top-level parser with one sub-parser per command."""
+    parser = _Parser(prog="csuas", description="Counter-drone sensor detection-range models and their validation.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for name, help_text in COMMANDS.items():
+        module = importlib.import_module(f"csuas.commands.{name.replace('-', '_')}")
+        cmd = sub.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(cmd)
+        cmd.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+        cmd.set_defaults(_module=module)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``csuas`` console script; returns the exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        result = args._module.run(args)
+    except CsuasError as exc:
+        print(f"csuas {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"csuas {args.command}: interrupted", file=sys.stderr)
+        return 130
+    print(dumps(result) if args.json else args._module.render_text(result))
+    return int(result.get("exit_code", 0)) if isinstance(result, dict) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
