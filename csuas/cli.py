@@ -38,22 +38,25 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The top-level parser with one sub-parser per command."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The top-level parser; only ``command``'s module is imported (fast start-up)."""
     parser = _Parser(prog="csuas", description="Counter-drone sensor detection-range models and their validation.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, help_text in COMMANDS.items():
-        module = importlib.import_module(f"csuas.commands.{name.replace('-', '_')}")
         cmd = sub.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(cmd)
-        cmd.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-        cmd.set_defaults(_module=module)
+        if name == command:
+            module = importlib.import_module(f"csuas.commands.{name}")
+            module.add_arguments(cmd)
+            cmd.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+            cmd.set_defaults(_module=module)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``csuas`` console script; returns the exit code."""
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    args = build_parser(command if command in COMMANDS else None).parse_args(argv)
     try:
         result = args._module.run(args)
     except CsuasError as exc:
