@@ -1,0 +1,133 @@
+"""A drone as a list of named parts, each a watertight mesh with one material."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+
+from csuas.drone_models.materials import Material, paper_component_mean_emissivity
+from csuas.errors import ParameterError
+
+
+@dataclass
+class Part:
+    """One component of a drone.
+
+    Attributes
+    ----------
+    name : str
+        Unique name within the drone, e.g. ``"arm_front_left"``.
+    kind : str
+        Component class: body, arm, motor, propeller, gimbal, landing_gear,
+        battery, tail_boom, tail_rotor, mast.
+    mesh : trimesh.Trimesh
+        Closed surface in the body frame [m].
+    material : Material
+        Surface material.
+    """
+
+    name: str
+    kind: str
+    mesh: trimesh.Trimesh
+    material: Material
+
+
+@dataclass
+class Drone:
+    """A drone model in its body frame (+x forward, +y left, +z up, metres).
+
+    Attributes
+    ----------
+    name : str
+        Preset or model name.
+    mass_kg : float
+        Take-off mass from the specification [kg] (not computed from the mesh).
+    parts : list of Part
+        Components; their union is the drone.
+    spec : dict
+        Published figures the model was built from, with their source.
+    propellers : str
+        ``"disc"`` (swept discs), ``"blades"`` or ``"none"``.
+    """
+
+    name: str
+    mass_kg: float
+    parts: list
+    spec: dict = field(default_factory=dict)
+    propellers: str = "disc"
+
+    def mesh(self, kinds=None) -> trimesh.Trimesh:
+        """All parts (or the parts whose ``kind`` is in ``kinds``) concatenated into one mesh.
+
+        The result is a set of closed shells, not one manifold solid: shells
+        may overlap and no vertices are merged.
+        """
+        selected = [p.mesh for p in self.parts if kinds is None or p.kind in kinds]
+        if not selected:
+            raise ParameterError("kinds", kinds, ", ".join(sorted({p.kind for p in self.parts})))
+        return trimesh.util.concatenate(selected)
+
+    def bounds(self, exclude_kinds=()) -> np.ndarray:
+        """Axis-aligned bounds ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` [m]."""
+        verts = np.concatenate([p.mesh.vertices for p in self.parts if p.kind not in exclude_kinds])
+        return np.stack([verts.min(axis=0), verts.max(axis=0)])
+
+    def extents(self, exclude_kinds=()) -> np.ndarray:
+        """Bounding-box size (length x, width y, height z) [m]."""
+        b = self.bounds(exclude_kinds)
+        return b[1] - b[0]
+
+    def part(self, name: str) -> Part:
+        """The part called ``name``."""
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise ParameterError("part", name, ", ".join(p.name for p in self.parts))
+
+    def area_by_material(self) -> dict:
+        """Surface area of the parts per material name [m^2]."""
+        areas: dict = {}
+        for p in self.parts:
+            areas[p.material.name] = areas.get(p.material.name, 0.0) + float(p.mesh.area)
+        return areas
+
+    def emissivity(self, band: str = "lwir", exclude_kinds=("propeller",)) -> dict:
+        """Mean thermal emissivity of the drone [-], two ways.
+
+        ``area_weighted``: sum of emissivity x shell area over the parts
+        (propellers excluded by default: a spinning rotor's swept disc is
+        mostly background). ``component_mean``: the paper's rule of
+        Section 4.4.3, the unweighted mean over the distinct materials present.
+        ``paper_component_mean`` is that rule applied to the paper's own list (0.68).
+
+        Parameters
+        ----------
+        band : {"lwir", "mwir"}
+        exclude_kinds : iterable of str
+            Part kinds left out of the area weighting.
+        """
+        if band not in ("lwir", "mwir"):
+            raise ParameterError("band", band, "lwir, mwir")
+        attr = f"emissivity_{band}"
+        parts = [p for p in self.parts if p.kind not in exclude_kinds]
+        areas = np.array([p.mesh.area for p in parts])
+        eps = np.array([getattr(p.material, attr) for p in parts])
+        distinct = {p.material.name: getattr(p.material, attr) for p in parts}
+        return {"band": band,
+                "area_weighted": float(np.sum(areas * eps) / np.sum(areas)),
+                "component_mean": float(np.mean(list(distinct.values()))),
+                "paper_component_mean": paper_component_mean_emissivity(),
+                "materials": sorted(distinct)}
+
+    def translated(self, offset) -> "Drone":
+        """Move every part by ``offset`` [m] in place and return ``self``."""
+        for p in self.parts:
+            p.mesh.apply_translation(offset)
+        return self
+
+    def centred(self) -> "Drone":
+        """Put the origin at the centre of the bounding box of all parts (in place)."""
+        b = self.bounds()
+        return self.translated(-(b[0] + b[1]) / 2.0)

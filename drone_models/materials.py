@@ -1,0 +1,181 @@
+"""Surface materials of drone parts: optical, thermal and radio properties.
+
+Every part of a drone model carries one :class:`Material`. The values are
+nominal, broadband figures meant for signature simulation, each with its
+source:
+
+* Thermal emissivities are the mid-points of the ranges the paper lists for
+  the main components of commercial sUAS (Section 4.4.3, Table 27): plastic
+  0.9-1 [114], carbon fibre 0.8-0.84 [115], aluminium 0.05-0.1 [116],
+  paint 0.8-0.95 [114]. The unweighted mean of those four mid-points is the
+  paper's ``epsilon_sUAS = 0.68`` (:func:`paper_component_mean_emissivity`).
+  The same figures are used for LWIR (8-12 um) and MWIR (3-5 um) unless a
+  better value is known (bare aluminium is slightly less emissive in MWIR).
+* Temperatures default to the paper's ``T_sUAS = 288.15 K`` (Table 8).
+* Radio properties are complex relative permittivity ``eps' - j eps''`` and
+  bulk conductivity at about 1-30 GHz: ABS/polycarbonate eps' ~ 2.8,
+  tan(delta) ~ 0.01 (Riddle, Baker-Jarvis & Krupka, IEEE T-MTT 51(3), 2003);
+  carbon-fibre laminate ~1e4 S/m in-plane (Hu & Mittra; a good conductor at
+  GHz); aluminium 3.5e7 S/m (CRC Handbook); Li-ion battery pack treated as a
+  metal-cased conductor; paint as a thin lossy dielectric over its substrate.
+* Optical reflectances are diffuse (Lambertian) albedos at 550 nm and
+  1550 nm and linear sRGB triples for previews; grey plastics from
+  DJI's light-grey finish, black carbon composite, bare aluminium.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from csuas.errors import ParameterError
+
+#: Vacuum permittivity [F/m] (CODATA 2018).
+VACUUM_PERMITTIVITY_F_M = 8.8541878128e-12
+
+#: Default part temperature [K], the paper's T_sUAS (Table 8).
+T_SUAS_K = 288.15
+
+
+@dataclass(frozen=True)
+class Material:
+    """Optical, thermal and radio description of a part surface.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, e.g. ``"plastic"``.
+    reflectance_rgb : tuple of float
+        Diffuse albedo in linear sRGB primaries [0..1].
+    reflectance_550nm, reflectance_1550nm : float
+        Diffuse albedo at 550 nm (EO) and 1550 nm (lidar) [0..1].
+    emissivity_lwir, emissivity_mwir : float
+        Band-averaged hemispherical emissivity, 8-12 um and 3-5 um [0..1].
+    temperature_k : float
+        Surface temperature [K].
+    relative_permittivity : complex
+        Dielectric part ``eps' - j eps''`` at radio frequencies [-], without
+        the conduction term (ignored when ``is_pec``).
+    conductivity_s_m : float
+        Bulk conductivity [S/m]; :meth:`complex_permittivity` adds its
+        ``-j sigma / (omega eps0)`` term.
+    is_pec : bool
+        Treat as a perfect electric conductor in radar/RF solvers.
+    source : str
+        Where the numbers come from.
+    """
+
+    name: str
+    reflectance_rgb: tuple
+    reflectance_550nm: float
+    reflectance_1550nm: float
+    emissivity_lwir: float
+    emissivity_mwir: float
+    temperature_k: float
+    relative_permittivity: complex
+    conductivity_s_m: float
+    is_pec: bool
+    source: str = ""
+
+    def __post_init__(self):
+        for field_name in ("reflectance_550nm", "reflectance_1550nm", "emissivity_lwir", "emissivity_mwir"):
+            value = getattr(self, field_name)
+            if not 0.0 <= value <= 1.0:
+                raise ParameterError(f"material.{self.name}.{field_name}", value, "0 <= x <= 1")
+        if len(self.reflectance_rgb) != 3 or not all(0.0 <= c <= 1.0 for c in self.reflectance_rgb):
+            raise ParameterError(f"material.{self.name}.reflectance_rgb", self.reflectance_rgb,
+                                 "three values in [0, 1]")
+        if not self.temperature_k > 0.0:
+            raise ParameterError(f"material.{self.name}.temperature_k", self.temperature_k, "x > 0 K")
+        if self.conductivity_s_m < 0.0:
+            raise ParameterError(f"material.{self.name}.conductivity_s_m", self.conductivity_s_m, "x >= 0 S/m")
+
+    def complex_permittivity(self, frequency_ghz: float) -> complex:
+        """Total relative permittivity ``eps - j sigma / (omega eps0)`` at ``frequency_ghz`` [GHz].
+
+        Infinite conductivity (PEC) gives ``-inf j``; radar solvers test ``is_pec`` first.
+        """
+        if not frequency_ghz > 0.0:
+            raise ParameterError("frequency_ghz", frequency_ghz, "x > 0 GHz")
+        omega_eps0 = 2.0 * math.pi * frequency_ghz * 1.0e9 * VACUUM_PERMITTIVITY_F_M
+        return complex(self.relative_permittivity.real,
+                       self.relative_permittivity.imag - self.conductivity_s_m / omega_eps0)
+
+    def with_temperature(self, temperature_k: float) -> "Material":
+        """A copy of this material at another surface temperature [K]."""
+        return dataclasses.replace(self, temperature_k=float(temperature_k))
+
+
+PLASTIC = Material(
+    name="plastic", reflectance_rgb=(0.42, 0.42, 0.43), reflectance_550nm=0.42, reflectance_1550nm=0.45,
+    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(2.8, -0.03), conductivity_s_m=0.0, is_pec=False,
+    source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle et al. 2003)")
+
+DARK_PLASTIC = Material(
+    name="dark_plastic", reflectance_rgb=(0.05, 0.05, 0.05), reflectance_550nm=0.05, reflectance_1550nm=0.06,
+    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(2.8, -0.03), conductivity_s_m=0.0, is_pec=False,
+    source="black propeller/gimbal plastic; emissivity as plastic (paper 4.4.3 [114])")
+
+CARBON_FIBRE = Material(
+    name="carbon_fibre", reflectance_rgb=(0.05, 0.05, 0.05), reflectance_550nm=0.05, reflectance_1550nm=0.06,
+    emissivity_lwir=0.82, emissivity_mwir=0.82, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(12.0, 0.0), conductivity_s_m=1.0e4, is_pec=False,
+    source="emissivity 0.8-0.84 (paper 4.4.3 [115]); CFRP in-plane conductivity ~1e4 S/m")
+
+ALUMINIUM = Material(
+    name="aluminium", reflectance_rgb=(0.70, 0.70, 0.72), reflectance_550nm=0.70, reflectance_1550nm=0.85,
+    emissivity_lwir=0.075, emissivity_mwir=0.07, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=3.5e7, is_pec=False,
+    source="emissivity 0.05-0.1 (paper 4.4.3 [116]); conductivity 3.5e7 S/m (CRC Handbook)")
+
+PAINT = Material(
+    name="paint", reflectance_rgb=(0.45, 0.45, 0.46), reflectance_550nm=0.45, reflectance_1550nm=0.50,
+    emissivity_lwir=0.875, emissivity_mwir=0.85, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(3.0, -0.1), conductivity_s_m=0.0, is_pec=False,
+    source="emissivity 0.8-0.95 (paper 4.4.3 [114]); thin lossy dielectric coat")
+
+BATTERY_PACK = Material(
+    name="battery_pack", reflectance_rgb=(0.30, 0.30, 0.31), reflectance_550nm=0.30, reflectance_1550nm=0.33,
+    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=1.0e6, is_pec=False,
+    source="plastic-sleeved Li-ion cells: plastic surface (IR/optical), metal-cased conductor (radio)")
+
+PEC = Material(
+    name="pec", reflectance_rgb=(0.90, 0.90, 0.90), reflectance_550nm=0.90, reflectance_1550nm=0.95,
+    emissivity_lwir=0.02, emissivity_mwir=0.02, temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=float("inf"), is_pec=True,
+    source="idealised perfect electric conductor (radar oracles)")
+
+#: Registry of the named materials.
+MATERIALS = {m.name: m for m in (PLASTIC, DARK_PLASTIC, CARBON_FIBRE, ALUMINIUM, PAINT, BATTERY_PACK, PEC)}
+
+#: The paper's component list of Section 4.4.3: material -> (low, high) LWIR emissivity.
+PAPER_EMISSIVITY_RANGES = {
+    "plastic": (0.90, 1.00),
+    "carbon_fibre": (0.80, 0.84),
+    "aluminium": (0.05, 0.10),
+    "paint": (0.80, 0.95),
+}
+
+
+def get_material(name: str) -> Material:
+    """The registered material called ``name``; :class:`ParameterError` otherwise."""
+    try:
+        return MATERIALS[name]
+    except KeyError:
+        raise ParameterError("material", name, ", ".join(sorted(MATERIALS))) from None
+
+
+def paper_component_mean_emissivity() -> float:
+    """Unweighted mean of the mid-points of the paper's four component ranges [-].
+
+    Section 4.4.3 lists plastic, carbon fibre, aluminium and paint and states
+    ``epsilon_sUAS = 0.68``; the mean of the range mid-points is
+    (0.95 + 0.82 + 0.075 + 0.875) / 4 = 0.68, i.e. each component class
+    weighs one quarter whatever its share of the surface.
+    """
+    mids = [(lo + hi) / 2.0 for lo, hi in PAPER_EMISSIVITY_RANGES.values()]
+    return sum(mids) / len(mids)

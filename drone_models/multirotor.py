@@ -1,0 +1,196 @@
+"""Parametric multirotor generator: body, arms, motors, propellers, gimbal, legs, battery."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+
+from csuas.drone_models import parts as P
+from csuas.drone_models.drone import Drone, Part
+from csuas.drone_models.materials import get_material
+from csuas.errors import ParameterError
+
+#: Accepted propeller representations.
+PROPELLER_STYLES = ("disc", "blades", "none")
+
+#: Default material per part kind (the paper's component list, Section 4.4.3:
+#: plastic frame, carbon-fibre arms, aluminium supports, paint finish).
+DEFAULT_MULTIROTOR_MATERIALS = {
+    "body": "paint",
+    "arm": "carbon_fibre",
+    "motor": "aluminium",
+    "propeller": "dark_plastic",
+    "gimbal": "dark_plastic",
+    "landing_gear": "aluminium",
+    "battery": "battery_pack",
+}
+
+
+@dataclass
+class MultirotorParams:
+    """Geometry of a multirotor, all lengths in metres, heights from the ground (z = 0).
+
+    The built model is re-centred on its bounding box (body frame +x forward,
+    +y left, +z up).
+
+    Attributes
+    ----------
+    body_extents_m, body_center_m : tuple of 3 float
+        Fuselage shell size (length, width, height) and centre.
+    body_corner_radius_m : float
+        Rounding radius of the shell edges.
+    rotor_positions_m : tuple of (x, y, z)
+        Motor axis position and motor base height per rotor; the rotor count
+        is ``len(rotor_positions_m)`` (see :func:`csuas.drone_models.parts.radial_layout`).
+    motor_diameter_m, motor_height_m : float
+        Motor bell size.
+    arm_width_m, arm_thickness_m : float
+        Arm cross-section (``arm_profile = "bar"``) or tube diameter and
+        unused thickness (``"tube"``).
+    arm_profile : {"bar", "tube"}
+        Flat moulded arm or round tube.
+    arm_root_fraction : float
+        Arm roots lie at this fraction of the body half-length/half-width
+        toward each rotor (0 = body centre, 1 = body edge).
+    propeller_diameter_m : float
+        Tip-to-tip diameter.
+    propeller_thickness_m : float
+        Swept-disc thickness (``"disc"``) or twice the blade thickness (``"blades"``).
+    propeller_gap_m : float
+        Gap between motor top and propeller plane bottom.
+    n_blades : int
+        Blades per propeller.
+    blade_root_chord_m, blade_tip_chord_m, hub_diameter_m : float
+        Blade plan form and hub size.
+    blade_phase_deg : float
+        Azimuth of the first blade of every propeller.
+    gimbal_extents_m, gimbal_center_m : tuple of 3 float or None
+        Gimbal camera housing; ``None`` for none.
+    lens_diameter_m, lens_length_m : float
+        Lens barrel protruding forward (+x) from the gimbal front face.
+    landing_legs_m : tuple of ((x, y, z_top), (x, y, z_bottom))
+        Straight legs.
+    leg_radius_m : float
+        Leg tube radius.
+    battery_extents_m, battery_center_m : tuple of 3 float or None
+        Exposed battery pack; ``None`` for none.
+    materials : dict
+        Part kind -> material name (:data:`DEFAULT_MULTIROTOR_MATERIALS`).
+    sections : int
+        Facets around round parts.
+    """
+
+    body_extents_m: tuple
+    body_center_m: tuple
+    rotor_positions_m: tuple
+    propeller_diameter_m: float
+    body_corner_radius_m: float = 0.008
+    motor_diameter_m: float = 0.020
+    motor_height_m: float = 0.016
+    arm_width_m: float = 0.012
+    arm_thickness_m: float = 0.008
+    arm_profile: str = "bar"
+    arm_root_fraction: float = 0.6
+    propeller_thickness_m: float = 0.006
+    propeller_gap_m: float = 0.002
+    n_blades: int = 2
+    blade_root_chord_m: float = 0.018
+    blade_tip_chord_m: float = 0.010
+    hub_diameter_m: float = 0.010
+    blade_phase_deg: float = 0.0
+    gimbal_extents_m: tuple | None = None
+    gimbal_center_m: tuple | None = None
+    lens_diameter_m: float = 0.012
+    lens_length_m: float = 0.006
+    landing_legs_m: tuple = ()
+    leg_radius_m: float = 0.003
+    battery_extents_m: tuple | None = None
+    battery_center_m: tuple | None = None
+    materials: dict = field(default_factory=lambda: dict(DEFAULT_MULTIROTOR_MATERIALS))
+    sections: int = P.DEFAULT_SECTIONS
+
+
+def _rotor_label(i: int, x: float, y: float, n: int) -> str:
+    if n == 4:
+        return f"{'front' if x > 0 else 'rear'}_{'left' if y > 0 else 'right'}"
+    return f"rotor{i}"
+
+
+def propeller_mesh(center, params: MultirotorParams, style: str):
+    """Propeller of ``params`` at hub ``center`` as a swept disc or as blades."""
+    if style == "disc":
+        return P.vertical_disc(center, params.propeller_diameter_m, params.propeller_thickness_m, params.sections)
+    return P.propeller_blades(center, params.propeller_diameter_m, params.n_blades, params.blade_root_chord_m,
+                              params.blade_tip_chord_m, params.propeller_thickness_m / 2.0, params.hub_diameter_m,
+                              params.blade_phase_deg)
+
+
+def build_multirotor(name: str, params: MultirotorParams, mass_kg: float, spec: dict | None = None,
+                     propellers: str = "disc") -> Drone:
+    """Assemble a multirotor from ``params``.
+
+    Parameters
+    ----------
+    name : str
+        Model name.
+    params : MultirotorParams
+        Geometry and materials.
+    mass_kg : float
+        Take-off mass [kg].
+    spec : dict, optional
+        Published figures, stored on the result.
+    propellers : {"disc", "blades", "none"}
+        Representation of the propellers.
+
+    Returns
+    -------
+    Drone
+        Centred on its bounding box.
+    """
+    if propellers not in PROPELLER_STYLES:
+        raise ParameterError("propellers", propellers, ", ".join(PROPELLER_STYLES))
+    if params.arm_profile not in ("bar", "tube"):
+        raise ParameterError("arm_profile", params.arm_profile, "bar, tube")
+    if not params.rotor_positions_m:
+        raise ParameterError("rotor_positions_m", params.rotor_positions_m, "at least one rotor")
+    mat = {kind: get_material(m) for kind, m in {**DEFAULT_MULTIROTOR_MATERIALS, **params.materials}.items()}
+    body_c = np.asarray(params.body_center_m, dtype=float)
+    body_ext = np.asarray(params.body_extents_m, dtype=float)
+    parts = [Part("body", "body", P.rounded_box(body_c, body_ext, params.body_corner_radius_m), mat["body"])]
+    n = len(params.rotor_positions_m)
+    for i, (x, y, z) in enumerate(params.rotor_positions_m):
+        label = f"{i}_{_rotor_label(i, x, y, n)}"
+        motor_mid = np.array([x, y, z + params.motor_height_m / 2.0])
+        offset = np.array([x, y]) - body_c[:2]
+        half = params.arm_root_fraction * body_ext[:2] / 2.0
+        scale = min(1.0, *(h / abs(o) for h, o in zip(half, offset) if o != 0.0))
+        root = np.array([*(body_c[:2] + offset * scale), body_c[2]])
+        if params.arm_profile == "bar":
+            arm = P.bar_between(root, motor_mid, params.arm_width_m, params.arm_thickness_m)
+        else:
+            arm = P.cylinder_between(root, motor_mid, params.arm_width_m / 2.0, params.sections)
+        parts.append(Part(f"arm_{label}", "arm", arm, mat["arm"]))
+        motor = P.cylinder_between([x, y, z], [x, y, z + params.motor_height_m], params.motor_diameter_m / 2.0,
+                                   params.sections)
+        parts.append(Part(f"motor_{label}", "motor", motor, mat["motor"]))
+        if propellers != "none":
+            hub = [x, y, z + params.motor_height_m + params.propeller_gap_m + params.propeller_thickness_m / 2.0]
+            parts.append(Part(f"propeller_{label}", "propeller", propeller_mesh(hub, params, propellers),
+                              mat["propeller"]))
+    if params.gimbal_extents_m is not None:
+        g_c = np.asarray(params.gimbal_center_m, dtype=float)
+        g_ext = np.asarray(params.gimbal_extents_m, dtype=float)
+        front = g_c + [g_ext[0] / 2.0, 0.0, 0.0]
+        housing = P.rounded_box(g_c, g_ext, min(g_ext) / 4.0)
+        lens = P.cylinder_between(front - [0.001, 0.0, 0.0], front + [params.lens_length_m, 0.0, 0.0],
+                                  params.lens_diameter_m / 2.0, params.sections)
+        parts.append(Part("gimbal_camera", "gimbal", trimesh.util.concatenate([housing, lens]), mat["gimbal"]))
+    for i, (top, bottom) in enumerate(params.landing_legs_m):
+        parts.append(Part(f"landing_leg_{i}", "landing_gear", P.cylinder_between(top, bottom, params.leg_radius_m, 16),
+                          mat["landing_gear"]))
+    if params.battery_extents_m is not None:
+        parts.append(Part("battery", "battery", P.box(params.battery_center_m, params.battery_extents_m),
+                          mat["battery"]))
+    return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()
