@@ -28,6 +28,7 @@ COMMANDS = {
     "defaults": "list the paper's default parameters, or check every derivable default",
     "sensitivity": "one-at-a-time sensitivity (tornado) analysis and platform comparison",
     "bench": "benchmarks of the analytic core",
+    "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
 }
 
 
