@@ -1,0 +1,221 @@
+"""Target meshes and direction conventions of the radar cross-section engine.
+
+Directions follow SPEC 8: ``azimuth_deg`` from +x toward +y, ``elevation_deg``
+from the xy-plane, and the direction points *from the target toward the
+sensor*. The incident wave of a radar at direction ``d`` therefore propagates
+along ``-d``. Polarisations use the spherical unit vectors of the direction
+(theta measured from +z): V = theta-hat, H = phi-hat, so that H is horizontal
+and V lies in the vertical plane containing ``d`` (IEEE Std 211 usage).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from csuas.errors import ParameterError
+
+from .materials import RadioMaterial, resolve_material
+
+
+def direction_vector(azimuth_deg, elevation_deg) -> np.ndarray:
+    """Unit vector (..., 3) toward ``(azimuth_deg, elevation_deg)`` [deg]."""
+    az = np.radians(np.asarray(azimuth_deg, dtype=float))
+    el = np.radians(np.asarray(elevation_deg, dtype=float))
+    return np.stack(np.broadcast_arrays(np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)), axis=-1)
+
+
+def polarisation_basis(azimuth_deg, elevation_deg) -> tuple[np.ndarray, np.ndarray]:
+    """(theta-hat, phi-hat) of a direction, each (..., 3): the V and H unit vectors.
+
+    theta-hat = (sin el cos az, sin el sin az, -cos el), phi-hat = (-sin az, cos az, 0);
+    both are orthogonal to :func:`direction_vector` and defined at the poles
+    by the azimuth.
+    """
+    az = np.radians(np.asarray(azimuth_deg, dtype=float))
+    el = np.radians(np.asarray(elevation_deg, dtype=float))
+    az, el = np.broadcast_arrays(az, el)
+    theta_hat = np.stack([np.sin(el) * np.cos(az), np.sin(el) * np.sin(az), -np.cos(el)], axis=-1)
+    phi_hat = np.stack([-np.sin(az), np.cos(az), np.zeros_like(az)], axis=-1)
+    return theta_hat, phi_hat
+
+
+def direction_angles(direction) -> tuple[np.ndarray, np.ndarray]:
+    """(azimuth_deg, elevation_deg) of unit vectors (..., 3)."""
+    v = np.asarray(direction, dtype=float)
+    return (np.degrees(np.arctan2(v[..., 1], v[..., 0])),
+            np.degrees(np.arcsin(np.clip(v[..., 2], -1.0, 1.0))))
+
+
+@dataclass
+class TargetMesh:
+    """Triangle mesh prepared for ray tracing: centred, cleaned, with per-face materials.
+
+    Attributes
+    ----------
+    name : str
+        Preset name or file name.
+    vertices : ndarray (V, 3)
+        Vertex positions [m], centred on the bounding-box centre.
+    faces : ndarray (F, 3)
+        Triangles with non-zero area only.
+    face_normals : ndarray (F, 3)
+        Unit geometric normals (either side may face a ray; the engine flips).
+    face_material : ndarray (F,)
+        Index into ``materials`` of each face.
+    materials : list of RadioMaterial
+        Materials in use.
+    dropped_faces : int
+        Degenerate (zero-area or non-finite) faces removed on input.
+    centre_m : ndarray (3,)
+        The bounding-box centre subtracted from the input coordinates [m].
+    """
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    face_normals: np.ndarray
+    face_material: np.ndarray
+    materials: list = field(default_factory=list)
+    dropped_faces: int = 0
+    centre_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    @property
+    def bounding_radius_m(self) -> float:
+        """Radius of the origin-centred sphere enclosing the mesh [m]."""
+        return float(np.sqrt((self.vertices ** 2).sum(axis=1).max()))
+
+    @property
+    def surface_area_m2(self) -> float:
+        """Total area of the faces [m^2]."""
+        tri = self.vertices[self.faces]
+        return float(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())
+
+    def with_material(self, material) -> "TargetMesh":
+        """A copy whose faces are all of one material."""
+        return TargetMesh(self.name, self.vertices, self.faces, self.face_normals,
+                          np.zeros(len(self.faces), dtype=np.uint32), [resolve_material(material)],
+                          self.dropped_faces, self.centre_m)
+
+
+def prepare_mesh(vertices, faces, face_material=None, materials=None, name: str = "mesh") -> TargetMesh:
+    """Clean and centre a triangle mesh for the SBR engine.
+
+    Faces with non-finite vertices or an area below ``1e-12`` of the squared
+    bounding-box diagonal are dropped (they cannot be hit reliably and have no
+    normal); a mesh left with no face is an error.
+
+    Parameters
+    ----------
+    vertices : array_like (V, 3)
+        Vertex positions [m].
+    faces : array_like (F, 3)
+        Vertex indices of triangles.
+    face_material : array_like (F,), optional
+        Material index of each face (default: all 0).
+    materials : list, optional
+        Material specifications (see :func:`resolve_material`); default PEC.
+
+    Raises
+    ------
+    ParameterError
+        Empty mesh, indices out of range, or no face of non-zero area.
+    """
+    v = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    if len(v) == 0 or len(f) == 0:
+        raise ParameterError("mesh", f"{len(v)} vertices, {len(f)} faces", "at least one triangle")
+    if f.min() < 0 or f.max() >= len(v):
+        raise ParameterError("mesh.faces", f"indices {f.min()}..{f.max()}", f"0..{len(v) - 1}")
+    mats = [resolve_material(m) for m in (materials if materials is not None else ["pec"])]
+    fm = np.zeros(len(f), dtype=np.int64) if face_material is None else np.asarray(face_material, np.int64)
+    if fm.shape != (len(f),) or fm.min() < 0 or fm.max() >= len(mats):
+        raise ParameterError("mesh.face_material", f"shape {fm.shape}, range {fm.min()}..{fm.max()}",
+                             f"one index per face in 0..{len(mats) - 1}")
+    finite_v = np.isfinite(v).all(axis=1)
+    used = f[finite_v[f].all(axis=1)]
+    if len(used) == 0:
+        raise ParameterError("mesh", "no finite vertices", "finite vertex positions [m]")
+    lo, hi = v[np.unique(used)].min(axis=0), v[np.unique(used)].max(axis=0)
+    centre = 0.5 * (lo + hi)
+    diag2 = float(((hi - lo) ** 2).sum())
+    tri = np.where(np.isfinite(v), v, 0.0)[f]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    double_area = np.linalg.norm(cross, axis=1)
+    keep = finite_v[f].all(axis=1) & (double_area > 2e-12 * max(diag2, 1e-300))
+    if not keep.any():
+        raise ParameterError("mesh", "all faces have zero area", "at least one triangle of non-zero area")
+    normals = cross[keep] / double_area[keep, None]
+    return TargetMesh(name, np.where(np.isfinite(v), v - centre, 0.0), f[keep], normals,
+                      fm[keep].astype(np.uint32), mats, int((~keep).sum()), centre)
+
+
+def load_target(mesh_or_preset, material=None) -> TargetMesh:
+    """A :class:`TargetMesh` from a trimesh object, a mesh file or a drone preset name.
+
+    Parameters
+    ----------
+    mesh_or_preset : trimesh.Trimesh, trimesh.Scene, TargetMesh, str or Path
+        A mesh; a file trimesh reads (coordinates in metres); or a preset of
+        :func:`csuas.drone_models.build_drone` (its parts keep their own radio
+        materials unless ``material`` is given).
+    material : str or material object, optional
+        One material for every face (e.g. ``"pec"``). Default: the parts'
+        materials for a drone preset, PEC for anything else.
+
+    Raises
+    ------
+    ParameterError
+        A path that does not exist and is not a preset, or an unreadable mesh.
+    """
+    import trimesh
+
+    if isinstance(mesh_or_preset, TargetMesh):
+        target = mesh_or_preset
+    elif isinstance(mesh_or_preset, (trimesh.Trimesh, trimesh.Scene)):
+        target = _from_trimesh(mesh_or_preset, "mesh")
+    elif isinstance(mesh_or_preset, (str, Path)) and Path(mesh_or_preset).is_file():
+        try:
+            loaded = trimesh.load(str(mesh_or_preset), force="mesh")
+        except Exception as exc:  # noqa: BLE001 - trimesh raises many types for bad files
+            raise ParameterError("mesh", str(mesh_or_preset), f"a mesh file trimesh can read ({exc})") from None
+        target = _from_trimesh(loaded, Path(mesh_or_preset).name)
+    elif isinstance(mesh_or_preset, str):
+        target = _from_preset(mesh_or_preset)
+    else:
+        raise ParameterError("mesh", mesh_or_preset, "a trimesh mesh, a mesh file or a drone preset name")
+    return target if material is None else target.with_material(material)
+
+
+def _from_trimesh(mesh, name: str) -> TargetMesh:
+    import trimesh
+
+    if isinstance(mesh, trimesh.Scene):
+        mesh = mesh.dump(concatenate=True)
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise ParameterError("mesh", name, "a triangle mesh with at least one face")
+    return prepare_mesh(mesh.vertices, mesh.faces, name=name)
+
+
+def _from_preset(name: str) -> TargetMesh:
+    try:
+        from csuas.drone_models import build_drone, list_presets
+    except ImportError:
+        raise ParameterError("mesh", name, "an existing mesh file (drone presets are not installed)") from None
+    if name not in list_presets():
+        raise ParameterError("mesh", name, "an existing mesh file or a drone preset: " + ", ".join(list_presets()))
+    drone = build_drone(name)
+    vertices, faces, face_material, materials, offset = [], [], [], [], 0
+    for part in drone.parts:
+        index = next((i for i, m in enumerate(materials) if m == part.material), None)
+        if index is None:
+            materials.append(part.material)
+            index = len(materials) - 1
+        vertices.append(np.asarray(part.mesh.vertices, float))
+        faces.append(np.asarray(part.mesh.faces, np.int64) + offset)
+        face_material.append(np.full(len(part.mesh.faces), index))
+        offset += len(part.mesh.vertices)
+    return prepare_mesh(np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material),
+                        materials, name=name)

@@ -1,0 +1,155 @@
+"""Radio materials of the SBR-PO radar cross-section engine.
+
+A surface is either a perfect electric conductor (PEC) or a lossy dielectric
+half-space of complex relative permittivity
+
+    eps_c(f) = eps' - j (eps'' + sigma / (omega eps0))            (e^{+j omega t})
+
+whose plane-wave reflection is given by the Fresnel coefficients
+(:mod:`csuas.render.rcs.engine`). Only the reflected wave is traced: energy
+transmitted into a dielectric is assumed absorbed (no refraction rays), which
+is exact for a lossy half-space and an approximation for thin shells.
+
+Named ITU materials (ITU-R P.2040-3 Table 3: ``"concrete"``, ``"metal"``,
+``"wood"``, ...; also accepted with an ``itu_`` prefix as in Sionna RT) are
+evaluated with Sionna RT's own implementation,
+``sionna.rt.radio_materials.itu.itu_material`` (eps' = a f^b, sigma = c f^d,
+f in GHz). Drone part materials (``csuas.drone_models`` ``Material``) are
+accepted as they are, by their fields ``relative_permittivity``,
+``conductivity_s_m`` and ``is_pec``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from csuas.errors import ParameterError
+
+#: Vacuum permittivity [F/m] (CODATA 2018).
+EPS0_F_M = 8.8541878128e-12
+
+
+@dataclass(frozen=True)
+class RadioMaterial:
+    """Electromagnetic description of a surface for the SBR engine.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, reported in results.
+    relative_permittivity : complex
+        ``eps' - j eps''`` without the conduction term [-].
+    conductivity_s_m : float
+        Bulk conductivity [S/m] (0 for a loss-free dielectric).
+    is_pec : bool
+        Perfect electric conductor (Fresnel coefficients -1 and +1).
+    itu_name : str or None
+        ITU-R P.2040 material name when the parameters depend on frequency
+        through Sionna RT's ITU model; then ``relative_permittivity`` and
+        ``conductivity_s_m`` are ignored.
+    """
+
+    name: str
+    relative_permittivity: complex = 1.0 + 0.0j
+    conductivity_s_m: float = 0.0
+    is_pec: bool = False
+    itu_name: str | None = None
+
+    def complex_permittivity(self, frequency_ghz: float) -> complex:
+        """Total relative permittivity ``eps - j sigma/(omega eps0)`` at ``frequency_ghz`` [GHz].
+
+        Raises
+        ------
+        ParameterError
+            For a PEC (it has no finite permittivity) or a frequency outside the
+            ITU model's validity range.
+        """
+        if self.is_pec:
+            raise ParameterError(f"material.{self.name}.complex_permittivity", self.name,
+                                 "a dielectric material (PEC has no finite permittivity)")
+        eps = complex(self.relative_permittivity)
+        sigma = float(self.conductivity_s_m)
+        if self.itu_name is not None:
+            eps_real, sigma = _itu_parameters(self.itu_name, frequency_ghz)
+            eps = complex(eps_real, 0.0)
+        omega_eps0 = 2.0 * math.pi * frequency_ghz * 1.0e9 * EPS0_F_M
+        return complex(eps.real, eps.imag - sigma / omega_eps0)
+
+
+PEC = RadioMaterial("pec", is_pec=True)
+
+
+def itu_material_names() -> list[str]:
+    """Names of the ITU-R P.2040 materials Sionna RT provides."""
+    from sionna.rt.radio_materials.itu import ITU_MATERIALS_PROPERTIES
+
+    return sorted(ITU_MATERIALS_PROPERTIES)
+
+
+def _itu_parameters(name: str, frequency_ghz: float) -> tuple[float, float]:
+    """(eps', sigma [S/m]) of ITU material ``name`` at ``frequency_ghz`` via Sionna RT."""
+    from sionna.rt.radio_materials.itu import itu_material
+
+    try:
+        eps_r, sigma = itu_material(name, frequency_ghz * 1e9)
+    except ValueError as exc:
+        raise ParameterError("material", f"itu_{name} at {frequency_ghz} GHz", str(exc)) from None
+    return float(eps_r), float(sigma)
+
+
+def _drone_material_names() -> dict:
+    try:
+        from csuas.drone_models.materials import MATERIALS
+    except ImportError:  # the drone models are optional for the RCS engine
+        return {}
+    return dict(MATERIALS)
+
+
+def resolve_material(spec) -> RadioMaterial:
+    """Turn a material specification into a :class:`RadioMaterial`.
+
+    Parameters
+    ----------
+    spec : str, RadioMaterial, or object with ``relative_permittivity``,
+        ``conductivity_s_m`` and ``is_pec``
+        ``"pec"``; an ITU-R P.2040 name (``"concrete"`` or ``"itu_concrete"``);
+        a drone material name (``"plastic"``, ``"carbon_fibre"``, ...); a
+        ``complex`` relative permittivity; or a material object.
+
+    Raises
+    ------
+    ParameterError
+        Unknown name, or a non-passive material (positive imaginary part of
+        the permittivity, i.e. gain, or negative conductivity).
+    """
+    if isinstance(spec, RadioMaterial):
+        material = spec
+    elif isinstance(spec, str):
+        key = spec.strip().lower()
+        if key == "pec":
+            return PEC
+        itu = key[4:] if key.startswith("itu_") else key
+        drone = _drone_material_names()
+        if key in drone:
+            material = resolve_material(drone[key])
+        elif itu in itu_material_names():
+            return RadioMaterial(f"itu_{itu}", itu_name=itu)
+        else:
+            allowed = ["pec"] + sorted(drone) + [f"itu_{n}" for n in itu_material_names()]
+            raise ParameterError("material", spec, ", ".join(allowed))
+    elif isinstance(spec, complex):
+        material = RadioMaterial(f"eps_{spec.real:g}{spec.imag:+g}j", relative_permittivity=spec)
+    elif all(hasattr(spec, a) for a in ("relative_permittivity", "conductivity_s_m", "is_pec")):
+        material = RadioMaterial(getattr(spec, "name", "material"), complex(spec.relative_permittivity),
+                                 float(spec.conductivity_s_m), bool(spec.is_pec))
+    else:
+        raise ParameterError("material", spec, "'pec', an ITU or drone material name, a complex permittivity, "
+                                               "or a material object")
+    if material.is_pec or math.isinf(material.conductivity_s_m):
+        return RadioMaterial(material.name, is_pec=True)
+    if material.relative_permittivity.imag > 0 or material.conductivity_s_m < 0:
+        raise ParameterError(f"material.{material.name}",
+                             (material.relative_permittivity, material.conductivity_s_m),
+                             "Im(eps) <= 0 (e^{+j omega t} convention) and conductivity >= 0 S/m")
+    return material
