@@ -7,6 +7,10 @@ parameters.toml
 tables.toml
     Class tables (Tables 11, 14, 16, 18, 27, 30), lookup tables (Tables 20, 21,
     31, 38, 41) and the printed values that ``csuas defaults check`` recomputes.
+sensitivity.toml
+    Parameter ranges of Section 4.9 (Tables 48-51) with the paper's quoted ranges.
+itu.toml
+    Coefficients of ITU-R P.838-3 and P.840.
 presets.toml
     Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
     environments (the paper's condition classes).
@@ -71,6 +75,12 @@ def load_tables() -> dict:
 def load_presets() -> dict:
     """Named target, sensor and environment presets."""
     return _load("presets.toml")
+
+
+@functools.lru_cache(maxsize=None)
+def load_sensitivity() -> dict:
+    """One-at-a-time analyses of Section 4.9 (Tables 48-51) and the platform table (Table 52)."""
+    return _load("sensitivity.toml")
 
 
 def default_values(section: str) -> dict:

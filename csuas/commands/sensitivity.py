@@ -1,0 +1,77 @@
+"""``csuas sensitivity``: one-at-a-time analyses of Section 4.9 with tornado plots, and Table 52."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from csuas.core.sensitivity import one_at_a_time, platform_comparison
+from csuas.defaults import default_values, load_presets, load_sensitivity
+
+ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
+
+
+def add_arguments(parser):
+    """Declare the options of ``csuas sensitivity``."""
+    parser.add_argument("--analysis", choices=ANALYSES + ("platforms", "all"), default="all",
+                        help="which analysis of Section 4.9 (default: all)")
+    parser.add_argument("--out", default=None, help="folder for the tornado plots (PNG); none written without it")
+
+
+def _defaults(analysis: str) -> dict:
+    spec = load_sensitivity()[analysis]
+    return {name: triple[1] for name, triple in spec["parameters"].items()} | dict(spec.get("fixed", {}))
+
+
+def platforms() -> dict:
+    """Table 52 under the Section 4.9 defaults, with the paper's printed values beside."""
+    targets = {}
+    for name in load_sensitivity()["platforms"]:
+        if name == "source":
+            continue
+        target = default_values("target") | load_presets()["target"][name]
+        targets[name] = {k: target[k] for k in ("d_crit_m", "sigma_radar_m2", "sl_db")}
+    eo = {k: v for k, v in _defaults("eo").items() if k != "d_crit_m"}
+    radar = {k: v for k, v in _defaults("radar").items() if k != "sigma_radar_m2"}
+    acoustic = {k: v for k, v in _defaults("acoustic_calm").items() if k != "sl_db"}
+    computed = platform_comparison(targets, eo, acoustic, radar)
+    return {name: {"computed_m": ranges, "paper_m": load_sensitivity()["platforms"][name]["paper"]}
+            for name, ranges in computed.items()}
+
+
+def run(args) -> dict:
+    """``{analyses: {name: {baseline_m, paper_baseline_m, bars, plot}}, platforms: {...}}``."""
+    chosen = ANALYSES if args.analysis == "all" else ((args.analysis,) if args.analysis != "platforms" else ())
+    result = {"analyses": {}}
+    for name in chosen:
+        spec = load_sensitivity()[name]
+        baseline, bars = one_at_a_time(spec["model"], spec["parameters"], spec.get("fixed"))
+        entry = {"title": spec["title"], "source": spec["source"], "baseline_m": baseline,
+                 "paper_baseline_m": spec["baseline_m"], "bars": [b.as_dict() for b in bars],
+                 "paper_quoted": spec.get("paper", {})}
+        if args.out:
+            from csuas.plots import tornado_plot
+
+            path = Path(args.out) / f"tornado_{name}.png"
+            tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars,
+                         log_scale=name != "radar")
+            entry["plot"] = str(path)
+        result["analyses"][name] = entry
+    if args.analysis in ("platforms", "all"):
+        result["platforms"] = platforms()
+    return result
+
+
+def render_text(result: dict) -> str:
+    """Tornado tables and the platform comparison."""
+    lines = []
+    for name, a in result["analyses"].items():
+        lines.append(f"{a['title']} ({a['source']}): baseline {a['baseline_m']:.1f} m (paper {a['paper_baseline_m']} m)")
+        for b in a["bars"]:
+            lines.append(f"  {b['parameter']:<22} {b['low']:>9g} -> {b['range_at_low_m']:>9.1f} m   "
+                         f"{b['high']:>9g} -> {b['range_at_high_m']:>9.1f} m   span {b['span_m']:.1f} m")
+        if "plot" in a:
+            lines.append(f"  plot: {a['plot']}")
+    for name, p in result.get("platforms", {}).items():
+        lines.append(f"Table 52 {name}: " + ", ".join(
+            f"{k} {v:.1f} m (paper {p['paper_m'][k]})" for k, v in p["computed_m"].items()))
+    return "\n".join(lines)
