@@ -1,0 +1,41 @@
+"""``csuas bench``: benchmarks with their figures and ratios (SPEC 9)."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+#: Benchmark suites: name -> (module, function). Each function returns a list of row dicts or a dict.
+SUITES = {
+    "core_models": ("csuas.validation.bench_core", "bench_models"),
+    "core_iterative": ("csuas.validation.bench_core", "bench_iterative"),
+}
+
+
+def add_arguments(parser):
+    """Declare the options of ``csuas bench``."""
+    parser.add_argument("--only", nargs="+", choices=sorted(SUITES), default=None, help="run only these suites")
+
+
+def run(args) -> dict:
+    """``{suite: figures}`` for every suite run."""
+    out = {}
+    for name in args.only or SUITES:
+        module, function = SUITES[name]
+        print(f"bench: {name} ...", file=sys.stderr, flush=True)
+        out[name] = getattr(importlib.import_module(module), function)()
+    return {"benchmarks": out}
+
+
+def _fmt(value):
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
+def render_text(result: dict) -> str:
+    """One line per benchmark row."""
+    lines = []
+    for name, rows in result["benchmarks"].items():
+        lines.append(f"[{name}]")
+        for row in rows if isinstance(rows, list) else [rows]:
+            lines.append("  " + ", ".join(f"{k}={_fmt(v)}" for k, v in row.items()))
+    return "\n".join(lines)
