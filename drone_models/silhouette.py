@@ -29,6 +29,8 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse
+import scipy.sparse.csgraph
 import shapely
 import trimesh
 
@@ -110,22 +112,22 @@ class SilhouetteModel:
         keep = area2 > 2.0 * DEGENERATE_AREA_FRACTION * diag2
         if not np.any(keep):
             raise ParameterError("mesh", "all faces have zero area", "at least one triangle of non-zero area")
-        # connectivity as given: shells touching at coincident vertices stay separate
-        clean = trimesh.Trimesh(vertices=vertices, faces=faces[keep], process=False)
-        shells = clean.split(only_watertight=False)
+        kept = faces[keep]
+        shells = _shells(vertices, kept)
         convex, tris, norms, cull = [], [], [], []
         watertight = True
-        for shell in shells:
-            closed = bool(shell.is_watertight)
+        for shell_faces in shells:
+            closed, oriented = _closure(shell_faces)
             watertight &= closed
-            if use_convex_hulls and closed and shell.is_convex:
-                convex.append(np.asarray(shell.vertices))
+            used, local = np.unique(shell_faces, return_inverse=True)
+            shell = trimesh.Trimesh(vertices=vertices[used], faces=local.reshape(-1, 3), process=False)
+            if use_convex_hulls and oriented and shell.is_convex:
+                convex.append(vertices[used])
                 continue
-            orientable = closed and bool(shell.is_winding_consistent)
-            outward = -1.0 if orientable and shell.volume < 0.0 else 1.0  # inside-out shells: flip normals
-            tris.append(np.asarray(shell.triangles))
+            outward = -1.0 if oriented and shell.volume < 0.0 else 1.0  # inside-out shells: flip normals
+            tris.append(vertices[shell_faces])
             norms.append(outward * np.asarray(shell.face_normals))
-            cull.append(np.full(len(shell.faces), orientable))
+            cull.append(np.full(len(shell_faces), oriented))
         if not watertight and warn:
             warnings.warn("mesh is not watertight: its silhouette uses both faces of every triangle of the open "
                           "shells (exact for the surface as given)", NonWatertightWarning, stacklevel=2)
@@ -137,7 +139,7 @@ class SilhouetteModel:
                    triangles=np.concatenate(tris) if tris else np.zeros((0, 3, 3)),
                    normals=np.concatenate(norms) if norms else np.zeros((0, 3)),
                    cullable=np.concatenate(cull) if cull else np.zeros(0, dtype=bool),
-                   extent_vertices=np.asarray(clean.vertices[np.unique(clean.faces)]),
+                   extent_vertices=vertices[np.unique(kept)],
                    watertight=watertight, n_shells=len(shells), n_convex_shells=len(convex),
                    n_degenerate_faces=int(np.count_nonzero(~keep)))
 
@@ -145,6 +147,28 @@ class SilhouetteModel:
     def from_drone(cls, drone, **kwargs) -> "SilhouetteModel":
         """Prepare all parts of a :class:`~csuas.drone_models.drone.Drone`."""
         return cls.from_mesh([p.mesh for p in drone.parts], **kwargs)
+
+
+def _shells(vertices: np.ndarray, faces: np.ndarray) -> list:
+    """Face index arrays of the edge-connected shells (connectivity as given: no vertex merging)."""
+    n = len(vertices)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    graph = scipy.sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, labels = scipy.sparse.csgraph.connected_components(graph, directed=False)
+    face_label = labels[faces[:, 0]]
+    order = np.argsort(face_label, kind="stable")
+    splits = np.flatnonzero(np.diff(face_label[order])) + 1
+    return [faces[idx] for idx in np.split(order, splits)]
+
+
+def _closure(faces: np.ndarray) -> tuple[bool, bool]:
+    """(closed, consistently oriented): every edge shared by exactly two faces, each direction once."""
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    undirected = np.sort(directed, axis=1)
+    _, counts = np.unique(undirected, axis=0, return_counts=True)
+    closed = bool(np.all(counts == 2))
+    oriented = closed and len(np.unique(directed, axis=0)) == len(directed)
+    return closed, oriented
 
 
 def _as_mesh_list(mesh) -> list:
