@@ -11,25 +11,29 @@ while on the graded mesh every triangle's coordinates are within a factor
 of the point itself.
 
 The ground is a half-space: Sionna's radio materials model a slab of given
-thickness (ITU-R P.2040-3 Eqs. 43-44); with ``GROUND_THICKNESS_M`` the
-wave inside the slab is attenuated to nothing before it can come back, so
-the reflection coefficient is the Fresnel one of the half-space (checked
-by the two-ray tests).
+thickness (ITU-R P.2040-3 Eqs. 43-44); :func:`half_space_thickness_m`
+makes the slab thick enough that the wave inside it is attenuated by
+``HALF_SPACE_NEPERS`` before it comes back, so the reflection coefficient
+is the Fresnel one of the half-space (checked by the two-ray tests). A
+fixed large thickness does not do: for metal at 10 km Sionna's float32
+slab formula loses the reflected path altogether (measured).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from csuas.core.units import C_LIGHT
 from csuas.errors import ParameterError
 from csuas.render.links.sionna_backend import load_sionna_rt
+from csuas.render.links.two_ray import complex_permittivity
 
 #: Half-size of the innermost square of the graded ground [m].
 INNER_HALF_SIZE_M = 1.0
 #: Ratio of the half-sizes of consecutive rings of the graded ground.
 RING_RATIO = 4.0
-#: Slab thickness that turns Sionna's slab model into a half-space [m].
-GROUND_THICKNESS_M = 1.0e4
+#: Round-trip attenuation [Np] inside the slab that makes it a half-space (e^-30 = 1e-13).
+HALF_SPACE_NEPERS = 30.0
 #: Frequencies the links accept [GHz] (Sionna's ITU materials cover at most 0.001-100 GHz).
 FREQUENCY_RANGE_GHZ = (0.1, 100.0)
 
@@ -75,6 +79,18 @@ def ground_properties(material: str, frequency_ghz: float) -> tuple[float, float
             return a * frequency_ghz**b, c * frequency_ghz**d
     ranges = ", ".join(f"{lo:g}-{hi:g} GHz" for lo, hi in materials[material])
     raise ParameterError("frequency_ghz", frequency_ghz, f"{ranges} for ground {material!r}")
+
+
+def half_space_thickness_m(relative_permittivity, conductivity_s_m, frequency_ghz) -> float:
+    """Slab thickness [m] whose round trip attenuates the wave by ``HALF_SPACE_NEPERS``.
+
+    The attenuation constant inside the slab is k0 |Im sqrt(eta - sin^2 theta)|,
+    smallest at normal incidence, so d = N / (2 k0 |Im sqrt(eta)|), capped at 1e4 m.
+    """
+    eta = complex_permittivity(relative_permittivity, conductivity_s_m, frequency_ghz)
+    k0 = 2.0 * np.pi * frequency_ghz * 1e9 / C_LIGHT
+    attenuation = 2.0 * k0 * abs(np.sqrt(eta).imag)
+    return float(min(1.0e4, HALF_SPACE_NEPERS / attenuation)) if attenuation > 0 else 1.0e4
 
 
 def graded_ground_mesh(extent_m: float) -> tuple[np.ndarray, np.ndarray]:
@@ -141,9 +157,9 @@ def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polar
     scene = rt.load_scene()
     scene.frequency = frequency_ghz * 1e9
     if ground is not None:
-        ground_properties(ground, frequency_ghz)
+        thickness = half_space_thickness_m(*ground_properties(ground, frequency_ghz), frequency_ghz)
         vertices, faces = graded_ground_mesh(max(2.0 * extent_m, 100.0))
-        material = rt.ITURadioMaterial(name=f"ground-{ground}", itu_type=ground, thickness=GROUND_THICKNESS_M)
+        material = rt.ITURadioMaterial(name=f"ground-{ground}", itu_type=ground, thickness=thickness)
         scene.edit(add=[rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground",
                                        radio_material=material)])
     array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=polarization)
