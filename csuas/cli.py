@@ -29,6 +29,7 @@ COMMANDS = {
     "sensitivity": "one-at-a-time sensitivity (tornado) analysis and platform comparison",
     "bench": "benchmarks of the analytic core",
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
+    "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
 }
 
 
