@@ -207,3 +207,14 @@ def test_cli_pathloss(capsys):
         assert main(["pathloss", *bad]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "invalid" in err
+
+
+def test_bench_links_structure():
+    from csuas.render.links.bench import SCENES, bench_links
+
+    result = bench_links(repeats=1)
+    assert set(result["scenes"]) == set(SCENES)
+    for scene in result["scenes"].values():
+        assert scene["equal_accuracy"]
+        assert scene["sionna_default"]["samples"] == 1_000_000 and scene["sionna_default"]["max_depth"] == 3
+        assert scene["speedup"] > 0

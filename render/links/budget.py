@@ -9,8 +9,9 @@ soon as every relevant plane is hit by one ray: over one flat ground, 3 rays
 already find every ground reflection (measured; a single ray finds only the
 line of sight), and more samples only cost time. ``max_depth`` bounds the
 number of interactions; over one flat ground no path has more than one
-bounce, so depth 1 is exact there. The presets keep a margin for scenes with
-more than one surface.
+bounce, so depth 1 is exact there, and in free space the presets run at
+depth 0 (line of sight only: there is nothing to hit). The presets keep a
+margin of samples for scenes with more than one surface.
 
 Measured accuracy and time of each preset: :func:`csuas.render.links.accuracy.accuracy_vs_time`.
 """

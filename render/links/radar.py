@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from csuas.errors import ParameterError
-from csuas.render.links.budget import LinkBudget, resolve_budget
+from csuas.render.links.budget import PRESETS, LinkBudget, resolve_budget
 from csuas.render.links.paths import coherent_coefficients
 from csuas.render.links.rcs_table import as_rcs_function, bisector_aspect
 from csuas.render.links.rf import LinkResult, check_distances, check_height
@@ -108,7 +108,7 @@ def radar_link_gain(frequency_ghz, range_m, radar_height_m=5.0, target_height_m=
         raise ParameterError("target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)")
     rcs_function = as_rcs_function(rcs)
     chosen = resolve_budget(budget, samples, max_depth)
-    if not over_ground:
+    if not over_ground and chosen.name in PRESETS:
         chosen = LinkBudget(chosen.name, chosen.samples, 0)   # nothing to hit: direct legs only
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
 

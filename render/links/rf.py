@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csuas.errors import ParameterError
-from csuas.render.links.budget import LinkBudget, resolve_budget
+from csuas.render.links.budget import PRESETS, LinkBudget, resolve_budget
 from csuas.render.links.paths import coherent_coefficients
 from csuas.render.links.scene import build_scene, check_frequency, ground_properties
 from csuas.render.links.sionna_backend import active_variant, load_sionna_rt
@@ -119,7 +119,7 @@ def rf_path_gain(frequency_ghz, distance_m, tx_height_m=10.0, rx_height_m=10.0, 
         raise ParameterError("polarization", polarization, "V or H")
     chosen = resolve_budget(budget, samples, max_depth)
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
-    if not over_ground:
+    if not over_ground and chosen.name in PRESETS:
         chosen = LinkBudget(chosen.name, chosen.samples, 0)   # nothing to hit: line of sight only
 
     rt = load_sionna_rt()
