@@ -42,18 +42,19 @@ class Drone:
     ----------
     name : str
         Preset or model name.
-    mass_kg : float
-        Take-off mass from the specification [kg] (not computed from the mesh).
+    mass_kg : float or None
+        Take-off mass from the specification [kg] (not computed from the
+        mesh); None when unknown (user meshes).
     parts : list of Part
         Components; their union is the drone.
     spec : dict
         Published figures the model was built from, with their source.
     propellers : str
-        ``"disc"`` (swept discs), ``"blades"`` or ``"none"``.
+        ``"disc"`` (swept discs), ``"blades"``, ``"none"``, or ``"as file"`` for user meshes.
     """
 
     name: str
-    mass_kg: float
+    mass_kg: float | None
     parts: list
     spec: dict = field(default_factory=dict)
     propellers: str = "disc"

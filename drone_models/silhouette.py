@@ -44,6 +44,9 @@ DEGENERATE_AREA_FRACTION = 1e-14
 #: Directions processed per vectorised batch (bounds memory).
 BATCH_DIRECTIONS = 128
 
+#: At most this many projected triangles are held at once (directions x triangles of non-convex shells).
+TRIANGLE_BUDGET = 200_000
+
 
 class NonWatertightWarning(UserWarning):
     """The mesh has open shells: silhouettes use both faces of every triangle."""
@@ -238,8 +241,9 @@ def metrics_for_directions(model: SilhouetteModel, directions, azimuth_deg=None,
     x = model.extent_vertices @ h.T  # (n_vert, n)
     y = model.extent_vertices @ v.T
     dx, dy = np.ptp(x, axis=0), np.ptp(y, axis=0)
-    polygons = np.concatenate([_silhouettes(model, d[i:i + BATCH_DIRECTIONS], h[i:i + BATCH_DIRECTIONS],
-                                            v[i:i + BATCH_DIRECTIONS]) for i in range(0, len(d), BATCH_DIRECTIONS)])
+    batch = max(1, min(BATCH_DIRECTIONS, TRIANGLE_BUDGET // max(1, len(model.triangles))))
+    polygons = np.concatenate([_silhouettes(model, d[i:i + batch], h[i:i + batch], v[i:i + batch])
+                               for i in range(0, len(d), batch)])
     area = shapely.area(polygons)
     out = {"d_x_proj_m": dx, "d_y_proj_m": dy,
            "d_crit_min_m": critical_dimension(dx, dy, "min"),

@@ -62,6 +62,18 @@ def test_cli_bad_input_is_one_line_exit_2(capsys, argv, fragment):
     assert fragment in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
+def test_cli_reads_an_open_mesh_file(tmp_path, capsys):
+    box = trimesh.creation.box(extents=[0.3, 0.2, 0.1])
+    top = np.where(box.face_normals[:, 2] > 0.5)[0]
+    trimesh.Trimesh(box.vertices, np.delete(box.faces, top, axis=0), process=False).export(tmp_path / "open.obj")
+    code, result = run_json(capsys, str(tmp_path / "open.obj"), "--azimuth-deg", "0", "--quality", "none")
+    assert code == 0
+    assert result["mesh"]["watertight"] is False and len(result["warnings"]) == 1
+    assert result["mass_kg"] is None
+    assert result["projected_area_m2"] == pytest.approx(0.2 * 0.1, rel=1e-6)  # seen along x: width x height
+    assert main(["drone", str(tmp_path / "missing.ply")]) == 2
+
+
 def test_cli_text_output(capsys):
     assert main(["drone", "dji_mavic_3", "--quality", "draft"]) == 0
     text = capsys.readouterr().out

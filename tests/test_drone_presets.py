@@ -1,5 +1,8 @@
 """Drone presets against their published specifications, parts, materials and Eqs. 1, 2, 8, 9."""
 
+import csv
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -13,6 +16,22 @@ from csuas.drone_models.silhouette import projected_metrics
 from csuas.errors import ParameterError
 
 STYLES = ("disc", "blades", "none")
+SPECS_FILE = Path(__file__).parent / "reference" / "drone_specs.csv"
+
+
+def published_specs():
+    """preset -> row of tests/reference/drone_specs.csv (after the units row)."""
+    with SPECS_FILE.open(encoding="utf-8") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    assert rows[0]["length_x"] == "m" and rows[0]["mass"] == "kg"  # units row
+    return {r["preset"]: r for r in rows[1:]}
+
+
+SPECS = published_specs()
+
+
+def spec_values(preset, *keys):
+    return [float(SPECS[preset][k]) for k in keys]
 
 
 @pytest.fixture(scope="module")
@@ -25,9 +44,10 @@ def test_list_presets_names():
 
 
 def test_mini_4_pro_bbox_within_1_percent_of_spec(mini):
-    # DJI: unfolded with propellers 298 x 373 x 101 mm (length x width x height)
-    np.testing.assert_allclose(mini.extents(), [0.298, 0.373, 0.101], rtol=0.01)
-    assert mini.mass_kg == pytest.approx(0.249)
+    assert SPECS["dji_mini_4_pro"]["configuration"] == "unfolded_with_propellers"
+    np.testing.assert_allclose(mini.extents(), spec_values("dji_mini_4_pro", "length_x", "width_y", "height_z"),
+                               rtol=0.01)
+    assert mini.mass_kg == pytest.approx(spec_values("dji_mini_4_pro", "mass")[0])
 
 
 def test_mini_4_pro_origin_at_bbox_centre(mini):
@@ -37,19 +57,21 @@ def test_mini_4_pro_origin_at_bbox_centre(mini):
 
 def test_mavic_3_bbox_without_propellers_within_1_percent():
     drone = build_drone("dji_mavic_3")
-    # DJI: unfolded without propellers 347.5 x 283 x 107.7 mm; 895 g
-    np.testing.assert_allclose(drone.extents(exclude_kinds=("propeller",)), [0.3475, 0.283, 0.1077], rtol=0.01)
-    np.testing.assert_allclose(build_drone("dji_mavic_3", "none").extents(), [0.3475, 0.283, 0.1077], rtol=0.01)
-    assert drone.mass_kg == pytest.approx(0.895)
+    assert SPECS["dji_mavic_3"]["configuration"] == "unfolded_without_propellers"
+    spec = spec_values("dji_mavic_3", "length_x", "width_y", "height_z")
+    np.testing.assert_allclose(drone.extents(exclude_kinds=("propeller",)), spec, rtol=0.01)
+    np.testing.assert_allclose(build_drone("dji_mavic_3", "none").extents(), spec, rtol=0.01)
+    assert drone.mass_kg == pytest.approx(spec_values("dji_mavic_3", "mass")[0])
     assert drone.extents()[0] > drone.extents(exclude_kinds=("propeller",))[0] + 0.2  # 9.4-inch discs overhang
 
 
 def test_black_hornet_3_dimensions():
     drone = build_drone("black_hornet_3")
     length, width, height = drone.extents()
-    assert length == pytest.approx(0.168, rel=0.01)  # about 168 mm long
-    assert width == pytest.approx(0.123, rel=0.01)  # 123 mm rotor, the widest part
-    assert drone.mass_kg == pytest.approx(0.033)
+    spec_length, spec_rotor, spec_mass = spec_values("black_hornet_3", "length_x", "width_y", "mass")
+    assert length == pytest.approx(spec_length, rel=0.01)  # about 168 mm long
+    assert width == pytest.approx(spec_rotor, rel=0.01)  # 123 mm rotor, the widest part
+    assert drone.mass_kg == pytest.approx(spec_mass)
     assert {p.kind for p in drone.parts} >= {"body", "propeller", "tail_boom", "tail_rotor", "mast"}
 
 

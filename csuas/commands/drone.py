@@ -3,18 +3,22 @@
 from __future__ import annotations
 
 import time
+import warnings
+from pathlib import Path
 
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
+from csuas.drone_models.mesh_input import load_mesh_drone
 from csuas.drone_models.multirotor import PROPELLER_STYLES
 from csuas.drone_models.presets import build_drone, list_presets
 from csuas.drone_models.signature import K_LCS_DEFAULT, lcs_estimate
-from csuas.drone_models.silhouette import SilhouetteModel, projected_metrics
+from csuas.drone_models.silhouette import NonWatertightWarning, SilhouetteModel, projected_metrics
 from csuas.drone_models.sphere_average import QUALITY_PRESETS, sphere_average
 
 
 def add_arguments(parser) -> None:
     """Options of ``csuas drone``."""
-    parser.add_argument("preset", help="drone preset: " + ", ".join(list_presets()))
+    parser.add_argument("preset", help="drone preset (" + ", ".join(list_presets()) + ") or a mesh file in metres "
+                        "(any format trimesh reads; --propellers does not apply)")
     parser.add_argument("--azimuth-deg", type=float, default=90.0,
                         help="view azimuth from +x (nose) toward +y (left) [deg], default 90 (side view)")
     parser.add_argument("--elevation-deg", type=float, default=0.0,
@@ -35,14 +39,19 @@ def run(args) -> dict:
     start = time.perf_counter()
     if args.export:
         export_format(args.export)  # reject a bad suffix before any work
-    drone = build_drone(args.preset, propellers=args.propellers)
-    model = SilhouetteModel.from_drone(drone)
+    if args.preset in list_presets() or not Path(args.preset).suffix:
+        drone = build_drone(args.preset, propellers=args.propellers)
+    else:
+        drone = load_mesh_drone(args.preset)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", NonWatertightWarning)
+        model = SilhouetteModel.from_drone(drone)
     view = projected_metrics(model, args.azimuth_deg, args.elevation_deg)
     lcs_view = float(lcs_estimate(view["projected_area_m2"], args.k_lcs, args.t_illum))
     b = drone.bounds()
     result = {
         "preset": args.preset,
-        "propellers": args.propellers,
+        "propellers": drone.propellers,
         "mass_kg": drone.mass_kg,
         "bbox_m": (b[1] - b[0]).tolist(),
         "bbox_min_m": b[0].tolist(),
@@ -59,7 +68,8 @@ def run(args) -> dict:
         "emissivity": drone.emissivity("lwir"),
         "mesh": {"n_parts": len(drone.parts), "n_faces": int(sum(len(p.mesh.faces) for p in drone.parts)),
                  "parts_watertight": all(p.mesh.is_watertight for p in drone.parts),
-                 "n_shells": model.n_shells},
+                 "watertight": model.watertight, "n_shells": model.n_shells,
+                 "n_degenerate_faces": model.n_degenerate_faces},
         "parts": [{"name": p.name, "kind": p.kind, "material": p.material.name, "area_m2": float(p.mesh.area)}
                   for p in drone.parts],
         "spec": drone.spec,
@@ -73,6 +83,7 @@ def run(args) -> dict:
                                                                        args.k_lcs, args.t_illum))
     if args.export:
         result["export"] = str(export_drone(drone, args.export))
+    result["warnings"] = [str(w.message) for w in caught if issubclass(w.category, NonWatertightWarning)]
     result["time_s"] = time.perf_counter() - start
     return result
 
@@ -82,7 +93,8 @@ def render_text(result: dict) -> str:
     bx, by, bz = (1e3 * v for v in result["bbox_m"])
     view = result["view"]
     lines = [
-        f"{result['preset']} ({result['propellers']} propellers), mass {1e3 * result['mass_kg']:.0f} g",
+        f"{result['preset']} (propellers: {result['propellers']}), mass "
+        + ("unknown" if result["mass_kg"] is None else f"{1e3 * result['mass_kg']:.0f} g"),
         f"  bounding box          {bx:.1f} x {by:.1f} x {bz:.1f} mm (x forward, y left, z up)",
         f"  view                  azimuth {view['azimuth_deg']:g} deg, elevation {view['elevation_deg']:g} deg",
         f"  d_x_proj, d_y_proj    {1e3 * result['d_x_proj_m']:.1f} mm, {1e3 * result['d_y_proj_m']:.1f} mm",
@@ -105,6 +117,7 @@ def render_text(result: dict) -> str:
     e = result["emissivity"]
     lines.append(f"  LWIR emissivity       {e['area_weighted']:.3f} area-weighted (paper 0.68 = unweighted mean of "
                  "its component list)")
+    lines += [f"  warning: {w}" for w in result.get("warnings", [])]
     if "export" in result:
         lines.append(f"  exported              {result['export']}")
     return "\n".join(lines)
