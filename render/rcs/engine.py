@@ -340,6 +340,7 @@ class SbrEngine:
             pi = self.scene.ray_intersect_preliminary(mi.Ray3f(st["o"], st["dir"]), coherent=bounce == 1)
             hit = pi.is_valid()
             dr.eval(hit, pi.t, pi.prim_index)
+            dr.sync_thread()                      # launches are asynchronous; the mask is needed on the host
             stats["trace_s"] += time.perf_counter() - t0
             stats["casts"] += dr.width(hit)
             hit_np = np.asarray(hit, bool)

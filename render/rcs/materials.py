@@ -136,7 +136,7 @@ def resolve_material(spec) -> RadioMaterial:
         elif itu in itu_material_names():
             return RadioMaterial(f"itu_{itu}", itu_name=itu)
         else:
-            allowed = ["pec"] + sorted(drone) + [f"itu_{n}" for n in itu_material_names()]
+            allowed = list(dict.fromkeys(["pec"] + sorted(drone) + [f"itu_{n}" for n in itu_material_names()]))
             raise ParameterError("material", spec, ", ".join(allowed))
     elif isinstance(spec, complex):
         material = RadioMaterial(f"eps_{spec.real:g}{spec.imag:+g}j", relative_permittivity=spec)
