@@ -30,6 +30,7 @@ COMMANDS = {
     "bench": "benchmarks of the analytic core",
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
+    "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
 }
 
 
