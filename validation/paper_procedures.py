@@ -23,18 +23,22 @@ def eo_step_reduction(r_johnson_m: float, c0: float, c_min: float, sigma_db_km: 
     return max(r, 0.0)
 
 
-def tir_fixed_point(mrtd, d_crit_m: float, lp_task: float, n_ttpf: float, delta_t0_k: float,
-                    sigma_db_km: float, tol_m: float = 1e-3, max_iter: int = 10_000) -> float:
-    """TIR MRTD range by the iteration of Section 4.4.3 (paper convention, Eq. 31).
+def tir_step_reduction(mrtd, d_crit_m: float, lp_task: float, n_ttpf: float, delta_t0_k: float,
+                       sigma_db_km: float, step_m: float = 0.01) -> float:
+    """TIR MRTD range by the procedure of Section 4.4.3 (paper convention, Eq. 31).
 
-    Guess R_hyp, attenuate Delta T (Eq. 31), read the sensor frequency from
-    the MRTD curve (Eq. 27) and recompute R (Eq. 29); repeat until R_hyp = R.
+    Start from the unattenuated MRTD range (Eq. 29) as R_hyp; attenuate Delta T
+    over R_hyp (Eq. 31), read the sensor frequency from the MRTD curve (Eq. 27)
+    and recompute R_MRTD (Eq. 29); reduce R_hyp by ``step_m`` until
+    R_MRTD(R_hyp) >= R_hyp. (Iterating R_hyp = R_MRTD(R_hyp) directly, the
+    other reading of step 5, can fall into a two-cycle: the map decreases
+    with R and its slope may exceed 1 in magnitude.)
     """
-    r_hyp = 0.0
-    for _ in range(max_iter):
+    def r_mrtd(r_hyp):
         delta_t = abs(delta_t0_k) * math.exp(-sigma_db_km * r_hyp / 1000.0)
-        r_new = d_crit_m * float(mrtd.max_frequency(delta_t)) / (lp_task * n_ttpf)
-        if abs(r_new - r_hyp) < tol_m:
-            return r_new
-        r_hyp = r_new
-    return r_hyp
+        return d_crit_m * float(mrtd.max_frequency(delta_t)) / (lp_task * n_ttpf)
+
+    r_hyp = r_mrtd(0.0)
+    while r_hyp > 0 and r_mrtd(r_hyp) < r_hyp:
+        r_hyp -= step_m
+    return max(r_hyp, 0.0)
