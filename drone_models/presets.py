@@ -21,7 +21,8 @@ motors, legs) are plausible estimates from photographs, marked as such.
 
 from __future__ import annotations
 
-from csuas.drone_models.drone import Drone
+import dataclasses
+
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
 from csuas.errors import ParameterError
@@ -29,7 +30,7 @@ from csuas.errors import ParameterError
 INCH_M = 0.0254
 
 
-def _mini_4_pro(propellers: str) -> Drone:
+def _mini_4_pro():
     spec = {"unfolded_with_propellers_m": (0.298, 0.373, 0.101), "folded_without_propellers_m": (0.148, 0.094, 0.064),
             "mass_kg": 0.249, "propeller_diameter_m": 6.0 * INCH_M,
             "source": "DJI Mini 4 Pro specifications (dji.com), paper Table 8 [49]"}
@@ -52,10 +53,10 @@ def _mini_4_pro(propellers: str) -> Drone:
                         ((-motor_x, -motor_y, rear_base), (-motor_x, -motor_y, 0.0))),
         leg_radius_m=0.003,
         battery_extents_m=(0.014, 0.062, 0.034), battery_center_m=(-0.066, 0.0, 0.040))
-    return build_multirotor("dji_mini_4_pro", params, spec["mass_kg"], spec, propellers)
+    return build_multirotor, params, spec
 
 
-def _mavic_3(propellers: str) -> Drone:
+def _mavic_3():
     spec = {"unfolded_without_propellers_m": (0.3475, 0.283, 0.1077), "folded_without_propellers_m": (0.221, 0.0963, 0.0903),
             "mass_kg": 0.895, "propeller_diameter_m": 9.4 * INCH_M,
             "source": "DJI Mavic 3 specifications (dji.com)"}
@@ -77,10 +78,10 @@ def _mavic_3(propellers: str) -> Drone:
                         ((-0.070, 0.030, 0.020), (-0.070, 0.030, 0.0)), ((-0.070, -0.030, 0.020), (-0.070, -0.030, 0.0))),
         leg_radius_m=0.004,
         battery_extents_m=(0.020, 0.070, 0.050), battery_center_m=(-0.095, 0.0, 0.060))
-    return build_multirotor("dji_mavic_3", params, spec["mass_kg"], spec, propellers)
+    return build_multirotor, params, spec
 
 
-def _black_hornet_3(propellers: str) -> Drone:
+def _black_hornet_3():
     spec = {"length_m": 0.168, "main_rotor_diameter_m": 0.123, "height_m": 0.025, "mass_kg": 0.033,
             "source": "paper Section 4.9.4 and Table 52 (Teledyne FLIR Black Hornet 3 [196]); "
                       "height 25 mm assumed (consistent with Table 52 d_crit = 0.025 m)"}
@@ -97,7 +98,7 @@ def _black_hornet_3(propellers: str) -> Drone:
         tail_boom_end_m=(tail_x, 0.0, 0.010), tail_boom_diameter_m=0.004,
         tail_rotor_diameter_m=tail_rotor_d, tail_rotor_thickness_m=0.002,
         camera_extents_m=(0.012, 0.010, 0.008), camera_center_m=(nose_x - 0.008, 0.0, 0.005))
-    return build_helicopter("black_hornet_3", params, spec["mass_kg"], spec, propellers)
+    return build_helicopter, params, spec
 
 
 _PRESETS = {
@@ -112,8 +113,16 @@ def list_presets() -> dict:
     return {name: text for name, (_, text) in _PRESETS.items()}
 
 
-def build_drone(preset: str, propellers: str = "disc") -> Drone:
-    """Build a preset drone.
+def preset_parameters(preset: str):
+    """``(builder, params, spec)`` of a preset: its generator, geometry dataclass and published figures."""
+    try:
+        return _PRESETS[preset][0]()
+    except (KeyError, TypeError):
+        raise ParameterError("preset", preset, ", ".join(_PRESETS)) from None
+
+
+def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
+    """Build a preset drone, optionally with some geometry parameters changed.
 
     Parameters
     ----------
@@ -122,14 +131,22 @@ def build_drone(preset: str, propellers: str = "disc") -> Drone:
     propellers : {"disc", "blades", "none"}
         Propellers as swept discs (default; the specification's envelope),
         as blades, or left out.
+    **overrides
+        Fields of the preset's :class:`~csuas.drone_models.multirotor.MultirotorParams`
+        or :class:`~csuas.drone_models.helicopter.HelicopterParams`, e.g.
+        ``blade_phase_deg=30`` or ``materials={"body": "plastic"}`` (merged
+        with the preset's materials).
 
     Raises
     ------
     ParameterError
-        For an unknown preset or propeller style.
+        For an unknown preset, propeller style or parameter name.
     """
-    try:
-        builder = _PRESETS[preset][0]
-    except (KeyError, TypeError):
-        raise ParameterError("preset", preset, ", ".join(_PRESETS)) from None
-    return builder(propellers)
+    builder, params, spec = preset_parameters(preset)
+    names = {f.name for f in dataclasses.fields(params)}
+    for key in overrides:
+        if key not in names:
+            raise ParameterError("parameter", key, ", ".join(sorted(names)))
+    if "materials" in overrides:
+        overrides = {**overrides, "materials": {**params.materials, **overrides["materials"]}}
+    return builder(preset, dataclasses.replace(params, **overrides), spec["mass_kg"], spec, propellers)

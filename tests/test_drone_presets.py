@@ -200,3 +200,16 @@ def test_eq1_eq2_eq8_eq9():
         critical_dimension(0.1, 0.1, "mean")
     with pytest.raises(ParameterError):
         critical_dimension(-0.1, 0.1)
+
+
+def test_parameter_overrides():
+    # blades turned across (+y) reach the swept-disc edge: the specified width
+    across = build_drone("dji_mini_4_pro", "blades", blade_phase_deg=90.0)
+    assert across.extents()[1] == pytest.approx(spec_values("dji_mini_4_pro", "width_y")[0], rel=1e-9)
+    repainted = build_drone("dji_mini_4_pro", materials={"body": "plastic"})
+    assert repainted.part("body").material.name == "plastic"
+    assert repainted.part("arm_0_front_left").material.name == "carbon_fibre"  # other kinds keep the preset's
+    with pytest.raises(ParameterError, match="wings"):
+        build_drone("dji_mini_4_pro", wings=2)
+    with pytest.raises(ParameterError, match="material"):
+        build_drone("black_hornet_3", materials={"body": "balsa"})
