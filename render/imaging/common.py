@@ -1,0 +1,60 @@
+"""Shared steps of the EO and thermal renderers: geometry, window, tally."""
+
+from __future__ import annotations
+
+import math
+
+from csuas.errors import ParameterError
+from csuas.render.imaging.camera import SensorGeometry, full_frame, target_bounds, target_window
+from csuas.render.imaging.scene import normalise_target
+
+
+def check_range(range_m) -> float:
+    """Validate a slant range [m] (finite, > 0)."""
+    try:
+        r = float(range_m)
+    except (TypeError, ValueError):
+        raise ParameterError("range_m", range_m, "a number > 0 [m]") from None
+    if not math.isfinite(r) or r <= 0:
+        raise ParameterError("range_m", range_m, "finite and > 0 [m]")
+    return r
+
+
+def prepare(target, *, range_m, hfov_deg, n_h, n_v, azimuth_deg, elevation_deg, target_offset_px, full):
+    """Normalised target, sensor, window, target position and sampling box for one render.
+
+    The full frame (``full=True``, the benchmark's naive reference) samples
+    every pixel uniformly; the window samples only the box that contains
+    the target's image.
+
+    Raises
+    ------
+    ParameterError
+        When the sensor would sit inside the target's bounding sphere.
+    """
+    r = check_range(range_m)
+    sensor = SensorGeometry.from_fov(hfov_deg, n_h, n_v)
+    normalised = normalise_target(target, azimuth_deg, elevation_deg)
+    if r <= 1.001 * normalised.radius_m:
+        raise ParameterError("range_m", r, f"> {normalised.radius_m * 1.001:.4g} m (the target's bounding radius)")
+    cx, cy = sensor.default_target_px()
+    ox, oy = (float(v) for v in target_offset_px)
+    target_px = (cx + ox, cy + oy)
+    window = full_frame(sensor) if full else target_window(sensor, r, normalised.radius_m, target_px)
+    bounds = None if full else target_bounds(sensor, r, normalised.radius_m, target_px)
+    return r, sensor, normalised, window, target_px, bounds
+
+
+def progress_printer(label: str, stream):
+    """A progress callback writing ``label: NN %`` to ``stream`` at 10 % steps (None: silent)."""
+    if stream is None:
+        return None
+    state = {"last": -1}
+
+    def report(fraction: float):
+        step = int(fraction * 10)
+        if step > state["last"]:
+            state["last"] = step
+            print(f"{label}: {step * 10:3d} %", file=stream, flush=True)
+
+    return report

@@ -1,0 +1,150 @@
+"""Visible-band (EO) rendering of a target at a slant range (SPEC 6, paper Sections 2.3.1, 4.3).
+
+Scene: the target's parts as Lambertian surfaces of albedo
+``material.reflectance_rgb`` (linear sRGB), lit by the sun (a directional
+emitter) and a uniform sky over a uniform ground. The scenario's illuminance
+E_v [lx] is the horizontal illuminance, split by ``diffuse_fraction`` f_d:
+
+    sky luminance      L_sky = f_d E_v / pi                [cd m^-2]
+    sun illuminance    E_sun = (1 - f_d) E_v / sin(h_sun)  [lx], normal to the sun's rays
+    ground luminance   L_gnd = rho_gnd E_v / pi            [cd m^-2]
+
+The default f_d = 0.15 is a typical clear-sky diffuse fraction of global
+illuminance at mid sun elevations (Duffie & Beckman, Solar Engineering of
+Thermal Processes, ch. 2; Perez et al., Solar Energy 44, 1990); the default
+ground albedo 0.2 the usual land value. The background behind the target is
+the horizon sky (``background="sky"``: L_b = L_sky, Koschmieder's horizon)
+or a Lambertian surface of reflectance rho_b under E_v just behind the target
+(L_b = rho_b E_v / pi), so that Eq. 4 holds for a target facing the sun.
+
+Images are in luminance units (RGB with Y = 0.2126 R + 0.7152 G + 0.0722 B,
+Rec. 709/sRGB primaries) [cd m^-2]; figures use Y.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from csuas.drone_models.geometry import direction_vector
+from csuas.errors import ParameterError
+from csuas.render.imaging.common import prepare, progress_printer
+from csuas.render.imaging.measure import measure_window
+from csuas.render.imaging.path import eo_path
+from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.result import ImagingResult
+from csuas.render.imaging.scene import build_eo_scene, path_integrator
+from csuas.render.imaging.trace import trace_window
+
+#: Luminance weights of linear Rec. 709 / sRGB primaries (ITU-R BT.709).
+LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
+#: Default diffuse (sky) fraction of the horizontal illuminance (module docstring).
+DEFAULT_DIFFUSE_FRACTION = 0.15
+
+
+def sun_and_sky(illuminance_lx: float, diffuse_fraction: float, sun_elevation_deg: float,
+                ground_reflectance: float) -> dict:
+    """Split a horizontal illuminance into sun, sky and ground (module docstring).
+
+    Returns
+    -------
+    dict
+        ``sun_irradiance_lx`` (normal to the rays), ``sky_radiance``,
+        ``ground_radiance`` [cd m^-2].
+    """
+    checks = (("illuminance_lx", illuminance_lx, 0.0, 2e5), ("diffuse_fraction", diffuse_fraction, 0.0, 1.0),
+              ("ground_reflectance", ground_reflectance, 0.0, 1.0))
+    for name, value, lo, hi in checks:
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise ParameterError(name, value, f"{lo:g} <= x <= {hi:g}")
+    if not (0.0 < sun_elevation_deg <= 90.0):
+        raise ParameterError("sun_elevation_deg", sun_elevation_deg, "0 < x <= 90 (sun above the horizon)")
+    return {"sun_irradiance_lx": (1.0 - diffuse_fraction) * illuminance_lx / math.sin(math.radians(sun_elevation_deg)),
+            "sky_radiance": diffuse_fraction * illuminance_lx / math.pi,
+            "ground_radiance": ground_reflectance * illuminance_lx / math.pi}
+
+
+def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg=0.0, elevation_deg=0.0,
+              illuminance_lx=70000.0, diffuse_fraction=DEFAULT_DIFFUSE_FRACTION, sun_azimuth_deg=None,
+              sun_elevation_deg=45.0, ground_reflectance=0.2, background="sky", visibility_km=None,
+              wavelength_nm=550.0, quality="standard", seed=0, target_offset_px=(0.0, 0.0), max_depth=3,
+              full_frame=False, progress=None, variant=None) -> ImagingResult:
+    """Render the target in the visible band and measure its figures.
+
+    Parameters
+    ----------
+    target : str, Drone or list of parts
+        Drone preset name, a :class:`~csuas.drone_models.Drone`, or parts
+        with ``name``, ``mesh`` (closed, outward), ``material``.
+    range_m : float
+        Slant range sensor-target [m].
+    hfov_deg, n_h, n_v : float, int, int
+        Sensor field of view and pixels (Table 22); IFOV = HFOV / N_H (Eq. 15).
+    azimuth_deg, elevation_deg : float
+        Direction from the target toward the sensor (SPEC 8) [deg].
+    illuminance_lx : float
+        Horizontal illuminance E_v (Table 11) [lx].
+    diffuse_fraction, sun_elevation_deg, ground_reflectance : float
+        Illumination split (module docstring).
+    sun_azimuth_deg : float or None
+        Sun azimuth in the body frame [deg]; None puts the sun behind the sensor (= azimuth_deg).
+    background : "sky" or float
+        Horizon sky, or the reflectance of a Lambertian background.
+    visibility_km : float or None
+        Visibility for Koschmieder transmittance and airlight; None: no atmosphere.
+    wavelength_nm : float
+        Sensor wavelength for the Kruse extinction (Eqs. 19-20) [nm].
+    quality : str or Quality
+        ``draft``, ``standard``, ``reference`` or a :class:`Quality`.
+    seed : int
+        Random seed (results are deterministic for a given seed).
+    target_offset_px : (float, float)
+        Offset of the target's centre from the default pixel centre [px].
+    max_depth : int
+        Path length of the path tracer (3: sun, sky and one inter-reflection).
+    full_frame : bool
+        Render the whole sensor frame instead of the window (benchmark).
+    progress : callable(fraction) or file-like or None
+        Progress callback, or a stream (e.g. ``sys.stderr``) for text progress.
+    variant : str or None
+        Exact Mitsuba variant (else CUDA, then LLVM ``ad_rgb``).
+    """
+    from csuas.render.backend import use_variant
+
+    t0 = time.perf_counter()
+    q = resolve_quality(quality)
+    r, sensor, normalised, window, target_px, bounds = prepare(
+        target, range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, azimuth_deg=azimuth_deg,
+        elevation_deg=elevation_deg, target_offset_px=target_offset_px, full=full_frame)
+    light = sun_and_sky(illuminance_lx, diffuse_fraction, sun_elevation_deg, ground_reflectance)
+    if isinstance(background, str):
+        if background != "sky":
+            raise ParameterError("background", background, "'sky' or a reflectance 0..1")
+        l_bg = light["sky_radiance"]
+    else:
+        if not (0.0 <= float(background) <= 1.0):
+            raise ParameterError("background", background, "'sky' or a reflectance 0..1")
+        l_bg = float(background) * illuminance_lx / math.pi
+    sun_az = azimuth_deg if sun_azimuth_deg is None else sun_azimuth_deg
+    use_variant("ad_rgb", variant)
+    scene = build_eo_scene(normalised, sun_direction_render=normalised.to_render(direction_vector(sun_az, sun_elevation_deg)),
+                           sun_irradiance=light["sun_irradiance_lx"], sky_radiance=light["sky_radiance"],
+                           ground_radiance=light["ground_radiance"], up_render=normalised.to_render([0.0, 0.0, 1.0]))
+    if progress is not None and not callable(progress):
+        progress = progress_printer(f"render eo {r:g} m", progress)
+    tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
+                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds, progress=progress)
+    path = eo_path(r, visibility_km, wavelength_nm, light["sky_radiance"])
+    m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
+    notes = list(m.notes)
+    if window.clipped:
+        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
+    if tally.nonfinite_samples:
+        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
+    m.values.update(sun_irradiance_lx=light["sun_irradiance_lx"], sky_radiance=light["sky_radiance"],
+                    ground_radiance=light["ground_radiance"])
+    return ImagingResult("eo", "visible", r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
+                         m.values, m.stderr, m.image, m.coverage, "cd m^-2", ("R", "G", "B"), list(path.terms), q,
+                         tally.samples, time.perf_counter() - t0, notes)

@@ -1,0 +1,108 @@
+"""Path effects of the true range, applied analytically to range-normalised renders.
+
+The render gives the radiance leaving the target and the background toward
+the sensor. The atmosphere between them and the sensor is a homogeneous
+horizontal path of length R:
+
+* visible (Koschmieder 1924; ORACLES.md "Atmospheric optics"):
+  L(R) = L0 tau + L_h (1 - tau), tau = exp(-beta R), beta from Kruse/Kim
+  (Eqs. 19-20, physical convention: km^-1) at the sensor's wavelength and
+  visibility (fog visibility in fog), L_h the horizon sky luminance;
+* thermal infrared: L(R) = L0 tau + L_band(T_air) (1 - tau) with
+  tau = 10^(-sigma R / 10) for the band attenuation sigma [dB/km] (Table 27)
+  and path radiance of air at T_air (the path emits as a graybody of
+  emissivity 1 - tau).
+
+Both are the radiative-transfer solution for a homogeneous, non-scattering-
+into-the-beam-from-elsewhere path whose source function is the horizon
+radiance (airlight) or the air's Planck radiance. A disabled atmosphere
+(``None``) contributes exactly nothing: tau = 1 and no path radiance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core.radiometry import band_radiance
+from csuas.errors import ParameterError
+
+
+@dataclass(frozen=True)
+class PathEffect:
+    """Transmittance and additive path radiance of one range.
+
+    Attributes
+    ----------
+    transmittance : float
+        tau(R), 0..1.
+    path_radiance : float
+        Radiance added by the path [same unit as the image].
+    terms : list of dict
+        The applied terms (name, value, unit, source) for reports (SPEC 3.3).
+    """
+
+    transmittance: float
+    path_radiance: float
+    terms: tuple = ()
+
+    def apply(self, radiance):
+        """Apparent radiance at the sensor: L0 tau + L_path."""
+        return np.asarray(radiance, dtype=float) * self.transmittance + self.path_radiance
+
+
+#: The vacuum: nothing applied.
+NO_PATH = PathEffect(1.0, 0.0, ())
+
+
+def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, horizon_radiance: float) -> PathEffect:
+    """Koschmieder transmittance and airlight for the visible band.
+
+    Parameters
+    ----------
+    range_m : float
+        Slant range [m].
+    visibility_km : float or None
+        Meteorological (or fog) visibility [km]; None disables the atmosphere.
+    wavelength_nm : float
+        Sensor wavelength for Kruse's q (Eq. 20) [nm].
+    horizon_radiance : float
+        Horizon sky luminance L_h [cd m^-2] (the airlight source).
+    """
+    if visibility_km is None:
+        return NO_PATH
+    beta = float(kruse_extinction_per_km(wavelength_nm, visibility_km))
+    tau = float(transmittance(beta, range_m, "physical"))
+    terms = ({"name": "extinction_per_km", "value": beta, "unit": "1/km", "source": "Kruse/Kim Eqs. 19-20 (physical)"},
+             {"name": "transmittance", "value": tau, "unit": "-", "source": "Beer-Lambert exp(-beta R)"},
+             {"name": "airlight", "value": horizon_radiance * (1.0 - tau), "unit": "cd/m^2",
+              "source": "Koschmieder L_h (1 - tau)"})
+    return PathEffect(tau, horizon_radiance * (1.0 - tau), terms)
+
+
+def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: float, band) -> PathEffect:
+    """Band transmittance and path radiance for the thermal infrared.
+
+    Parameters
+    ----------
+    range_m : float
+        Slant range [m].
+    extinction_db_km : float or None
+        Path attenuation sigma [dB/km] (Table 27); None disables the atmosphere.
+    air_temperature_k : float
+        Temperature of the air along the path [K].
+    band : str or (float, float)
+    """
+    if extinction_db_km is None:
+        return NO_PATH
+    if not np.isfinite(extinction_db_km) or extinction_db_km < 0:
+        raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
+    tau = float(10.0 ** (-extinction_db_km * range_m / 1000.0 / 10.0))
+    l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
+    terms = ({"name": "extinction_db_km", "value": float(extinction_db_km), "unit": "dB/km", "source": "Table 27"},
+             {"name": "transmittance", "value": tau, "unit": "-", "source": "10^(-sigma R/10)"},
+             {"name": "path_radiance", "value": l_path, "unit": "W m^-2 sr^-1",
+              "source": "air at T_air emitting (1 - tau) L_band(T_air)"})
+    return PathEffect(tau, l_path, terms)

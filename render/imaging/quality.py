@@ -1,0 +1,90 @@
+"""Sample-count presets and accuracy-against-time sweeps (SPEC 7).
+
+A preset fixes the jittered strata per pixel side (``n_side``; n_side**2
+samples per pixel and batch) and the number of independent batches that give
+the jackknife standard error. Their errors are measured with
+:func:`accuracy_sweep` against exact silhouettes and band-Planck oracles
+(``tests/test_render_quality.py``), not assumed.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+from csuas.errors import ParameterError
+
+
+@dataclass(frozen=True)
+class Quality:
+    """Monte Carlo effort of a render.
+
+    Attributes
+    ----------
+    name : str
+    n_side : int
+        Jittered strata per pixel side; n_side**2 samples per pixel per batch.
+    n_batches : int
+        Independent batches (>= 2 for a standard error).
+    """
+
+    name: str
+    n_side: int
+    n_batches: int
+
+    @property
+    def spp(self) -> int:
+        """Samples per pixel in total."""
+        return self.n_side * self.n_side * self.n_batches
+
+
+#: draft 32, standard 128, reference 2048 samples per pixel.
+QUALITY_PRESETS = {
+    "draft": Quality("draft", 2, 8),
+    "standard": Quality("standard", 4, 8),
+    "reference": Quality("reference", 16, 8),
+}
+
+
+def resolve_quality(quality) -> Quality:
+    """A :class:`Quality` from a preset name or a Quality (validated)."""
+    if isinstance(quality, Quality):
+        if quality.n_side < 1 or quality.n_batches < 2:
+            raise ParameterError("quality", quality, "n_side >= 1 and n_batches >= 2")
+        return quality
+    if quality not in QUALITY_PRESETS:
+        raise ParameterError("quality", quality, ", ".join(QUALITY_PRESETS))
+    return QUALITY_PRESETS[quality]
+
+
+def accuracy_sweep(render, n_sides, reference: float, metric: str = "pixels_on_target", n_batches: int = 8) -> list:
+    """Error and wall time of a figure against samples per pixel.
+
+    Parameters
+    ----------
+    render : callable(Quality) -> ImagingResult
+        Renders the case at the given quality.
+    n_sides : iterable of int
+        Strata per pixel side to try (spp = n_side**2 * n_batches).
+    reference : float
+        Exact (or reference-quality) value of the figure.
+    metric : str
+        Name of the figure in ``result.values``.
+    n_batches : int
+
+    Returns
+    -------
+    list of dict
+        One row per sample count: ``spp``, ``value``, ``stderr``, ``error``
+        (value - reference), ``relative_error``, ``time_s``.
+    """
+    rows = []
+    for n in n_sides:
+        q = resolve_quality(Quality(f"sweep_{n}", int(n), int(n_batches)))
+        t0 = time.perf_counter()
+        result = render(q)
+        elapsed = time.perf_counter() - t0
+        value = result.values[metric]
+        rows.append({"spp": q.spp, "value": value, "stderr": result.stderr[metric], "error": value - reference,
+                     "relative_error": (value - reference) / reference if reference else None, "time_s": elapsed})
+    return rows

@@ -1,0 +1,159 @@
+"""Thermal-infrared rendering: band radiance, apparent Delta T and the MRTD range (SPEC 6, paper 2.3.2, 4.4).
+
+Each part of the target is a graybody of band emissivity eps (the material's
+``emissivity_lwir`` or ``emissivity_mwir``) at its ``temperature_k``: it
+emits eps L_band(T) (:func:`csuas.core.radiometry.band_radiance`) and reflects
+1 - eps of what reaches it, the uniform surroundings at ``surroundings_k`` and
+the other parts (path tracing). The background behind the target is a
+graybody (eps_bg, T_bg) reflecting the same surroundings:
+
+    L_b = eps_bg L_band(T_bg) + (1 - eps_bg) L_band(T_surr).
+
+Apparent temperatures are radiance temperatures
+(:func:`csuas.core.radiometry.radiance_temperature`); Delta T = T_r(target) -
+T_r(background), silhouette-averaged (``delta_t_k``), at the sensor after the
+path (:func:`csuas.render.imaging.path.tir_path`). Beside it the paper's
+linear Delta T (Eq. 26, :func:`csuas.core.tir.delta_t_linear`). The range
+where the rendered Delta T meets the MRTD at the target's spatial frequency
+f(R) = lp n_TTPF R / d_crit (Eqs. 24, 27-29) is solved by
+:func:`csuas.core.tir.tir_mrtd_range` (physical convention) from the
+rendered inherent Delta T and the rendered d_crit.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from csuas.core.mrtd import ParametricMrtd
+from csuas.core.radiometry import BANDS_UM, band_radiance, radiance_temperature
+from csuas.core.tir import delta_t_linear, tir_mrtd_range
+from csuas.errors import ParameterError
+from csuas.render.imaging.common import prepare, progress_printer
+from csuas.render.imaging.measure import measure_window
+from csuas.render.imaging.path import NO_PATH, tir_path
+from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.result import ImagingResult
+from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_parts
+from csuas.render.imaging.trace import trace_window
+
+
+def default_mrtd(ifov_rad: float, band: str = "lwir", netd_mk: float = 50.0, f_number: float = 1.0,
+                 pitch_um: float = 10.0) -> ParametricMrtd:
+    """The documented parametric MRTD of :mod:`csuas.core.mrtd` for a sensor (band-centre wavelength)."""
+    low, high = BANDS_UM[band]
+    return ParametricMrtd(netd_k=netd_mk / 1000.0, ifov_rad=ifov_rad, f_number=f_number, pitch_m=pitch_um * 1e-6,
+                          wavelength_m=0.5 * (low + high) * 1e-6)
+
+
+def area_weighted_graybody(target, band: str) -> tuple[float, float]:
+    """Surface-area-weighted emissivity and temperature of the target's parts (for Eq. 26)."""
+    parts = target_parts(target)
+    area = np.array([p.mesh.area for p in parts])
+    eps = np.array([getattr(p.material, f"emissivity_{band}") for p in parts])
+    temp = np.array([p.material.temperature_k for p in parts])
+    return float(np.sum(area * eps) / area.sum()), float(np.sum(area * temp) / area.sum())
+
+
+def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir", azimuth_deg=0.0,
+               elevation_deg=0.0, t_bg_k=298.15, emissivity_bg=0.77, surroundings_k=None, extinction_db_km=None,
+               air_temperature_k=293.15, mrtd=None, lp_task=1.0, n_ttpf=1.0, linear_reference=None,
+               quality="standard", seed=0, target_offset_px=(0.0, 0.0), max_depth=3, full_frame=False,
+               progress=None, variant=None) -> ImagingResult:
+    """Render the target in a thermal band and measure apparent Delta T and the MRTD range.
+
+    Parameters
+    ----------
+    target : str, Drone or list of parts
+        See :func:`csuas.render.imaging.eo.render_eo`.
+    range_m : float
+        Slant range [m].
+    hfov_deg, n_h, n_v : float, int, int
+        Sensor (Table 25); IFOV = HFOV / N_H (Eq. 15, = pitch / focal, Eq. 22, for the defaults).
+    band : {"lwir", "mwir"}
+        8-12 um or 3-5 um.
+    azimuth_deg, elevation_deg : float
+        Direction from the target toward the sensor (SPEC 8) [deg].
+    t_bg_k, emissivity_bg : float
+        Background graybody (Table 27).
+    surroundings_k : float or None
+        Temperature of the uniform surroundings reflected by target and
+        background [K]; None reflects nothing (ORACLES.md's first case).
+    extinction_db_km : float or None
+        Path attenuation (Table 27) [dB/km]; None: no atmosphere.
+    air_temperature_k : float
+        Air temperature of the path radiance [K].
+    mrtd : callable or None
+        MRTD curve (cy/rad -> K) with ``max_frequency``; None: :func:`default_mrtd`.
+    lp_task, n_ttpf : float
+        Line pairs (Table 20) and TTPF multiplier (Table 21) of the MRTD range.
+    linear_reference : (emissivity, temperature_k) or None
+        Target values for the paper's linear Delta T (Eq. 26); None: area-weighted parts.
+    quality, seed, target_offset_px, max_depth, full_frame, progress, variant
+        As in :func:`csuas.render.imaging.eo.render_eo`.
+    """
+    from csuas.render.backend import use_variant
+
+    t0 = time.perf_counter()
+    if band not in BANDS_UM:
+        raise ParameterError("band", band, ", ".join(BANDS_UM))
+    for name, value in (("emissivity_bg", emissivity_bg),):
+        if not 0.0 <= value <= 1.0:
+            raise ParameterError(name, value, "0 <= x <= 1")
+    q = resolve_quality(quality)
+    r, sensor, normalised, window, target_px, bounds = prepare(
+        target, range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, azimuth_deg=azimuth_deg,
+        elevation_deg=elevation_deg, target_offset_px=target_offset_px, full=full_frame)
+    l_surr = 0.0 if surroundings_k is None else float(band_radiance(surroundings_k, band))
+    l_bg = emissivity_bg * float(band_radiance(t_bg_k, band)) + (1.0 - emissivity_bg) * l_surr
+    use_variant("ad_mono", variant)
+    scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
+    if progress is not None and not callable(progress):
+        progress = progress_printer(f"render tir {r:g} m", progress)
+    tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
+                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=1, bounds=bounds, progress=progress)
+    path = tir_path(r, extinction_db_km, air_temperature_k, band)
+
+    def to_temperature(radiance):
+        return radiance_temperature(radiance, band)
+
+    m = measure_window(tally, [l_bg], path, (1.0,), to_temperature)
+    inherent = measure_window(tally, [l_bg], NO_PATH, (1.0,), to_temperature)
+    values, stderr = m.values, m.stderr
+    dt0, dt0_se = inherent.values["delta_t_k"], inherent.stderr["delta_t_k"]
+    values["delta_t_inherent_k"], stderr["delta_t_inherent_k"] = dt0, dt0_se
+    eps_t, t_t = linear_reference or area_weighted_graybody(target, band)
+    values["delta_t_linear_k"] = float(delta_t_linear(eps_t, t_t, emissivity_bg, t_bg_k))
+    # MRTD: spatial frequency of the target at this range and the range where Delta T meets the curve.
+    curve = mrtd if mrtd is not None else default_mrtd(sensor.ifov_rad, band)
+    d_crit = values["pixels_across_dcrit"] * sensor.ifov_rad * r
+    d_crit_se = stderr["pixels_across_dcrit"] * sensor.ifov_rad * r
+    sigma = 0.0 if extinction_db_km is None else float(extinction_db_km)
+    t_bg_app = inherent.values["background_temperature_apparent_k"]
+
+    def mrtd_range(dt, d):
+        if d <= 0 or dt == 0:
+            return 0.0
+        res = tir_mrtd_range(mrtd=curve, d_crit_m=d, lp_task=lp_task, n_ttpf=n_ttpf, delta_t0_k=dt,
+                             extinction_db_km=sigma, convention="physical", t_bg_app_k=t_bg_app,
+                             air_temperature_k=air_temperature_k, band=band)
+        return float(np.asarray(res.range_m))
+
+    r_mrtd = mrtd_range(dt0, d_crit)
+    values["mrtd_range_m"] = r_mrtd
+    stderr["mrtd_range_m"] = float(np.hypot(mrtd_range(dt0 + np.copysign(dt0_se, dt0), d_crit) - r_mrtd,
+                                            mrtd_range(dt0, d_crit + d_crit_se) - r_mrtd))
+    if d_crit > 0:
+        freq = lp_task * n_ttpf * r / d_crit
+        values["target_frequency_cy_rad"] = freq
+        values["mrtd_at_range_k"] = float(curve(freq))
+    values["d_crit_rendered_m"], stderr["d_crit_rendered_m"] = d_crit, d_crit_se
+    notes = list(m.notes)
+    if window.clipped:
+        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
+    if tally.nonfinite_samples:
+        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
+    return ImagingResult("tir", band, r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
+                         values, stderr, m.image, m.coverage, "W m^-2 sr^-1", ("L",), list(path.terms), q,
+                         tally.samples, time.perf_counter() - t0, notes)
