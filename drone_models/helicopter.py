@@ -112,7 +112,8 @@ def build_helicopter(name: str, params: HelicopterParams, mass_kg: float, spec: 
     tail_end = np.asarray(params.tail_boom_end_m, dtype=float)
     boom_start = f_c - [f_ext[0] / 4.0, 0.0, 0.0]
     parts.append(Part("tail_boom", "tail_boom",
-                      P.cylinder_between(boom_start, tail_end, params.tail_boom_diameter_m / 2.0, 16), mat["tail_boom"]))
+                      P.cylinder_between(boom_start, tail_end, params.tail_boom_diameter_m / 2.0, 16),
+                      mat["tail_boom"]))
     if propellers != "none":
         if propellers == "disc":
             rotor = P.vertical_disc(hub, params.main_rotor_diameter_m, params.main_rotor_thickness_m, params.sections)

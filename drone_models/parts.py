@@ -45,7 +45,8 @@ def box(center, extents) -> trimesh.Trimesh:
         Edge lengths along x, y, z [m], each > 0.
     """
     ext = [_positive(f"extents[{i}]", e) for i, e in enumerate(extents)]
-    return trimesh.creation.box(extents=ext, transform=trimesh.transformations.translation_matrix(_point("center", center)))
+    transform = trimesh.transformations.translation_matrix(_point("center", center))
+    return trimesh.creation.box(extents=ext, transform=transform)
 
 
 def rounded_box(center, extents, corner_radius, subdivisions: int = 2) -> trimesh.Trimesh:

@@ -57,7 +57,8 @@ def _mini_4_pro():
 
 
 def _mavic_3():
-    spec = {"unfolded_without_propellers_m": (0.3475, 0.283, 0.1077), "folded_without_propellers_m": (0.221, 0.0963, 0.0903),
+    spec = {"unfolded_without_propellers_m": (0.3475, 0.283, 0.1077),
+            "folded_without_propellers_m": (0.221, 0.0963, 0.0903),
             "mass_kg": 0.895, "propeller_diameter_m": 9.4 * INCH_M,
             "source": "DJI Mavic 3 specifications (dji.com)"}
     length, width, height = spec["unfolded_without_propellers_m"]
@@ -75,7 +76,8 @@ def _mavic_3():
         lens_diameter_m=0.026, lens_length_m=0.008,
         landing_legs_m=(((motor_x, motor_y, front_base), (motor_x, motor_y, 0.0)),
                         ((motor_x, -motor_y, front_base), (motor_x, -motor_y, 0.0)),
-                        ((-0.070, 0.030, 0.020), (-0.070, 0.030, 0.0)), ((-0.070, -0.030, 0.020), (-0.070, -0.030, 0.0))),
+                        ((-0.070, 0.030, 0.020), (-0.070, 0.030, 0.0)),
+                        ((-0.070, -0.030, 0.020), (-0.070, -0.030, 0.0))),
         leg_radius_m=0.004,
         battery_extents_m=(0.020, 0.070, 0.050), battery_center_m=(-0.095, 0.0, 0.060))
     return build_multirotor, params, spec
