@@ -25,7 +25,8 @@ from csuas.drone_models.sphere_average import sphere_average
 from csuas.errors import ParameterError
 
 RNG = np.random.default_rng(20240611)
-ANGLES = [(float(a), float(e)) for a, e in zip(RNG.uniform(-180, 180, 12), np.degrees(np.arcsin(RNG.uniform(-1, 1, 12))))]
+ANGLES = [(float(a), float(e))
+          for a, e in zip(RNG.uniform(-180, 180, 12), np.degrees(np.arcsin(RNG.uniform(-1, 1, 12))))]
 
 
 def image_axes(d):
