@@ -8,11 +8,13 @@ motors, legs) are plausible estimates from photographs, marked as such.
 * ``dji_mini_4_pro``: the paper's default class-1 sUAS (Table 8, [49]). DJI
   specification: folded (without propellers) 148 x 94 x 64 mm, unfolded
   (with propellers) 298 x 373 x 101 mm (length x width x height), take-off
-  weight < 249 g; 6-inch (152.4 mm) propellers.
+  weight < 249 g. Propeller diameter 6 in (152.4 mm) is an estimate (the
+  6030-class propellers of the Mini series); with it the rotor axes sit at
+  x = +-72.8 mm, y = +-110.3 mm so that the discs touch the specified box.
 * ``dji_mavic_3``: a larger class-1 quadcopter. DJI specification: folded
   (without propellers) 221 x 96.3 x 90.3 mm, unfolded (without propellers)
   347.5 x 283 x 107.7 mm, take-off weight 895 g; 9453F propellers
-  (9.4 in = 238.8 mm).
+  (9.4 in = 238.8 mm). The motors touch the specified box without propellers.
 * ``black_hornet_3``: nano helicopter of Table 52 (Teledyne FLIR [196]):
   33 g, main rotor 123 mm, about 168 mm long. Its overall height is not in
   the paper; 25 mm (fuselage plus rotor head) is assumed, the value that
