@@ -95,7 +95,9 @@ def silhouette_perimeter_area(target, azimuth_deg: float, elevation_deg: float) 
     e_v, e_h = polarisation_basis(azimuth_deg, elevation_deg)
     tri = mesh.vertices[mesh.faces]
     uv = np.stack([tri @ e_h, tri @ e_v], axis=-1)
-    polys = [Polygon(t) for t in uv if abs(np.cross(t[1] - t[0], t[2] - t[0])) > 1e-15]
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    keep = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) > 1e-15
+    polys = [Polygon(t) for t in uv[keep]]
     shape = unary_union(polys)
     return float(shape.length), float(shape.area)
 
