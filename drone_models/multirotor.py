@@ -165,13 +165,14 @@ def build_multirotor(name: str, params: MultirotorParams, mass_kg: float, spec: 
         motor_mid = np.array([x, y, z + params.motor_height_m / 2.0])
         offset = np.array([x, y]) - body_c[:2]
         half = params.arm_root_fraction * body_ext[:2] / 2.0
-        scale = min(1.0, *(h / abs(o) for h, o in zip(half, offset) if o != 0.0))
+        scale = min([1.0, *(h / abs(o) for h, o in zip(half, offset) if o != 0.0)])
         root = np.array([*(body_c[:2] + offset * scale), body_c[2]])
-        if params.arm_profile == "bar":
-            arm = P.bar_between(root, motor_mid, params.arm_width_m, params.arm_thickness_m)
-        else:
-            arm = P.cylinder_between(root, motor_mid, params.arm_width_m / 2.0, params.sections)
-        parts.append(Part(f"arm_{label}", "arm", arm, mat["arm"]))
+        if np.linalg.norm(motor_mid[:2] - root[:2]) > 1e-9:  # a rotor above the body needs no arm
+            if params.arm_profile == "bar":
+                arm = P.bar_between(root, motor_mid, params.arm_width_m, params.arm_thickness_m)
+            else:
+                arm = P.cylinder_between(root, motor_mid, params.arm_width_m / 2.0, params.sections)
+            parts.append(Part(f"arm_{label}", "arm", arm, mat["arm"]))
         motor = P.cylinder_between([x, y, z], [x, y, z + params.motor_height_m], params.motor_diameter_m / 2.0,
                                    params.sections)
         parts.append(Part(f"motor_{label}", "motor", motor, mat["motor"]))

@@ -213,3 +213,11 @@ def test_parameter_overrides():
         build_drone("dji_mini_4_pro", wings=2)
     with pytest.raises(ParameterError, match="material"):
         build_drone("black_hornet_3", materials={"body": "balsa"})
+
+
+def test_single_rotor_above_the_body_has_no_arm():
+    params = MultirotorParams(body_extents_m=(0.1, 0.1, 0.05), body_center_m=(0, 0, 0.025),
+                              rotor_positions_m=((0.0, 0.0, 0.05),), propeller_diameter_m=0.2)
+    drone = build_multirotor("coaxial", params, 0.1)
+    assert not any(p.kind == "arm" for p in drone.parts)
+    assert drone.extents()[:2] == pytest.approx([0.2, 0.2], rel=1e-9)
