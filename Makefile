@@ -10,7 +10,9 @@ test: setup
 	$(PYTHON) -m pytest -q
 
 report: setup
-	csuas range defaults/scenarios/default.toml
+	csuas range default
+	csuas defaults check --core-only
+	csuas sensitivity --out $(OUT)
 
 bench: setup
 	csuas bench
