@@ -76,12 +76,13 @@ def solve_log_linear(budget_db, slope_db_per_m, n=2.0):
     out = np.zeros(k.shape)
     finite = np.isfinite(k)
     out[k == np.inf] = np.inf
-    free = finite & (a == 0)
+    c_all = a * LN10 / scale
+    free = finite & (c_all == 0)  # no attenuation, or a slope so small it underflows
     with np.errstate(over="ignore"):
         out[free] = np.power(10.0, k[free] / scale)
-    att = finite & (a > 0)
+    att = finite & (c_all > 0)
     if np.any(att):
-        c = a[att] * LN10 / scale
+        c = c_all[att]
         log_x = np.log(c) + k[att] * LN10 / scale
         out[att] = lambertw_exp(log_x) / c
     return out
