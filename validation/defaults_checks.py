@@ -26,7 +26,11 @@ RAIN_REL_TOL = 0.01
 #: Relative tolerance of ITU fog values (interpolated K_l).
 FOG_REL_TOL = 0.005
 #: Modules that contribute checks computed from simulations (each exposes ``default_checks()``).
-SIMULATION_PROVIDERS: tuple[str, ...] = ()
+SIMULATION_PROVIDERS = (
+    "csuas.drone_models.checks",   # d_crit and emissivity of the meshes (Tables 8, 27, 52), LCS by Eq. 9
+    "csuas.render.rcs.checks",     # SBR-PO mean RCS vs Table 8 and 3GPP TR 38.901
+    "csuas.render.lidar.checks",   # ray-traced LCS vs Table 8 and k_LCS
+)
 
 
 def _printed_tol(value: float, digits: int = 3) -> float:

@@ -9,6 +9,11 @@ import sys
 SUITES = {
     "core_models": ("csuas.validation.bench_core", "bench_models"),
     "core_iterative": ("csuas.validation.bench_core", "bench_iterative"),
+    "drone_silhouette": ("csuas.drone_models.bench", "bench_silhouette"),
+    "rcs_sbr": ("csuas.render.rcs.bench", "bench_sbr"),
+    "rcs_memory": ("csuas.render.rcs.bench", "bench_memory"),
+    "sionna_links": ("csuas.render.links.bench", "bench_links"),
+    "lidar_lcs": ("csuas.render.lidar.bench", "bench"),
 }
 
 
