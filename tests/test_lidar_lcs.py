@@ -8,7 +8,8 @@ Oracles written here, independent of csuas:
   the plate intercepts E A cos(theta) and sends (rho / pi) E cos(theta) A cos(theta) back per unit solid angle.
 * Point source at distance R from a Lambertian sphere, cross-section referred to the centre:
   sigma(R) = 8 pi rho a^2 * int_eps^1 (x - eps)^2 / (1 - 2 eps x + eps^2)^3 dx, eps = a / R
-  (surface element at polar angle acos x: distance^2 = R^2 (1 - 2 eps x + eps^2), cos(incidence) = (x - eps) / (distance / R)).
+  (surface element at polar angle acos x: distance^2 = R^2 (1 - 2 eps x + eps^2),
+  cos(incidence) = (x - eps) / (distance / R)).
 """
 
 import math

@@ -25,8 +25,8 @@ def _explanation(r: dict) -> str:
     return (
         f"The simulated mean LCS {r['lcs_m2']['mean']:.4f} m^2 is {r['lcs_m2']['mean'] / SIGMA_LIDAR_PAPER_M2:.1f}x "
         f"the paper's value. Eq. 9 with k_LCS = {K_LCS_PAPER} describes a dark target: a Lambertian sphere obeys "
-        f"<sigma> = (8/3) rho <A_p>, so k_LCS = 0.1 means an albedo of {r['reflectance_for_rule']:.4f}. The mesh's albedos "
-        f"at 1550 nm are {albedos}; area-weighted {r['area_weighted_reflectance']:.2f}. The measured <sigma>/<A_p> "
+        f"<sigma> = (8/3) rho <A_p>, so k_LCS = 0.1 means an albedo of {r['reflectance_for_rule']:.4f}. "
+        f"The mesh's albedos at 1550 nm are {albedos}; area-weighted {r['area_weighted_reflectance']:.2f}. The measured <sigma>/<A_p> "
         f"is {r['k_lcs_measured']['mean']:.3f} +- {r['k_lcs_measured']['stderr']:.3f}. The mesh's mean projected area "
         f"is {r['projected_area_m2']['mean']:.4f} m^2 against the 0.06 m^2 the paper's figure implies. Treating the "
         "parts as Lambertian overstates the back-scatter of bare metal away from normal incidence (it is mostly "

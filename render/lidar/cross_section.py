@@ -183,9 +183,15 @@ class _Window:
     n_v: int
 
 
-def _windows(vertices: np.ndarray, radius: float, d: np.ndarray, az, range_m: float, grid: int,
+def sampling_windows(vertices: np.ndarray, radius: float, d: np.ndarray, az, range_m: float, grid: int,
              beam_radius_m: float | None) -> list:
-    """Windows covering the perspective projection of ``vertices`` on the plane through the centre."""
+    """Sampling windows, one per direction, on the plane through the target centre normal to it.
+
+    Each window is the bounding box of the vertices' perspective projection
+    from the sensor (orthographic for ``range_m = inf``) in the image axes of
+    :func:`csuas.drone_models.geometry.view_basis`, clipped to the beam, and
+    split into about ``grid^2`` square cells.
+    """
     h, v = view_basis(d, az)
     x, y, z = vertices @ h.T, vertices @ v.T, vertices @ d.T  # (n_vert, n_dir)
     if math.isfinite(range_m):
@@ -268,7 +274,7 @@ def trace_lcs(target, directions, azimuth_deg=None, range_m: float = math.inf, g
     d = np.atleast_2d(np.asarray(directions, dtype=float))
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     radius = target.bounding_radius_m
-    windows = _windows(target.vertices, radius, d, azimuth_deg, range_m, grid, beam_radius_m)
+    windows = sampling_windows(target.vertices, radius, d, azimuth_deg, range_m, grid, beam_radius_m)
     rng = np.random.default_rng(seed)
     lcs = np.zeros((len(d), replicates))
     area = np.zeros((len(d), replicates))

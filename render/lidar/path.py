@@ -25,7 +25,7 @@ import numpy as np
 
 from csuas.drone_models.geometry import direction_vector, validate_angles
 from csuas.errors import ParameterError
-from csuas.render.lidar.cross_section import ORIGIN_PLANE_FACTOR, _windows, resolve_quality
+from csuas.render.lidar.cross_section import ORIGIN_PLANE_FACTOR, resolve_quality, sampling_windows
 
 
 def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0, max_depth: int = 8,
@@ -57,16 +57,19 @@ def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0
     """
     az, el = validate_angles(azimuth_deg, elevation_deg)
     g, r, name = resolve_quality(quality, grid, replicates)
-    if not isinstance(max_depth, (int, np.integer)) or isinstance(max_depth, bool) or not (max_depth == -1 or max_depth >= 2):
+    depth_ok = isinstance(max_depth, (int, np.integer)) and not isinstance(max_depth, bool) \
+        and (max_depth == -1 or max_depth >= 2)
+    if not depth_ok:
         raise ParameterError("max_depth", max_depth, "integer >= 2, or -1 (unlimited)")
     if not isinstance(spp, (int, np.integer)) or isinstance(spp, bool) or spp < 1:
         raise ParameterError("spp", spp, "integer >= 1")
+    shapes = target.shapes()  # selects the variant (and libLLVM) before Mitsuba is imported here
     import mitsuba as mi
 
-    shapes = target.shapes()
     start = time.perf_counter()
     d = direction_vector(az, el)
-    w = _windows(target.vertices, target.bounding_radius_m, d[None, :], np.atleast_1d(az), math.inf, g, None)[0]
+    w = sampling_windows(target.vertices, target.bounding_radius_m, d[None, :], np.atleast_1d(az), math.inf, g,
+                         None)[0]
     half_u, half_v = 0.5 * w.n_u * w.du, 0.5 * w.n_v * w.dw
     centre = (w.u0 + half_u) * w.h + (w.w0 + half_v) * w.v
     origin = centre + ORIGIN_PLANE_FACTOR * target.bounding_radius_m * d
@@ -78,11 +81,12 @@ def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0
                    "film": {"type": "hdrfilm", "width": w.n_u, "height": w.n_v, "rfilter": {"type": "box"},
                             "pixel_format": "luminance"},
                    "sampler": {"type": "independent", "sample_count": int(spp)}},
-        "emitter": {"type": "directional", "direction": (-d).tolist(), "irradiance": {"type": "spectrum", "value": 1.0}},
+        "emitter": {"type": "directional", "direction": (-d).tolist(),
+                    "irradiance": {"type": "spectrum", "value": 1.0}},
         "integrator": {"type": "path", "max_depth": int(max_depth), "hide_emitters": True}})
     pixel_area = (2.0 * half_u) * (2.0 * half_v) / (w.n_u * w.n_v)
-    values = np.array([4.0 * math.pi * pixel_area * float(np.sum(np.asarray(mi.render(scene, seed=seed + k), dtype=float)))
-                       for k in range(r)])
+    values = 4.0 * math.pi * pixel_area * np.array(
+        [float(np.sum(np.asarray(mi.render(scene, seed=seed + k), dtype=float))) for k in range(r)])
     return {"lcs_m2": float(values.mean()), "stderr_m2": float(values.std(ddof=1) / math.sqrt(r)),
             "max_depth": int(max_depth), "grid": g, "replicates": r, "spp": int(spp), "quality": name,
             "samples": int(r * spp * w.n_u * w.n_v), "time_s": time.perf_counter() - start,

@@ -141,9 +141,11 @@ class LidarTarget:
             vertices = np.asarray(getattr(mesh, "vertices", None), dtype=float)
             faces = np.asarray(getattr(mesh, "faces", None), dtype=np.int64)
             if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
-                raise ParameterError(f"mesh.{part_name}", type(mesh).__name__, "a triangle mesh (vertices (n, 3), faces (m, 3))")
+                raise ParameterError(f"mesh.{part_name}", type(mesh).__name__,
+                                     "a triangle mesh (vertices (n, 3), faces (m, 3))")
             if len(faces) == 0 or not np.all(np.isfinite(vertices)):
-                raise ParameterError(f"mesh.{part_name}", f"{len(faces)} faces", "at least one triangle with finite vertices")
+                raise ParameterError(f"mesh.{part_name}", f"{len(faces)} faces",
+                                     "at least one triangle with finite vertices")
             parts.append(LidarPart(part_name, vertices, faces, rho))
         if not parts:
             raise ParameterError("mesh", "no parts", "at least one mesh")
