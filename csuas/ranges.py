@@ -156,3 +156,66 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
                                  "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits")
         results[name] = result
     return results
+
+
+def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:
+    """A copy of ``scenario`` with one parameter changed (``target.X``, ``environment.X`` or ``sensor.X``)."""
+    from dataclasses import replace
+
+    from csuas.core import johnson
+
+    section, _, name = key.partition(".")
+    if section in ("target", "environment"):
+        table = dict(getattr(scenario, section))
+        if name not in table:
+            raise ParameterError("vary", key, f"a parameter of {section}: " + ", ".join(table))
+        table[name] = value
+        return replace(scenario, **{section: table})
+    if section != "sensor":
+        raise ParameterError("vary", key, "target.<name>, environment.<name> or sensor.<name>")
+    sensor = scenario.sensors[sensor_name]
+    if name not in sensor.params:
+        raise ParameterError("vary", key, "a parameter of the sensor: " + ", ".join(sensor.params))
+    params = dict(sensor.params, **{name: value})
+    if name == "p_desired" and "n_ttpf" not in sensor.explicit:
+        params["n_ttpf"] = float(johnson.n_ttpf(value))
+    if name == "task" and "lp_task" not in sensor.explicit:
+        params["lp_task"] = johnson.line_pairs(value)
+    sensors = dict(scenario.sensors, **{sensor_name: replace(sensor, params=params)})
+    return replace(scenario, sensors=sensors)
+
+
+def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dict, convention: str | None = None):
+    """One-at-a-time sensitivity of one sensor of a scenario (Section 4.9 generalised to any modality).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    sensor_name : str
+        Key of the sensor in ``scenario.sensors``.
+    variations : dict
+        ``{"target.d_crit_m": (low, high), "sensor.hfov_deg": (low, high), ...}``.
+    convention : {"paper", "physical"}, optional
+
+    Returns
+    -------
+    baseline_m : float
+    bars : list of csuas.core.sensitivity.TornadoBar
+        Sorted by decreasing span.
+    """
+    from csuas.core.sensitivity import TornadoBar
+
+    if sensor_name not in scenario.sensors:
+        raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
+    only = Scenario(**{**scenario.__dict__, "sensors": {sensor_name: scenario.sensors[sensor_name]}})
+    baseline = float(evaluate(only, convention)[sensor_name].range_m)
+    bars = []
+    for key, (low, high) in variations.items():
+        section, _, name = key.partition(".")
+        current = (only.sensors[sensor_name].params if section == "sensor" else getattr(only, section, {})).get(name)
+        ranges = [float(evaluate(_with_value(only, sensor_name, key, v), convention)[sensor_name].range_m)
+                  for v in (low, high)]
+        bars.append(TornadoBar(key, float(low), float(current) if current is not None else float("nan"),
+                               float(high), ranges[0], ranges[1]))
+    bars.sort(key=lambda bar: bar.span_m, reverse=True)
+    return baseline, bars

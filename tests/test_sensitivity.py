@@ -42,3 +42,26 @@ def test_table_52():
                 assert computed == pytest.approx(137.50, abs=0.01)
                 continue
             assert computed == pytest.approx(printed, abs=0.05 + 1e-9)
+
+
+def test_scenario_one_at_a_time_matches_section_4_9_for_eo():
+    from csuas.ranges import scenario_one_at_a_time
+    from csuas.scenario import load_scenario
+
+    baseline, bars = scenario_one_at_a_time(load_scenario("default"), "eo",
+                                            {"sensor.hfov_deg": (1.0, 20.0), "target.d_crit_m": (0.081, 0.121),
+                                             "sensor.p_desired": (0.30, 0.80)})
+    assert baseline == pytest.approx(555.5, abs=0.05)
+    by_name = {b.parameter: b for b in bars}
+    assert by_name["sensor.hfov_deg"].range_at_low_m == pytest.approx(5555.4, abs=0.05)
+    assert by_name["sensor.p_desired"].range_at_low_m == pytest.approx(740.7, abs=0.05)  # n_TTPF re-derived (Table 21)
+    assert by_name["target.d_crit_m"].range_at_high_m == pytest.approx(665.5, abs=0.05)
+
+
+def test_scenario_one_at_a_time_bad_key():
+    from csuas.errors import ParameterError
+    from csuas.ranges import scenario_one_at_a_time
+    from csuas.scenario import load_scenario
+
+    with pytest.raises(ParameterError, match="vary"):
+        scenario_one_at_a_time(load_scenario("default"), "radar", {"radar.p_tx_w": (1, 2)})

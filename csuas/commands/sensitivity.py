@@ -6,6 +6,7 @@ from pathlib import Path
 
 from csuas.core.sensitivity import one_at_a_time, platform_comparison
 from csuas.defaults import default_values, load_presets, load_sensitivity
+from csuas.errors import ParameterError
 
 ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
 
@@ -15,6 +16,13 @@ def add_arguments(parser):
     parser.add_argument("--analysis", choices=ANALYSES + ("platforms", "all"), default="all",
                         help="which analysis of Section 4.9 (default: all)")
     parser.add_argument("--out", default=None, help="folder for the tornado plots (PNG); none written without it")
+    parser.add_argument("--scenario", default=None,
+                        help="analyse a sensor of this scenario instead of Section 4.9's models (needs --sensor, --vary)")
+    parser.add_argument("--sensor", default=None, help="with --scenario: the sensor's key in the scenario")
+    parser.add_argument("--vary", nargs="+", default=[], metavar="KEY=LOW:HIGH",
+                        help="with --scenario: e.g. target.d_crit_m=0.08:0.12 sensor.hfov_deg=1:20 environment.rain_rate_mm_h=0:30")
+    parser.add_argument("--convention", choices=("paper", "physical"), default=None,
+                        help="with --scenario: override the scenario's convention")
 
 
 def _defaults(analysis: str) -> dict:
@@ -38,8 +46,41 @@ def platforms() -> dict:
             for name, ranges in computed.items()}
 
 
+def _parse_variations(items) -> dict:
+    variations = {}
+    for item in items:
+        key, _, bounds = item.partition("=")
+        low, _, high = bounds.partition(":")
+        try:
+            variations[key] = (float(low), float(high))
+        except ValueError:
+            raise ParameterError("vary", item, "KEY=LOW:HIGH with numbers, e.g. sensor.hfov_deg=1:20") from None
+    if not variations:
+        raise ParameterError("vary", items, "at least one KEY=LOW:HIGH with --scenario")
+    return variations
+
+
+def _scenario_analysis(args) -> dict:
+    from csuas.ranges import scenario_one_at_a_time
+    from csuas.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    sensor = args.sensor or next(iter(scenario.sensors))
+    baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
+    title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
+    entry = {"title": title, "source": "one-at-a-time, Section 4.9 method", "baseline_m": baseline,
+             "bars": [b.as_dict() for b in bars]}
+    if args.out:
+        from csuas.plots import tornado_plot
+
+        entry["plot"] = str(tornado_plot(Path(args.out) / f"tornado_{scenario.name}_{sensor}.png", title, baseline, bars))
+    return {"analyses": {f"{scenario.name}.{sensor}": entry}}
+
+
 def run(args) -> dict:
     """``{analyses: {name: {baseline_m, paper_baseline_m, bars, plot}}, platforms: {...}}``."""
+    if args.scenario:
+        return _scenario_analysis(args)
     chosen = ANALYSES if args.analysis == "all" else ((args.analysis,) if args.analysis != "platforms" else ())
     result = {"analyses": {}}
     for name in chosen:
@@ -65,7 +106,8 @@ def render_text(result: dict) -> str:
     """Tornado tables and the platform comparison."""
     lines = []
     for name, a in result["analyses"].items():
-        lines.append(f"{a['title']} ({a['source']}): baseline {a['baseline_m']:.1f} m (paper {a['paper_baseline_m']} m)")
+        paper = f" (paper {a['paper_baseline_m']} m)" if "paper_baseline_m" in a else ""
+        lines.append(f"{a['title']} ({a['source']}): baseline {a['baseline_m']:.1f} m{paper}")
         for b in a["bars"]:
             lines.append(f"  {b['parameter']:<22} {b['low']:>9g} -> {b['range_at_low_m']:>9.1f} m   "
                          f"{b['high']:>9g} -> {b['range_at_high_m']:>9.1f} m   span {b['span_m']:.1f} m")
