@@ -166,6 +166,16 @@ def test_linear_in_albedo_deterministic_and_image_sums_to_lcs(icosphere):
     assert np.all(a.image_m2 >= 0.0)
 
 
+def test_batched_passes_give_identical_results(sphere, monkeypatch):
+    # memory bound: rays go to Mitsuba in passes of at most MAX_RAYS_PER_BATCH; passes do not change the estimate
+    import csuas.render.lidar.cross_section as cs
+
+    whole = lidar_cross_section(sphere, 10.0, 20.0, quality="draft", seed=5)
+    monkeypatch.setattr(cs, "MAX_RAYS_PER_BATCH", 1000)
+    passes = lidar_cross_section(sphere, 10.0, 20.0, quality="draft", seed=5)
+    assert passes.lcs_m2 == pytest.approx(whole.lcs_m2, rel=1e-12) and passes.rays == whole.rays
+
+
 def test_degenerate_and_open_meshes_give_finite_results(icosphere):
     v = np.vstack([icosphere.vertices, [[0.0, 0.0, 0.0]] * 3])
     n = len(icosphere.vertices)
