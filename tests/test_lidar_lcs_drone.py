@@ -142,3 +142,17 @@ def test_bench_figures():
 def test_lcs_draft_benchmark(benchmark, target):
     result = benchmark(lidar_cross_section, target, 30.0, 20.0, quality="draft")
     assert result.lcs_m2 > 0.0
+
+
+def test_render_lidar_follows_the_render_mode_contract():
+    import io
+
+    from csuas.scenario import load_scenario
+
+    stream = io.StringIO()
+    rows = render_lidar(load_scenario("default"), ranges_m=[100.0], quality="draft", azimuth_deg=0.0,
+                        elevation_deg=0.0, out_dir=None, seed=0, sensor=None, atmosphere="on", progress=stream)
+    assert "[1/1] lidar 100 m" in stream.getvalue()
+    assert rows[0]["files"] == [] and any("atmosphere" in n for n in rows[0]["notes"])
+    with pytest.raises(ParameterError, match="atmosphere"):
+        render_lidar(load_scenario("default"), ranges_m=[100.0], quality="draft", atmosphere="fog")

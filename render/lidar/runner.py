@@ -102,7 +102,7 @@ def _check_ranges(ranges_m) -> np.ndarray:
 
 def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: float = 0.0,
                  elevation_deg: float = 0.0, out_dir=None, sensor: str | None = None, seed: int = 0,
-                 progress=None) -> list:
+                 atmosphere: str = "auto", progress=None) -> list:
     """Lidar cross-section of the scenario's drone at each range, with errors, times and files.
 
     Parameters
@@ -122,8 +122,14 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
         Which lidar sensor of the scenario.
     seed : int
         Seed of the ray jitter.
-    progress : callable, optional
-        Called as ``progress(index, count, message)`` after each range.
+    atmosphere : {"auto", "on", "off"}
+        Accepted for the render-mode contract (:mod:`csuas.render.imaging.modes`);
+        the LCS is a property of the target, so no atmosphere enters it (the
+        path transmission is the range equation's, Eqs. 100-104); a note says so
+        when ``"on"``.
+    progress : text stream or callable, optional
+        A stream gets one line per range; a callable is called as
+        ``progress(index, count, message)``.
 
     Returns
     -------
@@ -134,13 +140,21 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
         ``beam_diameter_m``, ``illuminated_fraction``,
         ``lcs_illuminated_m2``, ``lcs_illuminated_stderr``, ``rays``,
         ``quality``, ``method``, ``wavelength_nm``, ``azimuth_deg``,
-        ``elevation_deg``.
+        ``elevation_deg``, ``notes`` (list of str).
     """
     from csuas.drone_models import build_drone
     from csuas.drone_models.silhouette import projected_metrics
 
     ranges = _check_ranges(ranges_m)
+    if atmosphere not in ("auto", "on", "off"):
+        raise ParameterError("atmosphere", atmosphere, "auto, on, off")
     params = lidar_parameters(scenario, sensor)
+    notes = []
+    if not any(getattr(s, "modality", None) == "lidar" for s in (getattr(scenario, "sensors", {}) or {}).values()):
+        notes.append("no lidar sensor in the scenario: Table 45 defaults (1550 nm, 3 mm aperture)")
+    if atmosphere == "on":
+        notes.append("atmosphere not applied: the LCS is a target property; path transmission belongs to the "
+                     "lidar range equation (Eqs. 100-104)")
     preset = getattr(scenario, "target_preset", None)
     drone = build_drone(preset)
     target = LidarTarget.from_drone(drone, params["wavelength_nm"])
@@ -173,7 +187,11 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
             "lcs_illuminated_m2": near.lcs_m2, "lcs_illuminated_stderr": near.stderr_m2,
             "rays": far.rays + near.rays, "quality": far.quality, "method": "single_bounce",
             "wavelength_nm": float(params["wavelength_nm"]), "azimuth_deg": float(azimuth_deg),
-            "elevation_deg": float(elevation_deg)})
-        if progress is not None:
-            progress(index + 1, len(ranges), f"lidar {range_m:g} m: LCS {far.lcs_m2:.4g} m^2")
+            "elevation_deg": float(elevation_deg), "notes": list(notes)})
+        message = f"lidar {range_m:g} m: LCS {far.lcs_m2:.4g} m^2 ({time.perf_counter() - start:.2f} s)"
+        if callable(progress):
+            progress(index + 1, len(ranges), message)
+        elif progress is not None:
+            progress.write(f"[{index + 1}/{len(ranges)}] {message}\n")
+            progress.flush()
     return results
