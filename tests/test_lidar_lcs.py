@@ -269,3 +269,12 @@ def test_bad_meshes_and_path_options(plate):
         path_traced_lcs(plate, max_depth=1)
     with pytest.raises(ParameterError, match="spp"):
         path_traced_lcs(plate, spp=0)
+
+
+def test_report_oracle_rows_pass_at_draft_quality():
+    from csuas.render.lidar.oracles import near_range_sphere_factor, oracle_comparisons
+
+    rows = oracle_comparisons("draft")
+    assert len(rows) == 7 and all(r["ok"] for r in rows), [r["name"] for r in rows if not r["ok"]]
+    assert all(r["time_s"] > 0.0 and r["stderr"] >= 0.0 for r in rows)
+    assert near_range_sphere_factor(0.1, 1e9) == pytest.approx(1.0, abs=1e-7)
