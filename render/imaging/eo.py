@@ -28,11 +28,12 @@ import time
 
 import numpy as np
 
+from csuas.core.eo import contrast_limited_range_m
 from csuas.drone_models.geometry import direction_vector
 from csuas.errors import ParameterError
 from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
-from csuas.render.imaging.path import eo_path
+from csuas.render.imaging.path import NO_PATH, eo_path
 from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_eo_scene, path_integrator
@@ -66,11 +67,25 @@ def sun_and_sky(illuminance_lx: float, diffuse_fraction: float, sun_elevation_de
             "ground_radiance": ground_reflectance * illuminance_lx / math.pi}
 
 
+def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
+    """Add the rendered Johnson range (Eq. 18) and the contrast-limited range (Eq. 21) to ``m``."""
+    cycles = 2.0 * lp_task * n_ttpf
+    if cycles > 0:
+        m.values["johnson_range_rendered_m"] = range_m * m.values["pixels_across_dcrit"] / cycles
+        m.stderr["johnson_range_rendered_m"] = range_m * m.stderr["pixels_across_dcrit"] / cycles
+    else:
+        m.values["johnson_range_rendered_m"] = float("inf")
+        m.notes.append("n_ttpf * lp_task = 0: the Johnson range is unbounded")
+    beta = next((t["value"] for t in path.terms if t["name"] == "extinction_per_km"), 0.0)
+    c0 = min(abs(m.values["contrast_inherent"]), 1.0)
+    m.values["contrast_limited_range_m"] = float(contrast_limited_range_m(c0, c_min, beta, "physical"))
+
+
 def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg=0.0, elevation_deg=0.0,
               illuminance_lx=70000.0, diffuse_fraction=DEFAULT_DIFFUSE_FRACTION, sun_azimuth_deg=None,
               sun_elevation_deg=45.0, ground_reflectance=0.2, background="sky", visibility_km=None,
               wavelength_nm=550.0, quality="standard", seed=0, target_offset_px=(0.0, 0.0), max_depth=3,
-              full_frame=False, progress=None, variant=None) -> ImagingResult:
+              lp_task=1.0, n_ttpf=1.0, c_min=0.05, full_frame=False, progress=None, variant=None) -> ImagingResult:
     """Render the target in the visible band and measure its figures.
 
     Parameters
@@ -104,6 +119,15 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
         Offset of the target's centre from the default pixel centre [px].
     max_depth : int
         Path length of the path tracer (3: sun, sky and one inter-reflection).
+    lp_task, n_ttpf : float
+        Line pairs (Table 20) and TTPF multiplier (Table 21): ``johnson_range_rendered_m``
+        is the range where the rendered d_crit spans 2 lp n_TTPF pixels (Eq. 18),
+        from pixels across d_crit scaling as 1/R.
+    c_min : float
+        Minimum contrast (Table 24): ``contrast_limited_range_m`` solves
+        C0 tau(R) = c_min (Eq. 21, :func:`csuas.core.eo.contrast_limited_range_m`,
+        physical convention) with C0 the rendered inherent contrast (Eq. 3);
+        +inf (JSON null) without atmosphere.
     full_frame : bool
         Render the whole sensor frame instead of the window (benchmark).
     progress : callable(fraction) or file-like or None
@@ -138,6 +162,10 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
                          n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds, progress=progress)
     path = eo_path(r, visibility_km, wavelength_nm, light["sky_radiance"])
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
+    inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
+    for name in ("contrast", "contrast_weber"):
+        m.values[f"{name}_inherent"], m.stderr[f"{name}_inherent"] = inherent.values[name], inherent.stderr[name]
+    _range_figures(m, r, lp_task, n_ttpf, c_min, path)
     notes = list(m.notes)
     if window.clipped:
         notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")

@@ -133,6 +133,8 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
     t_bg_app = inherent.values["background_temperature_apparent_k"]
 
     def mrtd_range(dt, d):
+        if lp_task * n_ttpf <= 0:
+            return float("inf")
         if d <= 0 or dt == 0:
             return 0.0
         res = tir_mrtd_range(mrtd=curve, d_crit_m=d, lp_task=lp_task, n_ttpf=n_ttpf, delta_t0_k=dt,
@@ -144,12 +146,14 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
     values["mrtd_range_m"] = r_mrtd
     stderr["mrtd_range_m"] = float(np.hypot(mrtd_range(dt0 + np.copysign(dt0_se, dt0), d_crit) - r_mrtd,
                                             mrtd_range(dt0, d_crit + d_crit_se) - r_mrtd))
-    if d_crit > 0:
+    if d_crit > 0 and lp_task * n_ttpf > 0:
         freq = lp_task * n_ttpf * r / d_crit
         values["target_frequency_cy_rad"] = freq
         values["mrtd_at_range_k"] = float(curve(freq))
     values["d_crit_rendered_m"], stderr["d_crit_rendered_m"] = d_crit, d_crit_se
     notes = list(m.notes)
+    if lp_task * n_ttpf <= 0:
+        notes.append("n_ttpf * lp_task = 0: the MRTD range is unbounded")
     if window.clipped:
         notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
     if tally.nonfinite_samples:

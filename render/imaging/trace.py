@@ -43,6 +43,8 @@ class WindowTally:
         Camera rays traced in total.
     nonfinite_samples : int
         Shaded samples whose radiance was NaN or inf (counted as 0 and reported).
+    extent_refined : ndarray, shape (4,) or None
+        All-batch extremes after :func:`refine_extremes` (NaN without hits).
     time_s : float
         Wall time of the tally [s].
     """
@@ -53,6 +55,7 @@ class WindowTally:
     samples: int
     time_s: float
     nonfinite_samples: int = 0
+    extent_refined: np.ndarray | None = None
 
     @property
     def n_batches(self) -> int:
@@ -94,46 +97,121 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     n2 = n_side * n_side
     n_px = window.n_pixels
     chunk = max(1, max_launch // n2)
-    coverage = np.zeros((n_batches, n_px))
-    radiance = np.zeros((n_batches, channels, n_px))
-    extent = np.full((n_batches, 4), np.nan)
+    coverage = np.zeros(n_batches * n_px)
+    radiance = np.zeros((channels, n_batches * n_px))
+    lo = np.full((n_batches, 2), np.inf)
+    hi = np.full((n_batches, 2), -np.inf)
+    anchors = [None] * 4  # (x, y) of the all-batch extreme hits: x_min, x_max, y_min, y_max
     nonfinite = 0
     origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     sampler = mi.load_dict({"type": "independent"})
-    n_chunks = -(-n_px // chunk)
-    for b in range(n_batches):
-        rng = np.random.default_rng([int(seed), b])
-        lo = np.array([np.inf, np.inf])
-        hi = -lo
-        for c in range(n_chunks):
-            pixels = np.arange(c * chunk, min((c + 1) * chunk, n_px))
-            x, y, area = jittered_film_samples(window, pixels, n_side, rng, bounds)
-            d = ray_directions(x, y, sensor, target_px).astype(np.float32)
-            ray = mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))
-            hit = np.array(scene.ray_intersect(ray).is_valid(), dtype=bool)
-            idx = np.flatnonzero(hit)
-            if idx.size:
-                local = idx // n2
-                owner = pixels[local]
-                weight = area[local] / n2
-                coverage[b] += np.bincount(owner, weights=weight, minlength=n_px)
-                hit_ray = mi.Ray3f(origin, mi.Vector3f(d[0][idx], d[1][idx], d[2][idx]))
-                sampler.seed(int(rng.integers(1 << 31)), idx.size)
-                value, _, _ = integrator.sample(scene, sampler, hit_ray)
-                value = np.array(value, dtype=float).reshape(-1, idx.size)[:channels]
-                bad = ~np.isfinite(value)
-                if np.any(bad):
-                    nonfinite += int(np.any(bad, axis=0).sum())
-                    value = np.nan_to_num(value, nan=0.0, posinf=0.0, neginf=0.0)
-                for ch in range(channels):
-                    radiance[b, ch] += np.bincount(owner, weights=value[ch] * weight, minlength=n_px)
-                lo = np.minimum(lo, [x[idx].min(), y[idx].min()])
-                hi = np.maximum(hi, [x[idx].max(), y[idx].max()])
-            if progress is not None:
-                progress((b * n_chunks + c + 1) / (n_batches * n_chunks))
-        if np.isfinite(lo[0]):
-            extent[b] = [lo[0], hi[0], lo[1], hi[1]]
-        dr.sync_thread()
+    rngs = [np.random.default_rng([int(seed), b]) for b in range(n_batches)]
+    shade_rng = np.random.default_rng([int(seed), n_batches, 1])  # path-tracer seeds, apart from the positions
+    # Work units (batch, first pixel, last pixel) packed into launches of at most max_launch rays.
+    units = [(b, p0, min(p0 + chunk, n_px)) for b in range(n_batches) for p0 in range(0, n_px, chunk)]
+    launches, current, size = [], [], 0
+    for unit in units:
+        rays = (unit[2] - unit[1]) * n2
+        if current and size + rays > max_launch:
+            launches.append(current)
+            current, size = [], 0
+        current.append(unit)
+        size += rays
+    launches.append(current)
+    for i, launch in enumerate(launches):
+        xs, ys, areas, owners, batches = [], [], [], [], []
+        for b, p0, p1 in launch:
+            pixels = np.arange(p0, p1)
+            x, y, area = jittered_film_samples(window, pixels, n_side, rngs[b], bounds)
+            xs.append(x)
+            ys.append(y)
+            areas.append(np.repeat(area / n2, n2))
+            owners.append(np.repeat(b * n_px + pixels, n2))
+            batches.append(np.full(x.size, b))
+        x, y, weight, owner, batch = (np.concatenate(v) for v in (xs, ys, areas, owners, batches))
+        d = ray_directions(x, y, sensor, target_px).astype(np.float32)
+        ray = mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))
+        hit = np.array(scene.ray_intersect(ray).is_valid(), dtype=bool)
+        idx = np.flatnonzero(hit)
+        if idx.size:
+            coverage += np.bincount(owner[idx], weights=weight[idx], minlength=n_batches * n_px)
+            hit_ray = mi.Ray3f(origin, mi.Vector3f(d[0][idx], d[1][idx], d[2][idx]))
+            sampler.seed(int(shade_rng.integers(1 << 31)), idx.size)
+            value, _, _ = integrator.sample(scene, sampler, hit_ray)
+            value = np.array(value, dtype=float).reshape(-1, idx.size)[:channels]
+            bad = ~np.isfinite(value)
+            if np.any(bad):
+                nonfinite += int(np.any(bad, axis=0).sum())
+                value = np.where(bad, 0.0, value)
+            for ch in range(channels):
+                radiance[ch] += np.bincount(owner[idx], weights=value[ch] * weight[idx], minlength=n_batches * n_px)
+            for side, (coord, pick) in enumerate(((x, np.argmin), (x, np.argmax), (y, np.argmin), (y, np.argmax))):
+                j = idx[pick(coord[idx])]
+                if anchors[side] is None or (coord[j] < anchors[side][side // 2]) == (side % 2 == 0) \
+                        and coord[j] != anchors[side][side // 2]:
+                    anchors[side] = (x[j], y[j])
+            for b in np.unique(batch[idx]):
+                sel = idx[batch[idx] == b]
+                lo[b] = np.minimum(lo[b], [x[sel].min(), y[sel].min()])
+                hi[b] = np.maximum(hi[b], [x[sel].max(), y[sel].max()])
+        if progress is not None:
+            progress((i + 1) / len(launches))
+    dr.sync_thread()
+    extent = np.where(np.isfinite(lo[:, :1]), np.stack([lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]], axis=1), np.nan)
+    coverage = coverage.reshape(n_batches, n_px)
+    radiance = radiance.reshape(channels, n_batches, n_px).transpose(1, 0, 2)
+    refined = None
+    if anchors[0] is not None:
+        step = 2.0 / n_side * (1.0 if bounds is None else min(1.0, bounds[1] - bounds[0]))
+        refined = refine_extremes(scene, sensor, target_px, camera_distance, anchors, step)
     shape = (window.height, window.width)
     return WindowTally(coverage.reshape(n_batches, *shape), radiance.reshape(n_batches, channels, *shape),
-                       extent, n_batches * n_px * n2, time.perf_counter() - t0, nonfinite)
+                       extent, n_batches * n_px * n2, time.perf_counter() - t0, nonfinite, refined)
+
+
+def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: float, anchors, step: float,
+                    grid: int = 24, iterations: int = 3) -> np.ndarray:
+    """Push the extreme hits of the silhouette outward by local grid searches.
+
+    The extreme hit of random samples falls short of the silhouette's true
+    extent by the gap to the nearest sample (for a rounded outline of radius r
+    about (S sqrt(r))^(-2/3) px at S samples per px^2). Beyond each extreme hit
+    (x*, y*) a ``grid`` x ``grid`` search over [x*, x* + g] x [y* - 2g, y* + 2g]
+    (for x_max; alike for the other sides) moves the extreme to the outermost
+    hit; g shrinks to 4 grid cells each iteration.
+
+    Parameters
+    ----------
+    anchors : list of 4 (x, y)
+        Extreme hits for x_min, x_max, y_min, y_max [film px].
+    step : float
+        Initial search depth g [px] (about twice the sample spacing).
+
+    Returns
+    -------
+    ndarray, shape (4,)
+        x_min, x_max, y_min, y_max [film px].
+    """
+    import mitsuba as mi
+
+    origin = mi.Point3f(0.0, 0.0, float(camera_distance))
+    u = (np.arange(grid) + 0.5) / grid
+    out = np.empty(4)
+    for side, (ax, ay) in enumerate(anchors):
+        axis, sign = side // 2, (-1.0 if side % 2 == 0 else 1.0)
+        best = np.array([ax, ay], dtype=float)
+        g = step
+        for _ in range(iterations):
+            along = best[axis] + sign * g * u
+            across = best[1 - axis] + g * (4.0 * u - 2.0)
+            a, c = np.meshgrid(along, across, indexing="ij")
+            pts = np.empty((2, a.size))
+            pts[axis], pts[1 - axis] = a.ravel(), c.ravel()
+            d = ray_directions(pts[0], pts[1], sensor, target_px).astype(np.float32)
+            hit = np.array(scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(), dtype=bool)
+            if hit.any():
+                k = np.flatnonzero(hit)[np.argmax(sign * pts[axis][hit])]
+                best = pts[:, k].copy()
+            g = 4.0 * g / grid
+        out[side] = best[axis]
+    return out

@@ -1,0 +1,97 @@
+"""Scenario-driven EO and thermal renders behind ``csuas render eo|tir`` (SPEC 8).
+
+A *render mode* is a callable ``mode(scenario, **options) -> list of dict``
+returning one JSON-ready result per range with at least the SPEC 8 keys
+``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``, ``contrast``,
+``stderr``, ``time_s`` and ``files``. Options passed by the command:
+``ranges_m`` (list of float), ``quality`` (str), ``azimuth_deg``,
+``elevation_deg`` (float), ``out_dir`` (path or None: no files), ``seed``
+(int), ``sensor`` (sensor name or None: the scenario's first sensor of the
+modality), ``atmosphere`` ("auto", "on", "off") and ``progress`` (a text
+stream or None).
+
+``atmosphere="auto"`` applies the path only when the scenario calls for it
+(SPEC 3.3): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
+set by the scenario). EO then uses Koschmieder with the optical visibility
+(fog visibility in fog); thermal the sensor's ``extinction_db_km`` with path
+radiance at the environment's ``temperature_k``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from csuas.errors import ParameterError
+
+ATMOSPHERE_CHOICES = ("auto", "on", "off")
+
+
+def _sensor(scenario, modality: str, name):
+    if name is not None:
+        if name not in scenario.sensors or scenario.sensors[name].modality != modality:
+            found = [n for n, s in scenario.sensors.items() if s.modality == modality]
+            raise ParameterError("sensor", name, f"a {modality} sensor of the scenario: {', '.join(found) or 'none'}")
+        return scenario.sensors[name]
+    for spec in scenario.sensors.values():
+        if spec.modality == modality:
+            return spec
+    raise ParameterError("sensor", None, f"a [sensors.NAME] with modality = '{modality}' in scenario {scenario.name!r}")
+
+
+def _atmosphere_on(scenario, atmosphere: str) -> bool:
+    if atmosphere not in ATMOSPHERE_CHOICES:
+        raise ParameterError("atmosphere", atmosphere, ", ".join(ATMOSPHERE_CHOICES))
+    if atmosphere == "auto":
+        return bool({"fog", "haze"} & set(scenario.effects))
+    return atmosphere == "on"
+
+
+def _files(result, out_dir, stem: str) -> list:
+    if out_dir is None:
+        return []
+    from csuas.render.imaging.output import write_images
+    return write_images(result, Path(out_dir), stem)
+
+
+def eo_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elevation_deg=0.0, out_dir=None, seed=0,
+                sensor=None, atmosphere="auto", progress=None) -> list:
+    """Render the scenario's EO sensor at each range (mode ``eo``)."""
+    from csuas.render.imaging.eo import render_eo
+
+    spec = _sensor(scenario, "eo", sensor)
+    p, env = spec.params, scenario.environment
+    visibility = scenario.optical_visibility_km if _atmosphere_on(scenario, atmosphere) else None
+    out = []
+    for r in ranges_m:
+        res = render_eo(scenario.target_preset, range_m=r, hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"],
+                        azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, illuminance_lx=env["illuminance_lx"],
+                        visibility_km=visibility, wavelength_nm=p["wavelength_nm"], quality=quality, seed=seed,
+                        lp_task=p["lp_task"], n_ttpf=p["n_ttpf"], c_min=p["c_min"], progress=progress)
+        row = res.summary()
+        row.update(sensor=spec.name, files=_files(res, out_dir, f"{scenario.name}_{spec.name}_eo_{r:g}m"))
+        out.append(row)
+    return out
+
+
+def tir_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elevation_deg=0.0, out_dir=None, seed=0,
+                 sensor=None, atmosphere="auto", progress=None) -> list:
+    """Render the scenario's thermal sensor at each range (mode ``tir``)."""
+    from csuas.ranges import mrtd_curve
+    from csuas.render.imaging.tir import render_tir
+
+    spec = _sensor(scenario, "tir", sensor)
+    p, env, target = spec.params, scenario.environment, scenario.target
+    extinction = p["extinction_db_km"] if _atmosphere_on(scenario, atmosphere) else None
+    out = []
+    for r in ranges_m:
+        res = render_tir(scenario.target_preset, range_m=r, hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"],
+                         band=p["band"], azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, t_bg_k=env["t_bg_k"],
+                         emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"],
+                         extinction_db_km=extinction, air_temperature_k=env["temperature_k"], mrtd=mrtd_curve(p),
+                         lp_task=p["lp_task"], n_ttpf=p["n_ttpf"],
+                         linear_reference=(target["emissivity_suas"], target["t_suas_k"]), quality=quality, seed=seed,
+                         progress=progress)
+        row = res.summary()
+        row.update(sensor=spec.name, files=_files(res, out_dir, f"{scenario.name}_{spec.name}_tir_{r:g}m"))
+        out.append(row)
+    return out

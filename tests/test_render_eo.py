@@ -1,0 +1,225 @@
+"""EO rendering against exact geometry, the Johnson range (Eq. 18), Eq. 4 and Koschmieder (SPEC 6, 7).
+
+Oracles: the exact silhouette of drone_models (polygon union of projected
+triangles) and, in this file, the pinhole projection of the mesh; Eq. 4 for a
+Lambertian plate under the same illuminance as its background; Koschmieder's
+L(R) = L0 tau + L_h (1 - tau) with beta = 3.912 / V written inline.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from shapely import affinity
+
+from csuas.core.eo import contrast_limited_range_m
+from csuas.core.johnson import ifov_rad, johnson_range_m
+from csuas.drone_models import build_drone
+from csuas.drone_models.silhouette import projected_metrics
+from csuas.errors import ParameterError
+from csuas.render.imaging import Quality, render_eo
+from csuas.render.imaging.targets import plate
+
+pytestmark = pytest.mark.slow
+
+Q = Quality("test", 4, 8)          # 128 samples per pixel
+EO = dict(hfov_deg=10.0, n_h=1920, n_v=1080)
+IFOV = math.radians(10.0) / 1920
+
+
+@pytest.fixture(scope="module")
+def drone():
+    return build_drone("dji_mini_4_pro")
+
+
+def exact_pixel_coverage(silhouette, range_m, ifov, window, target_px):
+    """Exact fractional coverage of each window pixel by the silhouette (orthographic, metres -> px)."""
+    scale = 1.0 / (range_m * ifov)
+    poly = affinity.affine_transform(silhouette, [scale, 0.0, 0.0, -scale, target_px[0], target_px[1]])
+    jj, ii = np.mgrid[0:window.height, 0:window.width]
+    boxes = shapely.box(window.x0 + ii.ravel(), window.y0 + jj.ravel(), window.x0 + ii.ravel() + 1,
+                        window.y0 + jj.ravel() + 1)
+    return shapely.area(shapely.intersection(boxes, poly)).reshape(window.height, window.width)
+
+
+@pytest.mark.parametrize("range_m,azimuth_deg,elevation_deg", [
+    (300.0, 0.0, 0.0), (300.0, 45.0, 30.0), (900.0, 90.0, 10.0), (300.0, 0.0, 90.0), (1500.0, 120.0, -20.0)])
+def test_pixels_on_target_match_exact_silhouette(drone, range_m, azimuth_deg, elevation_deg):
+    res = render_eo(drone, range_m=range_m, azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, quality=Q, **EO)
+    exact = projected_metrics(drone.mesh(), azimuth_deg, elevation_deg)
+    px_area = (range_m * IFOV) ** 2
+    pot, se = res.values["pixels_on_target"], res.stderr["pixels_on_target"]
+    assert se > 0
+    assert abs(pot - exact["projected_area_m2"] / px_area) <= 4 * se + 2e-3 * pot
+    # Extents along the image axes: d_x_proj, d_y_proj and d_crit (Eq. 1) in pixels.
+    for key, ref in (("pixels_across_x", exact["d_x_proj_m"]), ("pixels_across_y", exact["d_y_proj_m"]),
+                     ("pixels_across_dcrit", exact["d_crit_min_m"])):
+        ref_px = ref / (range_m * IFOV)
+        assert res.values[key] <= ref_px * 1.002 + 1e-3
+        assert res.values[key] == pytest.approx(ref_px, rel=0.02, abs=0.03)
+    # Count of pixels above 50 %: equal up to pixels whose exact coverage is within the noise of 0.5.
+    cov = exact_pixel_coverage(exact["silhouette"], range_m, IFOV, res.window, (960.5, 540.5))
+    assert cov.sum() == pytest.approx(exact["projected_area_m2"] / px_area, rel=1e-9)
+    ambiguous = np.count_nonzero(np.abs(cov - 0.5) < 0.15)
+    assert abs(res.values["pixels_above_half"] - np.count_nonzero(cov > 0.5)) <= ambiguous
+    assert np.abs(res.coverage - cov).max() < 0.2
+
+
+def test_perspective_at_10_m_matches_pinhole_projection(drone):
+    """At 10 m the pinhole image differs from the orthographic silhouette; compare with the exact perspective union."""
+    r, sensor = 10.0, dict(hfov_deg=40.0, n_h=640, n_v=480)
+    ifov = math.radians(40.0) / 640
+    res = render_eo(drone, range_m=r, azimuth_deg=30.0, elevation_deg=20.0, quality=Quality("t", 2, 8), **sensor)
+    m = projected_metrics(drone.mesh(), 30.0, 20.0)
+    d, h, v = m["direction"], m["h_axis"], m["v_axis"]
+    tris = drone.mesh().triangles  # (n, 3, 3) body frame
+    z = r - tris @ d
+    px = (tris @ h) / z / ifov
+    py = (tris @ v) / z / ifov
+    polys = shapely.polygons(np.stack([px, py], axis=-1))
+    union = shapely.union_all(polys[shapely.area(polys) > 0])
+    assert res.values["pixels_on_target"] == pytest.approx(union.area, rel=4 * res.stderr["pixels_on_target"] / union.area + 2e-3)
+    xmin, ymin, xmax, ymax = union.bounds
+    assert res.values["pixels_across_x"] == pytest.approx(xmax - xmin, rel=0.01)
+    assert res.values["pixels_across_y"] == pytest.approx(ymax - ymin, rel=0.01)
+
+
+@pytest.mark.parametrize("lp_task,n_ttpf", [(1.0, 1.0), (4.0, 1.0), (1.0, 0.5)])
+def test_rendered_dcrit_spans_2_lp_nttpf_pixels_at_johnson_range(drone, lp_task, n_ttpf):
+    d_crit = projected_metrics(drone.mesh(), 0.0, 0.0)["d_crit_min_m"]
+    ifov = float(ifov_rad(10.0, 1920))
+    r_johnson = float(johnson_range_m(d_crit, ifov, lp_task, n_ttpf))  # Eq. 18
+    res = render_eo(drone, range_m=r_johnson, quality=Q, lp_task=lp_task, n_ttpf=n_ttpf, **EO)
+    assert res.values["pixels_across_dcrit"] == pytest.approx(2 * lp_task * n_ttpf, rel=0.02)
+    assert res.values["johnson_range_rendered_m"] == pytest.approx(r_johnson, rel=0.02)
+
+
+def test_plate_contrast_is_eq4_under_equal_illuminance():
+    """Sun only at 45 deg onto a vertical plate: its irradiance equals the horizontal illuminance E_v."""
+    rho, rho_bg, e_v = 0.5, 0.2, 70000.0
+    res = render_eo(plate(reflectance=rho), range_m=200.0, quality=Quality("t", 2, 2), diffuse_fraction=0.0,
+                    ground_reflectance=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0, background=rho_bg,
+                    illuminance_lx=e_v, **EO)
+    assert res.values["target_radiance"] == pytest.approx(rho * e_v / math.pi, rel=1e-5)
+    assert res.values["background_radiance"] == pytest.approx(rho_bg * e_v / math.pi, rel=1e-12)
+    assert res.values["contrast"] == pytest.approx((rho - rho_bg) / (rho + rho_bg), rel=1e-5)
+    assert res.terms == []  # no atmosphere requested, none applied
+
+
+@pytest.fixture(scope="module")
+def hazy_plate():
+    """A dark plate against the horizon sky in 5 km visibility, rendered at 1 and 3 km."""
+    kw = dict(quality=Q, visibility_km=5.0, wavelength_nm=550.0, **EO)
+    return [render_eo(plate(reflectance=0.05), range_m=r, **kw) for r in (1000.0, 3000.0)]
+
+
+def test_koschmieder_transmittance_and_airlight(hazy_plate):
+    beta = math.log(50.0) / 5.0  # Koschmieder, 2 % threshold: V = 3.912 / beta [1/km]; Kruse factor 1 at 550 nm
+    for res in hazy_plate:
+        tau = math.exp(-beta * res.range_m / 1000.0)
+        l_t, l_h = res.values["target_radiance"], res.values["sky_radiance"]
+        assert res.values["background_radiance"] == l_h
+        assert res.values["contrast_weber"] == pytest.approx(res.values["contrast_weber_inherent"] * tau, rel=1e-9)
+        apparent = l_t * tau + l_h * (1 - tau)
+        assert res.values["contrast"] == pytest.approx((apparent - l_h) / (apparent + l_h), rel=1e-9)
+        names = [t["name"] for t in res.terms]
+        assert names == ["extinction_per_km", "transmittance", "airlight"]
+        assert res.terms[1]["value"] == pytest.approx(tau, rel=1e-12)
+
+
+def test_rendered_contrast_limited_range_matches_core(hazy_plate):
+    c_min = 0.05
+    near, far = hazy_plate
+    c1, c2 = abs(near.values["contrast_weber"]), abs(far.values["contrast_weber"])
+    beta_fit = math.log(c1 / c2) / ((far.range_m - near.range_m) / 1000.0)
+    r_star = near.range_m + 1000.0 * math.log(c1 / c_min) / beta_fit
+    c0 = abs(near.values["contrast_weber_inherent"])
+    assert 0.5 < c0 < 1.0
+    expected = float(contrast_limited_range_m(c0, c_min, math.log(50.0) / 5.0, "physical"))
+    assert r_star == pytest.approx(expected, rel=0.01)
+    # Below c_min at the far range only if beyond r_star.
+    assert (c2 < c_min) == (far.range_m > r_star)
+
+
+def test_same_image_at_10_m_and_20_km_after_range_normalisation(drone):
+    """The drone scaled by 2000 at 20 km subtends the same angles as the drone at 10 m: same figures."""
+    import dataclasses
+    big = [dataclasses.replace(p, mesh=p.mesh.copy().apply_scale(2000.0)) for p in drone.parts]
+    sensor = dict(hfov_deg=40.0, n_h=640, n_v=480)
+    near = render_eo(drone, range_m=10.0, quality=Quality("t", 2, 4), **sensor)
+    far = render_eo(big, range_m=20000.0, quality=Quality("t", 2, 4), **sensor)
+    for key in ("pixels_on_target", "pixels_above_half", "pixels_across_dcrit", "contrast"):
+        assert far.values[key] == pytest.approx(near.values[key], rel=1e-5, abs=1e-9)
+    assert np.allclose(far.image, near.image, rtol=1e-4)
+
+
+def test_plate_at_10_m_and_20_km_float32_precision():
+    """The same 1 m plate at 10 m (100 px) and at 20 km (0.05 px): area x R^2 and contrast agree."""
+    sensor = dict(hfov_deg=57.29577951308232, n_h=1000, n_v=1000)  # IFOV = 1 mrad
+    kw = dict(quality=Quality("t", 4, 8), diffuse_fraction=0.0, ground_reflectance=0.0, sun_azimuth_deg=0.0,
+              sun_elevation_deg=45.0, background=0.2, **sensor)
+    near = render_eo(plate(), range_m=10.0, **kw)
+    far = render_eo(plate(), range_m=20000.0, **kw)
+    assert near.values["pixels_on_target"] == pytest.approx(1e4, rel=2e-3)
+    assert far.values["pixels_on_target"] == pytest.approx(1.0 / 20.0**2, rel=4 * far.stderr["pixels_on_target"] / 0.0025 + 1e-3)
+    assert far.values["pixels_across_x"] == pytest.approx(0.05, rel=0.03)
+    assert far.values["contrast"] == pytest.approx(near.values["contrast"], rel=1e-5)
+    assert far.values["contrast"] == pytest.approx(0.3 / 0.7, rel=1e-5)
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (0.5, 0.5), (0.37, -0.21)])
+def test_single_pixel_and_subpixel_targets_are_stable(offset):
+    r = 1000.0
+    one_px = plate(width_m=r * IFOV, height_m=r * IFOV)
+    sub_px = plate(width_m=0.1 * r * IFOV, height_m=0.1 * r * IFOV)
+    res1 = render_eo(one_px, range_m=r, quality=Q, target_offset_px=offset, **EO)
+    res2 = render_eo(sub_px, range_m=r, quality=Q, target_offset_px=offset, **EO)
+    assert res1.values["pixels_on_target"] == pytest.approx(1.0, abs=4 * res1.stderr["pixels_on_target"] + 2e-3)
+    assert res2.values["pixels_on_target"] == pytest.approx(0.01, abs=4 * res2.stderr["pixels_on_target"] + 2e-5)
+    assert res2.stderr["pixels_on_target"] < 0.001
+    assert res1.values["pixels_above_half"] == (1.0 if offset == (0.0, 0.0) else 0.0)
+    # A sub-pixel target still shows in its pixel: peak-pixel contrast is the coverage-diluted contrast.
+    c_in = res2.values["contrast_weber_inherent"]
+    assert abs(res2.values["contrast_peak_pixel"]) < abs(res2.values["contrast"]) <= 1.0
+    assert np.isfinite(c_in)
+
+
+def test_edge_on_plate_and_zero_width_quad():
+    import trimesh
+    from csuas.drone_models import Part
+    from csuas.render.imaging.targets import grey_material
+
+    r = 100.0
+    res = render_eo(plate(thickness_m=0.01), range_m=r, azimuth_deg=90.0, quality=Q, **EO)
+    exact = 0.01 * 1.0 / (r * IFOV) ** 2
+    assert res.values["pixels_on_target"] == pytest.approx(exact, abs=4 * res.stderr["pixels_on_target"] + 1e-3 * exact)
+    assert res.values["pixels_across_dcrit"] == pytest.approx(0.01 / (r * IFOV), rel=0.03)
+    quad = trimesh.Trimesh(vertices=[[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]],
+                           faces=[[0, 1, 2], [0, 2, 3]], process=False)
+    res0 = render_eo([Part("quad", "body", quad, grey_material())], range_m=r, azimuth_deg=90.0,
+                     quality=Quality("t", 2, 2), **EO)
+    assert res0.values["pixels_on_target"] == 0.0
+    assert res0.values["pixels_across_dcrit"] == 0.0
+    assert res0.values["contrast"] == 0.0
+    assert all(np.isfinite(v) for v in res0.values.values())
+    assert res0.notes and "no sample hit" in res0.notes[0]
+
+
+def test_bad_input_names_parameter():
+    with pytest.raises(ParameterError, match="range_m"):
+        render_eo("dji_mini_4_pro", range_m=0.1, quality="draft")
+    with pytest.raises(ParameterError, match="range_m"):
+        render_eo("dji_mini_4_pro", range_m=float("nan"), quality="draft")
+    with pytest.raises(ParameterError, match="quality"):
+        render_eo("dji_mini_4_pro", range_m=100.0, quality="ultra")
+    with pytest.raises(ParameterError, match="elevation_deg"):
+        render_eo("dji_mini_4_pro", range_m=100.0, elevation_deg=95.0, quality="draft")
+    with pytest.raises(ParameterError, match="sun_elevation_deg"):
+        render_eo("dji_mini_4_pro", range_m=100.0, sun_elevation_deg=-5.0, quality="draft")
+    with pytest.raises(ParameterError, match="background"):
+        render_eo("dji_mini_4_pro", range_m=100.0, background="ground", quality="draft")
+    with pytest.raises(ParameterError, match="hfov_deg"):
+        render_eo("dji_mini_4_pro", range_m=100.0, hfov_deg=0.0, quality="draft")
