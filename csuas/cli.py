@@ -31,6 +31,7 @@ COMMANDS = {
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
+    "render": "EO and thermal images of a scenario's drone at slant ranges: pixels on target, contrast, Delta T",
 }
 
 
