@@ -30,7 +30,8 @@ def _explanation(r: dict) -> str:
         f"is {r['k_lcs_measured']['mean']:.3f} +- {r['k_lcs_measured']['stderr']:.3f}. The mesh's mean projected area "
         f"is {r['projected_area_m2']['mean']:.4f} m^2 against the 0.06 m^2 the paper's figure implies. Treating the "
         "parts as Lambertian overstates the back-scatter of bare metal away from normal incidence (it is mostly "
-        "specular) and single bounce ignores inter-reflections (small for these albedos).")
+        "specular) and single bounce ignores inter-reflections, which Mitsuba path tracing with 8 bounces "
+        "(csuas.render.lidar.path) puts at about +1 % of the orientation mean for this mesh.")
 
 
 def default_checks(quality: str = "draft", seed: int = 0) -> list:
