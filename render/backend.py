@@ -96,7 +96,16 @@ def ensure_libllvm() -> str:
 
 
 def cuda_available() -> bool:
-    """True when Dr.Jit sees a CUDA device (never raises)."""
+    """True when Dr.Jit sees a CUDA device (never raises).
+
+    libLLVM is located first: Dr.Jit looks for its back-ends once per process,
+    so importing it before ``DRJIT_LIBLLVM_PATH`` is set would leave the LLVM
+    back-end inactive for good.
+    """
+    try:
+        ensure_libllvm()
+    except BackendError:
+        pass
     try:
         import drjit as dr
         return bool(dr.has_backend(dr.JitBackend.CUDA))

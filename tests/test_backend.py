@@ -26,7 +26,7 @@ def test_only_broken_versions_means_none(tmp_path):
 
 
 def test_missing_libllvm_error_says_how_to_fix(monkeypatch):
-    monkeypatch.delenv("DRJIT_LIBLLVM_PATH", raising=False)
+    monkeypatch.setenv("DRJIT_LIBLLVM_PATH", "")  # empty counts as unset; setenv restores it afterwards
     monkeypatch.setattr(backend, "find_libllvm", lambda *a: None)
     with pytest.raises(backend.BackendError, match="apt-get install -y libllvm19"):
         backend.ensure_libllvm()
@@ -40,7 +40,7 @@ def test_wrong_environment_variable_is_reported(monkeypatch, tmp_path):
 
 def test_unset_variable_is_filled_in(monkeypatch, tmp_path):
     lib = _touch(tmp_path, "libLLVM-19.so")
-    monkeypatch.delenv("DRJIT_LIBLLVM_PATH", raising=False)
+    monkeypatch.setenv("DRJIT_LIBLLVM_PATH", "")  # empty counts as unset; setenv restores it afterwards
     monkeypatch.setattr(backend, "find_libllvm", lambda *a: str(lib))
     assert backend.ensure_libllvm() == str(lib)
     assert os.environ["DRJIT_LIBLLVM_PATH"] == str(lib)
