@@ -139,3 +139,9 @@ def test_paper_lidar_eta_follows_declared_visibility():
     assert paper_eta_tl(sc, sc.sensors["l"]) == pytest.approx(0.6803, abs=1e-4)  # Table 47's derivation
     sc = parse_scenario({"sensors": {"l": {"modality": "lidar"}}})
     assert paper_eta_tl(sc, sc.sensors["l"]) == 0.681
+
+
+def test_table_9_contrast_classes():
+    sc = parse_scenario({"target": {"c_eo": "low_contrast_clutter"},
+                         "sensors": {"e": {"modality": "eo", "c_min": "general"}}})
+    assert sc.target["c_eo"] == 0.2 and sc.sensors["e"].params["c_min"] == 0.01
