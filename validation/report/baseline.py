@@ -1,0 +1,81 @@
+"""Regression against a stored report (``csuas report --baseline old.json``).
+
+Every check of the old report is matched by name with the new one. A
+regression is
+
+* a check of the old report that is missing from the new one;
+* a check that passed (or was a known deviation) and now fails;
+* an expected or measured value that moved by more than the check's stated
+  tolerance (the new report's; the old one's when the new has none), or
+  that became non-finite.
+
+Checks new in this report are listed, not counted as regressions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from csuas.errors import ParameterError
+
+
+def load_baseline(path) -> dict:
+    """A report JSON with a ``checks`` list (ParameterError when unreadable or malformed)."""
+    p = Path(path)
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ParameterError("baseline", str(path), "an existing report.json") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError("baseline", str(path), f"a JSON report (it does not parse: {exc})") from None
+    if not isinstance(data, dict) or not isinstance(data.get("checks"), list):
+        raise ParameterError("baseline", str(path), "a report.json with a 'checks' list")
+    return data
+
+
+def _number(value):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def compare(new_checks: list, old_checks: list) -> dict:
+    """Regressions of ``new_checks`` against ``old_checks`` (lists of check dicts of SPEC 8).
+
+    Returns
+    -------
+    dict
+        ``regressions`` (list of ``{name, what, old, new, tolerance}``),
+        ``compared`` (count), ``new_checks`` (names absent from the baseline).
+    """
+    new = {c["name"]: c for c in new_checks}
+    old = {c["name"]: c for c in old_checks}
+    regressions = []
+    for name, o in old.items():
+        n = new.get(name)
+        if n is None:
+            regressions.append({"name": name, "what": "missing from the new report", "old": None, "new": None,
+                                "tolerance": None})
+            continue
+        if (o.get("ok") or o.get("known_deviation")) and not (n.get("ok") or n.get("known_deviation")):
+            regressions.append({"name": name, "what": "passed before, fails now", "old": o.get("measured"),
+                                "new": n.get("measured"), "tolerance": n.get("tolerance")})
+            continue
+        tol = _number(n.get("tolerance"))
+        tol = tol if tol is not None else _number(o.get("tolerance"))
+        for key in ("expected", "measured"):
+            before, after = _number(o.get(key)), _number(n.get(key))
+            if before is None and after is None:
+                continue
+            if before is not None and after is None:
+                regressions.append({"name": name, "what": f"{key} is no longer a finite number", "old": before,
+                                    "new": n.get(key), "tolerance": tol})
+            elif before is not None and tol is not None and abs(after - before) > tol:
+                regressions.append({"name": name, "what": f"{key} moved by {after - before:+.4g} {n.get('unit', '')}"
+                                    f" (tolerance {tol:.4g})", "old": before, "new": after, "tolerance": tol})
+    return {"regressions": regressions, "compared": len(old),
+            "new_checks": sorted(set(new) - set(old))}

@@ -1,0 +1,191 @@
+"""The report's self-contained HTML page and Markdown summary.
+
+The HTML has no external resource: style inline, every plot and image a
+``data:image/png;base64`` URI, links only to anchors of the page itself.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+
+#: Report sections in display order: group -> heading.
+GROUPS = {
+    "defaults": "Defaults check (csuas defaults check)",
+    "worked_numbers": "Section 4.9 worked numbers and tornado plots",
+    "conventions": "Convention differences (SPEC 3.4): paper, physical and simulated values",
+    "links": "Sionna RT links vs Friis and the radar equation",
+    "rcs": "Radar cross-section (SBR-PO) vs oracles",
+    "lidar": "Lidar cross-section vs oracles",
+    "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
+}
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px;color:#222;max-width:1300px}
+h1{font-size:1.6em} h2{border-bottom:2px solid #ccc;padding-bottom:4px;margin-top:2em} h3{margin-top:1.6em}
+table{border-collapse:collapse;margin:8px 0;font-size:0.86em} td,th{border:1px solid #ddd;padding:3px 6px;
+vertical-align:top} th{background:#f3f3f3;text-align:left} td.num{text-align:right;font-family:monospace}
+.ok{background:#e6f4ea} .known{background:#fff4d6} .FAIL{background:#fde2e1;font-weight:bold}
+.meta{color:#555;font-size:0.88em;margin:2px 0} figure{display:inline-block;margin:8px;vertical-align:top;
+max-width:620px} figure img{max-width:600px;border:1px solid #ddd} figcaption{font-size:0.82em;color:#444}
+pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap} .summary td{font-size:1.05em}
+.dev{font-size:0.82em;color:#6a4a00}
+"""
+
+
+def _e(value) -> str:
+    return html.escape(str(value), quote=True)
+
+
+def fmt(value, digits: int = 5) -> str:
+    """Compact number formatting (``-`` for None, ``nan``/``inf`` spelled out)."""
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, (int, float)):
+        if isinstance(value, float) and not math.isfinite(value):
+            return str(value)
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+def _img(figure) -> str:
+    data = base64.b64encode(figure.png).decode("ascii")
+    return (f'<figure><img alt="{_e(figure.title)}" src="data:image/png;base64,{data}">'
+            f"<figcaption><b>{_e(figure.title)}</b>. {_e(figure.caption)}</figcaption></figure>")
+
+
+def _checks_table(checks: list) -> str:
+    rows = ["<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
+            "<th>error est.</th><th>unit</th><th>time [s]</th><th>source / method</th></tr>"]
+    for c in checks:
+        dev = f'<div class="dev">known deviation: {_e(c["known_deviation"])}</div>' if c["known_deviation"] else ""
+        err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
+        rows.append(f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
+                    f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
+                    f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
+                    f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
+                    f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span></td></tr>')
+    rows.append("</table>")
+    return "\n".join(rows)
+
+
+def _side_by_side(table: list) -> str:
+    if not table:
+        return ""
+    if "quantity" in table[0]:
+        rows = ["<table><tr><th>quantity</th><th>unit</th><th>paper</th><th>physical</th><th>simulated</th>"
+                "<th>sim. error</th><th>note</th></tr>"]
+        for r in table:
+            rows.append(f'<tr><td>{_e(r["quantity"])}</td><td>{_e(r["unit"])}</td><td class="num">{fmt(r["paper"])}'
+                        f'</td><td class="num">{fmt(r["physical"])}</td><td class="num">{fmt(r["simulated"])}</td>'
+                        f'<td class="num">{fmt(r["simulated_error"], 3)}</td><td>{_e(r["note"])}</td></tr>')
+    else:
+        keys = [k for k in table[0] if not isinstance(table[0][k], (dict, list))]
+        rows = ["<table><tr>" + "".join(f"<th>{_e(k)}</th>" for k in keys) + "</tr>"]
+        for r in table:
+            rows.append("<tr>" + "".join(f'<td class="num">{_e(fmt(r.get(k)))}</td>' for k in keys) + "</tr>")
+    rows.append("</table>")
+    return "\n".join(rows)
+
+
+def render_html(report: dict, sections: list) -> str:
+    """The HTML page of a report.
+
+    Parameters
+    ----------
+    report : dict
+        The report's JSON object (``summary``, ``checks``, ``sections``, ``baseline``...).
+    sections : list of (CheckSpec, Section)
+        With the figures (PNG bytes) to embed.
+    """
+    s = report["summary"]
+    out = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>csuas validation report "
+           f"({_e(report['quality'])})</title><style>{_CSS}</style></head><body>",
+           f"<h1>csuas validation report &mdash; {_e(report['quality'])}</h1>",
+           f"<p class='meta'>generated {_e(report['generated_utc'])} on {_e(report['machine'])}; "
+           f"total time {report['time_s']:.1f} s; csuas {_e(report['version'])}</p>",
+           "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations</th><th>failed</th>"
+           "<th>exit code</th></tr>",
+           f"<tr><td>{s['total']}</td><td class='ok'>{s['ok']}</td><td class='known'>{s['known_deviation']}</td>"
+           f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td></tr></table>"]
+    baseline = report.get("baseline")
+    if baseline:
+        regs = baseline["regressions"]
+        out.append(f"<h2 id='baseline'>Baseline comparison</h2><p>{_e(baseline['file'])}: {baseline['compared']} "
+                   f"checks compared, <b>{len(regs)} regression(s)</b>.</p>")
+        if regs:
+            out.append("<table><tr><th>check</th><th>what</th><th>old</th><th>new</th></tr>" + "".join(
+                f"<tr class='FAIL'><td>{_e(r['name'])}</td><td>{_e(r['what'])}</td><td>{fmt(r['old'])}</td>"
+                f"<td>{fmt(r['new'])}</td></tr>" for r in regs) + "</table>")
+    failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
+    if failed:
+        out.append("<h2 id='failed'>Failed checks</h2>" + _checks_table(failed))
+    out.append("<h2>Contents</h2><ul>" + "".join(
+        f"<li><a href='#{g}'>{_e(title)}</a></li>" for g, title in GROUPS.items()) +
+        "<li><a href='#timing'>Time of each check</a></li></ul>")
+    by_spec = {}
+    for c in report["checks"]:
+        by_spec.setdefault(c["check"], []).append(c)
+    for group, heading in GROUPS.items():
+        out.append(f"<h2 id='{group}'>{_e(heading)}</h2>")
+        for spec, section in sections:
+            if spec.group != group:
+                continue
+            knob = f"; knob: {_e(spec.knob)} = {_e(spec.knob_value(report['quality']))}" if spec.knob else ""
+            out.append(f"<h3 id='{_e(spec.name)}'>{_e(spec.title)}</h3>"
+                       f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
+                       f"<br>time: {section.time_s:.2f} s</p>")
+            out.append(_side_by_side(section.table))
+            if by_spec.get(spec.name):
+                out.append(_checks_table(by_spec[spec.name]))
+            out.extend(_img(f) for f in section.figures)
+            if section.error:
+                out.append(f"<pre>{_e(section.notes[0] if section.notes else section.error)}</pre>")
+            else:
+                out.extend(f"<p class='meta'>{_e(n)}</p>" for n in section.notes)
+    out.append("<h2 id='timing'>Time of each check</h2><table><tr><th>check</th><th>figures</th><th>knob</th>"
+               "<th>time [s]</th></tr>" + "".join(
+                   f"<tr><td><a href='#{_e(x['name'])}'>{_e(x['name'])}</a></td><td>{len(by_spec.get(x['name'], []))}"
+                   f"</td><td>{_e(x['knob'] or '-')} = {_e(x['knob_value'])}</td><td class='num'>{x['time_s']:.2f}</td>"
+                   f"</tr>" for x in report["sections"]) + "</table>")
+    out.append("</body></html>")
+    return "\n".join(out)
+
+
+def render_markdown(report: dict) -> str:
+    """Markdown summary: counts, failures, known deviations, convention tables, times."""
+    s = report["summary"]
+    lines = [f"# csuas validation report ({report['quality']})", "",
+             f"Generated {report['generated_utc']} on {report['machine']}; total {report['time_s']:.1f} s.", "",
+             f"**{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations, {s['failed']} failed** "
+             f"(exit code {report['exit_code']}).", ""]
+    baseline = report.get("baseline")
+    if baseline:
+        lines += [f"Baseline {baseline['file']}: {baseline['compared']} compared, "
+                  f"{len(baseline['regressions'])} regression(s).", ""]
+        lines += [f"- REGRESSION {r['name']}: {r['what']}" for r in baseline["regressions"]] + [""]
+    failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
+    if failed:
+        lines += ["## Failed", "", "| check | expected | measured | tolerance | note |", "|---|---|---|---|---|"]
+        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {fmt(c['tolerance'], 3)} | "
+                  f"{c['details'].get('error', '')} |" for c in failed] + [""]
+    known = [c for c in report["checks"] if c["verdict"] == "known"]
+    if known:
+        lines += ["## Known deviations of the paper", "", "| check | expected | measured | unit | explanation |",
+                  "|---|---|---|---|---|"]
+        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
+                  f"{c['known_deviation'].replace('|', '/')} |" for c in known] + [""]
+    lines += ["## Convention differences (SPEC 3.4)", "", "| quantity | unit | paper | physical | simulated |",
+              "|---|---|---|---|---|"]
+    for sec in report["sections"]:
+        if sec["group"] == "conventions":
+            lines += [f"| {r['quantity']} | {r['unit']} | {fmt(r['paper'])} | {fmt(r['physical'])} | "
+                      f"{fmt(r['simulated'])}{' +- ' + fmt(r['simulated_error'], 2) if r['simulated_error'] else ''} |"
+                      for r in sec["table"]]
+    lines += ["", "## Time of each check", "", "| check | knob | time [s] |", "|---|---|---|"]
+    lines += [f"| {x['name']} | {x['knob'] or '-'} = {x['knob_value']} | {x['time_s']:.2f} |"
+              for x in report["sections"]]
+    return "\n".join(lines) + "\n"

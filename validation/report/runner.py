@@ -1,0 +1,126 @@
+"""Run the registry and write the report: ``report.html``, ``report.json``, ``report.md``, ``figures/*.png``.
+
+All files are written atomically (:func:`csuas.fileio.atomic_path`). Progress
+goes to a text stream (standard error for the command), one line per check.
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import time
+from pathlib import Path
+
+from csuas.errors import ParameterError
+from csuas.fileio import atomic_path, dumps, to_jsonable, write_text_atomic
+from csuas.validation.report.baseline import compare, load_baseline
+from csuas.validation.report.html import render_html, render_markdown
+from csuas.validation.report.registry import QUALITIES, run_spec
+
+
+def all_specs() -> list:
+    """Every registered check, in report order."""
+    from csuas.validation.report import (checks_conventions, checks_defaults, checks_imaging, checks_lidar,
+                                         checks_links, checks_rcs)
+
+    return (checks_defaults.SPECS + checks_conventions.SPECS + checks_links.SPECS + checks_rcs.SPECS
+            + checks_lidar.SPECS + checks_imaging.SPECS)
+
+
+def check_record(spec, outcome) -> dict:
+    """JSON record of one figure: the SPEC 8 keys first, then unit, error estimate and provenance."""
+    return {"name": outcome.name, "expected": outcome.expected, "measured": outcome.measured,
+            "tolerance": outcome.tolerance, "ok": outcome.ok, "known_deviation": outcome.known_deviation,
+            "time_s": outcome.time_s, "verdict": outcome.verdict, "unit": outcome.unit,
+            "error_estimate": outcome.error_estimate, "check": spec.name, "group": spec.group,
+            "source": outcome.source, "method": outcome.method, "details": outcome.details}
+
+
+def _machine() -> str:
+    return f"{platform.node() or 'host'} ({platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()})"
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("csuas")
+    except Exception:  # noqa: BLE001 - metadata absent in a bare checkout
+        return "unknown"
+
+
+def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, specs=None, progress=None) -> dict:
+    """Run the checks, write the report files and return the report's JSON object.
+
+    Parameters
+    ----------
+    quality : {"quick", "full"}
+        Accuracy knobs of the simulated checks.
+    out_dir : str or Path
+        Folder of ``report.html``, ``report.json``, ``report.md`` and ``figures/``.
+    baseline : str or Path, optional
+        An older ``report.json`` to compare against (regressions make the exit code 1).
+    specs : list of CheckSpec, optional
+        Subset of the registry (default :func:`all_specs`).
+    progress : text stream, optional
+        Where to print one line per check.
+
+    Returns
+    -------
+    dict
+        ``checks`` (SPEC 8 keys), ``summary``, ``sections``, ``baseline``,
+        ``files``, ``exit_code`` (0: every check passes or is a known
+        deviation and nothing regressed; 1 otherwise).
+    """
+    if quality not in QUALITIES:
+        raise ParameterError("quality", quality, ", ".join(QUALITIES))
+    old = load_baseline(baseline) if baseline is not None else None
+    specs = all_specs() if specs is None else list(specs)
+    out = Path(out_dir)
+    start = time.perf_counter()
+    results, checks, section_records = [], [], []
+    for i, spec in enumerate(specs, 1):
+        if progress is not None:
+            print(f"[{i:2d}/{len(specs)}] {spec.name} ...", file=progress, flush=True)
+        section = run_spec(spec, quality)
+        results.append((spec, section))
+        records = [check_record(spec, o) for o in section.outcomes]
+        checks += records
+        figure_files = []
+        for fig in section.figures:
+            path = out / "figures" / f"{fig.name}.png"
+            with atomic_path(path) as tmp:
+                tmp.write_bytes(fig.png)
+            figure_files.append({"name": fig.name, "title": fig.title, "caption": fig.caption,
+                                 "file": str(path.relative_to(out))})
+        section_records.append({"name": spec.name, "title": spec.title, "group": spec.group,
+                                "compares": spec.compares, "tolerance_why": spec.tolerance_why, "knob": spec.knob,
+                                "knob_value": spec.knob_value(quality), "simulated": spec.simulated,
+                                "time_s": section.time_s, "error": section.error, "table": section.table,
+                                "notes": section.notes, "figures": figure_files})
+        if progress is not None:
+            verdicts = [r["verdict"] for r in records]
+            tally = ", ".join(f"{verdicts.count(v)} {v}" for v in ("ok", "known", "FAIL") if verdicts.count(v))
+            print(f"        {section.time_s:6.2f} s  {tally or 'table and plots only'}"
+                  + (f"  ERROR {section.error}" if section.error else ""), file=progress, flush=True)
+    summary = {"total": len(checks), "ok": sum(c["verdict"] == "ok" for c in checks),
+               "known_deviation": sum(c["verdict"] == "known" for c in checks),
+               "failed": sum(c["verdict"] == "FAIL" for c in checks)}
+    report = {"quality": quality, "generated_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
+                  timespec="seconds"), "machine": _machine(), "version": _version(),
+              "time_s": time.perf_counter() - start, "summary": summary, "checks": to_jsonable(checks),
+              "sections": to_jsonable(section_records), "baseline": None}
+    if old is not None:
+        report["baseline"] = {"file": str(baseline), **compare(report["checks"], old["checks"])}
+    regressions = report["baseline"]["regressions"] if report["baseline"] else []
+    report["exit_code"] = 1 if summary["failed"] or regressions else 0
+    report["files"] = {"html": str(out / "report.html"), "json": str(out / "report.json"),
+                       "markdown": str(out / "report.md")}
+    write_text_atomic(out / "report.json", dumps(report))
+    write_text_atomic(out / "report.md", render_markdown(report))
+    write_text_atomic(out / "report.html", render_html(report, results))
+    if progress is not None:
+        for r in regressions:
+            print(f"REGRESSION {r['name']}: {r['what']}", file=progress, flush=True)
+    return report
