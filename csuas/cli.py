@@ -32,6 +32,7 @@ COMMANDS = {
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
     "render": "EO and thermal images of a scenario's drone at slant ranges: pixels on target, contrast, Delta T",
+    "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",
 }
 
 
