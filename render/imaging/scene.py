@@ -112,14 +112,16 @@ def normalise_target(target, azimuth_deg: float, elevation_deg: float) -> Normal
     return NormalisedTarget(out, radius, rotation)
 
 
-def _mitsuba_mesh(part: RenderPart, bsdf, emitter=None):
-    import drjit as dr  # noqa: F401 - Mitsuba arrays are Dr.Jit arrays
+def mitsuba_mesh(part: RenderPart, bsdf, emitter=None, exterior=None):
+    """A Mitsuba mesh of ``part`` with its BSDF, optional area emitter and optional exterior medium."""
     import mitsuba as mi
 
     props = mi.Properties()
     props["bsdf"] = bsdf
     if emitter is not None:
         props["emitter"] = emitter
+    if exterior is not None:
+        props["exterior"] = exterior
     mesh = mi.Mesh(part.name, len(part.vertices), len(part.faces), props=props,
                    has_vertex_normals=False, has_vertex_texcoords=False)
     params = mi.traverse(mesh)
@@ -177,7 +179,7 @@ def build_eo_scene(target: NormalisedTarget, *, sun_direction_render, sun_irradi
     for i, part in enumerate(target.parts):
         bsdf = mi.load_dict({"type": "diffuse",
                              "reflectance": {"type": "rgb", "value": [float(c) for c in part.material.reflectance_rgb]}})
-        scene[f"part_{i}"] = _mitsuba_mesh(part, bsdf)
+        scene[f"part_{i}"] = mitsuba_mesh(part, bsdf)
     if sun_irradiance > 0:
         to_sun = np.asarray(sun_direction_render, dtype=float)
         scene["sun"] = {"type": "directional", "direction": (-to_sun / np.linalg.norm(to_sun)).tolist(),
@@ -213,7 +215,7 @@ def build_tir_scene(target: NormalisedTarget, *, band: str, surroundings_radianc
         bsdf = mi.load_dict({"type": "diffuse", "reflectance": 1.0 - eps})
         emitted = eps * float(band_radiance(part.material.temperature_k, band))
         emitter = mi.load_dict({"type": "area", "radiance": emitted}) if emitted > 0 else None
-        scene[f"part_{i}"] = _mitsuba_mesh(part, bsdf, emitter)
+        scene[f"part_{i}"] = mitsuba_mesh(part, bsdf, emitter)
     if surroundings_radiance > 0:
         scene["environment"] = {"type": "constant", "radiance": float(surroundings_radiance)}
     return mi.load_dict(scene)

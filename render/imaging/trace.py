@@ -64,7 +64,7 @@ class WindowTally:
 
 def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, target_px, camera_distance: float, *,
                  n_side: int, n_batches: int, seed: int = 0, channels: int = 3, max_launch: int = MAX_LAUNCH,
-                 bounds=None, progress=None) -> WindowTally:
+                 bounds=None, medium=None, geometry=None, progress=None) -> WindowTally:
     """Trace ``n_batches`` x ``n_side**2`` jittered samples in every pixel of ``window``.
 
     Parameters
@@ -88,6 +88,11 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     bounds : (x_lo, x_hi, y_lo, y_hi) or None
         Box containing the target's image; pixels are sampled only inside it
         (:func:`~csuas.render.imaging.camera.jittered_film_samples`).
+    medium : mitsuba.Medium or None
+        Medium that contains the camera (a participating atmosphere); None: vacuum.
+    geometry : mitsuba.Scene or None
+        Scene of the target alone, for coverage and extents, when ``scene``
+        holds more shapes (a medium's boundary); None: ``scene``.
     progress : callable(done_fraction) or None
     """
     import drjit as dr
@@ -104,6 +109,7 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     anchors = [None] * 4  # (x, y) of the all-batch extreme hits: x_min, x_max, y_min, y_max
     nonfinite = 0
     origin = mi.Point3f(0.0, 0.0, float(camera_distance))
+    geometry = scene if geometry is None else geometry
     sampler = mi.load_dict({"type": "independent"})
     rngs = [np.random.default_rng([int(seed), b]) for b in range(n_batches)]
     shade_rng = np.random.default_rng([int(seed), n_batches, 1])  # path-tracer seeds, apart from the positions
@@ -131,13 +137,13 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
         x, y, weight, owner, batch = (np.concatenate(v) for v in (xs, ys, areas, owners, batches))
         d = ray_directions(x, y, sensor, target_px).astype(np.float32)
         ray = mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))
-        hit = np.array(scene.ray_intersect(ray).is_valid(), dtype=bool)
+        hit = np.array(geometry.ray_intersect(ray).is_valid(), dtype=bool)
         idx = np.flatnonzero(hit)
         if idx.size:
             coverage += np.bincount(owner[idx], weights=weight[idx], minlength=n_batches * n_px)
             hit_ray = mi.Ray3f(origin, mi.Vector3f(d[0][idx], d[1][idx], d[2][idx]))
             sampler.seed(int(shade_rng.integers(1 << 31)), idx.size)
-            value, _, _ = integrator.sample(scene, sampler, hit_ray)
+            value, _, _ = integrator.sample(scene, sampler, hit_ray, medium)
             value = np.array(value, dtype=float).reshape(-1, idx.size)[:channels]
             bad = ~np.isfinite(value)
             if np.any(bad):
@@ -163,7 +169,7 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     refined = None
     if anchors[0] is not None:
         step = 2.0 / n_side * (1.0 if bounds is None else min(1.0, bounds[1] - bounds[0]))
-        refined = refine_extremes(scene, sensor, target_px, camera_distance, anchors, step)
+        refined = refine_extremes(geometry, sensor, target_px, camera_distance, anchors, step)
     shape = (window.height, window.width)
     return WindowTally(coverage.reshape(n_batches, *shape), radiance.reshape(n_batches, channels, *shape),
                        extent, n_batches * n_px * n2, time.perf_counter() - t0, nonfinite, refined)
