@@ -188,3 +188,66 @@ def test_memory_stays_bounded_for_ten_million_tubes():
     assert after - before < 1.0
     assert 10 * math.log10(res.sigma_m2[0, 0, 0, 0]) == pytest.approx(
         10 * math.log10(4 * math.pi / LAM ** 2), abs=0.05)
+
+
+# ---------------------------------------------------------------- thin shells
+def tmm_normal(layers, k0, back="air"):
+    """Reflection (and transmission) at normal incidence of a stack by transfer matrices (e^{+j w t}).
+
+    ``layers``: list of (refractive index, thickness [m]) from the illuminated side; ``back``: "air" or "pec".
+    Amplitudes (A, B) of exp(-j k n z) and exp(+j k n z); E and H/eta0 continuous at each interface.
+    Returns (r, t) at the first face, t relative to the field at the last face (air backing only).
+    """
+    def interface(n1, n2):
+        return np.array([[n1 + n2, n1 - n2], [n1 - n2, n1 + n2]]) / (2 * n1)
+    m = np.eye(2, dtype=complex)
+    n_prev = 1.0
+    for n, h in layers:
+        m = m @ interface(n_prev, n) @ np.diag([np.exp(1j * k0 * n * h), np.exp(-1j * k0 * n * h)])
+        n_prev = n
+    if back == "pec":                       # E = A + B = 0 at the conductor: (A, B) = (1, -1)
+        a, b = m @ np.array([1.0, -1.0])
+        return b / a, None
+    m = m @ interface(n_prev, 1.0)
+    return m[1, 0] / m[0, 0], 1.0 / m[0, 0]
+
+
+@pytest.mark.parametrize("f_ghz, h", [(10.0, 0.002), (35.0, 0.00256)])
+def test_thin_shell_plate_reflects_like_a_slab(f_ghz, h):
+    """Normal incidence on a 2.8 - 0.03j slab: sigma / sigma_PEC = |r_slab|^2 (35 GHz, 2.56 mm: near half-wave)."""
+    eps = complex(2.8, -0.03)
+    k0 = 2 * math.pi * f_ghz * 1e9 / C
+    r, _ = tmm_normal([(cmath.sqrt(eps), h)], k0)
+    plate = canonical.plate(0.1)
+    pec = compute_rcs(plate, f_ghz, 0.0, 90.0, error_estimate=False).rcs_m2("VV")[0, 0, 0]
+    shell = compute_rcs(plate, f_ghz, 0.0, 90.0, material=eps, shell_thickness_m=h,
+                        error_estimate=False).rcs_m2("VV")[0, 0, 0]
+    assert shell / pec == pytest.approx(abs(r) ** 2, rel=0.02, abs=1e-5)
+
+
+def test_conductor_behind_a_radome_sheet_multiple_reflections():
+    """PEC plate 37.5 mm behind a 3 mm dielectric sheet (mid-plane): the SBR series of internal bounces
+    reproduces the stack's reflection air | slab | air gap | PEC by transfer matrices."""
+    f_ghz, h, gap, eps = 10.0, 0.003, 0.0375, complex(4.0, -0.2)
+    k0 = 2 * math.pi * f_ghz * 1e9 / C
+    r, _ = tmm_normal([(cmath.sqrt(eps), h), (1.0, gap - h / 2)], k0, back="pec")
+    sheet = canonical.plate(0.1)
+    sheet.vertices[:, 2] += gap
+    conductor = canonical.plate(0.1)
+    mesh = trimesh.util.concatenate([sheet, conductor])
+    target = prepare_mesh(mesh.vertices, mesh.faces, [0, 0, 1, 1], [eps, "pec"]).with_shells(h)
+    pec = compute_rcs(canonical.plate(0.1), f_ghz, 0.0, 90.0, error_estimate=False).rcs_m2("HH")[0, 0, 0]
+    res = compute_rcs(target, f_ghz, 0.0, 90.0, max_bounces=16, power_cutoff=1e-6, error_estimate=False)
+    assert res.rcs_m2("HH")[0, 0, 0] / pec == pytest.approx(abs(r) ** 2, rel=0.03)
+    assert res.exits_by_bounce[5:].sum() > 0                        # several round trips were traced
+
+
+def test_drone_presets_have_dielectric_shells_and_conductors():
+    target = load_target("dji_mini_4_pro")
+    by_name = {m.name: m for m in target.materials}
+    assert by_name["paint"].thickness_m == pytest.approx(0.002)
+    assert by_name["aluminium"].thickness_m is None and by_name["carbon_fibre"].thickness_m is None
+    half = load_target("dji_mini_4_pro", shell_thickness_m=0)
+    assert all(m.thickness_m is None for m in half.materials)
+    with pytest.raises(ParameterError, match="shell_thickness_m"):
+        load_target("dji_mini_4_pro", shell_thickness_m=-1.0)

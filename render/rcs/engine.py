@@ -64,6 +64,11 @@ BATCH_SIZE_GPU = 1 << 23
 #: and edges of symmetric targets (a centred grid puts a row of tubes on a dihedral's fold).
 DEFAULT_GRID_SHIFT = (0.2371, 0.3719)
 
+#: Tubes are followed while their power relative to the incident tube exceeds this (-30 dB); weaker
+#: tubes radiate where they are (reflected branch) or are dropped (transmitted branch). PEC tubes keep
+#: full power and end only at ``max_bounces``; the cut bounds the branching of thin shells.
+POWER_CUTOFF = 1e-3
+
 
 @dataclass
 class Jobs:
@@ -247,14 +252,16 @@ class SbrEngine:
         n_jobs, mats = len(jobs), self.target.materials
         eps = np.zeros((len(mats), n_jobs), complex)
         pec = np.zeros((len(mats), n_jobs), bool)
+        thick = np.zeros((len(mats), n_jobs))
         for i, m in enumerate(mats):
             if m.is_pec:
                 pec[i] = True
             else:
                 eps[i] = [m.complex_permittivity(f) for f in jobs.frequency_ghz]
+                thick[i] = m.thickness_m or 0.0
         return dict(k=2 * np.pi / wavelength, d=spacing, nu=nu, tubes=tubes, u0=u0, v0=v0,
                     kin=-d_in, e1=e1, e2=e2, pol_v=pol_v, pol_h=pol_h, s=s, s_theta=s_theta, s_phi=s_phi,
-                    eps=eps.ravel(), pec=pec.ravel())
+                    eps=eps.ravel(), pec=pec.ravel(), thick=thick.ravel())
 
     def _upload(self, tab):
         mi = self.mi
@@ -271,10 +278,12 @@ class SbrEngine:
                     e2=vec(tab["e2"]), pol_v=vec(tab["pol_v"]), pol_h=vec(tab["pol_h"]), s=vec(tab["s"]),
                     s_theta=vec(tab["s_theta"]), s_phi=vec(tab["s_phi"]),
                     eps_re=f32(tab["eps"].real), eps_im=f32(tab["eps"].imag),
-                    pec=mi.Bool(np.asarray(tab["pec"], bool)), radius=mi.Float([self._radius]))
+                    pec=mi.Bool(np.asarray(tab["pec"], bool)), thick=f32(tab["thick"]),
+                    radius=mi.Float([self._radius]))
 
     # ------------------------------------------------------------------ launch
-    def trace(self, jobs: Jobs, max_bounces: int = 5, radiate: str = "exit") -> TraceResult:
+    def trace(self, jobs: Jobs, max_bounces: int = 5, radiate: str = "exit",
+              power_cutoff: float = POWER_CUTOFF) -> TraceResult:
         """Trace every job's tubes and return the scattered far-field amplitudes.
 
         Parameters
@@ -287,6 +296,9 @@ class SbrEngine:
             ``"exit"``: each tube radiates at its last hit (Ling et al. 1989);
             ``"all"``: at every hit (adds the off-specular PO of intermediate
             surfaces).
+        power_cutoff : float
+            Tubes weaker than this fraction of the incident tube power stop
+            (:data:`POWER_CUTOFF`); 0 follows every tube to ``max_bounces``.
 
         Returns
         -------
@@ -296,10 +308,13 @@ class SbrEngine:
             raise ParameterError("max_bounces", max_bounces, "integer >= 1")
         if radiate not in ("exit", "all"):
             raise ParameterError("radiate", radiate, "'exit' or 'all'")
+        if not (0.0 <= power_cutoff < 1.0):
+            raise ParameterError("power_cutoff", power_cutoff, "0 <= x < 1")
         max_bounces = int(max_bounces)
         start = time.perf_counter()
         tab = self._job_tables(jobs)
         dev = self._upload(tab)
+        dev["cutoff"] = self.dr.opaque(self.mi.Float, float(power_cutoff))
         n_jobs, n_obs = len(jobs), tab["s"].shape[1]
         acc = np.zeros((n_jobs, n_obs, 2, 2), complex)
         offsets = np.concatenate([[0], np.cumsum(tab["tubes"])])
@@ -355,18 +370,45 @@ class SbrEngine:
             st = {key: dr.gather(type(val), val, idx) for key, val in st.items()}
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
-            contrib, st = self._interact(dev, st, t, prim, n_jobs, n_obs)
-            dr.eval(contrib, st)
-            if radiate == "all" or bounce == max_bounces:
-                self._accumulate(acc, np.asarray(st["job"]), [np.asarray(c) for c in contrib], n_jobs, n_obs)
-                pending = None
-                if bounce == max_bounces:
-                    stats["exits"][bounce] += dr.width(t)
-            else:
-                pending = contrib
+            contrib, st_r, contrib_t, st_t, has_t, keep_r = self._interact(dev, st, t, prim, n_jobs, n_obs)
+            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep_r)
+            through = np.flatnonzero(np.asarray(has_t, bool)).astype(np.uint32)
+            keep = np.asarray(keep_r, bool)
+            last = bounce == max_bounces
+            # Reflected branches radiate now when every hit radiates, at the last bounce, or when too weak
+            # to follow; otherwise their contribution waits for the next trace (exit point).
+            now = np.ones_like(keep) if (radiate == "all" or last) else ~keep
+            if now.any():
+                job_now = np.asarray(st_r["job"])
+                self._accumulate(acc, job_now[now], [np.asarray(c)[now] for c in contrib], n_jobs, n_obs)
+            if last:
+                if len(through):
+                    self._accumulate(acc, np.asarray(st_t["job"])[through],
+                                     [np.asarray(c)[through] for c in contrib_t], n_jobs, n_obs)
+                stats["exits"][bounce] += int(keep.sum()) + len(through)
+                break
+            stats["exits"][bounce] += int((~keep).sum())
+            # Thin shells split the tube: the reflected and the transmitted branch both go on.
+            sel_r = UInt(np.flatnonzero(keep).astype(np.uint32))
+            st = {key: dr.gather(type(val), val, sel_r) for key, val in st_r.items()}
+            contrib = [dr.gather(Float, c, sel_r) for c in contrib]
+            if len(through):
+                sel = UInt(through)
+                st = {key: _concat(dr, val, dr.gather(type(st_t[key]), st_t[key], sel)) for key, val in st.items()}
+                contrib = [_concat(dr, c, dr.gather(Float, ct, sel)) for c, ct in zip(contrib, contrib_t)]
+            pending = None if radiate == "all" else contrib
+            dr.eval(st, pending)
+            if dr.width(st["job"]) == 0:
+                break
 
     def _interact(self, dev, st, t, prim, n_jobs, n_obs):
-        """Hit-point physics: PO contribution of this hit and the reflected tube."""
+        """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
+
+        Returns ``(contrib_r, state_r, contrib_t, state_t, has_t)``: the PO
+        field of the surface currents of the reflection, the reflected tube,
+        the aperture field of the transmitted wave on the far side of a thin
+        shell, the transmitted tube, and where a transmitted tube exists.
+        """
         mi, dr = self.mi, self.dr
         Float, UInt, V3, C = mi.Float, mi.UInt32, mi.Vector3f, mi.Complex2f
         job, direction = st["job"], st["dir"]
@@ -377,46 +419,71 @@ class SbrEngine:
         cos_i = dr.maximum(dr.abs(cos_raw), 1e-6)         # cos of incidence angle, >= 0
         phase_len = st["phase_len"] + t
         dir_r = direction + 2.0 * cos_i * n
+        k = dr.gather(Float, dev["k"], job)
         # Local TE/TM basis: e_par = k x e_perp for incident and reflected waves.
         perp = dr.cross(direction, n)
         fallback = dr.cross(direction, dr.select(dr.abs(direction.x) < 0.9, V3(1, 0, 0), V3(0, 1, 0)))
         perp = dr.normalize(dr.select(dr.norm(perp) > 1e-6, perp, fallback))
         par_i, par_r = dr.cross(direction, perp), dr.cross(dir_r, perp)
-        # Fresnel coefficients of the face material at the job's frequency.
+        # Fresnel coefficients of the face material at the job's frequency (interface, then slab).
         mat = dr.gather(UInt, self._face_material, prim) * n_jobs + job
         eps = C(dr.gather(Float, dev["eps_re"], mat), dr.gather(Float, dev["eps_im"], mat))
+        thick = dr.gather(Float, dev["thick"], mat)
+        pec = dr.gather(mi.Bool, dev["pec"], mat)
         root = dr.sqrt(eps - C(1.0 - cos_i * cos_i, 0.0))
         ccos = C(cos_i, 0.0)
         g_perp = (ccos - root) / (ccos + root)
         g_par = (eps * ccos - root) / (eps * ccos + root)
-        pec = dr.gather(mi.Bool, dev["pec"], mat)
-        g_perp = dr.select(pec, C(-1.0, 0.0), g_perp)
-        g_par = dr.select(pec, C(1.0, 0.0), g_par)
+        # Slab of thickness h, represented by a sheet at its mid-plane (the same from either side):
+        # delta = k h sqrt(eps - sin^2), R = G (1 - e^{-2j delta}) e^{+j k h cos} / (1 - G^2 e^{-2j delta})
+        # (phase moved from the front face to the mid-plane), T = (1 - G^2) e^{-j delta} e^{+j k h cos} /
+        # (1 - G^2 e^{-2j delta}) (phase relative to free space over h).
+        delta = root * (k * thick)
+        decay = dr.exp(delta.imag)                         # |e^{-j delta}| (Im delta <= 0 for a lossy slab)
+        s1, c1 = dr.sincos(delta.real)
+        e1 = C(decay * c1, -decay * s1)
+        e2 = e1 * e1
+        s0, c0 = dr.sincos(k * thick * cos_i)
+        free = C(c0, s0)
+        slab = thick > 0
 
-        def reflect(e_re, e_im):
-            """Reflected complex field (re, im) of an incident one."""
+        def slab_coefficients(g):
+            den = C(1.0, 0.0) - g * g * e2
+            return g * (C(1.0, 0.0) - e2) * free / den, (C(1.0, 0.0) - g * g) * e1 * free / den
+
+        r_perp, t_perp = slab_coefficients(g_perp)
+        r_par, t_par = slab_coefficients(g_par)
+        zero = C(0.0, 0.0)
+        r_perp = dr.select(pec, C(-1.0, 0.0), dr.select(slab, r_perp, g_perp))
+        r_par = dr.select(pec, C(1.0, 0.0), dr.select(slab, r_par, g_par))
+        t_perp = dr.select(slab & ~pec, t_perp, zero)
+        t_par = dr.select(slab & ~pec, t_par, zero)
+
+        def split(e_re, e_im, c_perp, c_par, out_par):
+            """Field (re, im) after multiplying the TE and TM components by c_perp and c_par."""
             s_re, s_im = dr.dot(e_re, perp), dr.dot(e_im, perp)
             q_re, q_im = dr.dot(e_re, par_i), dr.dot(e_im, par_i)
-            a_re = g_perp.real * s_re - g_perp.imag * s_im
-            a_im = g_perp.real * s_im + g_perp.imag * s_re
-            b_re = g_par.real * q_re - g_par.imag * q_im
-            b_im = g_par.real * q_im + g_par.imag * q_re
-            return a_re * perp + b_re * par_r, a_im * perp + b_im * par_r
+            a_re = c_perp.real * s_re - c_perp.imag * s_im
+            a_im = c_perp.real * s_im + c_perp.imag * s_re
+            b_re = c_par.real * q_re - c_par.imag * q_im
+            b_im = c_par.real * q_im + c_par.imag * q_re
+            return a_re * perp + b_re * out_par, a_im * perp + b_im * out_par
 
-        fields = []
+        refl, trans = [], []
         for pol in ("ev", "eh"):
             e_re, e_im = st[pol + "_re"], st[pol + "_im"]
-            r_re, r_im = reflect(e_re, e_im)
-            # eta*J = n x (k_i x E_i + k_r x E_r);  M = (E_i + E_r) x n
-            x_re = dr.cross(direction, e_re) + dr.cross(dir_r, r_re)
-            x_im = dr.cross(direction, e_im) + dr.cross(dir_r, r_im)
-            fields.append((x_re, x_im, e_re + r_re, e_im + r_im, r_re, r_im))
+            r_re, r_im = split(e_re, e_im, r_perp, r_par, par_r)
+            u_re, u_im = split(e_re, e_im, t_perp, t_par, par_i)
+            # Reflection: eta*J = n x (k_i x E_i + k_r x E_r), M = (E_i + E_r) x n.
+            refl.append((dr.cross(direction, e_re) + dr.cross(dir_r, r_re),
+                         dr.cross(direction, e_im) + dr.cross(dir_r, r_im), e_re + r_re, e_im + r_im, r_re, r_im))
+            # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
+            trans.append((dr.cross(direction, u_re), dr.cross(direction, u_im), u_re, u_im, u_re, u_im))
 
-        k = dr.gather(Float, dev["k"], job)
         area = dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
         f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction   # footprint edges on the facet
         f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
-        contrib = []
+        contrib_r, contrib_t = [], []
         for m in range(n_obs):
             o_idx = job * n_obs + m
             s = dr.gather(V3, dev["s"], o_idx)
@@ -427,22 +494,32 @@ class SbrEngine:
             sin_psi, cos_psi = dr.sincos(psi)
             amp = k * foot * (1.0 / (4.0 * math.pi))
             f_re, f_im = amp * sin_psi, -amp * cos_psi                  # -j k A S e^{j psi} / (4 pi)
-            tn, pn = dr.cross(th, n), dr.cross(ph, n)
-            for x_re, x_im, y_re, y_im, _, _ in fields:
-                # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
-                vt_re = dr.dot(x_re, tn) - dr.dot(y_re, pn)
-                vt_im = dr.dot(x_im, tn) - dr.dot(y_im, pn)
-                vp_re = dr.dot(x_re, pn) + dr.dot(y_re, tn)
-                vp_im = dr.dot(x_im, pn) + dr.dot(y_im, tn)
-                contrib += [f_re * vt_re - f_im * vt_im, f_re * vt_im + f_im * vt_re,
+            for fields, normal, out in ((refl, n, contrib_r), (trans, -n, contrib_t)):
+                tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
+                for x_re, x_im, y_re, y_im, _, _ in fields:
+                    # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
+                    vt_re = dr.dot(x_re, tn) - dr.dot(y_re, pn)
+                    vt_im = dr.dot(x_im, tn) - dr.dot(y_im, pn)
+                    vp_re = dr.dot(x_re, pn) + dr.dot(y_re, tn)
+                    vp_im = dr.dot(x_im, pn) + dr.dot(y_im, tn)
+                    out += [f_re * vt_re - f_im * vt_im, f_re * vt_im + f_im * vt_re,
                             f_re * vp_re - f_im * vp_im, f_re * vp_im + f_im * vp_re]
-        # Reflected tube: origin nudged off the surface, path length corrected for the nudge.
+        def power(fields):
+            return dr.maximum(dr.squared_norm(fields[0][4]) + dr.squared_norm(fields[0][5]),
+                              dr.squared_norm(fields[1][4]) + dr.squared_norm(fields[1][5]))
+
+        keep_r = power(refl) > dev["cutoff"]
+        has_t = slab & ~pec & (power(trans) > dev["cutoff"])
+        # New tubes: origins nudged off the surface, path length corrected for the nudge.
         nudge = 1e-5 * (1.0 + dr.max(dr.abs(p)))
-        new = dict(st)
-        new.update(o=p + nudge * n, dir=dr.normalize(dir_r), phase_len=phase_len + nudge * cos_i,
-                   a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n, a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
-                   ev_re=fields[0][4], ev_im=fields[0][5], eh_re=fields[1][4], eh_im=fields[1][5])
-        return contrib, new
+        st_r = dict(st)
+        st_r.update(o=p + nudge * n, dir=dr.normalize(dir_r), phase_len=phase_len + nudge * cos_i,
+                    a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n, a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
+                    ev_re=refl[0][4], ev_im=refl[0][5], eh_re=refl[1][4], eh_im=refl[1][5])
+        st_t = dict(st)
+        st_t.update(o=p - nudge * n, phase_len=phase_len + nudge * cos_i,
+                    ev_re=trans[0][4], ev_im=trans[0][5], eh_re=trans[1][4], eh_im=trans[1][5])
+        return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
 
     @staticmethod
     def _accumulate(acc, job_np, parts, n_jobs, n_obs):
@@ -456,6 +533,17 @@ class SbrEngine:
                 for rx in range(2):                  # theta (V), phi (H) receive
                     acc[:, m, rx, tx] += sums[i] + 1j * sums[i + 1]
                     i += 2
+
+
+def _concat(dr, a, b):
+    """Concatenate two Dr.Jit arrays (scalar or 3-vector) along the ray axis."""
+    if dr.width(a) == 0:
+        return b
+    if dr.width(b) == 0:
+        return a
+    if dr.size_v(a) == 3:
+        return type(a)(*(dr.concat([a[i], b[i]]) for i in range(3)))
+    return dr.concat([a, b])
 
 
 def _sinc(dr, x):

@@ -17,7 +17,7 @@ import numpy as np
 
 from csuas.errors import ParameterError
 
-from .materials import RadioMaterial, resolve_material
+from .materials import DRONE_SHELL_THICKNESS_M, SHELL_MAX_CONDUCTIVITY_S_M, RadioMaterial, resolve_material
 
 
 def direction_vector(azimuth_deg, elevation_deg) -> np.ndarray:
@@ -99,6 +99,21 @@ class TargetMesh:
                           np.zeros(len(self.faces), dtype=np.uint32), [resolve_material(material)],
                           self.dropped_faces, self.centre_m)
 
+    def with_shells(self, thickness_m: float | None) -> "TargetMesh":
+        """A copy whose dielectric materials are thin shells of ``thickness_m`` [m] (0: half-spaces).
+
+        Conductors (PEC, ITU metal, conductivity >= 1 S/m) stay half-spaces.
+        """
+        mats = [m.with_thickness(thickness_m) if _is_dielectric(m) else m for m in self.materials]
+        return TargetMesh(self.name, self.vertices, self.faces, self.face_normals, self.face_material, mats,
+                          self.dropped_faces, self.centre_m)
+
+
+def _is_dielectric(material: RadioMaterial) -> bool:
+    if material.is_pec or material.itu_name == "metal":
+        return False
+    return material.itu_name is not None or material.conductivity_s_m < SHELL_MAX_CONDUCTIVITY_S_M
+
 
 def prepare_mesh(vertices, faces, face_material=None, materials=None, name: str = "mesh") -> TargetMesh:
     """Clean and centre a triangle mesh for the SBR engine.
@@ -152,7 +167,7 @@ def prepare_mesh(vertices, faces, face_material=None, materials=None, name: str 
                       fm[keep].astype(np.uint32), mats, int((~keep).sum()), centre)
 
 
-def load_target(mesh_or_preset, material=None) -> TargetMesh:
+def load_target(mesh_or_preset, material=None, shell_thickness_m: float | None = None) -> TargetMesh:
     """A :class:`TargetMesh` from a trimesh object, a mesh file or a drone preset name.
 
     Parameters
@@ -164,6 +179,10 @@ def load_target(mesh_or_preset, material=None) -> TargetMesh:
     material : str or material object, optional
         One material for every face (e.g. ``"pec"``). Default: the parts'
         materials for a drone preset, PEC for anything else.
+    shell_thickness_m : float, optional
+        Make every dielectric material a thin shell of this thickness [m]
+        (0: half-spaces). Default: drone presets' dielectric parts are
+        shells of ``DRONE_SHELL_THICKNESS_M``, everything else half-spaces.
 
     Raises
     ------
@@ -186,7 +205,9 @@ def load_target(mesh_or_preset, material=None) -> TargetMesh:
         target = _from_preset(mesh_or_preset)
     else:
         raise ParameterError("mesh", mesh_or_preset, "a trimesh mesh, a mesh file or a drone preset name")
-    return target if material is None else target.with_material(material)
+    if material is not None:
+        target = target.with_material(material)
+    return target if shell_thickness_m is None else target.with_shells(shell_thickness_m)
 
 
 def _from_trimesh(mesh, name: str) -> TargetMesh:
@@ -217,5 +238,6 @@ def _from_preset(name: str) -> TargetMesh:
         faces.append(np.asarray(part.mesh.faces, np.int64) + offset)
         face_material.append(np.full(len(part.mesh.faces), index))
         offset += len(part.mesh.vertices)
-    return prepare_mesh(np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material),
-                        materials, name=name)
+    target = prepare_mesh(np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material),
+                          materials, name=name)
+    return target.with_shells(DRONE_SHELL_THICKNESS_M)

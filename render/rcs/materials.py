@@ -1,14 +1,20 @@
 """Radio materials of the SBR-PO radar cross-section engine.
 
-A surface is either a perfect electric conductor (PEC) or a lossy dielectric
-half-space of complex relative permittivity
+A surface is a perfect electric conductor (PEC), or a lossy dielectric of
+complex relative permittivity
 
     eps_c(f) = eps' - j (eps'' + sigma / (omega eps0))            (e^{+j omega t})
 
-whose plane-wave reflection is given by the Fresnel coefficients
-(:mod:`csuas.render.rcs.engine`). Only the reflected wave is traced: energy
-transmitted into a dielectric is assumed absorbed (no refraction rays), which
-is exact for a lossy half-space and an approximation for thin shells.
+either as a half-space (``thickness_m`` None: Fresnel reflection, the
+transmitted wave is absorbed) or as a thin shell of ``thickness_m`` (a slab:
+Fabry-Perot reflection and transmission coefficients; the transmitted tube
+continues straight on, so the inside of a plastic body is illuminated)
+(:mod:`csuas.render.rcs.engine`).
+
+Drone presets: dielectric parts (conductivity below 1 S/m: plastics, paint)
+are shells of :data:`DRONE_SHELL_THICKNESS_M` (2 mm, a typical injection-moulded
+wall of a class-1 airframe), conductors (carbon fibre, aluminium, battery
+cans) are half-spaces: their skin depth at 1 GHz is below 0.2 mm.
 
 Named ITU materials (ITU-R P.2040-3 Table 3: ``"concrete"``, ``"metal"``,
 ``"wood"``, ...; also accepted with an ``itu_`` prefix as in Sionna RT) are
@@ -21,13 +27,22 @@ accepted as they are, by their fields ``relative_permittivity``,
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
+
+import numpy as np
 
 from csuas.errors import ParameterError
 
 #: Vacuum permittivity [F/m] (CODATA 2018).
 EPS0_F_M = 8.8541878128e-12
+
+#: Wall thickness given to the dielectric parts of drone presets [m].
+DRONE_SHELL_THICKNESS_M = 0.002
+
+#: Conductivity below which a drone part is a dielectric shell rather than a conductor [S/m].
+SHELL_MAX_CONDUCTIVITY_S_M = 1.0
 
 
 @dataclass(frozen=True)
@@ -48,6 +63,8 @@ class RadioMaterial:
         ITU-R P.2040 material name when the parameters depend on frequency
         through Sionna RT's ITU model; then ``relative_permittivity`` and
         ``conductivity_s_m`` are ignored.
+    thickness_m : float or None
+        Thin-shell (slab) thickness [m]; None for a half-space.
     """
 
     name: str
@@ -55,6 +72,15 @@ class RadioMaterial:
     conductivity_s_m: float = 0.0
     is_pec: bool = False
     itu_name: str | None = None
+    thickness_m: float | None = None
+
+    def with_thickness(self, thickness_m: float | None) -> "RadioMaterial":
+        """A copy as a shell of ``thickness_m`` [m] (None or 0: half-space); PEC stays PEC."""
+        if thickness_m is not None and not (np.isfinite(thickness_m) and thickness_m >= 0):
+            raise ParameterError("shell_thickness_m", thickness_m, "x >= 0 m (0 or None: half-space)")
+        if self.is_pec:
+            return self
+        return dataclasses.replace(self, thickness_m=float(thickness_m) if thickness_m else None)
 
     def complex_permittivity(self, frequency_ghz: float) -> complex:
         """Total relative permittivity ``eps - j sigma/(omega eps0)`` at ``frequency_ghz`` [GHz].

@@ -24,7 +24,7 @@ import numpy as np
 
 from csuas.errors import ParameterError
 
-from .engine import DEFAULT_GRID_SHIFT, Jobs, SbrEngine
+from .engine import DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import TargetMesh, load_target
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
@@ -144,15 +144,15 @@ def resolve_quality(quality: str | None, rays_per_wavelength=None, max_bounces=N
 _ENGINES: dict = {}
 
 
-def get_engine(target, material=None, batch_size=None) -> SbrEngine:
-    """An :class:`SbrEngine` for a target, reused for the same mesh object and material."""
+def get_engine(target, material=None, batch_size=None, shell_thickness_m=None) -> SbrEngine:
+    """An :class:`SbrEngine` for a target, reused for the same mesh object, material and shells."""
     if isinstance(target, SbrEngine):
         return target
-    key = (id(target), repr(material), batch_size)
+    key = (id(target), repr(material), batch_size, shell_thickness_m)
     cached = _ENGINES.get(key)
     if cached is not None and cached[0] is target:
         return cached[1]
-    engine = SbrEngine(load_target(target, material), batch_size=batch_size)
+    engine = SbrEngine(load_target(target, material, shell_thickness_m), batch_size=batch_size)
     if len(_ENGINES) > 8:
         _ENGINES.clear()
     _ENGINES[key] = (target, engine)
@@ -162,7 +162,8 @@ def get_engine(target, material=None, batch_size=None) -> SbrEngine:
 def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
                 observe_azimuth_deg=None, observe_elevation_deg=None, material=None,
                 quality: str | None = "standard", rays_per_wavelength=None, max_bounces=None,
-                error_estimate: bool = True, radiate: str = "exit", batch_size: int | None = None) -> RcsResult:
+                error_estimate: bool = True, radiate: str = "exit", batch_size: int | None = None,
+                shell_thickness_m: float | None = None, power_cutoff: float = POWER_CUTOFF) -> RcsResult:
     """Radar cross-section of a mesh by SBR-PO for frequencies x aspects.
 
     Parameters
@@ -178,6 +179,10 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
     material : str or material, optional
         One material for all faces (``"pec"``, ITU or drone material name);
         default: a preset's part materials, PEC for a plain mesh.
+    shell_thickness_m : float, optional
+        Dielectric materials become thin shells of this thickness [m] (0:
+        half-spaces); default: drone presets' plastics are 2 mm shells,
+        anything else a half-space (:func:`load_target`).
     quality : {"draft", "standard", "reference"}
         Preset of :data:`QUALITY_PRESETS`; ``rays_per_wavelength`` and
         ``max_bounces`` override it.
@@ -187,6 +192,9 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
         Radiate at each tube's last hit (Ling et al.) or at every hit.
     batch_size : int, optional
         Tubes in flight (memory bound); default by device.
+    power_cutoff : float
+        Relative tube power below which a tube stops (bounds the branching at
+        thin shells); see :data:`csuas.render.rcs.engine.POWER_CUTOFF`.
 
     Returns
     -------
@@ -217,19 +225,19 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
                                        np.atleast_1d(np.asarray(observe_elevation_deg, float)))
         oaz = np.broadcast_to(oaz if oaz.ndim == 2 else oaz[None, :], (n_a, oaz.shape[-1]))
         oel = np.broadcast_to(oel if oel.ndim == 2 else oel[None, :], (n_a, oel.shape[-1]))
-    engine = get_engine(target, material, batch_size)
+    engine = get_engine(target, material, batch_size, shell_thickness_m)
     f_job = np.repeat(freq, n_a)
     def build(density, shift):
         return Jobs.build(np.tile(az, n_f), np.tile(el, n_f), f_job, density,
                           np.tile(oaz, (n_f, 1)), np.tile(oel, (n_f, 1)), shift)
 
-    main = engine.trace(build(n, DEFAULT_GRID_SHIFT), bounces, radiate)
+    main = engine.trace(build(n, DEFAULT_GRID_SHIFT), bounces, radiate, power_cutoff)
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
     sigma = main.sigma_m2.reshape(shape)
     error_db, error_time = None, 0.0
     if error_estimate:
         coarse_n, shift = (n / 2.0, DEFAULT_GRID_SHIFT) if n >= 2.0 else (n, np.add(DEFAULT_GRID_SHIFT, 0.5))
-        coarse = engine.trace(build(coarse_n, shift), bounces, radiate)
+        coarse = engine.trace(build(coarse_n, shift), bounces, radiate, power_cutoff)
         error_db = np.abs(to_dbsm(sigma) - to_dbsm(coarse.sigma_m2.reshape(shape)))
         error_time = coarse.time_s
     return RcsResult(sigma, error_db, freq, az, el, np.asarray(oaz), np.asarray(oel), n, bounces,
