@@ -21,6 +21,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--material", default=None,
                         help="one material for all faces: pec, an ITU name (itu_concrete, ...) or a drone material "
                              "(plastic, carbon_fibre, ...); default: a preset's part materials, PEC for a mesh file")
+    parser.add_argument("--shell-thickness-mm", type=float, default=None,
+                        help="dielectric materials are thin shells of this wall thickness [mm] (0: half-spaces); "
+                             "default: 2 mm for a preset's plastic parts, half-spaces otherwise")
     parser.add_argument("--quality", choices=QUALITIES, default="standard",
                         help="preset of rays per wavelength / bounces: draft 4/3, standard 10/5, reference 20/8")
     parser.add_argument("--rays-per-wavelength", type=float, default=None,
@@ -41,7 +44,8 @@ def run(args) -> dict:
     from csuas.render.rcs.solver import POLARISATIONS, compute_rcs, get_engine, to_dbsm
 
     start = time.perf_counter()
-    engine = get_engine(args.mesh_or_preset, args.material)
+    shell = None if args.shell_thickness_mm is None else args.shell_thickness_mm / 1000.0
+    engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
     res = compute_rcs(engine, args.frequency_ghz, args.azimuth_deg, args.elevation_deg, quality=args.quality,
                       rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces,
                       error_estimate=not args.no_error_estimate)
@@ -69,6 +73,7 @@ def run(args) -> dict:
         "ray_casts": res.ray_casts,
         "rays_x_bounces_per_s": res.rays_x_bounces_per_s,
         "materials": res.materials,
+        "shell_thickness_m": {m.name: m.thickness_m for m in target.materials},
         "mesh": {"faces": int(len(target.faces)), "dropped_degenerate_faces": target.dropped_faces,
                  "bounding_radius_m": target.bounding_radius_m},
         "variant": res.variant,

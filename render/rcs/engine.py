@@ -8,14 +8,18 @@ The method of Ling, Chou & Lee (IEEE Trans. Antennas Propag. 37(2), 1989):
    wavelength) on a plane perpendicular to the propagation direction,
    covering the target's projection.
 2. *Geometric optics.* Each tube is traced through up to ``max_bounces``
-   specular reflections with ``scene.ray_intersect_preliminary``; at each hit
-   the field is split into its components perpendicular (TE) and parallel
-   (TM) to the plane of incidence and multiplied by the Fresnel reflection
-   coefficients (PEC: -1 and +1 in the convention ``e_par = k x e_perp``;
-   lossy dielectric half-space otherwise). The path length is accumulated
-   for the phase.
+   interactions with ``scene.ray_intersect_preliminary``; at each hit the
+   field is split into its components perpendicular (TE) and parallel (TM)
+   to the plane of incidence and multiplied by the reflection coefficients
+   (PEC: -1 and +1 in the convention ``e_par = k x e_perp``; Fresnel for a
+   lossy dielectric half-space; Fabry-Perot slab coefficients for a thin
+   shell, whose transmitted tube continues straight on as a second branch).
+   The path length is accumulated for the phase. Tubes weaker than
+   ``power_cutoff`` of the incident tube power stop.
 3. *Physical optics.* At the tube's exit point (its last hit), the surface
-   currents ``J = n x (H_i + H_r)`` and ``M = (E_i + E_r) x n`` radiate to
+   currents ``J = n x (H_i + H_r)`` and ``M = (E_i + E_r) x n`` (for a tube
+   leaving through a shell: the aperture currents of the transmitted field
+   on the far side) radiate to
    the observation direction ``s`` over the tube's footprint on the flat
    facet, a parallelogram spanned by the tube edges projected along the ray.
    The footprint integral of the linear phase ``exp(jk (s - k_i).r')`` is
@@ -35,8 +39,10 @@ at most ``batch_size`` so memory stays bounded whatever the total count.
 
 Limitations (documented, not hidden): no edge diffraction (PTD) and no
 creeping waves, so RCS far from specular directions and at small ka is
-under-estimated; dielectrics reflect as half-spaces and transmitted rays are
-not followed; tubes straddling a facet edge count entirely for the facet
+under-estimated; a dielectric is a half-space (transmitted wave absorbed) or
+a thin shell without refraction offset, never a thick refracting body; tubes
+do not diverge on curved (faceted) surfaces; tubes straddling a facet edge
+count entirely for the facet
 their centre hits (error proportional to perimeter * d / area, see
 :mod:`csuas.render.rcs.convergence`); no shadow test from exit points toward
 a bistatic observer.
@@ -291,7 +297,7 @@ class SbrEngine:
         jobs : Jobs
             Incidence directions, frequencies, densities and receivers.
         max_bounces : int
-            Maximum reflections per tube (>= 1).
+            Maximum interactions (reflections or shell crossings) per tube (>= 1).
         radiate : {"exit", "all"}
             ``"exit"``: each tube radiates at its last hit (Ling et al. 1989);
             ``"all"``: at every hit (adds the off-specular PO of intermediate
