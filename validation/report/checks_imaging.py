@@ -116,9 +116,10 @@ def pixels_on_target(settings: dict) -> Section:
                           area / (ifov * r) ** 2)
     for row in rows:
         row["abs_relative_error"] = abs(row["relative_error"])
+        row["stderr_rel"] = row["stderr"] / (area / (ifov * r) ** 2)
     s.figures.append(plot_accuracy(
         "imaging_accuracy_vs_time", f"EO render: pixels on target at {r:g} m vs time", rows, knob="spp",
-        error_key="abs_relative_error", error_label="|relative error| vs exact area",
+        error_key="abs_relative_error", error_label="|relative error| vs exact area", stderr_key="stderr_rel",
         caption="Labels: samples per pixel (jittered strata x 8 batches)."))
     s.table = rows
     s.notes.append(f"spp sweep {elapsed:.1f} s")

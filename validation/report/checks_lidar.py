@@ -65,7 +65,7 @@ def accuracy(grids) -> Section:
     rows, elapsed = timed(accuracy_vs_time, grids, replicates=8)
     s.figures.append(plot_accuracy(
         "lidar_accuracy_vs_time", "Lidar cross-section: |error| vs time (Lambertian icosphere)", rows, knob="grid",
-        error_key="error_rel", error_label="|relative error| vs exact", caption="8 jitter replicates per grid; "
+        error_key="error_rel", error_label="|relative error| vs exact", stderr_key="stderr_rel", caption="8 jitter replicates per grid; "
         "labels: grid cells per side."))
     for r in rows:
         s.outcomes.append(Outcome(f"lidar.accuracy.grid{r['grid']}.error_rel", 0.0, r["error_rel"],

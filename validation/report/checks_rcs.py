@@ -58,6 +58,7 @@ def convergence(settings: dict) -> Section:
     s.figures.append(plot_accuracy(
         "rcs_accuracy_vs_time", "SBR-PO: mean |error| on the 0.1 m plate at 10 GHz vs time", rows,
         knob="rays_per_wavelength", error_key="mean_abs_error_db", error_label="mean |error| [dB]",
+        stderr_key="model_error_db", stderr_label="error model C P lambda / (A N)",
         caption=f"{settings['trials']} random grid placements per density; labels: rays per wavelength."))
     for r in rows:
         # the error model (1) of convergence.py: the measured mean within a factor 2 of the rule

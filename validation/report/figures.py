@@ -66,20 +66,47 @@ def curves(name: str, title: str, *, x_label: str, y_label: str, lines=(), point
 
 
 def accuracy_vs_time(name: str, title: str, rows, *, knob: str, error_key: str, time_key: str = "time_s",
-                     error_label: str = "error", caption: str = "") -> Figure:
-    """Error against wall time, one point per knob value, labelled with the value (log-log)."""
+                     error_label: str = "error", stderr_key: str | None = None,
+                     stderr_label: str = "standard error (estimate)", caption: str = "") -> Figure:
+    """Accuracy against the knob (left) and against wall time (right), log-log.
+
+    Parameters
+    ----------
+    rows : list of dict
+        One per knob value, with ``knob``, ``error_key``, ``time_key`` and optionally ``stderr_key``.
+    stderr_key : str, optional
+        The run's own error estimate (standard error), drawn beside the
+        measured |error| (a single Monte Carlo run's error scatters about it).
+    """
     plt = _pyplot()
+    k = [r[knob] for r in rows]
+    numeric = all(isinstance(v, (int, float)) for v in k)
+    x = np.array(k, float) if numeric else np.arange(len(k), dtype=float)
     t = np.array([max(float(r[time_key]), 1e-6) for r in rows])
     e = np.array([max(abs(float(r[error_key])), 1e-9) for r in rows])
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    ax.loglog(t, e, "o-")
-    for r, x, y in zip(rows, t, e):
-        ax.annotate(f"{r[knob]:g}" if isinstance(r[knob], (int, float)) else str(r[knob]), (x, y),
-                    xytext=(4, 4), textcoords="offset points", fontsize=8)
-    ax.set_xlabel("wall time [s]")
-    ax.set_ylabel(error_label)
-    ax.set_title(f"{title}\n(labels: {knob})", fontsize=10)
-    ax.grid(alpha=0.3, which="both")
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9.6, 3.8))
+    if numeric:
+        left.loglog(x, e, "o-", color="C0", label="measured |error|")
+    else:
+        left.semilogy(x, e, "o-", color="C0", label="measured |error|")
+    if stderr_key is not None:
+        se = np.array([max(abs(float(r[stderr_key])), 1e-12) for r in rows])
+        left.plot(x, se, "s--", color="C1", label=stderr_label)
+        right.loglog(t, se, "s", color="C1", label=stderr_label)
+    if not numeric:
+        left.set_xticks(x, [str(v) for v in k], rotation=30, fontsize=7)
+    right.loglog(t, e, "o", color="C0", label="measured |error|")
+    for label, xt, y in zip(k, t, e):
+        right.annotate(f"{label:g}" if numeric else str(label), (xt, y), xytext=(4, 4), textcoords="offset points",
+                       fontsize=8)
+    left.set_xlabel(knob)
+    right.set_xlabel("wall time [s]  (labels: " + knob + ")")
+    for ax in (left, right):
+        ax.set_ylabel(error_label)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
     return Figure(name, title, _png(fig), caption)
 
 

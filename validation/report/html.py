@@ -21,6 +21,9 @@ GROUPS = {
     "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
 }
 
+#: Sections with more passing checks than this fold them into a <details> element.
+COLLAPSE_ABOVE = 12
+
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px;color:#222;max-width:1300px}
 h1{font-size:1.6em} h2{border-bottom:2px solid #ccc;padding-bottom:4px;margin-top:2em} h3{margin-top:1.6em}
@@ -139,8 +142,16 @@ def render_html(report: dict, sections: list) -> str:
                        f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
                        f"<br>time: {section.time_s:.2f} s</p>")
             out.append(_side_by_side(section.table))
-            if by_spec.get(spec.name):
-                out.append(_checks_table(by_spec[spec.name]))
+            checks = by_spec.get(spec.name, [])
+            passing = [c for c in checks if c["verdict"] == "ok"]
+            if len(passing) > COLLAPSE_ABOVE:          # long lists: show what needs attention, fold the rest
+                others = [c for c in checks if c["verdict"] != "ok"]
+                if others:
+                    out.append(_checks_table(others))
+                out.append(f"<details><summary>{len(passing)} passing checks</summary>{_checks_table(passing)}"
+                           "</details>")
+            elif checks:
+                out.append(_checks_table(checks))
             out.extend(_img(f) for f in section.figures)
             if section.error:
                 out.append(f"<pre>{_e(section.notes[0] if section.notes else section.error)}</pre>")
