@@ -345,7 +345,8 @@ def point_5(_knob=None) -> Section:
                   rain_rate_mm_h=env["rain_rate_mm_h"], lwc_g_m3=env["lwc_g_m3"], temperature_k=env["temperature_k"])
     at_12 = float(radar.radar_range(**common, loss_frequency_ghz=rp["loss_frequency_ghz"], convention="paper").range_m)
     at_own = float(radar.radar_range(**common, loss_frequency_ghz=f_own, convention="paper").range_m)
-    s.table.append(_row("Radar range, 1 km loss path, losses at 12 GHz vs at the radar's frequency", "m", at_12, at_own))
+    s.table.append(_row("Radar range, 1 km loss path, losses at 12 GHz vs at the radar's frequency", "m",
+                        at_12, at_own))
     s.outcomes.append(_deviation("conv.5.radar_range_loss_frequency", at_12, at_own, "m", EXPLAIN_5, "Table 44"))
     return s
 

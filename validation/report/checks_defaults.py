@@ -90,8 +90,9 @@ def section_4_9(_knob=None) -> Section:
         (baseline, bars), elapsed = timed(one_at_a_time, spec["model"], spec["parameters"], spec.get("fixed"))
         source = f"{spec['source']}, Section 4.9"
         section.outcomes.append(Outcome(
-            f"worked.{analysis}.baseline_m", spec["baseline_m"], float(baseline), _printed_tolerance(spec["baseline_m"]),
-            "m", time_s=elapsed, source=source, method=f"{spec['model']} model with the Section 4.9 defaults"))
+            f"worked.{analysis}.baseline_m", spec["baseline_m"], float(baseline),
+            _printed_tolerance(spec["baseline_m"]), "m", time_s=elapsed, source=source,
+            method=f"{spec['model']} model with the Section 4.9 defaults"))
         by_name = {b.parameter: b for b in bars}
         for name, (at_low, at_high) in spec.get("paper", {}).items():
             for end, printed, computed in (("low", at_low, by_name[name].range_at_low_m),

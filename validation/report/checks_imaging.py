@@ -84,7 +84,8 @@ def johnson(quality: str) -> Section:
     s.figures.append(curves(
         "imaging_pixels_vs_range", "EO: pixels across d_crit vs range (Johnson, Eq. 18)", x_label="slant range [m]",
         y_label="pixels across d_crit",
-        lines=[(f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m", rr, sc.target["d_crit_m"] / (ifov * rr)),
+        lines=[(f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m", rr,
+                sc.target["d_crit_m"] / (ifov * rr)),
                (f"mesh silhouette d_crit {d_exact:.4f} m", rr, d_exact / (ifov * rr))],
         points=[("rendered (Mitsuba)", ranges, px, N_SIGMA * se)],
         hlines=[(f"2 lp n_TTPF = {2 * p['lp_task'] * p['n_ttpf']:g} px: Johnson range {r_johnson:.0f} m",

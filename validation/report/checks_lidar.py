@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
@@ -37,7 +36,8 @@ def oracles(quality: str) -> Section:
     res, elapsed = timed(lidar_cross_section, LidarTarget.from_mesh(plate, ALBEDO, "plate"), 0.0, 90.0,
                          quality=quality)
     exact = 4.0 * ALBEDO * side * side
-    s.outcomes.append(Outcome("lidar.oracle.plate_normal.lcs_m2", exact, res.lcs_m2, N_SIGMA * res.stderr_m2 + 1e-3 * exact,
+    s.outcomes.append(Outcome("lidar.oracle.plate_normal.lcs_m2", exact, res.lcs_m2,
+                              N_SIGMA * res.stderr_m2 + 1e-3 * exact,
                               "m^2", error_estimate=res.stderr_m2, time_s=elapsed, source="4 rho A (ORACLES.md)",
                               method=f"Mitsuba ray grid {res.grid} x {res.replicates} replicates, rho = {ALBEDO}"))
     radius = 0.1
@@ -65,7 +65,8 @@ def accuracy(grids) -> Section:
     rows, elapsed = timed(accuracy_vs_time, grids, replicates=8)
     s.figures.append(plot_accuracy(
         "lidar_accuracy_vs_time", "Lidar cross-section: |error| vs time (Lambertian icosphere)", rows, knob="grid",
-        error_key="error_rel", error_label="|relative error| vs exact", stderr_key="stderr_rel", caption="8 jitter replicates per grid; "
+        error_key="error_rel", error_label="|relative error| vs exact", stderr_key="stderr_rel",
+        caption="8 jitter replicates per grid; "
         "labels: grid cells per side."))
     for r in rows:
         s.outcomes.append(Outcome(f"lidar.accuracy.grid{r['grid']}.error_rel", 0.0, r["error_rel"],

@@ -113,7 +113,8 @@ def render_html(report: dict, sections: list) -> str:
            "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations</th><th>failed</th>"
            "<th>exit code</th></tr>",
            f"<tr><td>{s['total']}</td><td class='ok'>{s['ok']}</td><td class='known'>{s['known_deviation']}</td>"
-           f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td></tr></table>"]
+           f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td>"
+           "</tr></table>"]
     baseline = report.get("baseline")
     if baseline:
         regs = baseline["regressions"]

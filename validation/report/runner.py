@@ -38,7 +38,8 @@ def check_record(spec, outcome) -> dict:
 
 
 def _machine() -> str:
-    return f"{platform.node() or 'host'} ({platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()})"
+    return (f"{platform.node() or 'host'} ({platform.machine()}, {os.cpu_count()} CPUs, "
+            f"Python {platform.python_version()})")
 
 
 def _version() -> str:
