@@ -65,18 +65,24 @@ def run(args) -> dict:
             "time_s": time.perf_counter() - start}
 
 
+#: Headline figures of the text output (name, label, unit), shown when a mode's rows carry them.
+HEADLINE = (("pixels_on_target", "pixels on target", "px"), ("pixels_across_dcrit", "across d_crit", "px"),
+            ("contrast", "contrast", ""), ("delta_t_k", "Delta T", "K"), ("lcs_m2", "LCS", "m^2"))
+
+
 def render_text(result: dict) -> str:
-    """Human-readable table of the figures per range."""
+    """Human-readable table of the figures per range (any mode)."""
     lines = [f"csuas render {result['mode']} {result['scenario']} ({result['quality']}, {result['time_s']:.1f} s)"]
     for row in result["results"]:
         se = row.get("stderr", {})
-        line = (f"  R = {row['range_m']:g} m: pixels on target {row['pixels_on_target']:.3f} ± "
-                f"{se.get('pixels_on_target', 0):.3f}, across d_crit {row['pixels_across_dcrit']:.3f} ± "
-                f"{se.get('pixels_across_dcrit', 0):.3f} px, contrast {row['contrast']:+.4f} ± {se.get('contrast', 0):.4f}")
-        if "delta_t_k" in row:
-            line += f", Delta T {row['delta_t_k']:+.2f} ± {se.get('delta_t_k', 0):.2f} K"
-        line += f" ({row['time_s']:.1f} s)"
-        lines.append(line)
+        parts = []
+        for key, label, unit in HEADLINE:
+            if row.get(key) is None:
+                continue
+            err = se.get(key) if isinstance(se, dict) else (se if key == "lcs_m2" else None)
+            text = f"{label} {row[key]:.4g}" + (f" ± {err:.2g}" if err is not None else "")
+            parts.append(text + (f" {unit}" if unit else ""))
+        lines.append(f"  R = {row['range_m']:g} m: " + ", ".join(parts) + f" ({row['time_s']:.1f} s)")
         lines.extend(f"    file: {f}" for f in row.get("files", []))
         lines.extend(f"    note: {n}" for n in row.get("notes", []))
     return "\n".join(lines)

@@ -151,10 +151,9 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
                 value = np.where(bad, 0.0, value)
             for ch in range(channels):
                 radiance[ch] += np.bincount(owner[idx], weights=value[ch] * weight[idx], minlength=n_batches * n_px)
-            for side, (coord, pick) in enumerate(((x, np.argmin), (x, np.argmax), (y, np.argmin), (y, np.argmax))):
-                j = idx[pick(coord[idx])]
-                if anchors[side] is None or (coord[j] < anchors[side][side // 2]) == (side % 2 == 0) \
-                        and coord[j] != anchors[side][side // 2]:
+            for side, (coord, sign) in enumerate(((x, -1.0), (x, 1.0), (y, -1.0), (y, 1.0))):
+                j = idx[np.argmax(sign * coord[idx])]
+                if anchors[side] is None or sign * coord[j] > sign * anchors[side][side // 2]:
                     anchors[side] = (x[j], y[j])
             for b in np.unique(batch[idx]):
                 sel = idx[batch[idx] == b]
