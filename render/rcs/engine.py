@@ -321,8 +321,10 @@ class SbrEngine:
         tab = self._job_tables(jobs)
         dev = self._upload(tab)
         dev["cutoff"] = self.dr.opaque(self.mi.Float, float(power_cutoff))
+        dev["n_jobs"] = len(jobs)
         n_jobs, n_obs = len(jobs), tab["s"].shape[1]
-        acc = np.zeros((n_jobs, n_obs, 2, 2), complex)
+        # Float64 sums per job of (receiver, tx pol, rx pol, re/im).
+        acc = np.zeros((n_jobs, n_obs * 8))
         offsets = np.concatenate([[0], np.cumsum(tab["tubes"])])
         total = int(offsets[-1])
         stats = {"casts": 0, "trace_s": 0.0, "exits": np.zeros(max_bounces + 1, np.int64)}
@@ -331,11 +333,13 @@ class SbrEngine:
             g = np.arange(lo, hi, dtype=np.int64)
             job = np.searchsorted(offsets, g, side="right") - 1
             local = (g - offsets[job]).astype(np.uint32)
-            self._trace_batch(dev, job.astype(np.uint32), local, n_jobs, n_obs, max_bounces, radiate, acc, stats)
-        return TraceResult(acc, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start,
+            self._trace_batch(dev, job.astype(np.uint32), local, n_obs, max_bounces, radiate, acc, stats)
+        sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)                               # (job, obs, tx, rx, re/im)
+        amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)     # -> (job, obs, rx, tx)
+        return TraceResult(amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start,
                            stats["trace_s"])
 
-    def _trace_batch(self, dev, job_np, local_np, n_jobs, n_obs, max_bounces, radiate, acc, stats):
+    def _trace_batch(self, dev, job_np, local_np, n_obs, max_bounces, radiate, acc, stats):
         mi, dr = self.mi, self.dr
         Float, UInt, V3 = mi.Float, mi.UInt32, mi.Vector3f
         job, local = UInt(job_np), UInt(local_np)
@@ -355,51 +359,47 @@ class SbrEngine:
             "eh_re": dr.gather(V3, dev["pol_h"], job), "eh_im": zero + 0.0,
         }
         dr.eval(st)
+
+        def count(mask) -> int:
+            return int(dr.count(mask)[0]) if dr.width(mask) else 0
+
         pending = None
         for bounce in range(1, max_bounces + 1):
             t0 = time.perf_counter()
             pi = self.scene.ray_intersect_preliminary(mi.Ray3f(st["o"], st["dir"]), coherent=bounce == 1)
             hit = pi.is_valid()
             dr.eval(hit, pi.t, pi.prim_index)
-            dr.sync_thread()                      # launches are asynchronous; the mask is needed on the host
+            dr.sync_thread()                      # launches are asynchronous; wait for the timing
             stats["trace_s"] += time.perf_counter() - t0
             stats["casts"] += dr.width(hit)
-            hit_np = np.asarray(hit, bool)
-            stats["exits"][bounce - 1] += int((~hit_np).sum())
-            if pending is not None:
-                self._accumulate(acc, np.asarray(st["job"])[~hit_np], [np.asarray(c)[~hit_np] for c in pending],
-                                 n_jobs, n_obs)
-            if not hit_np.any():
-                pending = None
+            stats["exits"][bounce - 1] += dr.width(hit) - count(hit)
+            if pending is not None:                # tubes that left after their previous hit radiate there
+                self._accumulate(acc, st["job"], pending, ~hit, n_obs)
+            idx = dr.compress(hit)
+            if dr.width(idx) == 0:
                 break
-            idx = UInt(np.flatnonzero(hit_np).astype(np.uint32))
             st = {key: dr.gather(type(val), val, idx) for key, val in st.items()}
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
-            contrib, st_r, contrib_t, st_t, has_t, keep_r = self._interact(dev, st, t, prim, n_jobs, n_obs)
-            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep_r)
-            through = np.flatnonzero(np.asarray(has_t, bool)).astype(np.uint32)
-            keep = np.asarray(keep_r, bool)
+            contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs)
+            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)
             last = bounce == max_bounces
             # Reflected branches radiate now when every hit radiates, at the last bounce, or when too weak
             # to follow; otherwise their contribution waits for the next trace (exit point).
-            now = np.ones_like(keep) if (radiate == "all" or last) else ~keep
-            if now.any():
-                job_now = np.asarray(st_r["job"])
-                self._accumulate(acc, job_now[now], [np.asarray(c)[now] for c in contrib], n_jobs, n_obs)
+            self._accumulate(acc, st_r["job"], contrib, dr.full(mi.Bool, True, dr.width(keep))
+                             if (radiate == "all" or last) else ~keep, n_obs)
+            n_keep, n_through = count(keep), count(has_t)
             if last:
-                if len(through):
-                    self._accumulate(acc, np.asarray(st_t["job"])[through],
-                                     [np.asarray(c)[through] for c in contrib_t], n_jobs, n_obs)
-                stats["exits"][bounce] += int(keep.sum()) + len(through)
+                self._accumulate(acc, st_t["job"], contrib_t, has_t, n_obs)
+                stats["exits"][bounce] += n_keep + n_through
                 break
-            stats["exits"][bounce] += int((~keep).sum())
+            stats["exits"][bounce] += dr.width(keep) - n_keep
             # Thin shells split the tube: the reflected and the transmitted branch both go on.
-            sel_r = UInt(np.flatnonzero(keep).astype(np.uint32))
+            sel_r = dr.compress(keep)
             st = {key: dr.gather(type(val), val, sel_r) for key, val in st_r.items()}
             contrib = [dr.gather(Float, c, sel_r) for c in contrib]
-            if len(through):
-                sel = UInt(through)
+            if n_through:
+                sel = dr.compress(has_t)
                 st = {key: _concat(dr, val, dr.gather(type(st_t[key]), st_t[key], sel)) for key, val in st.items()}
                 contrib = [_concat(dr, c, dr.gather(Float, ct, sel)) for c, ct in zip(contrib, contrib_t)]
             pending = None if radiate == "all" else contrib
@@ -407,7 +407,7 @@ class SbrEngine:
             if dr.width(st["job"]) == 0:
                 break
 
-    def _interact(self, dev, st, t, prim, n_jobs, n_obs):
+    def _interact(self, dev, st, t, prim, n_obs):
         """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
 
         Returns ``(contrib_r, state_r, contrib_t, state_t, has_t)``: the PO
@@ -432,7 +432,7 @@ class SbrEngine:
         perp = dr.normalize(dr.select(dr.norm(perp) > 1e-6, perp, fallback))
         par_i, par_r = dr.cross(direction, perp), dr.cross(dir_r, perp)
         # Fresnel coefficients of the face material at the job's frequency (interface, then slab).
-        mat = dr.gather(UInt, self._face_material, prim) * n_jobs + job
+        mat = dr.gather(UInt, self._face_material, prim) * dr.opaque(UInt, dev["n_jobs"]) + job
         eps = C(dr.gather(Float, dev["eps_re"], mat), dr.gather(Float, dev["eps_im"], mat))
         thick = dr.gather(Float, dev["thick"], mat)
         pec = dr.gather(mi.Bool, dev["pec"], mat)
@@ -527,18 +527,21 @@ class SbrEngine:
                     ev_re=trans[0][4], ev_im=trans[0][5], eh_re=trans[1][4], eh_im=trans[1][5])
         return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
 
-    @staticmethod
-    def _accumulate(acc, job_np, parts, n_jobs, n_obs):
-        """Add per-tube contributions (float32 arrays) into ``acc`` in float64."""
-        if len(job_np) == 0:
+    def _accumulate(self, acc, job, parts, active, n_obs):
+        """Add the contributions (float32, 8 per receiver) of the ``active`` tubes to the float64 sums.
+
+        The sums are taken on the host with ``np.bincount`` in a fixed order, so that results are
+        bit-for-bit reproducible (device atomics would add in a varying order).
+        """
+        dr, mi = self.dr, self.mi
+        sel = dr.compress(active)
+        if dr.width(sel) == 0:
             return
-        sums = [np.bincount(job_np, weights=np.asarray(c, np.float64), minlength=n_jobs) for c in parts]
-        i = 0
-        for m in range(n_obs):
-            for tx in range(2):                      # V, H transmit
-                for rx in range(2):                  # theta (V), phi (H) receive
-                    acc[:, m, rx, tx] += sums[i] + 1j * sums[i + 1]
-                    i += 2
+        job_np = np.asarray(dr.gather(mi.UInt32, job, sel))
+        n_bins = acc.shape[0]
+        for i, part in enumerate(parts):           # order: receiver, tx (V, H), rx (theta, phi), re/im
+            values = np.asarray(dr.gather(mi.Float, part, sel), np.float64)
+            acc[:, i] += np.bincount(job_np, weights=values, minlength=n_bins)
 
 
 def _concat(dr, a, b):
