@@ -153,13 +153,15 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
         l_bg = float(background) * illuminance_lx / math.pi
     sun_az = azimuth_deg if sun_azimuth_deg is None else sun_azimuth_deg
     use_variant("ad_rgb", variant)
-    scene = build_eo_scene(normalised, sun_direction_render=normalised.to_render(direction_vector(sun_az, sun_elevation_deg)),
+    to_sun = normalised.to_render(direction_vector(sun_az, sun_elevation_deg))
+    scene = build_eo_scene(normalised, sun_direction_render=to_sun,
                            sun_irradiance=light["sun_irradiance_lx"], sky_radiance=light["sky_radiance"],
                            ground_radiance=light["ground_radiance"], up_render=normalised.to_render([0.0, 0.0, 1.0]))
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render eo {r:g} m", progress)
     tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
-                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds, progress=progress)
+                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds,
+                         progress=progress)
     path = eo_path(r, visibility_km, wavelength_nm, light["sky_radiance"])
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)

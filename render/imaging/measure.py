@@ -81,8 +81,8 @@ def _figures(coverage, radiance, extent, background, weights, path: PathEffect, 
                contrast_peak_pixel=(peak - lb_app) / (peak + lb_app) if peak + lb_app > 0 else 0.0)
     if to_temperature is not None:
         t_bg = float(to_temperature(lb_app))
-        out.update(delta_t_k=float(to_temperature(lt_app)) - t_bg, delta_t_peak_pixel_k=float(to_temperature(peak)) - t_bg,
-                   background_temperature_apparent_k=t_bg)
+        out.update(delta_t_k=float(to_temperature(lt_app)) - t_bg,
+                   delta_t_peak_pixel_k=float(to_temperature(peak)) - t_bg, background_temperature_apparent_k=t_bg)
     return out, image
 
 

@@ -29,18 +29,17 @@ from csuas.render.imaging.eo import LUMINANCE_WEIGHTS
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path
 from csuas.render.imaging.quality import resolve_quality
-from csuas.render.imaging.scene import mitsuba_mesh, path_integrator
+from csuas.render.imaging.scene import diffuse_rgb, mitsuba_mesh, path_integrator
 from csuas.render.imaging.trace import trace_window
 
 
 def _scene(normalised, horizon_radiance: float, medium=None, medium_radius: float = 0.0):
     import mitsuba as mi
 
-    scene = {"type": "scene", "environment": {"type": "constant", "radiance": {"type": "rgb", "value": horizon_radiance}}}
+    sky = {"type": "constant", "radiance": {"type": "rgb", "value": horizon_radiance}}
+    scene = {"type": "scene", "environment": sky}
     for i, part in enumerate(normalised.parts):
-        bsdf = mi.load_dict({"type": "diffuse",
-                             "reflectance": {"type": "rgb", "value": [float(c) for c in part.material.reflectance_rgb]}})
-        scene[f"part_{i}"] = mitsuba_mesh(part, bsdf, exterior=medium)
+        scene[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material), exterior=medium)
     if medium is not None:
         scene["fog"] = {"type": "sphere", "radius": float(medium_radius), "bsdf": {"type": "null"}, "interior": medium}
     return mi.load_dict(scene)

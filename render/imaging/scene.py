@@ -131,6 +131,14 @@ def mitsuba_mesh(part: RenderPart, bsdf, emitter=None, exterior=None):
     return mesh
 
 
+def diffuse_rgb(material):
+    """Lambertian Mitsuba BSDF of a material's linear-sRGB albedo ``reflectance_rgb``."""
+    import mitsuba as mi
+
+    return mi.load_dict({"type": "diffuse",
+                         "reflectance": {"type": "rgb", "value": [float(c) for c in material.reflectance_rgb]}})
+
+
 def _frame_with_up(up) -> np.ndarray:
     """4x4 to_world matrix mapping local +Y (Mitsuba's environment-map up) to ``up``."""
     up = np.asarray(up, dtype=float) / np.linalg.norm(up)
@@ -177,9 +185,7 @@ def build_eo_scene(target: NormalisedTarget, *, sun_direction_render, sun_irradi
 
     scene = {"type": "scene"}
     for i, part in enumerate(target.parts):
-        bsdf = mi.load_dict({"type": "diffuse",
-                             "reflectance": {"type": "rgb", "value": [float(c) for c in part.material.reflectance_rgb]}})
-        scene[f"part_{i}"] = mitsuba_mesh(part, bsdf)
+        scene[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material))
     if sun_irradiance > 0:
         to_sun = np.asarray(sun_direction_render, dtype=float)
         scene["sun"] = {"type": "directional", "direction": (-to_sun / np.linalg.norm(to_sun)).tolist(),

@@ -112,7 +112,8 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render tir {r:g} m", progress)
     tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
-                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=1, bounds=bounds, progress=progress)
+                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=1, bounds=bounds,
+                         progress=progress)
     path = tir_path(r, extinction_db_km, air_temperature_k, band)
 
     def to_temperature(radiance):
