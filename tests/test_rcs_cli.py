@@ -64,3 +64,28 @@ def test_bad_input_is_one_line_and_exit_code_2(tmp_path, capsys, argv, name):
 def test_unknown_preset_or_missing_file(capsys):
     code, _, err = run_cli(capsys, "rcs", "no_such_drone", "--frequency-ghz", "10")
     assert code == 2 and "dji_mini_4_pro" in err
+
+
+def test_bistatic_plate_from_the_cli(tmp_path, capsys):
+    """Normal incidence, receiver 5 deg off the normal: H-pol PO (4 pi A^2/lambda^2) sinc^2(k a sin t / 2)."""
+    path = tmp_path / "plate.obj"
+    canonical.plate(0.1).export(path)
+    code, out, _ = run_cli(capsys, "rcs", str(path), "--frequency-ghz", "10", "--elevation-deg", "90",
+                           "--observe-azimuth-deg", "0", "--observe-elevation-deg", "85", "--polarisation", "HH",
+                           "--json")
+    data = json.loads(out)
+    k = 2 * math.pi / (C / 10e9)
+    u = 0.5 * k * 0.1 * math.sin(math.radians(5.0))
+    exact = 4 * math.pi * 0.01 ** 2 / (C / 10e9) ** 2 * (math.sin(u) / u) ** 2
+    assert code == 0 and data["geometry"] == "bistatic"
+    assert data["rcs_dbsm"] == pytest.approx(10 * math.log10(exact), abs=0.4)
+
+
+def test_rcs_table_grid_for_link_simulators():
+    from csuas.render.rcs.sweep import rcs_table
+
+    table = rcs_table(canonical.cylinder(0.05, 0.3), 10.0, [0.0, 90.0, 180.0], [-10.0, 0.0], rays_per_wavelength=6,
+                      error_estimate=False)
+    assert table["rcs_m2"].shape == (2, 3) and table["error_db"] is None
+    broadside = 2 * math.pi * 0.05 * 0.09 / (C / 10e9)
+    assert 10 * math.log10(table["rcs_m2"][1, 0]) == pytest.approx(10 * math.log10(broadside), abs=0.7)

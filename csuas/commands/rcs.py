@@ -18,6 +18,10 @@ def add_arguments(parser) -> None:
                         help="direction target -> radar, azimuth from +x toward +y [deg] (default 0)")
     parser.add_argument("--elevation-deg", type=float, default=0.0,
                         help="direction target -> radar, elevation from the xy-plane [deg] (default 0)")
+    parser.add_argument("--observe-azimuth-deg", type=float, default=None,
+                        help="bistatic: direction target -> receiver, azimuth [deg] (default: monostatic)")
+    parser.add_argument("--observe-elevation-deg", type=float, default=None,
+                        help="bistatic: direction target -> receiver, elevation [deg] (default: monostatic)")
     parser.add_argument("--material", default=None,
                         help="one material for all faces: pec, an ITU name (itu_concrete, ...) or a drone material "
                              "(plastic, carbon_fibre, ...); default: a preset's part materials, PEC for a mesh file")
@@ -48,7 +52,9 @@ def run(args) -> dict:
     engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
     res = compute_rcs(engine, args.frequency_ghz, args.azimuth_deg, args.elevation_deg, quality=args.quality,
                       rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces,
-                      error_estimate=not args.no_error_estimate)
+                      error_estimate=not args.no_error_estimate, observe_azimuth_deg=args.observe_azimuth_deg,
+                      observe_elevation_deg=args.observe_elevation_deg)
+    bistatic = args.observe_azimuth_deg is not None
     pol = args.polarisation
     sigma = float(res.rcs_m2(pol).ravel()[0])
     err = res.error_estimate_db(pol)
@@ -60,6 +66,9 @@ def run(args) -> dict:
         "azimuth_deg": args.azimuth_deg,
         "elevation_deg": args.elevation_deg,
         "polarisation": pol,
+        "geometry": "bistatic" if bistatic else "monostatic",
+        "observe_azimuth_deg": float(res.observe_azimuth_deg.ravel()[0]),
+        "observe_elevation_deg": float(res.observe_elevation_deg.ravel()[0]),
         "rcs_m2": sigma,
         "rcs_dbsm": float(to_dbsm(sigma)),
         "error_db": None if err is None else float(err.ravel()[0]),
@@ -104,8 +113,11 @@ def run(args) -> dict:
 
 def render_text(result: dict) -> str:
     """Human-readable summary of ``csuas rcs``."""
-    lines = [f"RCS of {result['target']} at {result['frequency_ghz']:g} GHz, azimuth {result['azimuth_deg']:g} deg, "
-             f"elevation {result['elevation_deg']:g} deg ({result['polarisation']}):",
+    where = "" if result["geometry"] == "monostatic" else (
+        f", receiver at azimuth {result['observe_azimuth_deg']:g} deg, elevation {result['observe_elevation_deg']:g} deg")
+    lines = [f"{result['geometry'].capitalize()} RCS of {result['target']} at {result['frequency_ghz']:g} GHz, "
+             f"azimuth {result['azimuth_deg']:g} deg, elevation {result['elevation_deg']:g} deg{where} "
+             f"({result['polarisation']}):",
              f"  {result['rcs_m2']:.4g} m^2 = {result['rcs_dbsm']:.2f} dBsm"
              + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
              "  " + "  ".join(f"{p} {v:.2f}" for p, v in result["rcs_dbsm_by_polarisation"].items()) + " dBsm",

@@ -62,6 +62,39 @@ def aspect_sweep(target, frequency_ghz, azimuth_deg, elevation_deg=0.0, *, polar
     return out
 
 
+def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polarisation: str = "VV",
+              **kwargs) -> dict:
+    """Monostatic RCS on an azimuth x elevation grid, for interpolation by link simulators.
+
+    Parameters
+    ----------
+    target : mesh, file, preset name or SbrEngine
+    frequency_ghz : float
+        Frequency [GHz].
+    azimuth_deg, elevation_deg : array_like (Na,), (Ne,)
+        Grid axes [deg] (SPEC 8 directions, target -> radar).
+    polarisation : str
+        "VV", "HH", "HV", "VH".
+    **kwargs
+        Passed to :func:`compute_rcs`.
+
+    Returns
+    -------
+    dict
+        ``azimuth_deg`` (Na,), ``elevation_deg`` (Ne,), ``rcs_m2`` (Ne, Na),
+        ``error_db`` (Ne, Na) or None, ``rays``, ``time_s``.
+    """
+    az = np.atleast_1d(np.asarray(azimuth_deg, float))
+    el = np.atleast_1d(np.asarray(elevation_deg, float))
+    grid_az, grid_el = np.meshgrid(az, el)                     # (Ne, Na)
+    res = compute_rcs(target, frequency_ghz, grid_az.ravel(), grid_el.ravel(), **kwargs)
+    err = res.error_estimate_db(polarisation)
+    return {"frequency_ghz": float(frequency_ghz), "azimuth_deg": az, "elevation_deg": el,
+            "polarisation": polarisation, "rcs_m2": res.rcs_m2(polarisation)[0, :, 0].reshape(grid_az.shape),
+            "error_db": None if err is None else err[0, :, 0].reshape(grid_az.shape),
+            "rays": res.tubes, "time_s": res.time_s + res.error_time_s}
+
+
 def plot_polar(azimuth_deg, curves_dbsm: dict, path, *, title: str = "", floor_dbsm: float | None = None):
     """Write a polar plot (PNG) of RCS [dBsm] against azimuth, atomically.
 
