@@ -98,6 +98,30 @@ def test_rendered_dcrit_spans_2_lp_nttpf_pixels_at_johnson_range(drone, lp_task,
     assert res.values["johnson_range_rendered_m"] == pytest.approx(r_johnson, rel=0.02)
 
 
+def test_sky_above_ground_below():
+    """A horizontal Lambertian plate under the uniform sky hemisphere shows rho L_sky on top, rho L_ground below."""
+    import trimesh
+    from csuas.drone_models import Part
+    from csuas.render.imaging.targets import grey_material
+
+    flat = [Part("flat", "body", trimesh.creation.box((1.0, 1.0, 0.01)), grey_material(0.5))]
+    kw = dict(range_m=100.0, diffuse_fraction=1.0, ground_reflectance=0.3, illuminance_lx=70000.0,
+              quality=Quality("t", 2, 8), **EO)
+    top = render_eo(flat, elevation_deg=90.0, **kw)
+    bottom = render_eo(flat, elevation_deg=-90.0, **kw)
+    l_sky, l_ground = 70000.0 / math.pi, 0.3 * 70000.0 / math.pi
+    assert top.values["sky_radiance"] == pytest.approx(l_sky)
+    assert top.values["target_radiance"] == pytest.approx(0.5 * l_sky, abs=4 * top.stderr["target_radiance"] + 2e-3 * l_sky)
+    assert bottom.values["target_radiance"] == pytest.approx(0.5 * l_ground,
+                                                             abs=4 * bottom.stderr["target_radiance"] + 1e-3 * l_ground)
+
+
+def test_night_without_light_has_zero_contrast_and_a_note():
+    res = render_eo(plate(), range_m=100.0, illuminance_lx=0.0, quality=Quality("t", 1, 2), **EO)
+    assert res.values["contrast"] == 0.0 and res.values["target_radiance"] == 0.0
+    assert any("Weber contrast undefined" in n for n in res.notes)
+
+
 def test_plate_contrast_is_eq4_under_equal_illuminance():
     """Sun only at 45 deg onto a vertical plate: its irradiance equals the horizontal illuminance E_v."""
     rho, rho_bg, e_v = 0.5, 0.2, 70000.0

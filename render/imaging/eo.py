@@ -169,6 +169,8 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
         m.values[f"{name}_inherent"], m.stderr[f"{name}_inherent"] = inherent.values[name], inherent.stderr[name]
     _range_figures(m, r, lp_task, n_ttpf, c_min, path)
     notes = list(m.notes)
+    if visibility_km is None:
+        notes.append("no atmosphere: the contrast-limited range is unbounded (null)")
     if window.clipped:
         notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
     if tally.nonfinite_samples:

@@ -130,4 +130,6 @@ def measure_window(tally, background, path: PathEffect, weights=(1.0,), to_tempe
     notes = []
     if values["pixels_on_target"] == 0:
         notes.append("no sample hit the target: it is far below one pixel at this range and sample count")
+    if not np.isfinite(values["contrast_weber"]):
+        notes.append("the background radiance is 0: Weber contrast undefined (null)")
     return Measurement(values, stderr, image, cov_sum / k, notes)

@@ -4,7 +4,24 @@ A preset fixes the jittered strata per pixel side (``n_side``; n_side**2
 samples per pixel and batch) and the number of independent batches that give
 the jackknife standard error. Their errors are measured with
 :func:`accuracy_sweep` against exact silhouettes and band-Planck oracles
-(``tests/test_render_quality.py``), not assumed.
+(``tests/test_render_quality.py``), not assumed. Measured on 2 CPU cores
+(LLVM), DJI Mini 4 Pro at 500 m, azimuth 30 deg, elevation 20 deg, default EO
+sensor (13.30 px on target, 3.03 px across d_crit, 169-pixel window); thermal:
+0.3 m graybody plate at 200 m reflecting 293.15 K surroundings (exact
+Delta T -7.243 K):
+
+=========  ====  ==================  ==================  =============  ===============  ==========
+preset     spp   pixels on target    px across d_crit    EO contrast    TIR Delta T      time/range
+=========  ====  ==================  ==================  =============  ===============  ==========
+draft        32  -0.3 % (se 1.9 %)   -0.15 % (se 2.7 %)  se 0.055       +0.01 (se 0.21)  0.2 s
+standard    128  -0.5 % (se 0.7 %)   -0.03 % (se 0.7 %)  se 0.013       +0.12 (se 0.10)  0.2 s
+reference  2048  +0.03 % (se 0.06 %) -0.01 % (se 0.12 %) se 0.005       +0.02 (se 0.02)  0.3 s
+=========  ====  ==================  ==================  =============  ===============  ==========
+
+(The extents' standard error is the jackknife of the unrefined extremes, an
+upper bound.) Memory: launches of at most 2**21 rays; the worst window
+(the drone at 10 m, 475 x 475 px) at reference quality traced 4.6e8 rays in
+97 s with a peak resident set of 0.77 GB.
 """
 
 from __future__ import annotations
