@@ -249,3 +249,26 @@ def test_bad_input_names_parameter():
         render_eo("dji_mini_4_pro", range_m=100.0, background="ground", quality="draft")
     with pytest.raises(ParameterError, match="hfov_deg"):
         render_eo("dji_mini_4_pro", range_m=100.0, hfov_deg=0.0, quality="draft")
+
+
+def test_ranges_from_1_m_to_50_km(drone):
+    """At 1 m the drone overfills a small sensor (clipped window, noted); at 50 km it is 0.0005 px."""
+    near = render_eo(drone, range_m=1.0, quality=Quality("t", 1, 2), hfov_deg=10.0, n_h=192, n_v=108)
+    assert near.window.clipped and near.window.n_pixels == 192 * 108
+    assert any("beyond the sensor frame" in n for n in near.notes)
+    assert 0 < near.values["pixels_on_target"] <= 192 * 108
+    far = render_eo(drone, range_m=50000.0, quality=Q, **EO)
+    exact = projected_metrics(drone.mesh(), 0.0, 0.0)["projected_area_m2"] / (50000.0 * IFOV) ** 2
+    assert exact < 1e-3
+    assert far.values["pixels_on_target"] == pytest.approx(exact, abs=4 * far.stderr["pixels_on_target"] + 1e-3 * exact)
+    assert far.values["pixels_across_dcrit"] == pytest.approx(0.101 / (50000.0 * IFOV), rel=0.02)
+
+
+def test_same_seed_same_result_other_seed_other_noise():
+    kw = dict(range_m=400.0, azimuth_deg=20.0, elevation_deg=10.0, quality=Quality("t", 2, 4), **EO)
+    a = render_eo("dji_mini_4_pro", seed=7, **kw)
+    b = render_eo("dji_mini_4_pro", seed=7, **kw)
+    c = render_eo("dji_mini_4_pro", seed=8, **kw)
+    assert a.values == b.values
+    np.testing.assert_array_equal(a.image, b.image)
+    assert a.values["pixels_on_target"] != c.values["pixels_on_target"]
