@@ -30,12 +30,12 @@ from csuas.core.units import watt_to_dbm
 from csuas.validation.report.figures import curves
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
 
-#: Render quality per report quality (samples per pixel: draft 32, standard 128).
-RENDER_QUALITY = {"quick": "draft", "full": "standard"}
+#: Render quality per report quality (samples per pixel: draft 32, reference 2048).
+RENDER_QUALITY = {"quick": "draft", "full": "reference"}
 #: Sionna RT sample budget per report quality.
 LINK_BUDGET = {"quick": "draft", "full": "standard"}
 #: Lidar ray-grid quality per report quality.
-LIDAR_QUALITY = {"quick": "draft", "full": "standard"}
+LIDAR_QUALITY = {"quick": "draft", "full": "reference"}
 
 #: Monte Carlo figures pass within this many standard errors (plus their model tolerance).
 N_SIGMA = 3.0

@@ -21,7 +21,7 @@ from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves, image
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
 
-QUALITY = {"quick": "draft", "full": "standard"}
+QUALITY = {"quick": "draft", "full": "reference"}
 SPP_SWEEP = {"quick": (1, 2, 4), "full": (1, 2, 4, 8, 16)}
 N_SIGMA = 3.0
 PRESET = "dji_mini_4_pro"
@@ -161,7 +161,7 @@ SPECS = [
               f"{N_SIGMA:g} standard errors + 1 % (standard quality runs about 1 % high at 300 m over 4 seeds; the "
               "jackknife over 8 batches is itself uncertain)", pixels_on_target,
               "render quality; spp sweep", {"quick": {"quality": "draft", "n_sides": SPP_SWEEP["quick"]},
-                                            "full": {"quality": "standard", "n_sides": SPP_SWEEP["full"]}}, True),
+                                            "full": {"quality": "reference", "n_sides": SPP_SWEEP["full"]}}, True),
     CheckSpec("imaging.gallery", "Rendered drone images, EO and thermal", "imaging", "images only", "none", gallery,
               "render quality (samples per pixel)", QUALITY, True),
 ]

@@ -15,7 +15,7 @@ import math
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
 
-QUALITY = {"quick": "draft", "full": "standard"}
+QUALITY = {"quick": "draft", "full": "reference"}
 GRIDS = {"quick": (8, 16, 32, 64), "full": (8, 16, 32, 64, 128, 256)}
 N_SIGMA = 3.0
 ALBEDO = 0.5
