@@ -114,7 +114,8 @@ def run(args) -> dict:
 def render_text(result: dict) -> str:
     """Human-readable summary of ``csuas rcs``."""
     where = "" if result["geometry"] == "monostatic" else (
-        f", receiver at azimuth {result['observe_azimuth_deg']:g} deg, elevation {result['observe_elevation_deg']:g} deg")
+        f", receiver at azimuth {result['observe_azimuth_deg']:g} deg, "
+        f"elevation {result['observe_elevation_deg']:g} deg")
     lines = [f"{result['geometry'].capitalize()} RCS of {result['target']} at {result['frequency_ghz']:g} GHz, "
              f"azimuth {result['azimuth_deg']:g} deg, elevation {result['elevation_deg']:g} deg{where} "
              f"({result['polarisation']}):",

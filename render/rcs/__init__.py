@@ -1,20 +1,29 @@
 """Radar cross-section by shooting and bouncing rays with physical optics (SPEC 6).
 
-Public entry points (importing this package does not import Mitsuba):
+Public entry points (importing this package does not import Mitsuba or Dr.Jit;
+the engine selects a variant through :func:`csuas.render.backend.use_variant`
+when it first runs):
 
 * :func:`compute_rcs` -- monostatic or bistatic RCS of a mesh or drone preset
-  for batches of aspects and frequencies, with quality presets and an error
-  estimate (:mod:`csuas.render.rcs.solver`);
-* :func:`aspect_sweep`, :func:`plot_polar`, :func:`band_sweep`,
-  :func:`sphere_average` (:mod:`csuas.render.rcs.sweep`);
-* :func:`convergence_curve`, :func:`density_for_accuracy`
-  (:mod:`csuas.render.rcs.convergence`);
-* :func:`csuas.render.rcs.checks.default_checks` and
-  :func:`csuas.render.rcs.bench.bench_sbr`.
+  for batches of frequencies x aspects, with quality presets and an error
+  estimate (:mod:`csuas.render.rcs.solver`; engine in
+  :mod:`csuas.render.rcs.engine`);
+* :func:`aspect_sweep`, :func:`rcs_table`, :func:`plot_polar`,
+  :func:`band_sweep`, :func:`sphere_average` (Eq. 6) in
+  :mod:`csuas.render.rcs.sweep`;
+* :func:`convergence_curve`, :func:`density_for_accuracy`,
+  :func:`preset_errors` in :mod:`csuas.render.rcs.convergence`;
+* :func:`csuas.render.rcs.checks.default_checks` (Table 8 and 3GPP TR 38.901)
+  and :func:`csuas.render.rcs.bench.bench_sbr` / ``bench_memory``.
 """
 
+from .convergence import convergence_curve, density_for_accuracy, preset_errors
 from .geometry import TargetMesh, direction_vector, load_target, polarisation_basis, prepare_mesh
 from .materials import RadioMaterial, resolve_material
+from .solver import QUALITY_PRESETS, RcsResult, compute_rcs
+from .sweep import PAPER_BANDS_GHZ, aspect_sweep, band_sweep, plot_polar, rcs_table, sphere_average
 
 __all__ = ["TargetMesh", "direction_vector", "load_target", "polarisation_basis", "prepare_mesh",
-           "RadioMaterial", "resolve_material"]
+           "RadioMaterial", "resolve_material", "QUALITY_PRESETS", "RcsResult", "compute_rcs",
+           "PAPER_BANDS_GHZ", "aspect_sweep", "band_sweep", "plot_polar", "rcs_table", "sphere_average",
+           "convergence_curve", "density_for_accuracy", "preset_errors"]

@@ -25,7 +25,7 @@ import numpy as np
 from csuas.errors import ParameterError
 
 from .engine import DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
-from .geometry import TargetMesh, load_target
+from .geometry import load_target
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
 #: against closed forms are in :data:`PRESET_MEASURED_ERROR_DB` (see convergence.py).
@@ -244,8 +244,3 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
                      int(main.tubes.sum()), int(main.ray_casts), main.exits_by_bounce, main.time_s, error_time,
                      engine.target.name, [m.name for m in engine.target.materials], engine.variant)
 
-
-def prepare(target, material=None, batch_size=None) -> SbrEngine:
-    """Build (once) the engine of a target for repeated :func:`compute_rcs` calls."""
-    return SbrEngine(target if isinstance(target, TargetMesh) else load_target(target, material),
-                     batch_size=batch_size)
