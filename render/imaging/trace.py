@@ -201,22 +201,24 @@ def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: f
 
     origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     u = (np.arange(grid) + 0.5) / grid
-    out = np.empty(4)
-    for side, (ax, ay) in enumerate(anchors):
-        axis, sign = side // 2, (-1.0 if side % 2 == 0 else 1.0)
-        best = np.array([ax, ay], dtype=float)
-        g = step
-        for _ in range(iterations):
-            along = best[axis] + sign * g * u
-            across = best[1 - axis] + g * (4.0 * u - 2.0)
-            a, c = np.meshgrid(along, across, indexing="ij")
-            pts = np.empty((2, a.size))
-            pts[axis], pts[1 - axis] = a.ravel(), c.ravel()
-            d = ray_directions(pts[0], pts[1], sensor, target_px).astype(np.float32)
-            hit = np.array(scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(), dtype=bool)
-            if hit.any():
-                k = np.flatnonzero(hit)[np.argmax(sign * pts[axis][hit])]
-                best = pts[:, k].copy()
-            g = 4.0 * g / grid
-        out[side] = best[axis]
-    return out
+    best = np.array(anchors, dtype=float)  # (4, 2): current extreme point of each side
+    axis = np.array([0, 0, 1, 1])
+    sign = np.array([-1.0, 1.0, -1.0, 1.0])
+    g = step
+    for _ in range(iterations):
+        # One launch for the four sides: grid x grid points beyond each current extreme.
+        along = best[np.arange(4), axis][:, None] + sign[:, None] * g * u[None, :]        # (4, grid)
+        across = best[np.arange(4), 1 - axis][:, None] + g * (4.0 * u[None, :] - 2.0)      # (4, grid)
+        a = np.repeat(along, grid, axis=1)
+        c = np.tile(across, (1, grid))
+        pts = np.where((axis == 0)[:, None, None], np.stack([a, c], axis=1), np.stack([c, a], axis=1))  # (4, 2, n)
+        d = ray_directions(pts[:, 0].ravel(), pts[:, 1].ravel(), sensor, target_px).astype(np.float32)
+        hit = np.array(scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(),
+                       dtype=bool).reshape(4, -1)
+        for side in range(4):
+            if hit[side].any():
+                coord = pts[side, axis[side]]
+                k = np.flatnonzero(hit[side])[np.argmax(sign[side] * coord[hit[side]])]
+                best[side] = pts[side, :, k]
+        g = 4.0 * g / grid
+    return best[np.arange(4), axis]
