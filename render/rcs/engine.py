@@ -19,9 +19,9 @@ The method of Ling, Chou & Lee (IEEE Trans. Antennas Propag. 37(2), 1989):
 3. *Physical optics.* At the tube's exit point (its last hit), the surface
    currents ``J = n x (H_i + H_r)`` and ``M = (E_i + E_r) x n`` (for a tube
    leaving through a shell: the aperture currents of the transmitted field
-   on the far side) radiate to
-   the observation direction ``s`` over the tube's footprint on the flat
-   facet, a parallelogram spanned by the tube edges projected along the ray.
+   on the far side) radiate to the observation direction ``s`` over the
+   tube's footprint on the flat facet, a parallelogram spanned by the tube
+   edges projected along the ray.
    The footprint integral of the linear phase ``exp(jk (s - k_i).r')`` is
    evaluated exactly as ``area * sinc(x1) * sinc(x2)`` (Bhalla & Ling, Radio
    Science 30(5), 1995), which removes the aliasing of point-sampled tubes at
@@ -41,11 +41,12 @@ Limitations (documented, not hidden): no edge diffraction (PTD) and no
 creeping waves, so RCS far from specular directions and at small ka is
 under-estimated; a dielectric is a half-space (transmitted wave absorbed) or
 a thin shell without refraction offset, never a thick refracting body; tubes
-do not diverge on curved (faceted) surfaces; tubes straddling a facet edge
-count entirely for the facet
-their centre hits (error proportional to perimeter * d / area, see
-:mod:`csuas.render.rcs.convergence`); no shadow test from exit points toward
-a bistatic observer.
+do not diverge on curved (faceted) surfaces, and point-sampled tubes do not
+resolve the shadow-boundary term of smooth curved bodies (a relative error
+of order 2/(2ka) on a sphere); tubes straddling a facet edge count entirely
+for the facet their centre hits (error proportional to perimeter * d / area,
+see :mod:`csuas.render.rcs.convergence`); no shadow test from exit points
+toward a bistatic observer.
 """
 
 from __future__ import annotations
@@ -249,9 +250,9 @@ class SbrEngine:
         u0 = first[0] + (jobs.grid_shift[:, 0] % 1.0) * spacing
         v0 = first[1] + (jobs.grid_shift[:, 1] % 1.0) * spacing
         tubes = nu * nv
-        if (nu >= 2 ** 31).any() or (tubes >= 2 ** 62).any():
+        if (tubes >= 2 ** 32).any():
             raise ParameterError("rays_per_wavelength", float(jobs.rays_per_wavelength.max()),
-                                 "a density giving fewer than 2^31 tubes per grid row")
+                                 "a density giving fewer than 2^32 tubes per aspect and frequency")
         s = direction_vector(jobs.observe_az_deg, jobs.observe_el_deg)           # (J, M, 3)
         s_theta, s_phi = polarisation_basis(jobs.observe_az_deg, jobs.observe_el_deg)
         # Complex permittivity of each (material, job): index material * J + job.
