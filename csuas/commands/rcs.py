@@ -38,7 +38,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--no-error-estimate", action="store_true",
                         help="skip the half-density run that estimates the discretisation error (saves ~20 %%)")
     parser.add_argument("--sphere-average", action="store_true",
-                        help="also the sphere-averaged RCS of Eq. 6 (cos-weighted, 72 x 24 aspects)")
+                        help="also the sphere-averaged RCS of Eq. 6 (cos-weighted, 36 x 12 aspects; "
+                             "cost grows with f^2, use --quality draft above ~20 GHz on a CPU)")
     parser.add_argument("--plot", metavar="PNG", default=None,
                         help="write a polar plot of RCS vs azimuth (2 deg steps) at the given elevation")
 
@@ -91,7 +92,8 @@ def run(args) -> dict:
     if args.sphere_average:
         from csuas.render.rcs.sweep import sphere_average
 
-        avg = sphere_average(engine, args.frequency_ghz, polarisation=pol, quality=args.quality,
+        avg = sphere_average(engine, args.frequency_ghz, n_azimuth=36, n_elevation=12, polarisation=pol,
+                             quality=args.quality,
                              rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces)
         out["sphere_average"] = {k: (v.tolist()[0] if isinstance(v, np.ndarray) and v.size == 1 else v)
                                  for k, v in avg.items()}
@@ -123,8 +125,8 @@ def render_text(result: dict) -> str:
              + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
              "  " + "  ".join(f"{p} {v:.2f}" for p, v in result["rcs_dbsm_by_polarisation"].items()) + " dBsm",
              f"  {result['rays']} tubes at {result['rays_per_wavelength']:g} per wavelength, "
-             f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s, "
-             f"{result['time_s']:.2f} s"]
+             f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
+             f"(a first launch includes kernel compilation), {result['time_s']:.2f} s"]
     if "sphere_average" in result:
         avg = result["sphere_average"]
         lines.append(f"  sphere average (Eq. 6): {avg['mean_m2']:.4g} m^2 = {avg['mean_dbsm']:.2f} dBsm "

@@ -230,6 +230,8 @@ class SbrEngine:
         self._face_material = mi.UInt32(np.asarray(target.face_material, np.uint32))
         self._radius = 1.01 * target.bounding_radius_m + 1e-3
         self._hull = _hull_points(target.vertices)
+        # Without thin shells no tube is ever transmitted, and the kernels leave that branch out.
+        self._has_shells = any(m.thickness_m for m in target.materials if not m.is_pec)
 
     # ------------------------------------------------------------------ set-up
     def _job_tables(self, jobs: Jobs):
@@ -383,15 +385,16 @@ class SbrEngine:
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
             contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs)
-            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)
+            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)          # (the *_t are empty without shells)
             last = bounce == max_bounces
             # Reflected branches radiate now when every hit radiates, at the last bounce, or when too weak
             # to follow; otherwise their contribution waits for the next trace (exit point).
             self._accumulate(acc, st_r["job"], contrib, dr.full(mi.Bool, True, dr.width(keep))
                              if (radiate == "all" or last) else ~keep, n_obs)
-            n_keep, n_through = count(keep), count(has_t)
+            n_keep, n_through = count(keep), (count(has_t) if self._has_shells else 0)
             if last:
-                self._accumulate(acc, st_t["job"], contrib_t, has_t, n_obs)
+                if n_through:
+                    self._accumulate(acc, st_t["job"], contrib_t, has_t, n_obs)
                 stats["exits"][bounce] += n_keep + n_through
                 break
             stats["exits"][bounce] += dr.width(keep) - n_keep
@@ -411,10 +414,12 @@ class SbrEngine:
     def _interact(self, dev, st, t, prim, n_obs):
         """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
 
-        Returns ``(contrib_r, state_r, contrib_t, state_t, has_t)``: the PO
-        field of the surface currents of the reflection, the reflected tube,
-        the aperture field of the transmitted wave on the far side of a thin
-        shell, the transmitted tube, and where a transmitted tube exists.
+        Returns ``(contrib_r, state_r, contrib_t, state_t, has_t, keep_r)``:
+        the PO field of the surface currents of the reflection, the reflected
+        tube, the aperture field of the transmitted wave on the far side of a
+        thin shell, the transmitted tube, where a transmitted tube exists,
+        and where the reflected tube is strong enough to follow. Without thin
+        shells in the scene the transmitted parts are empty.
         """
         mi, dr = self.mi, self.dr
         Float, UInt, V3, C = mi.Float, mi.UInt32, mi.Vector3f, mi.Complex2f
@@ -491,6 +496,7 @@ class SbrEngine:
         f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction   # footprint edges on the facet
         f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
         contrib_r, contrib_t = [], []
+        sides = ((refl, n, contrib_r), (trans, -n, contrib_t)) if self._has_shells else ((refl, n, contrib_r),)
         for m in range(n_obs):
             o_idx = job * n_obs + m
             s = dr.gather(V3, dev["s"], o_idx)
@@ -501,7 +507,7 @@ class SbrEngine:
             sin_psi, cos_psi = dr.sincos(psi)
             amp = k * foot * (1.0 / (4.0 * math.pi))
             f_re, f_im = amp * sin_psi, -amp * cos_psi                  # -j k A S e^{j psi} / (4 pi)
-            for fields, normal, out in ((refl, n, contrib_r), (trans, -n, contrib_t)):
+            for fields, normal, out in sides:
                 tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
                 for x_re, x_im, y_re, y_im, _, _ in fields:
                     # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
@@ -523,6 +529,8 @@ class SbrEngine:
         st_r.update(o=p + nudge * n, dir=dr.normalize(dir_r), phase_len=phase_len + nudge * cos_i,
                     a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n, a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
                     ev_re=refl[0][4], ev_im=refl[0][5], eh_re=refl[1][4], eh_im=refl[1][5])
+        if not self._has_shells:
+            return contrib_r, st_r, [], {}, mi.Bool(), keep_r
         st_t = dict(st)
         st_t.update(o=p - nudge * n, phase_len=phase_len + nudge * cos_i,
                     ev_re=trans[0][4], ev_im=trans[0][5], eh_re=trans[1][4], eh_im=trans[1][5])
