@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
 from csuas.cli import main
@@ -86,6 +87,7 @@ def test_rcs_table_grid_for_link_simulators():
 
     table = rcs_table(canonical.cylinder(0.05, 0.3), 10.0, [0.0, 90.0, 180.0], [-10.0, 0.0], rays_per_wavelength=6,
                       error_estimate=False)
-    assert table["rcs_m2"].shape == (2, 3) and table["error_db"] is None
+    assert table["rcs_m2"].shape == (3, 2) and table["error_db"] is None
     broadside = 2 * math.pi * 0.05 * 0.09 / (C / 10e9)
-    assert 10 * math.log10(table["rcs_m2"][1, 0]) == pytest.approx(10 * math.log10(broadside), abs=0.7)
+    assert 10 * np.log10(table["rcs_m2"][:, 1]) == pytest.approx(np.full(3, 10 * math.log10(broadside)), abs=0.7)
+    assert np.all(table["rcs_m2"][:, 0] < table["rcs_m2"][:, 1])             # broadside is the maximum

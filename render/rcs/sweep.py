@@ -81,12 +81,13 @@ def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polar
     Returns
     -------
     dict
-        ``azimuth_deg`` (Na,), ``elevation_deg`` (Ne,), ``rcs_m2`` (Ne, Na),
-        ``error_db`` (Ne, Na) or None, ``rays``, ``time_s``.
+        ``azimuth_deg`` (Na,), ``elevation_deg`` (Ne,), ``rcs_m2`` (Na, Ne),
+        ``error_db`` (Na, Ne) or None, ``rays``, ``time_s`` (the layout of
+        ``csuas.render.links.rcs_table.RCSTable``).
     """
     az = np.atleast_1d(np.asarray(azimuth_deg, float))
     el = np.atleast_1d(np.asarray(elevation_deg, float))
-    grid_az, grid_el = np.meshgrid(az, el)                     # (Ne, Na)
+    grid_az, grid_el = np.meshgrid(az, el, indexing="ij")     # (Na, Ne)
     res = compute_rcs(target, frequency_ghz, grid_az.ravel(), grid_el.ravel(), **kwargs)
     err = res.error_estimate_db(polarisation)
     return {"frequency_ghz": float(frequency_ghz), "azimuth_deg": az, "elevation_deg": el,
