@@ -9,6 +9,8 @@ import resource
 import numpy as np
 import pytest
 import trimesh
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from csuas.errors import ParameterError
 from csuas.render.rcs import canonical, load_target, prepare_mesh, resolve_material
@@ -251,3 +253,15 @@ def test_drone_presets_have_dielectric_shells_and_conductors():
     assert all(m.thickness_m is None for m in half.materials)
     with pytest.raises(ParameterError, match="shell_thickness_m"):
         load_target("dji_mini_4_pro", shell_thickness_m=-1.0)
+
+
+# ---------------------------------------------------------------- scaling law
+@settings(max_examples=8, deadline=None)
+@given(scale=st.floats(0.2, 5.0), azimuth=st.floats(-30.0, 30.0), elevation=st.floats(-20.0, 20.0))
+def test_electromagnetic_scaling(scale, azimuth, elevation):
+    """Maxwell's equations are scale invariant: the mesh scaled by s at frequency f / s has s^2 times the RCS."""
+    mesh = canonical.dihedral(0.1, 0.15)
+    big = canonical.dihedral(0.1 * scale, 0.15 * scale)
+    a = compute_rcs(mesh, 10.0, azimuth, elevation, rays_per_wavelength=6, error_estimate=False).sigma_m2
+    b = compute_rcs(big, 10.0 / scale, azimuth, elevation, rays_per_wavelength=6, error_estimate=False).sigma_m2
+    np.testing.assert_allclose(b, scale ** 2 * a, rtol=2e-3, atol=1e-6 * scale ** 2 * a.max())
