@@ -6,7 +6,8 @@ regression is
 * a check of the old report that is missing from the new one;
 * a check that passed (or was a known deviation) and now fails;
 * an expected or measured value that moved by more than the check's stated
-  tolerance (the new report's; the old one's when the new has none), or
+  tolerance (the larger of the two reports' tolerances, so that a baseline
+  taken at a coarser quality is compared with its own, wider, tolerance), or
   that became non-finite.
 
 Checks new in this report are listed, not counted as regressions.
@@ -65,8 +66,8 @@ def compare(new_checks: list, old_checks: list) -> dict:
             regressions.append({"name": name, "what": "passed before, fails now", "old": o.get("measured"),
                                 "new": n.get("measured"), "tolerance": n.get("tolerance")})
             continue
-        tol = _number(n.get("tolerance"))
-        tol = tol if tol is not None else _number(o.get("tolerance"))
+        stated = [t for t in (_number(n.get("tolerance")), _number(o.get("tolerance"))) if t is not None]
+        tol = max(stated) if stated else None
         for key in ("expected", "measured"):
             before, after = _number(o.get(key)), _number(n.get(key))
             if before is None and after is None:

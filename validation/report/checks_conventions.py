@@ -146,7 +146,8 @@ def point_1(render_quality: str) -> Section:
 
 # --- 2. TIR Delta T: linear vs band radiometry, Eq. 31 -------------------------------------------------------
 EXPLAIN_2 = ("SPEC 3.4 (2): Eq. 26 multiplies emissivity by temperature; the physical Delta T is the difference "
-             "of radiance temperatures of band-integrated Planck radiance (LWIR 8-12 um), less than half as large.")
+             "of radiance temperatures of band-integrated Planck radiance (LWIR 8-12 um, MWIR 3-5 um), less than "
+             "half as large.")
 EXPLAIN_2B = ("SPEC 3.4 (2): Eq. 31 uses exp(-sigma z) with sigma in dB/km (4.343 times too strong an "
               "attenuation) and ignores the path radiance; physical: radiance transmittance 10^(-sigma z/10) "
               "plus the air's path radiance.")

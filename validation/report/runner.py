@@ -113,7 +113,8 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
               "time_s": time.perf_counter() - start, "summary": summary, "checks": to_jsonable(checks),
               "sections": to_jsonable(section_records), "baseline": None}
     if old is not None:
-        report["baseline"] = {"file": str(baseline), **compare(report["checks"], old["checks"])}
+        report["baseline"] = {"file": str(baseline), "quality": old.get("quality"),
+                              **compare(report["checks"], old["checks"])}
     regressions = report["baseline"]["regressions"] if report["baseline"] else []
     report["exit_code"] = 1 if summary["failed"] or regressions else 0
     report["files"] = {"html": str(out / "report.html"), "json": str(out / "report.json"),
