@@ -137,7 +137,8 @@ def gallery(quality: str) -> Section:
     for r in (30.0, 150.0, 555.0):
         res = _render(r, p, quality, seed=11)
         s.figures.append(image(f"eo_{r:g}m", f"EO, {r:g} m", preview_rgb(res),
-                               caption=f"{res.window.as_dict()} px window, {res.values['pixels_on_target']:.1f} px on "
+                               caption=f"{res.window.width} x {res.window.height} px window, "
+                                       f"{res.values['pixels_on_target']:.1f} px on "
                                        f"target, contrast {res.values['contrast']:.3f}"))
     tp, env, t = sc.sensors["tir"].params, sc.environment, sc.target
     for r in (10.0, 30.0, 100.0):
