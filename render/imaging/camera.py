@@ -163,6 +163,17 @@ def jittered_film_samples(window: Window, pixels: np.ndarray, n_side: int, rng: 
     return x.ravel(), y.ravel(), (x_hi - x_lo) * (y_hi - y_lo)
 
 
+def sampled_areas(window: Window, pixels: np.ndarray, bounds=None) -> np.ndarray:
+    """Area [px^2] of each window pixel inside ``bounds`` (1 everywhere without bounds)."""
+    px = (window.x0 + pixels % window.width).astype(float)
+    py = (window.y0 + pixels // window.width).astype(float)
+    if bounds is None:
+        return np.ones(pixels.size)
+    w = np.clip(px + 1.0, bounds[0], bounds[1]) - np.clip(px, bounds[0], bounds[1])
+    h = np.clip(py + 1.0, bounds[2], bounds[3]) - np.clip(py, bounds[2], bounds[3])
+    return w * h
+
+
 def target_bounds(sensor: SensorGeometry, range_m: float, radius_m: float, target_px) -> tuple:
     """Film-coordinate box (x_lo, x_hi, y_lo, y_hi) containing the image of the bounding sphere."""
     half = radius_m / math.sqrt(range_m * range_m - radius_m * radius_m) / sensor.ifov_rad

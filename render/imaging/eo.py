@@ -179,4 +179,4 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
                     ground_radiance=light["ground_radiance"])
     return ImagingResult("eo", "visible", r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
                          m.values, m.stderr, m.image, m.coverage, "cd m^-2", ("R", "G", "B"), list(path.terms), q,
-                         tally.samples, time.perf_counter() - t0, notes)
+                         tally.samples, tally.n_side ** 2 * tally.n_batches, time.perf_counter() - t0, notes)

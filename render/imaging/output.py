@@ -32,7 +32,7 @@ def _header(result) -> dict:
             "csuas_range_m": float(result.range_m), "csuas_ifov_rad": float(result.ifov_rad),
             "csuas_azimuth_deg": float(result.azimuth_deg), "csuas_elevation_deg": float(result.elevation_deg),
             "csuas_window_x0": int(w.x0), "csuas_window_y0": int(w.y0),
-            "csuas_samples_per_pixel": int(result.quality.spp),
+            "csuas_samples_per_pixel": int(result.samples_per_pixel),
             "csuas_channels": ",".join(result.channels) + ",A (coverage)"}
 
 

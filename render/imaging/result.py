@@ -37,6 +37,9 @@ class ImagingResult:
     quality : Quality
     samples : int
         Camera rays traced.
+    samples_per_pixel : int
+        Samples per sampled pixel region (n_side**2 x batches; raised above the
+        preset for small targets).
     time_s : float
         Wall time of the render and measurement [s].
     notes : list of str
@@ -58,6 +61,7 @@ class ImagingResult:
     terms: list
     quality: object
     samples: int
+    samples_per_pixel: int
     time_s: float
     notes: list = field(default_factory=list)
 
@@ -68,6 +72,6 @@ class ImagingResult:
                "azimuth_deg": self.azimuth_deg, "elevation_deg": self.elevation_deg, "ifov_rad": self.ifov_rad}
         out.update(self.values)
         out.update(stderr=dict(self.stderr), time_s=self.time_s, samples=self.samples,
-                   samples_per_pixel=self.quality.spp, quality=self.quality.name, window_px=self.window.as_dict(),
+                   samples_per_pixel=self.samples_per_pixel, quality=self.quality.name, window_px=self.window.as_dict(),
                    terms=list(self.terms), units=self.units, notes=list(self.notes))
         return out

@@ -161,4 +161,4 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
         notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
     return ImagingResult("tir", band, r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
                          values, stderr, m.image, m.coverage, "W m^-2 sr^-1", ("L",), list(path.terms), q,
-                         tally.samples, time.perf_counter() - t0, notes)
+                         tally.samples, tally.n_side ** 2 * tally.n_batches, time.perf_counter() - t0, notes)

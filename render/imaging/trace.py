@@ -15,15 +15,19 @@ whatever the sample count.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from csuas.render.imaging.camera import SensorGeometry, Window, jittered_film_samples, ray_directions
+from csuas.render.imaging.camera import SensorGeometry, Window, jittered_film_samples, ray_directions, sampled_areas
 
 #: Rays per Dr.Jit launch (bounds memory: about 0.5 GiB on the LLVM back-end).
 MAX_LAUNCH = 1 << 21
+#: A target's box gets at least the samples of a target this many pixels in area (per batch,
+#: times n_side**2): sub-pixel targets keep the precision of an 8 x 8 px image.
+MIN_BOX_PIXELS = 64
 
 
 @dataclass
@@ -41,6 +45,8 @@ class WindowTally:
         y_min, y_max [px] (NaN where a batch has no hit).
     samples : int
         Camera rays traced in total.
+    n_side : int
+        Strata per pixel side actually used (raised for small targets, see :data:`MIN_BOX_PIXELS`).
     nonfinite_samples : int
         Shaded samples whose radiance was NaN or inf (counted as 0 and reported).
     extent_refined : ndarray, shape (4,) or None
@@ -54,6 +60,7 @@ class WindowTally:
     extent: np.ndarray
     samples: int
     time_s: float
+    n_side: int
     nonfinite_samples: int = 0
     extent_refined: np.ndarray | None = None
 
@@ -64,7 +71,8 @@ class WindowTally:
 
 def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, target_px, camera_distance: float, *,
                  n_side: int, n_batches: int, seed: int = 0, channels: int = 3, max_launch: int = MAX_LAUNCH,
-                 bounds=None, medium=None, geometry=None, progress=None) -> WindowTally:
+                 bounds=None, min_box_pixels: int = MIN_BOX_PIXELS, medium=None, geometry=None,
+                 progress=None) -> WindowTally:
     """Trace ``n_batches`` x ``n_side**2`` jittered samples in every pixel of ``window``.
 
     Parameters
@@ -87,7 +95,11 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
         Upper bound of rays per launch (memory bound).
     bounds : (x_lo, x_hi, y_lo, y_hi) or None
         Box containing the target's image; pixels are sampled only inside it
-        (:func:`~csuas.render.imaging.camera.jittered_film_samples`).
+        (:func:`~csuas.render.imaging.camera.jittered_film_samples`), and
+        pixels outside it are not sampled at all.
+    min_box_pixels : int
+        With ``bounds``: n_side is raised until the box gets at least
+        ``min_box_pixels * n_side**2`` samples per batch (0: never raised).
     medium : mitsuba.Medium or None
         Medium that contains the camera (a participating atmosphere); None: vacuum.
     geometry : mitsuba.Scene or None
@@ -99,8 +111,11 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     import mitsuba as mi
 
     t0 = time.perf_counter()
-    n2 = n_side * n_side
     n_px = window.n_pixels
+    active = np.flatnonzero(sampled_areas(window, np.arange(n_px), bounds) > 0)
+    if bounds is not None and min_box_pixels > 0:
+        n_side = max(n_side, math.ceil(n_side * math.sqrt(min_box_pixels / active.size)))
+    n2 = n_side * n_side
     chunk = max(1, max_launch // n2)
     coverage = np.zeros(n_batches * n_px)
     radiance = np.zeros((channels, n_batches * n_px))
@@ -114,7 +129,7 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     rngs = [np.random.default_rng([int(seed), b]) for b in range(n_batches)]
     shade_rng = np.random.default_rng([int(seed), n_batches, 1])  # path-tracer seeds, apart from the positions
     # Work units (batch, first pixel, last pixel) packed into launches of at most max_launch rays.
-    units = [(b, p0, min(p0 + chunk, n_px)) for b in range(n_batches) for p0 in range(0, n_px, chunk)]
+    units = [(b, p0, min(p0 + chunk, active.size)) for b in range(n_batches) for p0 in range(0, active.size, chunk)]
     launches, current, size = [], [], 0
     for unit in units:
         rays = (unit[2] - unit[1]) * n2
@@ -127,7 +142,7 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     for i, launch in enumerate(launches):
         xs, ys, areas, owners, batches = [], [], [], [], []
         for b, p0, p1 in launch:
-            pixels = np.arange(p0, p1)
+            pixels = active[p0:p1]
             x, y, area = jittered_film_samples(window, pixels, n_side, rngs[b], bounds)
             xs.append(x)
             ys.append(y)
@@ -171,7 +186,7 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
         refined = refine_extremes(geometry, sensor, target_px, camera_distance, anchors, step)
     shape = (window.height, window.width)
     return WindowTally(coverage.reshape(n_batches, *shape), radiance.reshape(n_batches, channels, *shape),
-                       extent, n_batches * n_px * n2, time.perf_counter() - t0, nonfinite, refined)
+                       extent, n_batches * active.size * n2, time.perf_counter() - t0, n_side, nonfinite, refined)
 
 
 def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: float, anchors, step: float,
