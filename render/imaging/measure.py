@@ -21,10 +21,9 @@ target radiance and hit extents) and the analytic background and path:
   background, apparent at the sensor) and ``delta_t_peak_pixel_k``.
 
 Standard errors: delete-one-batch jackknife over the independent batches
-(Efron & Stein 1981), valid for the nonlinear figures too. The extents use
-the all-batch extreme hits refined by local searches
-(:func:`~csuas.render.imaging.trace.refine_extremes`); their standard error is
-the jackknife of the unrefined per-batch extremes, an upper bound.
+(Efron & Stein 1981), valid for the nonlinear figures too. The extents are
+each batch's extreme hits refined by local searches
+(:func:`~csuas.render.imaging.trace.refine_extremes`), combined over batches.
 """
 
 from __future__ import annotations
@@ -113,8 +112,8 @@ def measure_window(tally, background, path: PathEffect, weights=(1.0,), to_tempe
     weights = np.asarray(weights, dtype=float)
     background = np.broadcast_to(np.asarray(background, dtype=float), (tally.radiance.shape[1],))
     cov_sum, rad_sum = tally.coverage.sum(0), tally.radiance.sum(0)
-    extent = tally.extent_refined if tally.extent_refined is not None else _extent_of(tally.extent)
-    values, image = _figures(cov_sum / k, rad_sum / k, extent, background, weights, path, to_temperature)
+    values, image = _figures(cov_sum / k, rad_sum / k, _extent_of(tally.extent), background, weights, path,
+                             to_temperature)
     stderr = {name: 0.0 for name in values}
     if k > 1:
         loo = []

@@ -10,16 +10,20 @@ sensor (13.30 px on target, 3.03 px across d_crit, 169-pixel window); thermal:
 0.3 m graybody plate at 200 m reflecting 293.15 K surroundings (exact
 Delta T -7.243 K):
 
-=========  ====  ==================  ==================  =============  ===============  ==========
-preset     spp   pixels on target    px across d_crit    EO contrast    TIR Delta T      time/range
-=========  ====  ==================  ==================  =============  ===============  ==========
-draft        32  -0.3 % (se 1.9 %)   -0.15 % (se 2.7 %)  se 0.055       +0.01 (se 0.21)  0.2 s
-standard    128  -0.5 % (se 0.7 %)   -0.03 % (se 0.7 %)  se 0.013       +0.12 (se 0.10)  0.2 s
-reference  2048  +0.03 % (se 0.06 %) -0.01 % (se 0.12 %) se 0.005       +0.02 (se 0.02)  0.3 s
-=========  ====  ==================  ==================  =============  ===============  ==========
+=========  ====  ==================  ==================  ===============  ===============  ==========
+preset     spp   pixels on target    px across d_crit    EO contrast      TIR Delta T [K]  time/range
+=========  ====  ==================  ==================  ===============  ===============  ==========
+draft        32  +2.0 % (se 1.7 %)   -0.05 % (se 0.02 %) +0.016 (se .025) +0.12 (se 0.10)  0.4 s
+standard    128  +0.2 % (se 0.5 %)   -0.03 % (se 0.03 %) +0.011 (se .020) +0.00 (se 0.07)  0.2-0.4 s
+reference  2048  +0.06 % (se 0.08 %) -0.00 % (se 0.02 %) (reference)      +0.03 (se 0.02)  0.1-0.5 s
+=========  ====  ==================  ==================  ===============  ===============  ==========
 
-(The extents' standard error is the jackknife of the unrefined extremes, an
-upper bound.) Memory: launches of at most 2**21 rays; the worst window
+Errors are against the exact silhouette and the band-Planck Delta T; the EO
+contrast error is against the reference render (-0.334 +- 0.003). Small
+targets get more samples than the preset's per-pixel count
+(:data:`csuas.render.imaging.trace.MIN_BOX_PIXELS`), which is why the thermal
+plate (about 2 px) costs little at every preset.
+Memory: launches of at most 2**21 rays; the worst window
 (the drone at 10 m, 475 x 475 px) at reference quality traced 4.6e8 rays in
 97 s with a peak resident set of 0.77 GB.
 """

@@ -41,16 +41,15 @@ class WindowTally:
     radiance : ndarray, shape (K, C, H, W)
         Pixel-averaged radiance of the target alone (0 where no target), per batch.
     extent : ndarray, shape (K, 4)
-        Extremal film coordinates of target hits per batch: x_min, x_max,
-        y_min, y_max [px] (NaN where a batch has no hit).
+        Silhouette extremes per batch, x_min, x_max, y_min, y_max [film px]:
+        each batch's extreme hits refined by :func:`refine_extremes` (NaN
+        where a batch has no hit).
     samples : int
         Camera rays traced in total.
     n_side : int
         Strata per pixel side actually used (raised for small targets, see :data:`MIN_BOX_PIXELS`).
     nonfinite_samples : int
         Shaded samples whose radiance was NaN or inf (counted as 0 and reported).
-    extent_refined : ndarray, shape (4,) or None
-        All-batch extremes after :func:`refine_extremes` (NaN without hits).
     time_s : float
         Wall time of the tally [s].
     """
@@ -62,7 +61,6 @@ class WindowTally:
     time_s: float
     n_side: int
     nonfinite_samples: int = 0
-    extent_refined: np.ndarray | None = None
 
     @property
     def n_batches(self) -> int:
@@ -119,9 +117,9 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
     chunk = max(1, max_launch // n2)
     coverage = np.zeros(n_batches * n_px)
     radiance = np.zeros((channels, n_batches * n_px))
-    lo = np.full((n_batches, 2), np.inf)
-    hi = np.full((n_batches, 2), -np.inf)
-    anchors = [None] * 4  # (x, y) of the all-batch extreme hits: x_min, x_max, y_min, y_max
+    # Extreme hit points per batch and side (x_min, x_max, y_min, y_max): anchors[b, side] = (x, y).
+    anchors = np.full((n_batches, 4, 2), np.nan)
+    sides = ((0, -1.0), (0, 1.0), (1, -1.0), (1, 1.0))  # (axis, sign)
     nonfinite = 0
     origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     geometry = scene if geometry is None else geometry
@@ -166,74 +164,80 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
                 value = np.where(bad, 0.0, value)
             for ch in range(channels):
                 radiance[ch] += np.bincount(owner[idx], weights=value[ch] * weight[idx], minlength=n_batches * n_px)
-            for side, (coord, sign) in enumerate(((x, -1.0), (x, 1.0), (y, -1.0), (y, 1.0))):
-                j = idx[np.argmax(sign * coord[idx])]
-                if anchors[side] is None or sign * coord[j] > sign * anchors[side][side // 2]:
-                    anchors[side] = (x[j], y[j])
             for b in np.unique(batch[idx]):
                 sel = idx[batch[idx] == b]
-                lo[b] = np.minimum(lo[b], [x[sel].min(), y[sel].min()])
-                hi[b] = np.maximum(hi[b], [x[sel].max(), y[sel].max()])
+                for side, (axis, sign) in enumerate(sides):
+                    coord = (x, y)[axis]
+                    j = sel[np.argmax(sign * coord[sel])]
+                    if np.isnan(anchors[b, side, 0]) or sign * coord[j] > sign * anchors[b, side, axis]:
+                        anchors[b, side] = (x[j], y[j])
         if progress is not None:
             progress((i + 1) / len(launches))
     dr.sync_thread()
-    extent = np.where(np.isfinite(lo[:, :1]), np.stack([lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]], axis=1), np.nan)
     coverage = coverage.reshape(n_batches, n_px)
     radiance = radiance.reshape(channels, n_batches, n_px).transpose(1, 0, 2)
-    refined = None
-    if anchors[0] is not None:
+    extent = np.full((n_batches, 4), np.nan)
+    found = ~np.isnan(anchors[:, 0, 0])
+    if found.any():
         step = 2.0 / n_side * (1.0 if bounds is None else min(1.0, bounds[1] - bounds[0]))
-        refined = refine_extremes(geometry, sensor, target_px, camera_distance, anchors, step)
+        points = anchors[found].reshape(-1, 2)
+        side_of = np.tile(np.arange(4), int(found.sum()))
+        extent[found] = refine_extremes(geometry, sensor, target_px, camera_distance, points, side_of,
+                                        step).reshape(-1, 4)
     shape = (window.height, window.width)
     return WindowTally(coverage.reshape(n_batches, *shape), radiance.reshape(n_batches, channels, *shape),
-                       extent, n_batches * active.size * n2, time.perf_counter() - t0, n_side, nonfinite, refined)
+                       extent, n_batches * active.size * n2, time.perf_counter() - t0, n_side, nonfinite)
 
 
-def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: float, anchors, step: float,
+def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: float, points, sides, step: float,
                     grid: int = 24, iterations: int = 3) -> np.ndarray:
-    """Push the extreme hits of the silhouette outward by local grid searches.
+    """Push extreme hits of the silhouette outward by local grid searches.
 
     The extreme hit of random samples falls short of the silhouette's true
     extent by the gap to the nearest sample (for a rounded outline of radius r
     about (S sqrt(r))^(-2/3) px at S samples per px^2). Beyond each extreme hit
     (x*, y*) a ``grid`` x ``grid`` search over [x*, x* + g] x [y* - 2g, y* + 2g]
-    (for x_max; alike for the other sides) moves the extreme to the outermost
-    hit; g shrinks to 4 grid cells each iteration.
+    (for an x_max side; alike for the others) moves the extreme to the
+    outermost hit; g shrinks to 4 grid cells each iteration. All points are
+    searched together, one launch per iteration.
 
     Parameters
     ----------
-    anchors : list of 4 (x, y)
-        Extreme hits for x_min, x_max, y_min, y_max [film px].
+    points : ndarray, shape (m, 2)
+        Extreme hits [film px].
+    sides : ndarray of int, shape (m,)
+        Side of each point: 0 x_min, 1 x_max, 2 y_min, 3 y_max.
     step : float
         Initial search depth g [px] (about twice the sample spacing).
 
     Returns
     -------
-    ndarray, shape (4,)
-        x_min, x_max, y_min, y_max [film px].
+    ndarray, shape (m,)
+        Refined extreme coordinate of each point along its side's axis [film px].
     """
     import mitsuba as mi
 
     origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     u = (np.arange(grid) + 0.5) / grid
-    best = np.array(anchors, dtype=float)  # (4, 2): current extreme point of each side
-    axis = np.array([0, 0, 1, 1])
-    sign = np.array([-1.0, 1.0, -1.0, 1.0])
+    best = np.array(points, dtype=float)
+    m = len(best)
+    axis = np.asarray(sides) // 2
+    sign = np.where(np.asarray(sides) % 2 == 0, -1.0, 1.0)
+    rows = np.arange(m)
     g = step
     for _ in range(iterations):
-        # One launch for the four sides: grid x grid points beyond each current extreme.
-        along = best[np.arange(4), axis][:, None] + sign[:, None] * g * u[None, :]        # (4, grid)
-        across = best[np.arange(4), 1 - axis][:, None] + g * (4.0 * u[None, :] - 2.0)      # (4, grid)
+        along = best[rows, axis][:, None] + sign[:, None] * g * u[None, :]      # (m, grid)
+        across = best[rows, 1 - axis][:, None] + g * (4.0 * u[None, :] - 2.0)   # (m, grid)
         a = np.repeat(along, grid, axis=1)
         c = np.tile(across, (1, grid))
-        pts = np.where((axis == 0)[:, None, None], np.stack([a, c], axis=1), np.stack([c, a], axis=1))  # (4, 2, n)
+        pts = np.where((axis == 0)[:, None, None], np.stack([a, c], axis=1), np.stack([c, a], axis=1))  # (m, 2, n)
         d = ray_directions(pts[:, 0].ravel(), pts[:, 1].ravel(), sensor, target_px).astype(np.float32)
         hit = np.array(scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(),
-                       dtype=bool).reshape(4, -1)
-        for side in range(4):
-            if hit[side].any():
-                coord = pts[side, axis[side]]
-                k = np.flatnonzero(hit[side])[np.argmax(sign[side] * coord[hit[side]])]
-                best[side] = pts[side, :, k]
+                       dtype=bool).reshape(m, -1)
+        coord = pts[rows, axis]                                                   # (m, n)
+        score = np.where(hit, sign[:, None] * coord, -np.inf)
+        k = np.argmax(score, axis=1)
+        improved = hit.any(axis=1)
+        best[improved] = pts[rows, :, k][improved]
         g = 4.0 * g / grid
-    return best[np.arange(4), axis]
+    return best[rows, axis]
