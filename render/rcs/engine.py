@@ -546,11 +546,16 @@ class SbrEngine:
         sel = dr.compress(active)
         if dr.width(sel) == 0:
             return
-        job_np = np.asarray(dr.gather(mi.UInt32, job, sel))
-        n_bins = acc.shape[0]
-        for i, part in enumerate(parts):           # order: receiver, tx (V, H), rx (theta, phi), re/im
-            values = np.asarray(dr.gather(mi.Float, part, sel), np.float64)
-            acc[:, i] += np.bincount(job_np, weights=values, minlength=n_bins)
+        job_sel = dr.gather(mi.UInt32, job, sel)
+        values = [dr.gather(mi.Float, part, sel) for part in parts]
+        dr.eval(job_sel, values)                    # one kernel for all gathers
+        job_np = np.asarray(job_sel)
+        # columns: receiver, tx (V, H), rx (theta, phi), re/im
+        table = np.stack([np.asarray(v) for v in values])                       # (8 M, n) float32
+        # Tubes are launched job by job and compaction keeps their order, so jobs come in a few long
+        # runs (one per job and branch): sum each run, then add the run sums in order.
+        starts = np.flatnonzero(np.r_[True, job_np[1:] != job_np[:-1]])
+        np.add.at(acc, job_np[starts], np.add.reduceat(table, starts, axis=1, dtype=np.float64).T)
 
 
 def _concat(dr, a, b):
