@@ -13,9 +13,11 @@ horizontal path of length R:
   and path radiance of air at T_air (the path emits as a graybody of
   emissivity 1 - tau).
 
-Both are the radiative-transfer solution for a homogeneous, non-scattering-
-into-the-beam-from-elsewhere path whose source function is the horizon
-radiance (airlight) or the air's Planck radiance. A disabled atmosphere
+Both are the solution of the radiative transfer equation along a
+homogeneous path whose source function is uniform: the horizon luminance
+(airlight, valid in radiative equilibrium, see
+:mod:`csuas.render.imaging.medium` for the participating-medium check) or the
+air's Planck radiance (thermal emission of the path). A disabled atmosphere
 (``None``) contributes exactly nothing: tau = 1 and no path radiance.
 """
 
