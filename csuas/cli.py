@@ -31,7 +31,8 @@ COMMANDS = {
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
-    "render": "EO and thermal images of a scenario's drone at slant ranges: pixels on target, contrast, Delta T",
+    "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
+              "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",
 }
 

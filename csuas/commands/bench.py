@@ -14,6 +14,7 @@ SUITES = {
     "rcs_memory": ("csuas.render.rcs.bench", "bench_memory"),
     "sionna_links": ("csuas.render.links.bench", "bench_links"),
     "lidar_lcs": ("csuas.render.lidar.bench", "bench"),
+    "render_window": ("csuas.render.imaging.bench", "bench_window_vs_full_frame"),
 }
 
 

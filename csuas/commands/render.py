@@ -17,6 +17,7 @@ from csuas.errors import ParameterError
 MODES = {
     "eo": "csuas.render.imaging.modes:eo_scenario",
     "tir": "csuas.render.imaging.modes:tir_scenario",
+    "lidar": "csuas.render.lidar.runner:render_lidar",
 }
 QUALITIES = ("draft", "standard", "reference")
 
@@ -27,7 +28,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario TOML file or embedded scenario name")
     parser.add_argument("--range-m", type=float, nargs="+", required=True, metavar="R", help="slant ranges [m]")
     parser.add_argument("--quality", choices=QUALITIES, default="standard",
-                        help="samples per pixel: draft 32, standard 128, reference 2048 (default standard)")
+                        help="eo/tir: samples per pixel draft 32, standard 128, reference 2048; lidar: ray grid "
+                             "draft 48^2x4, standard 128^2x8, reference 384^2x16 (default standard)")
     parser.add_argument("--azimuth-deg", type=float, default=0.0,
                         help="direction target -> sensor, azimuth from +x toward +y [deg] (default 0)")
     parser.add_argument("--elevation-deg", type=float, default=0.0,
