@@ -10,9 +10,7 @@ test: setup
 	$(PYTHON) -m pytest -q
 
 report: setup
-	csuas range default
-	csuas defaults check --core-only
-	csuas sensitivity --out $(OUT)
+	csuas report --quick --out $(OUT)
 
 bench: setup
 	csuas bench
