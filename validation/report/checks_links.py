@@ -110,6 +110,54 @@ def radar_links(budget: str) -> Section:
     return s
 
 
+#: SBR-PO drone table of the radar link: rays per wavelength per report quality, and the aspect grid.
+SBR_RAYS_PER_WAVELENGTH = {"quick": 3.0, "full": 6.0}
+SBR_AZIMUTHS_DEG = tuple(np.arange(0.0, 360.0, 30.0))
+SBR_ELEVATIONS_DEG = (-30.0, 0.0, 30.0)
+
+
+def radar_sbr_link(rays_per_wavelength: float) -> Section:
+    """Radar link to the DJI Mini 4 Pro whose Sionna RCS function interpolates the SBR-PO table (24 GHz).
+
+    The radar and the drone are at the same height, so the link looks at
+    elevation 0; at table nodes the interpolated cross-section is the SBR
+    value itself and Eq. 68 with that sigma is the closed form.
+    """
+    from csuas.render.links.accuracy import closed_form_db
+    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.links.rcs_table import RCSTable
+    from csuas.render.rcs.sweep import rcs_table
+
+    s = Section()
+    f = 23.98
+    table, t_table = timed(rcs_table, "dji_mini_4_pro", f, SBR_AZIMUTHS_DEG, SBR_ELEVATIONS_DEG,
+                           rays_per_wavelength=rays_per_wavelength, max_bounces=3, error_estimate=False)
+    rcs = RCSTable(table["azimuth_deg"], table["elevation_deg"], table["rcs_m2"])
+    s.notes.append(f"SBR-PO table {len(SBR_AZIMUTHS_DEG)} x {len(SBR_ELEVATIONS_DEG)} aspects, "
+                   f"{rays_per_wavelength:g} rays per wavelength: {t_table:.1f} s")
+    d = np.array(DISTANCES_M)
+    lines, points = [], []
+    for aspect in (0.0, 90.0):
+        link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, rcs=rcs, azimuth_deg=aspect, budget="draft")
+        sigma = float(table["rcs_m2"][SBR_AZIMUTHS_DEG.index(aspect), SBR_ELEVATIONS_DEG.index(0.0)])
+        eq68 = closed_form_db("radar", f, d, 5.0, 5.0, sigma_m2=sigma)
+        s.outcomes.append(Outcome(f"links.radar_sbr.azimuth_{aspect:g}.max_error_db", 0.0,
+                                  float(np.max(np.abs(link.path_gain_db - eq68))), TOLERANCE_DB, "dB",
+                                  time_s=t_link, source="radar equation, Eq. 68, with the SBR-PO sigma at that aspect",
+                                  method=f"Sionna RT RCSSolver, drone as sensing target with the SBR-PO table "
+                                         f"(sigma = {sigma:.3g} m^2 at azimuth {aspect:g} deg)",
+                                  details={"range_m": d, "sionna_db": link.path_gain_db, "eq68_db": eq68,
+                                           "sigma_m2": sigma}))
+        lines.append((f"Eq. 68, SBR sigma at {aspect:g} deg ({10 * np.log10(sigma):.1f} dBsm)", d, eq68))
+        points.append((f"Sionna RT, azimuth {aspect:g} deg", d, link.path_gain_db, None))
+    s.figures.append(curves("links_radar_sbr_range_curve", f"Radar link to the SBR-PO drone, {f:g} GHz",
+                            x_label="range [m]", y_label="P_rx / (P_tx G_tx G_rx) [dB]", log_x=True,
+                            lines=lines, points=points))
+    s.table += [{"azimuth_deg": a, "elevation_deg": e, "rcs_dbsm": 10 * np.log10(table["rcs_m2"][i, j])}
+                for i, a in enumerate(SBR_AZIMUTHS_DEG) for j, e in enumerate(SBR_ELEVATIONS_DEG)]
+    return s
+
+
 def link_accuracy(budgets) -> Section:
     """Accuracy against time of the RF link over ground and the radar link in free space."""
     from csuas.render.links.accuracy import accuracy_vs_time
@@ -145,6 +193,10 @@ SPECS = [
     CheckSpec("links.radar", "Radar equation and four-path model vs Sionna RT radar link", "links",
               "Eq. 68 and the four-path ground model vs Sionna RT RCSSolver with the drone as sensing target",
               f"{TOLERANCE_DB} dB (exact scenes)", radar_links, "Sionna sample budget", BUDGETS, True),
+    CheckSpec("links.radar_sbr", "Radar link with the SBR-PO drone as Sionna sensing target", "links",
+              "Sionna RT radar link whose RCS function interpolates the drone's SBR-PO table vs Eq. 68 with "
+              "the SBR sigma at that aspect", f"{TOLERANCE_DB} dB (table nodes are exact)", radar_sbr_link,
+              "SBR rays per wavelength", SBR_RAYS_PER_WAVELENGTH, True),
     CheckSpec("links.accuracy", "Sionna RT accuracy vs time over the sample budget", "links",
               "error against the closed form per sample budget, with its wall time",
               f"presets draft and standard within {TOLERANCE_DB} dB", link_accuracy, "budgets swept", SWEEPS, True),
