@@ -27,7 +27,7 @@ COMMANDS = {
     "range": "predicted detection range of each sensor of a scenario",
     "defaults": "list the paper's default parameters, or check every derivable default",
     "sensitivity": "one-at-a-time sensitivity (tornado) analysis and platform comparison",
-    "bench": "benchmarks of the analytic core",
+    "bench": "benchmarks: core models, exact solves vs the paper's loops, silhouettes, SBR, Sionna, lidar, render window",
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
