@@ -1,8 +1,10 @@
 """Accuracy against time of the Sionna RT links over their sample budget.
 
-Each row is one budget: its warm wall time (best of ``repeats`` calls after
-one call that compiles Dr.Jit's kernels), the cold time of that first call,
-and the largest error [dB] against the closed form of the same scene:
+Each row is one budget: its warm wall time (best of ``repeats`` calls on
+the cached scene, after one call that builds the scene and compiles
+Dr.Jit's kernels), the cold time of that first call (the scene cache is
+emptied before it, so it includes building the scene), and the largest
+error [dB] against the closed form of the same scene:
 Friis (Eq. 54) or the radar equation (Eq. 68) in free space, the two-ray or
 four-path model (:mod:`csuas.render.links.two_ray`) over ground.
 """
@@ -17,6 +19,7 @@ from csuas.core.units import wavelength_m
 from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, LinkBudget
 from csuas.render.links.radar import radar_link_gain
 from csuas.render.links.rf import rf_path_gain
+from csuas.render.links.scene import clear_scene_cache
 from csuas.render.links.two_ray import complex_permittivity, radar_four_paths, two_ray_path_gain_db
 
 #: Budgets swept by default: raw sample counts at depth 1, the presets, Sionna's defaults.
@@ -64,12 +67,14 @@ def accuracy_vs_time(link="rf", frequency_ghz=2.4, distance_m=(10.0, 100.0, 1000
     -------
     list of dict
         ``budget``, ``samples``, ``max_depth``, ``time_s`` (warm, best of
-        repeats), ``cold_time_s``, ``max_error_db``, ``paths_found``
+        repeats), ``cold_time_s`` (first call, scene built anew),
+        ``max_error_db``, ``paths_found``
         (minimum over the distances).
     """
     rows = []
     for budget in budgets:
         times = []
+        clear_scene_cache()
         for _ in range(1 + max(1, int(repeats))):
             if link == "rf":
                 result = rf_path_gain(frequency_ghz, distance_m, height_a_m, height_b_m, ground=ground, budget=budget)

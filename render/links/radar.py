@@ -9,7 +9,9 @@ whose polarisation matrix is the identity (``ConstantCPM``). One radar
 vertical polarisation) stands at each requested horizontal range, at
 ``radar_height_m``, in the direction ``azimuth_deg`` of the drone's body
 frame (the drone's nose points along +x). All ranges are solved in one
-``RCSSolver`` call, and each radar keeps its own echo.
+``RCSSolver`` call, on a cached scene
+(:func:`csuas.render.links.scene.link_scene`) whose radars are moved into
+place, and each radar keeps its own echo.
 
 The result is the link's two-way gain P_rx / (P_tx G_tx G_rx) [dB]; in
 free space it equals lambda^2 sigma / ((4 pi)^3 R^4) of the paper's Eq. 68
@@ -28,23 +30,29 @@ from csuas.render.links.budget import PRESETS, LinkBudget, resolve_budget
 from csuas.render.links.paths import coherent_coefficients
 from csuas.render.links.rcs_table import as_rcs_function, bisector_aspect
 from csuas.render.links.rf import LinkResult, check_distances, check_height
-from csuas.render.links.scene import build_scene, check_frequency, ground_properties
+from csuas.render.links.scene import TargetSpec, check_frequency, ground_properties, link_scene, rcs_solver
 from csuas.render.links.sionna_backend import active_variant, load_sionna_rt
 
 #: Size of the target's cuboid [m] (DJI Mini 4 Pro unfolded, 298 x 373 x 101 mm, SPEC 5).
 DEFAULT_TARGET_SIZE_M = (0.298, 0.373, 0.101)
 
 
-def sionna_rcs_callable(rcs_function):
+def sionna_rcs_callable(rcs_function, constant_sigma=None):
     """Wrap f(azimuth_deg, elevation_deg) -> sigma [m^2] (NumPy) as a Sionna RCS callable.
 
     Sionna calls it with the incident and scattered directions of
     propagation in the target's frame; the aspect is their bisector (see
     :mod:`csuas.render.links.rcs_table`). The solver calls it outside its
-    symbolic loops, so the directions can be read back to NumPy.
+    symbolic loops, so the directions can be read back to NumPy. With
+    ``constant_sigma`` [m^2] the callable returns that value (in float32,
+    as the NumPy path does) without reading anything back to the host.
     """
     import drjit as dr
     import mitsuba as mi
+
+    if constant_sigma is not None:
+        sigma32 = float(np.float32(constant_sigma))
+        return lambda k_i, k_s, seed: dr.full(mi.Float, sigma32, dr.width(k_i))  # noqa: ARG005
 
     def rcs(k_i, k_s, seed):  # noqa: ARG001 - deterministic cross-section
         if dr.width(k_i) == 0:
@@ -107,28 +115,23 @@ def radar_link_gain(frequency_ghz, range_m, radar_height_m=5.0, target_height_m=
     if over_ground and h_target <= size[2] / 2:
         raise ParameterError("target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)")
     rcs_function = as_rcs_function(rcs)
+    constant_sigma = None if callable(rcs) else float(rcs_function(0.0, 0.0))
     chosen = resolve_budget(budget, samples, max_depth)
     if not over_ground and chosen.name in PRESETS:
         chosen = LinkBudget(chosen.name, chosen.samples, 0)   # nothing to hit: direct legs only
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
 
-    rt = load_sionna_rt()
-    from sionna.rt.rcs import ConstantCPM, RCSSolver, ScatteringModel, SensingTarget
-
+    load_sionna_rt()                       # the first call imports Sionna: not part of the link's time
     start = time.perf_counter()
-    scene = build_scene(frequency_ghz, ground, float(r.max()), "V")
     target_pos = np.array([0.0, 0.0, h_target])
-    model = ScatteringModel([0.0, 0.0, 0.0], rcs=sionna_rcs_callable(rcs_function), cpm=ConstantCPM())
-    scene.add(SensingTarget(name="drone", scattering_model=model, length=float(size[0]), width=float(size[1]),
-                            height=float(size[2]), position=[float(v) for v in target_pos]))
+    link = link_scene(frequency_ghz, ground, float(r.max()), "V",
+                      TargetSpec(tuple(float(v) for v in size), tuple(float(v) for v in target_pos)))
+    link.rcs.function = sionna_rcs_callable(rcs_function, constant_sigma)
     az = np.radians(float(azimuth_deg))
     radar_pos = np.column_stack([r * np.cos(az), r * np.sin(az), np.full_like(r, h_radar)])
-    for i, p in enumerate(radar_pos):
-        position = [float(v) for v in p]
-        scene.add(rt.Transmitter(name=f"radar_tx{i}", position=position))
-        scene.add(rt.Receiver(name=f"radar_rx{i}", position=position))
-    paths = RCSSolver()(scene, max_depth=2 * chosen.max_depth + 1, samples_per_sp=chosen.samples,
-                               buffer_size_per_sp=max(64, 16 * len(r)), refraction=False, seed=int(seed))
+    link.place(radar_pos, radar_pos)
+    paths = rcs_solver()(link.scene, max_depth=2 * chosen.max_depth + 1, samples_per_sp=chosen.samples,
+                         buffer_size_per_sp=max(64, 16 * len(r)), refraction=False, seed=int(seed))
     coefficients, _ = coherent_coefficients(paths, frequency_ghz, radar_pos, radar_pos, target_pos[None, :])
     index = np.arange(len(r))
     coefficients = coefficients[index, index, :]                  # each radar's own echo

@@ -17,9 +17,22 @@ makes the slab thick enough that the wave inside it is attenuated by
 is the Fresnel one of the half-space (checked by the two-ray tests). A
 fixed large thickness does not do: for metal at 10 km Sionna's float32
 slab formula loses the reflected path altogether (measured).
+
+Building a scene (Mitsuba scene, ground mesh, radio material, devices) and
+the kernels Dr.Jit then traces for a scene it has not seen cost more than
+the solver itself at small sample counts, so :func:`link_scene` keeps the
+last ``SCENE_CACHE_SIZE`` scenes, keyed by everything that shapes them
+(frequency, ground material, ground mesh, polarisation, sensing target),
+and a call only moves the transmitters and receivers of a cached scene
+(:meth:`LinkScene.place`). The solvers are built once per process
+(:func:`path_solver`, :func:`rcs_solver`).
 """
 
 from __future__ import annotations
+
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -93,6 +106,19 @@ def half_space_thickness_m(relative_permittivity, conductivity_s_m, frequency_gh
     return float(min(1.0e4, HALF_SPACE_NEPERS / attenuation)) if attenuation > 0 else 1.0e4
 
 
+def ground_half_sizes(extent_m: float) -> list[float]:
+    """Half-sizes [m] of the squares of the graded ground covering |x|, |y| <= extent_m."""
+    half_sizes = [INNER_HALF_SIZE_M]
+    while half_sizes[-1] < extent_m:
+        half_sizes.append(half_sizes[-1] * RING_RATIO)
+    return half_sizes
+
+
+def ground_extent_m(extent_m: float) -> float:
+    """Extent [m] of the ground mesh under devices up to ``extent_m`` from the origin."""
+    return max(2.0 * extent_m, 100.0)
+
+
 def graded_ground_mesh(extent_m: float) -> tuple[np.ndarray, np.ndarray]:
     """Vertices (n, 3) [m] and triangles (m, 3) of the graded square ground z = 0.
 
@@ -107,9 +133,7 @@ def graded_ground_mesh(extent_m: float) -> tuple[np.ndarray, np.ndarray]:
     faces : numpy.ndarray of uint32, shape (2 + 8 k, 3), counter-clockwise seen from +z
     """
     corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-    half_sizes = [INNER_HALF_SIZE_M]
-    while half_sizes[-1] < extent_m:
-        half_sizes.append(half_sizes[-1] * RING_RATIO)
+    half_sizes = ground_half_sizes(extent_m)
     vertices = np.concatenate([np.column_stack([a * corners, np.zeros(4)]) for a in half_sizes])
     faces = [[0, 1, 2], [0, 2, 3]]
     for level in range(1, len(half_sizes)):
@@ -133,7 +157,8 @@ def _mitsuba_mesh(name: str, vertices: np.ndarray, faces: np.ndarray):
     return mesh
 
 
-def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V"):
+def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V",
+                objects=()):
     """An empty Sionna scene, or one with the graded ground of an ITU material.
 
     Parameters
@@ -147,22 +172,170 @@ def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polar
         beyond twice this.
     polarization : {"V", "H"}
         Polarisation of the isotropic antennas of all devices.
+    objects : iterable of sionna.rt.SceneObject
+        Further objects (e.g. a sensing target), added with the ground in
+        one edit of the scene.
 
     Returns
     -------
     sionna.rt.Scene
-        With single isotropic antennas set as tx and rx arrays.
+        With single isotropic antennas set as tx and rx arrays, no devices.
     """
     rt = load_sionna_rt()
     scene = rt.load_scene()
     scene.frequency = frequency_ghz * 1e9
+    added = []
     if ground is not None:
         thickness = half_space_thickness_m(*ground_properties(ground, frequency_ghz), frequency_ghz)
-        vertices, faces = graded_ground_mesh(max(2.0 * extent_m, 100.0))
+        vertices, faces = graded_ground_mesh(ground_extent_m(extent_m))
         material = rt.ITURadioMaterial(name=f"ground-{ground}", itu_type=ground, thickness=thickness)
-        scene.edit(add=[rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground",
-                                       radio_material=material)])
+        added.append(rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground",
+                                    radio_material=material))
+    added += list(objects)
+    if added:
+        scene.edit(add=added)
     array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=polarization)
     scene.tx_array = array
     scene.rx_array = array
     return scene
+
+
+#: Number of scenes :func:`link_scene` keeps (least recently used dropped first).
+SCENE_CACHE_SIZE = 8
+
+_scene_cache: OrderedDict = OrderedDict()
+
+
+class RcsSlot:
+    """Cross-section callable of a cached sensing target, replaced on every radar call.
+
+    Sionna calls it as ``rcs(k_i, k_s, seed)``; it forwards to ``function``.
+    """
+
+    def __init__(self):
+        self.function = None
+
+    def __call__(self, k_i, k_s, seed):
+        return self.function(k_i, k_s, seed)
+
+
+@dataclass(frozen=True)
+class TargetSpec:
+    """Sensing target of a radar scene: a cuboid with one scattering point at its centre.
+
+    Attributes
+    ----------
+    size_m : tuple of 3 floats
+        Length, width and height of the cuboid [m].
+    position_m : tuple of 3 floats
+        Centre of the cuboid and scattering point [m].
+    """
+
+    size_m: tuple
+    position_m: tuple
+
+
+@dataclass
+class LinkScene:
+    """A cached Sionna scene, its devices and (for radar) the target's cross-section slot.
+
+    Attributes
+    ----------
+    scene : sionna.rt.Scene
+    rcs : RcsSlot or None
+        Cross-section callable of the sensing target, None without target.
+    """
+
+    scene: object
+    rcs: RcsSlot | None = None
+    _devices: dict = field(default_factory=lambda: {"tx": [], "rx": []})
+
+    def place(self, tx_positions, rx_positions) -> None:
+        """Put transmitters ``tx0..`` and receivers ``rx0..`` at the given positions [m].
+
+        Existing devices are moved, surplus ones removed from the end and
+        missing ones added at the end, so the scene's device order is the
+        order of the positions (the order of the solver's outputs).
+        """
+        rt = load_sionna_rt()
+        for kind, positions, cls in (("tx", tx_positions, rt.Transmitter), ("rx", rx_positions, rt.Receiver)):
+            devices = self._devices[kind]
+            positions = [[float(v) for v in p] for p in np.asarray(positions, float)]
+            surplus = devices[len(positions):]
+            if surplus:
+                self.scene.remove([d.name for d in surplus])
+                del devices[len(positions):]
+            for device, p in zip(devices, positions):
+                device.position = p
+            for i in range(len(devices), len(positions)):
+                device = cls(name=f"{kind}{i}", position=positions[i])
+                self.scene.add(device)
+                devices.append(device)
+
+
+def _scene_key(frequency_ghz, ground, extent_m, polarization, target):
+    mesh = len(ground_half_sizes(ground_extent_m(extent_m))) if ground is not None else None
+    return float(frequency_ghz), ground, mesh, polarization, target
+
+
+def link_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V",
+               target: TargetSpec | None = None) -> LinkScene:
+    """The scene of :func:`build_scene` (plus a sensing target), built once and then reused.
+
+    Parameters
+    ----------
+    frequency_ghz, ground, extent_m, polarization
+        As for :func:`build_scene`; scenes whose ground mesh would be the
+        same (same number of rings) share one entry.
+    target : TargetSpec, optional
+        Sensing target (absorbing cuboid, one scattering point at its centre
+        with identity polarisation matrix and the cross-section of
+        :attr:`LinkScene.rcs`).
+
+    Returns
+    -------
+    LinkScene
+        Devices are left where the previous call put them: place them with
+        :meth:`LinkScene.place`.
+    """
+    key = _scene_key(frequency_ghz, ground, extent_m, polarization, target)
+    cached = _scene_cache.get(key)
+    if cached is not None:
+        _scene_cache.move_to_end(key)
+        load_sionna_rt()
+        return cached
+    objects, slot = [], None
+    if target is not None:
+        load_sionna_rt()
+        from sionna.rt.rcs import ConstantCPM, ScatteringModel, SensingTarget
+
+        slot = RcsSlot()
+        model = ScatteringModel([0.0, 0.0, 0.0], rcs=slot, cpm=ConstantCPM())
+        length, width, height = (float(v) for v in target.size_m)
+        objects.append(SensingTarget(name="drone", scattering_model=model, length=length, width=width,
+                                     height=height, position=[float(v) for v in target.position_m]))
+    cached = LinkScene(build_scene(frequency_ghz, ground, extent_m, polarization, objects), slot)
+    _scene_cache[key] = cached
+    while len(_scene_cache) > SCENE_CACHE_SIZE:
+        _scene_cache.popitem(last=False)
+    return cached
+
+
+def clear_scene_cache() -> None:
+    """Forget every cached scene (the next :func:`link_scene` call builds anew)."""
+    _scene_cache.clear()
+
+
+@lru_cache(maxsize=None)
+def path_solver():
+    """The process's ``sionna.rt.PathSolver`` (it holds no per-call state)."""
+    return load_sionna_rt().PathSolver()
+
+
+@lru_cache(maxsize=None)
+def rcs_solver():
+    """The process's ``sionna.rt.rcs.RCSSolver`` (it holds no per-call state)."""
+    load_sionna_rt()
+    from sionna.rt.rcs import RCSSolver
+
+    return RCSSolver()
