@@ -25,7 +25,8 @@ last ``SCENE_CACHE_SIZE`` scenes, keyed by everything that shapes them
 (frequency, ground material, ground mesh, polarisation, sensing target),
 and a call only moves the transmitters and receivers of a cached scene
 (:meth:`LinkScene.place`). The solvers are built once per process
-(:func:`path_solver`, :func:`rcs_solver`).
+(:func:`path_solver`, :func:`rcs_solver`) and run their loops in Dr.Jit's
+evaluated mode (``SOLVER_LOOP_MODE``).
 """
 
 from __future__ import annotations
@@ -326,16 +327,27 @@ def clear_scene_cache() -> None:
     _scene_cache.clear()
 
 
+#: Dr.Jit loop mode of the solvers' image method and field calculator. "evaluated" gives the same
+#: numbers bit for bit as Sionna's default "symbolic" (checked on every bench scene and budget) and
+#: saves the tracing of symbolic loops: 3.9 -> 2.7 ms (rf) and 10.4 -> 4.1 ms (radar) per call in
+#: free space, within 3 % either way at 1e6 rays (measured on 2 shared LLVM cores).
+SOLVER_LOOP_MODE = "evaluated"
+
+
 @lru_cache(maxsize=None)
 def path_solver():
-    """The process's ``sionna.rt.PathSolver`` (it holds no per-call state)."""
-    return load_sionna_rt().PathSolver()
+    """The process's ``sionna.rt.PathSolver`` (it holds no per-call state), on ``SOLVER_LOOP_MODE``."""
+    solver = load_sionna_rt().PathSolver()
+    solver.loop_mode = SOLVER_LOOP_MODE
+    return solver
 
 
 @lru_cache(maxsize=None)
 def rcs_solver():
-    """The process's ``sionna.rt.rcs.RCSSolver`` (it holds no per-call state)."""
+    """The process's ``sionna.rt.rcs.RCSSolver`` (it holds no per-call state), on ``SOLVER_LOOP_MODE``."""
     load_sionna_rt()
     from sionna.rt.rcs import RCSSolver
 
-    return RCSSolver()
+    solver = RCSSolver()
+    solver.loop_mode = SOLVER_LOOP_MODE
+    return solver
