@@ -366,50 +366,64 @@ class SbrEngine:
         def count(mask) -> int:
             return int(dr.count(mask)[0]) if dr.width(mask) else 0
 
-        pending = None
+        # The tubes of a bounce are not copied into compact arrays: they are references ``ref`` into the
+        # arrays the previous interaction wrote, its reflected branch ``states[0]`` (indices below its
+        # width) and transmitted branch ``states[1]`` (indices from its width on), read by the kernels
+        # that need them (see _fetch). None: every tube of ``states[0]`` in order.
+        states, contribs, ref = [st], None, None
         for bounce in range(1, max_bounces + 1):
+            dr.sync_thread()                      # launches are asynchronous; time the intersection alone
             t0 = time.perf_counter()
-            pi = self.scene.ray_intersect_preliminary(mi.Ray3f(st["o"], st["dir"]), coherent=bounce == 1)
+            split = _split_ref(dr, states, ref)
+            ray = mi.Ray3f(_fetch(dr, states, split, "o"), _fetch(dr, states, split, "dir"))
+            pi = self.scene.ray_intersect_preliminary(ray, coherent=bounce == 1)
             hit = pi.is_valid()
             dr.eval(hit, pi.t, pi.prim_index)
-            dr.sync_thread()                      # launches are asynchronous; wait for the timing
+            dr.sync_thread()
             stats["trace_s"] += time.perf_counter() - t0
-            stats["casts"] += dr.width(hit)
-            stats["exits"][bounce - 1] += dr.width(hit) - count(hit)
-            if pending is not None:                # tubes that left after their previous hit radiate there
-                self._accumulate(acc, st["job"], pending, ~hit, n_obs)
-            idx = dr.compress(hit)
-            if dr.width(idx) == 0:
+            n_rays, n_hit = dr.width(hit), count(hit)
+            stats["casts"] += n_rays
+            stats["exits"][bounce - 1] += n_rays - n_hit
+            if contribs is not None and n_hit < n_rays:   # tubes that left after their previous hit radiate there
+                out = _split_ref(dr, states, _select(dr, ref, dr.compress(~hit)))
+                self._accumulate(acc, _fetch(dr, states, out, "job"),
+                                 [_fetch(dr, contribs, out, i) for i in range(len(contribs[0]))])
+            if n_hit == 0:
                 break
-            st = {key: dr.gather(type(val), val, idx) for key, val in st.items()}
+            idx = dr.compress(hit)
+            ref_hit = _split_ref(dr, states, _select(dr, ref, idx))
+            st = {key: _fetch(dr, states, ref_hit, key) for key in states[0]}
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
             contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs)
             dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)          # (the *_t are empty without shells)
             last = bounce == max_bounces
+            n_keep, n_through = count(keep), (count(has_t) if self._has_shells else 0)
             # Reflected branches radiate now when every hit radiates, at the last bounce, or when too weak
             # to follow; otherwise their contribution waits for the next trace (exit point).
-            self._accumulate(acc, st_r["job"], contrib, dr.full(mi.Bool, True, dr.width(keep))
-                             if (radiate == "all" or last) else ~keep, n_obs)
-            n_keep, n_through = count(keep), (count(has_t) if self._has_shells else 0)
+            if radiate == "all" or last:
+                self._accumulate(acc, st_r["job"], contrib)
+            elif n_keep < n_hit:
+                weak = dr.compress(~keep)
+                self._accumulate(acc, dr.gather(UInt, st_r["job"], weak),
+                                 [dr.gather(Float, c, weak) for c in contrib])
             if last:
                 if n_through:
-                    self._accumulate(acc, st_t["job"], contrib_t, has_t, n_obs)
+                    through = dr.compress(has_t)
+                    self._accumulate(acc, dr.gather(UInt, st_t["job"], through),
+                                     [dr.gather(Float, c, through) for c in contrib_t])
                 stats["exits"][bounce] += n_keep + n_through
                 break
-            stats["exits"][bounce] += dr.width(keep) - n_keep
-            # Thin shells split the tube: the reflected and the transmitted branch both go on.
-            sel_r = dr.compress(keep)
-            st = {key: dr.gather(type(val), val, sel_r) for key, val in st_r.items()}
-            contrib = [dr.gather(Float, c, sel_r) for c in contrib]
-            if n_through:
-                sel = dr.compress(has_t)
-                st = {key: _concat(dr, val, dr.gather(type(st_t[key]), st_t[key], sel)) for key, val in st.items()}
-                contrib = [_concat(dr, c, dr.gather(Float, ct, sel)) for c, ct in zip(contrib, contrib_t)]
-            pending = None if radiate == "all" else contrib
-            dr.eval(st, pending)
-            if dr.width(st["job"]) == 0:
+            stats["exits"][bounce] += n_hit - n_keep
+            if n_keep + n_through == 0:
                 break
+            # Thin shells split the tube: the reflected and the transmitted branch both go on.
+            states, contribs = ([st_r, st_t], [contrib, contrib_t]) if n_through else ([st_r], [contrib])
+            ref = None if n_keep == n_hit and not n_through else dr.compress(keep)
+            if n_through:
+                ref = _concat(dr, ref, dr.compress(has_t) + dr.opaque(UInt, n_hit))
+            if radiate == "all":
+                contribs = None
 
     def _interact(self, dev, st, t, prim, n_obs):
         """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
@@ -536,26 +550,55 @@ class SbrEngine:
                     ev_re=trans[0][4], ev_im=trans[0][5], eh_re=trans[1][4], eh_im=trans[1][5])
         return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
 
-    def _accumulate(self, acc, job, parts, active, n_obs):
-        """Add the contributions (float32, 8 per receiver) of the ``active`` tubes to the float64 sums.
+    def _accumulate(self, acc, job, parts):
+        """Add contributions (float32, 8 per receiver and tube) to the float64 sums ``acc`` of their jobs.
 
-        The sums are taken on the host with ``np.bincount`` in a fixed order, so that results are
-        bit-for-bit reproducible (device atomics would add in a varying order).
+        ``job`` and ``parts`` hold the radiating tubes only. The sums are taken on the host in a fixed
+        order, so that results are bit-for-bit reproducible (device atomics would add in a varying order).
         """
-        dr, mi = self.dr, self.mi
-        sel = dr.compress(active)
-        if dr.width(sel) == 0:
+        dr = self.dr
+        if dr.width(job) == 0:
             return
-        job_sel = dr.gather(mi.UInt32, job, sel)
-        values = [dr.gather(mi.Float, part, sel) for part in parts]
-        dr.eval(job_sel, values)                    # one kernel for all gathers
-        job_np = np.asarray(job_sel)
-        # columns: receiver, tx (V, H), rx (theta, phi), re/im
-        table = np.stack([np.asarray(v) for v in values])                       # (8 M, n) float32
+        dr.eval(job, parts)                         # one kernel for all gathers
+        job_np = np.asarray(job)                    # (host memory on LLVM: no copy)
         # Tubes are launched job by job and compaction keeps their order, so jobs come in a few long
         # runs (one per job and branch): sum each run, then add the run sums in order.
         starts = np.flatnonzero(np.r_[True, job_np[1:] != job_np[:-1]])
-        np.add.at(acc, job_np[starts], np.add.reduceat(table, starts, axis=1, dtype=np.float64).T)
+        # columns: receiver, tx (V, H), rx (theta, phi), re/im; one float32 row at a time, summed in float64
+        sums = np.stack([np.add.reduceat(np.asarray(v), starts, dtype=np.float64) for v in parts], axis=1)
+        np.add.at(acc, job_np[starts], sums)
+
+
+def _select(dr, ref, index):
+    """``ref[index]`` for tube references (``ref`` None: the identity)."""
+    return index if ref is None else dr.gather(type(ref), ref, index)
+
+
+def _fetch(dr, sources, ref, key):
+    """Entry ``key`` of the tubes ``ref`` of the concatenation of ``sources`` (one or two dicts or lists).
+
+    ``ref`` is None (all of ``sources[0]`` in order), an index array into ``sources[0]``, or, with two
+    sources, the tuple returned by :func:`_split_ref`. The gathers stay lazy, so the tubes are read inside
+    the kernel that uses them instead of being copied.
+    """
+    first = sources[0][key]
+    kind = type(first)
+    if ref is None:
+        return first
+    if len(sources) == 1:
+        return dr.gather(kind, first, ref)
+    in_first, in_second, index_first, index_second = ref
+    return dr.select(in_second, dr.gather(kind, sources[1][key], index_second, in_second),
+                     dr.gather(kind, first, index_first, in_first))
+
+
+def _split_ref(dr, sources, ref):
+    """Tube references into two concatenated state dicts as (in first, in second, index in first, in second)."""
+    if ref is None or len(sources) == 1:
+        return ref
+    width = dr.opaque(type(ref), dr.width(sources[0]["job"]))   # opaque: no recompilation per width
+    in_second = ref >= width
+    return ~in_second, in_second, ref, ref - width
 
 
 def _concat(dr, a, b):
