@@ -106,19 +106,39 @@ class RadioMaterial:
 PEC = RadioMaterial("pec", is_pec=True)
 
 
+def _sionna_itu():
+    """Sionna RT's ITU material module, leaving the active Mitsuba variant as it was.
+
+    ``sionna.rt`` is imported through :func:`csuas.render.links.sionna_backend.load_sionna_rt`,
+    which must choose Sionna's variant before the first import (an import on another variant
+    would make the Sionna RT links of the same process fail); the caller's variant is then restored.
+    """
+    import mitsuba as mi
+
+    from csuas.render.backend import BackendError, use_variant
+    from csuas.render.links.sionna_backend import load_sionna_rt
+
+    previous = mi.variant()
+    try:
+        load_sionna_rt()
+    except BackendError:            # sionna.rt was imported before, outside csuas: use it as it is
+        pass
+    if previous is not None and mi.variant() != previous:
+        use_variant(variant=previous)
+    from sionna.rt.radio_materials import itu
+
+    return itu
+
+
 def itu_material_names() -> list[str]:
     """Names of the ITU-R P.2040 materials Sionna RT provides."""
-    from sionna.rt.radio_materials.itu import ITU_MATERIALS_PROPERTIES
-
-    return sorted(ITU_MATERIALS_PROPERTIES)
+    return sorted(_sionna_itu().ITU_MATERIALS_PROPERTIES)
 
 
 def _itu_parameters(name: str, frequency_ghz: float) -> tuple[float, float]:
     """(eps', sigma [S/m]) of ITU material ``name`` at ``frequency_ghz`` via Sionna RT."""
-    from sionna.rt.radio_materials.itu import itu_material
-
     try:
-        eps_r, sigma = itu_material(name, frequency_ghz * 1e9)
+        eps_r, sigma = _sionna_itu().itu_material(name, frequency_ghz * 1e9)
     except ValueError as exc:
         raise ParameterError("material", f"itu_{name} at {frequency_ghz} GHz", str(exc)) from None
     return float(eps_r), float(sigma)
