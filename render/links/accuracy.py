@@ -66,10 +66,10 @@ def accuracy_vs_time(link="rf", frequency_ghz=2.4, distance_m=(10.0, 100.0, 1000
     Returns
     -------
     list of dict
-        ``budget``, ``samples``, ``max_depth``, ``time_s`` (warm, best of
-        repeats), ``cold_time_s`` (first call, scene built anew),
-        ``max_error_db``, ``paths_found``
-        (minimum over the distances).
+        ``budget``, ``samples``, ``max_depth`` (as run: the presets run at
+        depth 0 in free space), ``time_s`` (warm, best of repeats),
+        ``cold_time_s`` (first call, scene built anew), ``max_error_db``,
+        ``paths_found`` (minimum over the distances).
     """
     rows = []
     for budget in budgets:
@@ -88,7 +88,7 @@ def accuracy_vs_time(link="rf", frequency_ghz=2.4, distance_m=(10.0, 100.0, 1000
                                        frequency_ghz)
         expected = closed_form_db(link, frequency_ghz, distance_m, height_a_m, height_b_m, eta)
         rows.append({
-            "budget": budget.name, "samples": budget.samples, "max_depth": budget.max_depth,
+            "budget": budget.name, "samples": result.budget.samples, "max_depth": result.budget.max_depth,
             "time_s": min(times[1:]), "cold_time_s": times[0],
             "max_error_db": float(np.max(np.abs(result.path_gain_db - expected))),
             "paths_found": int(result.n_paths.min()),

@@ -13,9 +13,10 @@ post-processing.
 Sionna's solvers also cost a fixed time per call, whatever the sample
 count: Python tracing of their symbolic loops and some ninety kernel
 launches (measured with Dr.Jit's kernel history: the kernels themselves
-run for well under a millisecond at the draft budget). ``SIONNA_FLOOR``
-(one ray, no bounce) measures it, and the default's time over it bounds
-the speed-up any budget can reach on that scene.
+run for well under a millisecond at the draft budget). The floor row (one
+ray, at the depth the chosen budget runs at: 0 in free space, its
+``max_depth`` over ground) measures it, and the default's time over it
+bounds the speed-up any budget resolving the same bounces can reach.
 """
 
 from __future__ import annotations
@@ -32,8 +33,8 @@ SCENES = {
     "radar_over_ground": ("radar", 24.0, (10.0, 100.0, 1e3, 1e4), 5.0, 30.0, "concrete"),
 }
 
-#: Cheapest call of Sionna's solvers (one ray, line of sight or direct legs only): its per-call floor.
-SIONNA_FLOOR = LinkBudget("sionna_floor", samples=1, max_depth=0)
+#: Rays of the floor row: the fewest a solver call can shoot.
+FLOOR_SAMPLES = 1
 
 #: Largest error [dB] against the closed form for two budgets to count as equally accurate.
 EQUAL_ACCURACY_DB = 1e-3
@@ -53,7 +54,7 @@ def bench_links(repeats: int = 3, budget: str = "draft") -> dict:
     -------
     dict
         ``variant`` and, per scene, ``chosen``, ``sionna_default`` and
-        ``sionna_floor`` rows of
+        ``sionna_floor`` (one ray, same depth as ``chosen``) rows of
         :func:`csuas.render.links.accuracy.accuracy_vs_time` (warm
         ``time_s`` and ``cold_time_s`` each), ``speedup`` (default time /
         chosen time, warm), ``cold_speedup`` (the same for the cold calls),
@@ -63,8 +64,10 @@ def bench_links(repeats: int = 3, budget: str = "draft") -> dict:
     """
     scenes = {}
     for name, (link, f_ghz, distances, h_a, h_b, ground) in SCENES.items():
+        depth = PRESETS[budget].max_depth if ground is not None else 0      # as the links run the presets
+        floor_budget = LinkBudget("sionna_floor", FLOOR_SAMPLES, depth)
         chosen, default, floor = accuracy_vs_time(link, f_ghz, distances, h_a, h_b, ground,
-                                                  budgets=(PRESETS[budget], SIONNA_DEFAULT, SIONNA_FLOOR),
+                                                  budgets=(PRESETS[budget], SIONNA_DEFAULT, floor_budget),
                                                   repeats=repeats)
         scenes[name] = {
             "chosen": chosen,
