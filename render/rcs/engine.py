@@ -537,8 +537,10 @@ class SbrEngine:
 
         keep_r = power(refl) > dev["cutoff"]
         has_t = slab & ~pec & (power(trans) > dev["cutoff"])
-        # New tubes: origins nudged off the surface, path length corrected for the nudge.
-        nudge = 1e-5 * (1.0 + dr.max(dr.abs(p)))
+        # New tubes: origins nudged off the surface, path length corrected for the nudge. The nudge
+        # is relative to the target's bounding radius (>= 20 float32 ulps of any coordinate inside
+        # it), so that a scaled target at a scaled wavelength traces exactly the same tubes.
+        nudge = 2e-5 * dr.gather(Float, dev["radius"], UInt(0))
         st_r = dict(st)
         st_r.update(o=p + nudge * n, dir=dr.normalize(dir_r), phase_len=phase_len + nudge * cos_i,
                     a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n, a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
