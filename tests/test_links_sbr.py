@@ -16,3 +16,17 @@ def test_radar_link_with_the_sbr_table_follows_eq_68():
         assert 1e-5 < sigma < 10.0 and np.isfinite(sigma)
     # the drone's side is a larger target than its nose (broadside flash of the body and arms)
     assert section.outcomes[1].details["sigma_m2"] > section.outcomes[0].details["sigma_m2"]
+
+
+@pytest.mark.slow
+def test_cached_sbr_engine_survives_a_sionna_variant_switch():
+    import mitsuba as mi
+
+    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.rcs.solver import compute_rcs
+
+    first = compute_rcs("dji_mini_4_pro", 24.0, 30.0, 0.0, quality="draft", error_estimate=False).sigma_m2
+    radar_link_gain(24.0, [100.0], 5.0, 5.0, budget="draft")      # Sionna selects its polarised variant
+    assert "polarized" in mi.variant()
+    again = compute_rcs("dji_mini_4_pro", 24.0, 30.0, 0.0, quality="draft", error_estimate=False).sigma_m2
+    np.testing.assert_array_equal(again, first)                    # the cached engine, same tubes, same sums

@@ -313,6 +313,12 @@ class SbrEngine:
         -------
         TraceResult
         """
+        if self.mi.variant() != self.variant:
+            # another module (e.g. Sionna RT links) switched variants since this engine was built:
+            # its scene only accepts rays of its own variant
+            from csuas.render.backend import use_variant
+
+            use_variant(variant=self.variant)
         if int(max_bounces) != max_bounces or max_bounces < 1:
             raise ParameterError("max_bounces", max_bounces, "integer >= 1")
         if radiate not in ("exit", "all"):
