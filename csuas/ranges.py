@@ -14,7 +14,7 @@ from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.johnson import ifov_from_pitch_rad
 from csuas.core.mrtd import ParametricMrtd, TabulatedMrtd
 from csuas.core.radiometry import BANDS_UM, graybody_apparent_temperature
-from csuas.core.result import RangeResult, check_convention
+from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.units import C_LIGHT, C_LIGHT_PAPER, wavelength_m
 from csuas.errors import ParameterError
 from csuas.scenario import Scenario, SensorSpec
@@ -154,8 +154,22 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
         if not np.all(np.isfinite(result.range_m)):
             raise ParameterError(f"sensors.{name}.p_desired", sensor.params.get("p_desired"),
                                  "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits")
+        if scenario.target["altitude_m"] != 0.0:
+            result.terms.append(Term("horizontal_range_m", horizontal_range_m(result.range_m, scenario.target["altitude_m"]),
+                                     "m", "Eq. 13 (Eq. 14 takes R* for it)"))
         results[name] = result
     return results
+
+
+def horizontal_range_m(slant_range_m, altitude_m):
+    """Horizontal distance [m] at a slant range and height difference (Eq. 13 with y = 0).
+
+    The models compute the slant (line-of-sight) range R*; the paper's Eq. 14
+    approximates the horizontal distance by it. A target higher above the
+    sensor than its detection range is detectable at no horizontal distance (0).
+    """
+    r = np.asarray(slant_range_m, dtype=float)
+    return np.sqrt(np.maximum(r**2 - float(altitude_m) ** 2, 0.0))
 
 
 def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:

@@ -145,3 +145,15 @@ def test_table_9_contrast_classes():
     sc = parse_scenario({"target": {"c_eo": "low_contrast_clutter"},
                          "sensors": {"e": {"modality": "eo", "c_min": "general"}}})
     assert sc.target["c_eo"] == 0.2 and sc.sensors["e"].params["c_min"] == 0.01
+
+
+def test_altitude_adds_the_horizontal_range_of_eq_13():
+    from csuas.ranges import horizontal_range_m
+
+    assert horizontal_range_m(500.0, 300.0) == pytest.approx(400.0)   # 3-4-5 triangle
+    assert horizontal_range_m(100.0, 120.0) == 0.0                    # higher than the range: no ground coverage
+    sc = parse_scenario({"target": {"altitude_m": 120.0}, "sensors": {"e": {"modality": "eo"}}})
+    result = evaluate(sc)["e"]
+    slant = float(result.range_m)
+    assert result.term("horizontal_range_m").value == pytest.approx((slant**2 - 120.0**2) ** 0.5)
+    assert "horizontal_range_m" not in {t.name for t in evaluate(_scenario())["eo"].terms}
