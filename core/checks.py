@@ -46,7 +46,6 @@ def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: 
     if le is not None:
         bad |= ~(arr <= le)
         parts.append(f"<= {le:g}")
-    bad |= np.isnan(arr)
     if np.any(bad):
         first = arr[bad].flat[0] if arr.ndim else float(arr)
         allowed = " and ".join(parts) if parts else "a number"

@@ -19,7 +19,7 @@ from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
-from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, linear_to_db
+from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, frequency_ghz, linear_to_db
 from csuas.errors import ParameterError
 
 INTEGRATIONS = ("coherent", "noncoherent", "none")
@@ -125,7 +125,7 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
         terms.append(Term("l_hardware_db", np.asarray(l_hardware_db, float), "dB", "Table 41"))
         terms.append(Term("l_processing_db", np.asarray(l_processing_db, float), "dB", "Table 44"))
     rain, fog = np.any(np.asarray(rain_rate_mm_h) > 0), np.any(np.asarray(lwc_g_m3) > 0)
-    f_loss = loss_frequency_ghz if convention == "paper" else 299_792_458.0 / lam / 1e9
+    f_loss = loss_frequency_ghz if convention == "paper" else frequency_ghz(lam)
     gamma_rain = rain_specific_attenuation_db_km(f_loss, rain_rate_mm_h) if rain else 0.0
     gamma_fog = fog_specific_attenuation_db_km(f_loss, lwc_g_m3, temperature_k) if fog else 0.0
     if rain:

@@ -7,6 +7,8 @@ Each modality has one adapter that maps the scenario's canonical parameters
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from csuas.core import acoustic, eo, lidar, radar, rf, tir
@@ -48,10 +50,10 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     if convention == "paper":
         dt0 = tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
     else:
-        dt0 = tir.delta_t_radiometric(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"],
-                                      p["band"])
-        extra = dict(t_bg_app_k=graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"]),
-                     air_temperature_k=env["temperature_k"], band=p["band"])
+        # Delta T of the radiance temperatures (csuas.core.tir.delta_t_radiometric), background kept for the path
+        t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"])
+        dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
+        extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
     return tir.tir_mrtd_range(mrtd=mrtd_curve(p), d_crit_m=t["d_crit_m"], lp_task=p["lp_task"],
                               n_ttpf=p["n_ttpf"], delta_t0_k=dt0, extinction_db_km=p["extinction_db_km"],
                               convention=convention, **extra)
@@ -174,8 +176,6 @@ def horizontal_range_m(slant_range_m, altitude_m):
 
 def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:
     """A copy of ``scenario`` with one parameter changed (``target.X``, ``environment.X`` or ``sensor.X``)."""
-    from dataclasses import replace
-
     from csuas.core import johnson
 
     section, _, name = key.partition(".")
@@ -221,7 +221,7 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
 
     if sensor_name not in scenario.sensors:
         raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
-    only = Scenario(**{**scenario.__dict__, "sensors": {sensor_name: scenario.sensors[sensor_name]}})
+    only = replace(scenario, sensors={sensor_name: scenario.sensors[sensor_name]})
     baseline = float(evaluate(only, convention)[sensor_name].range_m)
     bars = []
     for key, (low, high) in variations.items():

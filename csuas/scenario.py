@@ -125,9 +125,9 @@ def _check_value(key: str, spec: dict, value):
             _fail(key, value, "one of " + ", ".join(spec["choices"]))
         return value
     if isinstance(value, list):
-        if not spec.get("optional") or not key.split(".")[-1].startswith("mrtd_"):
+        if not spec.get("list"):
             _fail(key, value, f"a number [{spec['unit']}]")
-        return [_check_value(key, {**spec, "optional": False}, v) for v in value]
+        return [_check_value(key, {**spec, "list": False}, v) for v in value]
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         _fail(key, value, f"a number [{spec['unit']}] in [{spec['min']:g}, {spec['max']:g}]")
     if isinstance(value, float) and math.isnan(value):
