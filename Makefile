@@ -1,16 +1,18 @@
 # The two commands of README.md: `make report` (main job) and `make test`.
-PYTHON ?= python3
+# Both run tools/setup.sh first, which creates or reuses the virtual environment $(VENV).
+VENV ?= $(or $(CSUAS_VENV),.venv)
+export CSUAS_VENV := $(VENV)
 OUT ?= report
 
-.PHONY: setup test report bench
+.PHONY: setup test lint report bench
 setup:
 	bash tools/setup.sh
 
 test: setup
-	$(PYTHON) -m pytest -q
+	$(VENV)/bin/python -m pytest -q
 
 report: setup
-	csuas report --quick --out $(OUT)
+	$(VENV)/bin/csuas report --quick --out $(OUT)
 
 bench: setup
-	csuas bench
+	$(VENV)/bin/csuas bench

@@ -17,7 +17,7 @@ from csuas.core.checks import require
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import linear_to_db, power_sum_db
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Wind below this speed [m/s] produces no wind-noise term (Table 31 starts at 1 m/s).
 WIND_NOISE_MIN_M_S = 1.0

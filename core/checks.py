@@ -1,7 +1,7 @@
 """Argument validation for the analytic core: clear errors, never silent NaN.
 
 Every public model function validates its inputs with :func:`require`, which
-raises :class:`csuas.errors.ParameterError` naming the parameter, the first
+raises :class:`csuas.base.errors.ParameterError` naming the parameter, the first
 offending value and the allowed domain.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False):

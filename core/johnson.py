@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.checks import require
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def _tables():

@@ -26,7 +26,7 @@ import numpy as np
 
 from csuas.core.checks import require
 from csuas.core.solve import bracketed_root
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Lloyd's 4-bar constant pi^2 / (4 sqrt(14)).
 LLOYD_K = np.pi**2 / (4.0 * np.sqrt(14.0))

@@ -20,7 +20,7 @@ from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenua
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, frequency_ghz, linear_to_db
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 INTEGRATIONS = ("coherent", "noncoherent", "none")
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from csuas.core.checks import require
 from csuas.core.units import C_LIGHT, H_PLANCK, K_BOLTZMANN
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Spectral bands [um] (Section 4.4.1 names them; 3-5 and 8-12 um are the atmospheric windows used).
 BANDS_UM = {"mwir": (3.0, 5.0), "lwir": (8.0, 12.0)}

@@ -12,7 +12,7 @@ CONVENTIONS = ("paper", "physical")
 
 def check_convention(convention: str) -> str:
     """Return ``convention`` if it is one of :data:`CONVENTIONS`, else raise."""
-    from csuas.errors import ParameterError
+    from csuas.base.errors import ParameterError
 
     if convention not in CONVENTIONS:
         raise ParameterError("convention", convention, " or ".join(CONVENTIONS))

@@ -22,7 +22,7 @@ from csuas.core.acoustic import acoustic_range
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radar import radar_range
 from csuas.core.units import C_LIGHT_PAPER, wavelength_m
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def eo_johnson_model(d_crit_m, n_ttpf, n_h, hfov_deg, lp_task=1.0):

@@ -9,7 +9,7 @@ Each command lives in ``csuas.commands.<name>`` and exposes
 ``render_text(result) -> str``
     the human-readable form printed otherwise.
 
-Errors derived from :class:`csuas.errors.CsuasError` end the program with exit
+Errors derived from :class:`csuas.base.errors.CsuasError` end the program with exit
 code 2 and a single line on standard error, never a traceback.
 """
 
@@ -19,8 +19,8 @@ import argparse
 import importlib
 import sys
 
-from csuas.errors import CsuasError
-from csuas.fileio import dumps
+from csuas.base.errors import CsuasError
+from csuas.base.fileio import dumps
 
 #: Command name -> one-line help. The module ``csuas.commands.<name>`` implements it.
 COMMANDS = {

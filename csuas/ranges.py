@@ -18,7 +18,7 @@ from csuas.core.mrtd import ParametricMrtd, TabulatedMrtd
 from csuas.core.radiometry import BANDS_UM, graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.units import C_LIGHT, C_LIGHT_PAPER, wavelength_m
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.scenario import Scenario, SensorSpec
 
 

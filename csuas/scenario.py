@@ -24,7 +24,7 @@ else:  # pragma: no cover
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
-from csuas.errors import ScenarioError
+from csuas.base.errors import ScenarioError
 
 #: Aliases of environment parameters that take class names (SPEC 3.1).
 ENVIRONMENT_ALIASES = {

@@ -29,7 +29,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-from csuas.errors import CsuasError
+from csuas.base.errors import CsuasError
 
 #: Sections of parameters.toml, in the order of the paper.
 SECTIONS = ("target", "environment", "eo", "tir", "acoustic", "rf", "radar", "lidar")

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.drone_models.presets import build_drone
 from csuas.drone_models.signature import K_LCS_DEFAULT, lcs_estimate
 from csuas.drone_models.silhouette import SilhouetteModel, projected_metrics
@@ -92,7 +92,7 @@ def _emissivity_check() -> Check:
 
 
 def default_checks() -> list:
-    """Checks of the paper's drone defaults against the meshes (list of :class:`csuas.checks.Check`)."""
+    """Checks of the paper's drone defaults against the meshes (list of :class:`csuas.base.checks.Check`)."""
     return [
         _d_crit_check("dji_mini_4_pro", 0.101, "Table 8, Eq. 1 [49]", 0.03),
         _d_crit_check("black_hornet_3", 0.025, "Table 52, Eq. 1", 0.10),

@@ -8,7 +8,7 @@ import numpy as np
 import trimesh
 
 from csuas.drone_models.materials import Material, paper_component_mean_emissivity
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from csuas.errors import ParameterError
-from csuas.fileio import atomic_path
+from csuas.base.errors import ParameterError
+from csuas.base.fileio import atomic_path
 
 #: File suffix -> trimesh file type.
 EXPORT_FORMATS = {".ply": "ply", ".obj": "obj", ".glb": "glb"}

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Below this norm of ``z x d`` the view is treated as straight up/down.
 _VERTICAL_TOLERANCE = 1e-12

@@ -11,7 +11,7 @@ from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
 from csuas.drone_models.multirotor import PROPELLER_STYLES
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Default material per part kind of a nano helicopter.
 DEFAULT_HELICOPTER_MATERIALS = {

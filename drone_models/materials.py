@@ -29,7 +29,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Vacuum permittivity [F/m] (CODATA 2018).
 VACUUM_PERMITTIVITY_F_M = 8.8541878128e-12

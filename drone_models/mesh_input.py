@@ -8,7 +8,7 @@ import trimesh
 
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def load_mesh_drone(path, material: str = "plastic") -> Drone:

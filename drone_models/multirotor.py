@@ -10,7 +10,7 @@ import trimesh
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Accepted propeller representations.
 PROPELLER_STYLES = ("disc", "blades", "none")

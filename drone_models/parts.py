@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Facets around a full circle for round parts (motors, discs, tubes).
 DEFAULT_SECTIONS = 48

@@ -27,7 +27,7 @@ import dataclasses
 
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 INCH_M = 0.0254
 

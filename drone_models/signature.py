@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: d_crit methods: Eq. 1 ("min") and Eq. 2 ("geometric_mean").
 D_CRIT_METHODS = ("min", "geometric_mean")

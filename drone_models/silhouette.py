@@ -36,7 +36,7 @@ import trimesh
 
 from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
 from csuas.drone_models.signature import critical_dimension, sphere_equivalent_radius
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Triangles with area below this fraction of the squared bounding-box diagonal are degenerate.
 DEGENERATE_AREA_FRACTION = 1e-14

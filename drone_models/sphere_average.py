@@ -18,7 +18,7 @@ import numpy as np
 
 from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Accuracy presets: name -> (replicates, directions per replicate).
 QUALITY_PRESETS = {"draft": (4, 64), "standard": (8, 128), "reference": (16, 512)}

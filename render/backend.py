@@ -17,7 +17,7 @@ import glob
 import os
 import re
 
-from csuas.errors import CsuasError
+from csuas.base.errors import CsuasError
 
 #: Oldest LLVM major version whose code generation Dr.Jit 1.5 handles here.
 MIN_LLVM_MAJOR = 16

@@ -8,7 +8,7 @@ from hypothesis import given, strategies as st
 
 from csuas.core import acoustic
 from csuas.core.solve import LN10
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def test_wind_noise_table_31_interpolation():

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from csuas.core import atmosphere
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def test_koschmieder_reproduces_table_16():

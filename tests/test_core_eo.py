@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from csuas.core import eo, johnson
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def test_johnson_default_is_555_5_m():

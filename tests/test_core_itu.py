@@ -5,7 +5,7 @@ import pytest
 
 from csuas.core import itu
 from csuas.defaults import load_tables
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 itur838 = pytest.importorskip("itur.models.itu838")
 itur840 = pytest.importorskip("itur.models.itu840")

@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from csuas.core import itu, lidar, radar, rf
 from csuas.core.units import C_LIGHT, db_to_linear, wavelength_m
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def _rf(**kw):

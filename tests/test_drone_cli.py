@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 import trimesh
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.cli import main
 from csuas.drone_models import build_drone
 from csuas.drone_models.bench import bench_silhouette
 from csuas.drone_models.checks import default_checks
 from csuas.drone_models.export import export_drone
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def run_json(capsys, *argv):

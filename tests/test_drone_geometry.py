@@ -5,7 +5,7 @@ import pytest
 
 from csuas.drone_models.geometry import (direction_angles, direction_vector, fibonacci_sphere, random_rotations,
                                          validate_angles, view_basis)
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def test_direction_vector_cardinal_directions():

@@ -13,7 +13,7 @@ from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
 from csuas.drone_models.parts import radial_layout
 from csuas.drone_models.signature import critical_dimension, lcs_estimate, sphere_equivalent_radius
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 STYLES = ("disc", "blades", "none")
 SPECS_FILE = Path(__file__).parent / "reference" / "drone_specs.csv"

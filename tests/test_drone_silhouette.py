@@ -22,7 +22,7 @@ from csuas.drone_models.geometry import direction_vector, fibonacci_sphere, rand
 from csuas.drone_models.silhouette import (NonWatertightWarning, SilhouetteModel, metrics_for_directions,
                                            projected_metrics)
 from csuas.drone_models.sphere_average import sphere_average
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 RNG = np.random.default_rng(20240611)
 ANGLES = [(float(a), float(e))

@@ -5,7 +5,7 @@ import stat
 
 import pytest
 
-from csuas.fileio import atomic_path, dumps, write_text_atomic
+from csuas.base.fileio import atomic_path, dumps, write_text_atomic
 
 
 def test_interrupted_write_leaves_nothing(tmp_path):

@@ -19,7 +19,7 @@ import pytest
 import trimesh
 from scipy.integrate import quad
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.lidar import LidarTarget, lidar_cross_section, material_reflectance
 from csuas.render.lidar.accuracy import accuracy_vs_time, preset_accuracy
 from csuas.render.lidar.path import path_traced_lcs

@@ -13,7 +13,7 @@ import pytest
 
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.lidar import LidarTarget, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar

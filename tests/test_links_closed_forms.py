@@ -8,7 +8,7 @@ radar equation (the paper's Eq. 68), all written inline.
 import numpy as np
 import pytest
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, resolve_budget
 from csuas.render.links.rcs_table import RCSTable, as_rcs_function, bisector_aspect
 from csuas.render.links.two_ray import (complex_permittivity, fresnel_coefficients, radar_four_paths,

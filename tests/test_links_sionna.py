@@ -16,7 +16,7 @@ import os
 import numpy as np
 import pytest
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 pytestmark = pytest.mark.slow
 

@@ -12,7 +12,7 @@ import trimesh
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.rcs import canonical, load_target, prepare_mesh, resolve_material
 from csuas.render.rcs.engine import Jobs, SbrEngine
 from csuas.render.rcs.solver import DBSM_FLOOR, compute_rcs

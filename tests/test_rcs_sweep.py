@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from csuas.checks import Check
-from csuas.errors import ParameterError
+from csuas.base.checks import Check
+from csuas.base.errors import ParameterError
 from csuas.render.rcs import canonical
 from csuas.render.rcs.convergence import (ERROR_COEFFICIENT_DB, convergence_curve, density_for_accuracy,
                                           preset_errors, silhouette_perimeter_area)

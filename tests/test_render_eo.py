@@ -19,7 +19,7 @@ from csuas.core.eo import contrast_limited_range_m
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.imaging import Quality, render_eo
 from csuas.render.imaging.targets import plate
 

@@ -15,7 +15,7 @@ import pytest
 
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import tir_mrtd_range
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.imaging import Quality, render_tir
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import default_mrtd

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from csuas import cli
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.validation.report import runner
 from csuas.validation.report.baseline import compare
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS

@@ -3,7 +3,7 @@
 import pytest
 
 from csuas.core import itu
-from csuas.errors import ScenarioError
+from csuas.base.errors import ScenarioError
 from csuas.ranges import evaluate
 from csuas.scenario import load_scenario, parse_scenario
 

@@ -59,7 +59,7 @@ def test_scenario_one_at_a_time_matches_section_4_9_for_eo():
 
 
 def test_scenario_one_at_a_time_bad_key():
-    from csuas.errors import ParameterError
+    from csuas.base.errors import ParameterError
     from csuas.ranges import scenario_one_at_a_time
     from csuas.scenario import load_scenario
 

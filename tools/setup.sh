@@ -1,15 +1,41 @@
 #!/usr/bin/env bash
-# One-time set-up of a fresh machine: libLLVM 19 for Dr.Jit's LLVM back-end
-# (Debian's LLVM 14/15 crash), then csuas with its test extras, editable.
+# Set-up of a fresh machine, run by `make report` and `make test`:
+#   1. libLLVM 19 for Dr.Jit's LLVM back-end (Debian's LLVM 14/15 crash it);
+#   2. a virtual environment of csuas's own (CSUAS_VENV, default .venv), created when missing,
+#      because Debian's system Python refuses `pip install` (PEP 668);
+#   3. csuas with its test extras, editable, into that environment; skipped when pyproject.toml
+#      has not changed since the last successful install (a stamp file inside the environment).
+# Every step says what it does; the pip step prints one line per package it installs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+venv="${CSUAS_VENV:-.venv}"
+say() { printf 'setup: %s\n' "$*" >&2; }
+started=$(date +%s)
+
 if ! ls /usr/lib/*/libLLVM-19.so* >/dev/null 2>&1 && ! ls /usr/lib/libLLVM-19.so* >/dev/null 2>&1; then
   if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-    echo "setup: installing libllvm19 for Dr.Jit" >&2
+    say "installing Debian's libllvm19 for Dr.Jit (about 30 s)"
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null
   else
-    echo "setup: libLLVM 19 not found; install it (apt-get install libllvm19) or set DRJIT_LIBLLVM_PATH" >&2
+    say "libLLVM 19 not found; install it (apt-get install libllvm19) or set DRJIT_LIBLLVM_PATH"
   fi
 fi
-python3 -m pip install -q --disable-pip-version-check -e ".[test]" 2>&1 | grep -v -E "^WARNING: (Location|Running pip)" || true
-python3 -c "import csuas, mitsuba, drjit, sionna.rt, trimesh" || { echo "setup: import check failed" >&2; exit 1; }
+
+if [ ! -x "$venv/bin/python" ]; then
+  say "creating the virtual environment $venv"
+  python3 -m venv "$venv" || { say "python3 -m venv failed: install python3-venv (apt-get install python3-venv)"; exit 1; }
+fi
+
+stamp="$venv/.csuas-installed"
+want=$(cat pyproject.toml tools/setup.sh | sha256sum | cut -c1-16)
+if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+  say "installing csuas and its dependencies into $venv (about 3 min with an empty pip cache)"
+  "$venv/bin/python" -m pip install --disable-pip-version-check --progress-bar off -e ".[test]" 2>&1 \
+    | grep --line-buffered -E "^(Collecting|Successfully|ERROR|error)" | sed -u 's/^/setup:   /' >&2 || true
+  "$venv/bin/python" -c "import csuas, mitsuba, drjit, sionna.rt, trimesh, mapbox_earcut" \
+    || { say "import check failed: the install above did not complete"; exit 1; }
+  echo "$want" > "$stamp"
+else
+  say "$venv is up to date with pyproject.toml"
+fi
+say "done in $(( $(date +%s) - started )) s"

@@ -16,7 +16,7 @@ import importlib
 
 import numpy as np
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.core import acoustic, atmosphere, itu, radar, tir
 
 from csuas.defaults import default_values, load_tables

@@ -11,7 +11,7 @@ import importlib
 import sys
 import time
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Mode name -> "module:function" of a render mode ``f(scenario, **options) -> list of dict``.
 MODES = {

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from csuas.core.sensitivity import one_at_a_time, platform_comparison
 from csuas.defaults import default_values, load_presets, load_sensitivity
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
 
@@ -71,7 +71,7 @@ def _scenario_analysis(args) -> dict:
     entry = {"title": title, "source": "one-at-a-time, Section 4.9 method", "baseline_m": baseline,
              "bars": [b.as_dict() for b in bars]}
     if args.out:
-        from csuas.plots import tornado_plot
+        from csuas.base.plots import tornado_plot
 
         entry["plot"] = str(tornado_plot(Path(args.out) / f"tornado_{scenario.name}_{sensor}.png", title, baseline, bars))
     return {"analyses": {f"{scenario.name}.{sensor}": entry}}
@@ -90,7 +90,7 @@ def run(args) -> dict:
                  "paper_baseline_m": spec["baseline_m"], "bars": [b.as_dict() for b in bars],
                  "paper_quoted": spec.get("paper", {})}
         if args.out:
-            from csuas.plots import tornado_plot
+            from csuas.base.plots import tornado_plot
 
             path = Path(args.out) / f"tornado_{name}.png"
             tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars,

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass(frozen=True)

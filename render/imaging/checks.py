@@ -1,6 +1,6 @@
 """Cross-checks of the analytic core against the EO and thermal renders (SPEC 7), as report records.
 
-Each :class:`csuas.checks.Check` compares a closed form or a value of the
+Each :class:`csuas.base.checks.Check` compares a closed form or a value of the
 paper (``paper``) with a rendered figure (``computed``); ``extra`` carries
 the Monte Carlo standard error and the wall time. A check whose disagreement
 is physics, not a bug (the paper's linear Delta T, its C0 = 0.5), states
@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import time
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.core.eo import contrast_limited_range_m
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, radiance_temperature
@@ -118,6 +118,6 @@ def _medium_check(seed) -> Check:
 
 
 def imaging_checks(quality: str = "draft", seed: int = 0) -> list:
-    """All imaging cross-checks (list of :class:`csuas.checks.Check`); draft takes about 10 s on 2 CPU cores."""
+    """All imaging cross-checks (list of :class:`csuas.base.checks.Check`); draft takes about 10 s on 2 CPU cores."""
     q = resolve_quality(quality)
     return _thermal_checks(q, seed) + _eo_checks(q, seed) + [_medium_check(seed)]

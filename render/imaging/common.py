@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.imaging.camera import SensorGeometry, full_frame, target_bounds, target_window
 from csuas.render.imaging.scene import normalise_target
 

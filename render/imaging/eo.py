@@ -30,7 +30,7 @@ import numpy as np
 
 from csuas.core.eo import contrast_limited_range_m
 from csuas.drone_models.geometry import direction_vector
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 ATMOSPHERE_CHOICES = ("auto", "on", "off")
 

@@ -8,7 +8,7 @@ window's position in the full sensor frame, direction and samples per pixel.
 PNG previews: EO through the sRGB encoding of colour-science
 (``colour.cctf_encoding``), scaled so the brightest pixel is white; thermal
 as a colour map of the radiance temperature. Small windows are enlarged by
-pixel replication. Files are written atomically (:func:`csuas.fileio.atomic_path`).
+pixel replication. Files are written atomically (:func:`csuas.base.fileio.atomic_path`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from csuas.fileio import atomic_path
+from csuas.base.fileio import atomic_path
 
 #: Previews are enlarged by pixel replication to at least this many pixels across.
 PREVIEW_MIN_PX = 256

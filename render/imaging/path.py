@@ -29,7 +29,7 @@ import numpy as np
 
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.radiometry import band_radiance
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass(frozen=True)

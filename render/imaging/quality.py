@@ -33,7 +33,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector, view_basis
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass

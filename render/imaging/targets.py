@@ -7,7 +7,7 @@ import dataclasses
 import trimesh
 
 from csuas.drone_models import Part, get_material
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def grey_material(reflectance: float = 0.5, emissivity: float = 0.68, temperature_k: float = 288.15):

@@ -29,7 +29,7 @@ import numpy as np
 from csuas.core.mrtd import ParametricMrtd
 from csuas.core.radiometry import BANDS_UM, band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear, tir_mrtd_range
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, tir_path

@@ -9,7 +9,7 @@ the sphere (Eq. 7) at draft quality, a few seconds on two CPU cores.
 
 from __future__ import annotations
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.render.lidar.sphere_average import K_LCS_PAPER, drone_lcs_versus_rule
 
 #: Table 8's mean LCS of the default sUAS [m^2].
@@ -35,7 +35,7 @@ def _explanation(r: dict) -> str:
 
 
 def default_checks(quality: str = "draft", seed: int = 0) -> list:
-    """Lidar checks of Table 8 (list of :class:`csuas.checks.Check`).
+    """Lidar checks of Table 8 (list of :class:`csuas.base.checks.Check`).
 
     Parameters
     ----------

@@ -63,7 +63,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Single-direction accuracy presets: name -> (grid cells per side, replicates).
 QUALITY_PRESETS = {"draft": (48, 4), "standard": (128, 8), "reference": (384, 16)}

@@ -2,7 +2,7 @@
 
 The map is the LCS contributed by each cell of the sampled window [m^2 per
 pixel]; its sum is the target's LCS. Files are written atomically
-(:func:`csuas.fileio.atomic_path`).
+(:func:`csuas.base.fileio.atomic_path`).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from csuas.fileio import atomic_path
+from csuas.base.fileio import atomic_path
 
 #: Colour map of the PNG preview (perceptually uniform, dark = no return).
 PREVIEW_COLORMAP = "magma"

@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector, validate_angles
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.lidar.cross_section import ORIGIN_PLANE_FACTOR, resolve_quality, sampling_windows
 
 

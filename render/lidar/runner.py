@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.lidar.files import write_lcs_map
 from csuas.render.lidar.sphere_average import K_LCS_PAPER

@@ -28,7 +28,7 @@ import numpy as np
 
 from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.lidar.cross_section import trace_lcs
 from csuas.render.lidar.target import LidarTarget
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Wavelengths [nm] at which :class:`csuas.drone_models.Material` tabulates diffuse albedo.
 TABULATED_WAVELENGTHS_NM = (550.0, 1550.0)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.links.budget import PRESETS, LinkBudget, resolve_budget
 from csuas.render.links.paths import coherent_coefficients
 from csuas.render.links.rcs_table import as_rcs_function, bisector_aspect

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Default cross-section [m^2] (the paper's Table 8, sigma_radar).
 DEFAULT_SIGMA_M2 = 0.01

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.links.budget import PRESETS, LinkBudget, resolve_budget
 from csuas.render.links.paths import coherent_coefficients
 from csuas.render.links.scene import check_frequency, ground_properties, link_scene, path_solver

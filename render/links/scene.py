@@ -38,7 +38,7 @@ from functools import lru_cache
 import numpy as np
 
 from csuas.core.units import C_LIGHT
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 from csuas.render.links.sionna_backend import load_sionna_rt
 from csuas.render.links.two_ray import complex_permittivity
 

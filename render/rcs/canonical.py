@@ -56,7 +56,7 @@ def trihedral(a_m: float, kind: str = "square"):
         v = [[0, 0, 0], [a, 0, 0], [0, a, 0], [0, 0, a]]
         return _mesh(v, [[0, 1, 2], [0, 2, 3], [0, 3, 1]])
     if kind != "square":
-        from csuas.errors import ParameterError
+        from csuas.base.errors import ParameterError
 
         raise ParameterError("kind", kind, "'square' or 'triangular'")
     v = [[0, 0, 0], [a, 0, 0], [a, a, 0], [0, a, 0],       # z = 0

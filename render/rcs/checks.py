@@ -29,7 +29,7 @@ import functools
 
 import numpy as np
 
-from csuas.checks import Check
+from csuas.base.checks import Check
 from csuas.core.units import C_LIGHT
 
 #: Coarse settings of the default checks (documented in the module docstring).
@@ -65,7 +65,7 @@ def default_checks(settings: dict | None = None) -> list[Check]:
 
     Returns
     -------
-    list of csuas.checks.Check
+    list of csuas.base.checks.Check
     """
     s = {**CHECK_SETTINGS, **(settings or {})}
     avg = _drone_average(s["preset"], float(s["frequency_ghz"]), float(s["rays_per_wavelength"]),

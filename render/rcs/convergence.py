@@ -36,7 +36,7 @@ import time
 import numpy as np
 
 from csuas.core.units import C_LIGHT
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 from . import canonical
 from .engine import Jobs, SbrEngine

@@ -58,7 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.core.units import C_LIGHT
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 from .geometry import TargetMesh, direction_vector, polarisation_basis
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 from .materials import DRONE_SHELL_THICKNESS_M, SHELL_MAX_CONDUCTIVITY_S_M, RadioMaterial, resolve_material
 

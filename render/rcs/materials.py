@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 #: Vacuum permittivity [F/m] (CODATA 2018).
 EPS0_F_M = 8.8541878128e-12

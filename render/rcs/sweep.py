@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from csuas.errors import ParameterError
-from csuas.fileio import atomic_path
+from csuas.base.errors import ParameterError
+from csuas.base.fileio import atomic_path
 
 from .solver import compute_rcs, get_engine, to_dbsm
 

@@ -19,7 +19,7 @@ import json
 import math
 from pathlib import Path
 
-from csuas.errors import ParameterError
+from csuas.base.errors import ParameterError
 
 
 def load_baseline(path) -> dict:

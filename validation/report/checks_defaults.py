@@ -82,7 +82,7 @@ def section_4_9(_knob=None) -> Section:
     from csuas.commands.sensitivity import ANALYSES, platforms
     from csuas.core.sensitivity import one_at_a_time
     from csuas.defaults import load_sensitivity
-    from csuas.plots import tornado_plot
+    from csuas.base.plots import tornado_plot
 
     section = Section()
     for analysis in ANALYSES:

@@ -188,7 +188,7 @@ def timed(fn, *args, **kwargs):
 
 
 def from_check(check, time_s: float = 0.0) -> Outcome:
-    """An :class:`Outcome` from a :class:`csuas.checks.Check` (``defaults check`` records).
+    """An :class:`Outcome` from a :class:`csuas.base.checks.Check` (``defaults check`` records).
 
     The tolerance becomes ``max(abs_tol, rel_tol * |paper|)``, the rule of ``Check.ok``.
     """

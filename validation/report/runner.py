@@ -1,6 +1,6 @@
 """Run the registry and write the report: ``report.html``, ``report.json``, ``report.md``, ``figures/*.png``.
 
-All files are written atomically (:func:`csuas.fileio.atomic_path`). Progress
+All files are written atomically (:func:`csuas.base.fileio.atomic_path`). Progress
 goes to a text stream (standard error for the command), one line per check.
 """
 
@@ -12,8 +12,8 @@ import platform
 import time
 from pathlib import Path
 
-from csuas.errors import ParameterError
-from csuas.fileio import atomic_path, dumps, to_jsonable, write_text_atomic
+from csuas.base.errors import ParameterError
+from csuas.base.fileio import atomic_path, dumps, to_jsonable, write_text_atomic
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
 from csuas.validation.report.registry import QUALITIES, run_spec

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from csuas.fileio import atomic_path
+from csuas.base.fileio import atomic_path
 
 
 def _pyplot():
