@@ -22,8 +22,41 @@ class ParameterError(CsuasError, ValueError):
 
     def __init__(self, name: str, value: object, allowed: str):
         self.name, self.value, self.allowed = name, value, allowed
-        super().__init__(f"{name} = {value!r} is invalid; allowed: {allowed}")
+        super().__init__(f"{name} = {plain(value)} is invalid; allowed: {allowed}")
+
+
+def plain(value: object) -> str:
+    """A value as a user wrote it: ``95.0``, ``'fog'``, ``[1.0, 2.0]``, never ``np.float64(95.0)``."""
+    item = getattr(value, "item", None)
+    if callable(item) and getattr(value, "ndim", 1) == 0:
+        value = item()
+    elif hasattr(value, "tolist"):
+        value = value.tolist()
+    return repr(value)
 
 
 class ScenarioError(CsuasError):
     """A scenario file that cannot be read or does not follow the scenario format."""
+
+
+class InputErrors(CsuasError):
+    """Several mistakes of one input, reported together: one line each.
+
+    Parameters
+    ----------
+    errors : list of CsuasError
+        The individual errors, in the order they were found.
+    """
+
+    def __init__(self, errors):
+        self.errors = list(errors)
+        super().__init__("\n".join(str(e) for e in self.errors))
+
+
+def raise_all(errors) -> None:
+    """Raise the one error of ``errors``, or :class:`InputErrors` of several; nothing when empty."""
+    errors = list(errors)
+    if len(errors) == 1:
+        raise errors[0]
+    if errors:
+        raise InputErrors(errors)

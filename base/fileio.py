@@ -5,11 +5,15 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Iterator
 
 import numpy as np
+
+from csuas.base.errors import ParameterError
+from csuas.base.interrupts import raise_if_interrupted
 
 
 def _umask() -> int:
@@ -18,27 +22,95 @@ def _umask() -> int:
     return mask
 
 
+#: Marker in the names of csuas's temporary files: ``.{stem}.csuas-tmp-{pid}-{random}{suffix}``.
+TEMP_MARKER = ".csuas-tmp-"
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # alive, another user's
+        return True
+    return True
+
+
+def remove_stale_temps(folder: str | os.PathLike) -> list[Path]:
+    """Remove csuas temporary files in ``folder`` whose writing process no longer exists.
+
+    A SIGKILL leaves the temporary file of an atomic write behind; the next atomic write into the
+    same folder removes it. Only names of csuas's own pattern (:data:`TEMP_MARKER` and a pid) are
+    touched. Returns the removed paths.
+    """
+    removed = []
+    with contextlib.suppress(OSError):
+        for entry in Path(folder).iterdir():
+            head, marker, tail = entry.name.partition(TEMP_MARKER)
+            pid_text = tail.split("-", 1)[0]
+            if not (marker and head.startswith(".") and pid_text.isdigit()) or _pid_alive(int(pid_text)):
+                continue
+            with contextlib.suppress(OSError):
+                if entry.is_dir():
+                    shutil.rmtree(entry)
+                else:
+                    entry.unlink()
+                removed.append(entry)
+    return removed
+
+
+def temp_name(target: Path) -> str:
+    """The prefix of a csuas temporary file beside ``target`` (the random part follows)."""
+    return f".{target.stem}{TEMP_MARKER}{os.getpid()}-"
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; move it into place on success.
 
     The temporary file keeps the suffix of ``path`` so that writers that look at
-    the extension (OpenEXR, matplotlib) behave. On any exception, including
-    ``KeyboardInterrupt``, the temporary file is removed and ``path`` is left
-    untouched.
+    the extension (OpenEXR, matplotlib) behave, and carries csuas's marker and
+    the process id, so that a later write into the same folder removes it when
+    its process was killed (:func:`remove_stale_temps`). On any exception,
+    including ``KeyboardInterrupt`` (and SIGTERM, which the command line raises
+    as one), the temporary file is removed and ``path`` is left untouched.
     """
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    remove_stale_temps(target.parent)
+    fd, tmp = tempfile.mkstemp(prefix=temp_name(target), suffix=target.suffix, dir=target.parent)
     os.close(fd)
     try:
         yield Path(tmp)
+        raise_if_interrupted()
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the file the usual permissions
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+def prepare_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
+    """Create the output folder ``path`` (and its parents) and prove it writable, before any work.
+
+    Raises
+    ------
+    ParameterError
+        When ``path`` is an existing non-folder, cannot be created, or refuses a file, naming
+        ``option`` and the operating system's reason.
+    """
+    folder = Path(path)
+    if folder.exists() and not folder.is_dir():
+        raise ParameterError(option, str(folder), "a folder (this path is an existing file)")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".csuas-probe.", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise ParameterError(option, str(folder), f"a writable folder ({exc.strerror or exc})") from None
+    return folder
 
 
 def write_text_atomic(path: str | os.PathLike, text: str) -> Path:

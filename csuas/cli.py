@@ -9,8 +9,11 @@ Each command lives in ``csuas.commands.<name>`` and exposes
 ``render_text(result) -> str``
     the human-readable form printed otherwise.
 
-Errors derived from :class:`csuas.base.errors.CsuasError` end the program with exit
-code 2 and a single line on standard error, never a traceback.
+Exit codes: 0 success; 1 a failed check (report, defaults check) or an internal failure of
+csuas (one line with a hint to rerun with ``--debug`` for the traceback); 2 bad input: a
+:class:`csuas.base.errors.CsuasError`, or an operating-system error about a file the user named
+(missing, a directory, unreadable, already a file), one line on standard error, never a traceback;
+130 interrupted by SIGINT, 143 by SIGTERM (both end the same way: temporary files removed).
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import sys
 
 from csuas.base.errors import CsuasError
 from csuas.base.fileio import dumps
+from csuas.base.interrupts import Terminated, handling_interrupts, pending, raise_if_interrupted
 
 #: Command name -> one-line help. The module ``csuas.commands.<name>`` implements it.
 COMMANDS = {
@@ -46,7 +50,8 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The top-level parser; only ``command``'s module is imported (fast start-up)."""
-    parser = _Parser(prog="csuas", description="Counter-drone sensor detection-range models and their validation.")
+    parser = _Parser(prog="csuas", description="Counter-drone sensor detection-range models and their validation.",
+                     epilog="--debug (anywhere on the line): show the traceback of an unexpected error")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, help_text in COMMANDS.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
@@ -58,20 +63,51 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def _describe_os_error(exc: OSError) -> str:
+    """One line for an operating-system error: what happened and to which path."""
+    what = exc.strerror or type(exc).__name__
+    where = f": {exc.filename}" if exc.filename else ""
+    return f"{what}{where}"
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``csuas`` console script; returns the exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     command = next((a for a in argv if not a.startswith("-")), None)
     args = build_parser(command if command in COMMANDS else None).parse_args(argv)
     try:
-        result = args._module.run(args)
+        with handling_interrupts():
+            try:
+                result = args._module.run(args)
+                text = dumps(result) if args.json else args._module.render_text(result)
+            except Exception:
+                if pending() is None:
+                    raise
+                raise pending() from None
+            raise_if_interrupted()
     except CsuasError as exc:
-        print(f"csuas {args.command}: error: {exc}", file=sys.stderr)
+        for line in str(exc).splitlines() or [type(exc).__name__]:
+            print(f"csuas {args.command}: error: {line}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"csuas {args.command}: interrupted", file=sys.stderr)
-        return 130
-    print(dumps(result) if args.json else args._module.render_text(result))
+    except KeyboardInterrupt as exc:
+        terminated = isinstance(exc, Terminated)
+        print(f"csuas {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+        return 143 if terminated else 130
+    except (OSError, RecursionError, MemoryError) as exc:
+        if debug:
+            raise
+        detail = _describe_os_error(exc) if isinstance(exc, OSError) else type(exc).__name__
+        print(f"csuas {args.command}: error: {detail}", file=sys.stderr)
+        return 2
+    except Exception as exc:  # noqa: BLE001 - the last line of defence: one line, never a traceback
+        if debug:
+            raise
+        print(f"csuas {args.command}: internal error: {type(exc).__name__}: {exc} "
+              f"(rerun with --debug for the traceback)", file=sys.stderr)
+        return 1
+    print(text)
     return int(result.get("exit_code", 0)) if isinstance(result, dict) else 0
 
 

@@ -261,6 +261,16 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
                     sections["environment"][0], sections["environment"][1], sensors, explicit)
 
 
+#: Largest scenario file read [bytes]; a scenario is a few hundred bytes.
+MAX_SCENARIO_BYTES = 1024 * 1024
+
+
+def embedded_scenarios() -> list[str]:
+    """Names of the embedded scenarios (``defaults/scenarios/*.toml``)."""
+    folder = scenario_path("default").parent
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
 def load_scenario(source) -> Scenario:
     """Load and resolve a scenario from a TOML file or an embedded scenario name.
 
@@ -274,14 +284,27 @@ def load_scenario(source) -> Scenario:
     if not path.exists() and not str(source).endswith(".toml"):
         embedded = scenario_path(str(source))
         if not embedded.is_file():
-            raise ScenarioError(f"scenario = {str(source)!r} is neither a file nor an embedded scenario")
+            raise ScenarioError(f"scenario = {str(source)!r} is neither a file nor an embedded scenario; "
+                                f"embedded scenarios: {', '.join(embedded_scenarios())}")
         path = embedded
-    if not path.is_file():
+    if not path.exists():
         raise ScenarioError(f"scenario = {str(source)!r}: no such file")
+    if path.is_dir():
+        raise ScenarioError(f"scenario = {str(source)!r} is a directory, not a TOML file")
+    if not path.is_file():
+        raise ScenarioError(f"scenario = {str(source)!r} is not a regular file (a device or a pipe)")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = path.read_bytes()[:MAX_SCENARIO_BYTES + 1]
+    except OSError as exc:
+        raise ScenarioError(f"scenario = {str(source)!r} cannot be read: {exc.strerror or exc}") from None
+    if len(text) > MAX_SCENARIO_BYTES:
+        raise ScenarioError(f"scenario = {str(source)!r} is larger than {MAX_SCENARIO_BYTES // 1024} KiB")
+    try:
+        data = tomllib.loads(text.decode("utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"scenario = {str(source)!r} is not valid TOML: {exc}") from None
     except UnicodeDecodeError:
         raise ScenarioError(f"scenario = {str(source)!r} is not UTF-8 text") from None
+    except RecursionError:
+        raise ScenarioError(f"scenario = {str(source)!r} nests tables or arrays too deeply") from None
     return parse_scenario(data, name=path.stem)

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import math
+import sys
 import time
 
 import numpy as np
+
+from csuas.base.errors import ParameterError, raise_all
 
 QUALITIES = ("draft", "standard", "reference")
 
@@ -40,17 +44,23 @@ def add_arguments(parser) -> None:
     parser.add_argument("--sphere-average", action="store_true",
                         help="also the sphere-averaged RCS of Eq. 6 (cos-weighted, 36 x 12 aspects; "
                              "cost grows with f^2, use --quality draft above ~20 GHz on a CPU)")
+    parser.add_argument("--max-tubes", type=float, default=1e9,
+                        help="refuse work estimated above this many tubes in all (default 1e9, a few minutes "
+                             "on 2 CPU cores)")
     parser.add_argument("--plot", metavar="PNG", default=None,
                         help="write a polar plot of RCS vs azimuth (2 deg steps) at the given elevation")
 
 
 def run(args) -> dict:
     """Compute the RCS; returns the ``--json`` object (keys of SPEC 8 plus details)."""
-    from csuas.render.rcs.solver import POLARISATIONS, compute_rcs, get_engine, to_dbsm
+    from csuas.render.rcs.solver import POLARISATIONS, compute_rcs, get_engine, resolve_quality
 
     start = time.perf_counter()
+    _validate(args)
+    rays_per_wavelength, max_bounces = resolve_quality(args.quality, args.rays_per_wavelength, args.max_bounces)
     shell = None if args.shell_thickness_mm is None else args.shell_thickness_mm / 1000.0
     engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
+    cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
     res = compute_rcs(engine, args.frequency_ghz, args.azimuth_deg, args.elevation_deg, quality=args.quality,
                       rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces,
                       error_estimate=not args.no_error_estimate, observe_azimuth_deg=args.observe_azimuth_deg,
@@ -59,7 +69,11 @@ def run(args) -> dict:
     pol = args.polarisation
     sigma = float(res.rcs_m2(pol).ravel()[0])
     err = res.error_estimate_db(pol)
+    err = None if err is None else float(err.ravel()[0])
     target = engine.target
+    warnings = _warnings(sigma, err, res.tubes, args.frequency_ghz, target.bounding_radius_m)
+    if sigma <= 0.0 or (err is not None and not (math.isfinite(err) and err <= UNRELIABLE_ERROR_DB)):
+        err = None
     out = {
         "target": args.mesh_or_preset,
         "frequency_ghz": args.frequency_ghz,
@@ -71,10 +85,12 @@ def run(args) -> dict:
         "observe_azimuth_deg": float(res.observe_azimuth_deg.ravel()[0]),
         "observe_elevation_deg": float(res.observe_elevation_deg.ravel()[0]),
         "rcs_m2": sigma,
-        "rcs_dbsm": float(to_dbsm(sigma)),
-        "error_db": None if err is None else float(err.ravel()[0]),
+        "rcs_dbsm": _dbsm(sigma),
+        "error_db": err,
+        "warnings": warnings,
+        "cost_estimate": cost,
         "rcs_m2_by_polarisation": {p: float(res.rcs_m2(p).ravel()[0]) for p in POLARISATIONS},
-        "rcs_dbsm_by_polarisation": {p: float(res.rcs_dbsm(p).ravel()[0]) for p in POLARISATIONS},
+        "rcs_dbsm_by_polarisation": {p: _dbsm(float(res.rcs_m2(p).ravel()[0])) for p in POLARISATIONS},
         "rays": res.tubes,
         "rays_per_wavelength": res.rays_per_wavelength,
         "max_bounces": res.max_bounces,
@@ -113,6 +129,80 @@ def run(args) -> dict:
     return out
 
 
+#: An error estimate above this [dB] says the estimate itself failed (the half-density run hit
+#: little or nothing); it is reported as a warning, never as a bound.
+UNRELIABLE_ERROR_DB = 10.0
+#: Below this k*a (a the bounding radius) edge diffraction and creeping waves, which SBR-PO leaves out,
+#: matter: the figure is indicative only (docs/validation.md, SBR-PO).
+KA_VALIDITY = 5.0
+#: Fewer tubes than this sample the target too coarsely for the error estimate to mean anything.
+MIN_TUBES = 100
+
+
+def _validate(args) -> None:
+    """Every numeric option checked before the mesh is loaded; all mistakes at once."""
+    errors = []
+    if not (0.0 < args.frequency_ghz <= 3000.0):
+        errors.append(ParameterError("--frequency-ghz", args.frequency_ghz, "0 < f <= 3000 [GHz]"))
+    for option, value in (("--azimuth-deg", args.azimuth_deg), ("--observe-azimuth-deg", args.observe_azimuth_deg)):
+        if value is not None and not (-360.0 <= value <= 360.0):
+            errors.append(ParameterError(option, value, "-360 to 360 [deg]"))
+    for option, value in (("--elevation-deg", args.elevation_deg),
+                          ("--observe-elevation-deg", args.observe_elevation_deg)):
+        if value is not None and not (-90.0 <= value <= 90.0):
+            errors.append(ParameterError(option, value, "-90 to 90 [deg]"))
+    if args.shell_thickness_mm is not None and not (0.0 < args.shell_thickness_mm < 1000.0):
+        errors.append(ParameterError("--shell-thickness-mm", args.shell_thickness_mm, "0 < t < 1000 [mm]"))
+    if not (args.max_tubes >= 1.0 and math.isfinite(args.max_tubes)):
+        errors.append(ParameterError("--max-tubes", args.max_tubes, "a finite number >= 1"))
+    raise_all(errors)
+
+
+def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int) -> dict:
+    """Tubes and time of the whole command, estimated before tracing; refused above ``--max-tubes``."""
+    from csuas.render.rcs.solver import estimate_seconds, estimate_tubes
+
+    per_aspect = estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
+    runs = 1.0 if args.no_error_estimate else 1.25  # the error estimate adds a half-density run
+    aspects = 1 + (36 * 12 if args.sphere_average else 0) + (180 if args.plot else 0)
+    tubes = per_aspect * runs * aspects
+    cost = {"tubes": tubes, "tubes_per_aspect": per_aspect, "aspects": aspects,
+            "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces)}
+    if tubes > args.max_tubes:
+        raise ParameterError("--max-tubes", args.max_tubes,
+                             f"at least the estimated {tubes:.3g} tubes (about {cost['seconds_2_cpu_cores'] / 60:.0f} "
+                             f"min on 2 CPU cores) for this target, frequency and --rays-per-wavelength "
+                             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density")
+    if cost["seconds_2_cpu_cores"] > 10.0:
+        print(f"csuas rcs: about {tubes:.3g} tubes, roughly {cost['seconds_2_cpu_cores']:.0f} s on 2 CPU cores",
+              file=sys.stderr)
+    return cost
+
+
+def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bounding_radius_m: float) -> list[str]:
+    """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity."""
+    warnings = []
+    if sigma_m2 <= 0.0:
+        warnings.append("no tube returned any field toward the receiver: the RCS is below what this tube grid "
+                        "resolves, not zero; raise --rays-per-wavelength")
+    if tubes < MIN_TUBES:
+        warnings.append(f"only {tubes} tubes cover the target: the grid is too coarse for a meaningful figure "
+                        f"or error estimate; raise --rays-per-wavelength")
+    ka = 2.0 * math.pi * frequency_ghz * 1e9 / 299_792_458.0 * bounding_radius_m
+    if ka < KA_VALIDITY:
+        warnings.append(f"ka = {ka:.3g} < {KA_VALIDITY:g}: SBR-PO has no edge diffraction or creeping waves, "
+                        f"so below ka of about 5 the figure is indicative only")
+    if error_db is not None and not (math.isfinite(error_db) and error_db <= UNRELIABLE_ERROR_DB):
+        warnings.append(f"the error estimate ({error_db:.3g} dB) failed: the half-density run resolves the target "
+                        f"too poorly; error_db is withheld")
+    return warnings
+
+
+def _dbsm(sigma_m2: float):
+    """10 log10(sigma) [dBsm], or None for a zero RCS (explained in ``warnings``)."""
+    return 10.0 * math.log10(sigma_m2) if sigma_m2 > 0.0 else None
+
+
 def render_text(result: dict) -> str:
     """Human-readable summary of ``csuas rcs``."""
     where = "" if result["geometry"] == "monostatic" else (
@@ -121,9 +211,11 @@ def render_text(result: dict) -> str:
     lines = [f"{result['geometry'].capitalize()} RCS of {result['target']} at {result['frequency_ghz']:g} GHz, "
              f"azimuth {result['azimuth_deg']:g} deg, elevation {result['elevation_deg']:g} deg{where} "
              f"({result['polarisation']}):",
-             f"  {result['rcs_m2']:.4g} m^2 = {result['rcs_dbsm']:.2f} dBsm"
+             f"  {result['rcs_m2']:.4g} m^2"
+             + ("" if result["rcs_dbsm"] is None else f" = {result['rcs_dbsm']:.2f} dBsm")
              + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
-             "  " + "  ".join(f"{p} {v:.2f}" for p, v in result["rcs_dbsm_by_polarisation"].items()) + " dBsm",
+             "  " + "  ".join(f"{p} {'-' if v is None else f'{v:.2f}'}"
+                              for p, v in result["rcs_dbsm_by_polarisation"].items()) + " dBsm",
              f"  {result['rays']} tubes at {result['rays_per_wavelength']:g} per wavelength, "
              f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
              f"(a first launch includes kernel compilation), {result['time_s']:.2f} s"]
@@ -133,4 +225,5 @@ def render_text(result: dict) -> str:
                      f"(quadrature error {100 * avg['quadrature_error_rel']:.1f} %)")
     if "plot" in result:
         lines.append(f"  polar plot: {result['plot']}")
+    lines.extend(f"  warning: {w}" for w in result["warnings"])
     return "\n".join(lines)

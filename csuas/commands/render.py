@@ -11,7 +11,8 @@ import importlib
 import sys
 import time
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import ParameterError, raise_all
+from csuas.base.fileio import prepare_output_dir
 
 #: Mode name -> "module:function" of a render mode ``f(scenario, **options) -> list of dict``.
 MODES = {
@@ -55,9 +56,17 @@ def run(args) -> dict:
     from csuas.scenario import load_scenario
 
     start = time.perf_counter()
-    for r in args.range_m:
-        if not (r > 0 and r < float("inf")):
-            raise ParameterError("range_m", r, "finite and > 0 [m]")
+    errors = [ParameterError("--range-m", r, "finite and > 0 [m]") for r in args.range_m
+              if not (0 < r < float("inf"))]
+    for option, value, low, high in (("--azimuth-deg", args.azimuth_deg, -360.0, 360.0),
+                                     ("--elevation-deg", args.elevation_deg, -90.0, 90.0)):
+        if not (low <= value <= high):
+            errors.append(ParameterError(option, value, f"{low:g} to {high:g} [deg]"))
+    if not (0 <= args.seed < 2**32):
+        errors.append(ParameterError("--seed", args.seed, "an integer from 0 to 2^32 - 1"))
+    raise_all(errors)
+    if args.out is not None:
+        prepare_output_dir(args.out)
     scenario = load_scenario(args.scenario)
     results = resolve_mode(args.mode)(
         scenario, ranges_m=list(args.range_m), quality=args.quality, azimuth_deg=args.azimuth_deg,

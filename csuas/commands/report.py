@@ -29,8 +29,13 @@ def add_arguments(parser):
 
 def run(args) -> dict:
     """Run the report; the returned object holds ``checks[]``, ``summary``, ``files``, ``exit_code``."""
+    from csuas.base.fileio import prepare_output_dir
+    from csuas.validation.report.baseline import load_baseline
     from csuas.validation.report.runner import run_report
 
+    if args.baseline is not None:
+        load_baseline(args.baseline)  # refused now, not after the checks
+    prepare_output_dir(args.out)
     report = run_report(args.quality, args.out, args.baseline, progress=sys.stderr)
     return {"quality": report["quality"], "time_s": report["time_s"], "summary": report["summary"],
             "checks": report["checks"], "baseline": report["baseline"], "files": report["files"],

@@ -28,11 +28,19 @@ def load_baseline(path) -> dict:
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except FileNotFoundError:
-        raise ParameterError("baseline", str(path), "an existing report.json") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ParameterError("baseline", str(path), f"a JSON report (it does not parse: {exc})") from None
+        raise ParameterError("--baseline", str(path), "an existing report.json") from None
+    except IsADirectoryError:
+        raise ParameterError("--baseline", str(path), "a report.json file (this is a folder)") from None
+    except OSError as exc:
+        raise ParameterError("--baseline", str(path), f"a readable report.json ({exc.strerror or exc})") from None
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
+        raise ParameterError("--baseline", str(path), f"a JSON report (it does not parse: {exc})") from None
     if not isinstance(data, dict) or not isinstance(data.get("checks"), list):
-        raise ParameterError("baseline", str(path), "a report.json with a 'checks' list")
+        raise ParameterError("--baseline", str(path), "a report.json with a 'checks' list")
+    malformed = [i for i, c in enumerate(data["checks"]) if not (isinstance(c, dict) and isinstance(c.get("name"), str))]
+    if malformed:
+        raise ParameterError("--baseline", str(path), f"a report.json whose checks are objects with a 'name' "
+                             f"(entries {', '.join(map(str, malformed[:5]))} are not)")
     return data
 
 

@@ -1,0 +1,56 @@
+"""SIGINT and SIGTERM that are never lost.
+
+Python raises ``KeyboardInterrupt`` at the next bytecode after SIGINT, but a C extension running at
+that moment (Dr.Jit compiling its first kernels, Mitsuba loading a scene) may check for signals
+itself and drop the exception. The handlers installed here also record the signal, so that
+:func:`raise_if_interrupted` raises it again at the next checkpoint: every atomic file write
+(:func:`csuas.base.fileio.atomic_path`) and the end of each command. SIGTERM is raised as
+:class:`Terminated`, a ``KeyboardInterrupt``, so that every clean-up path treats both alike.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+
+_received: list[int] = []
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like SIGINT so that every ``finally`` and atomic write cleans up."""
+
+
+def _exception(signum: int) -> KeyboardInterrupt:
+    return Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+
+def _handler(signum, frame):  # noqa: ARG001 - signal handler signature
+    _received.append(signum)
+    raise _exception(signum)
+
+
+def pending() -> KeyboardInterrupt | None:
+    """The interrupt received since :func:`handling_interrupts` began, or None.
+
+    An exception that a C extension raised while it was being interrupted (a half-imported module's
+    ``NameError``, say) is a consequence of the interrupt: the caller reports the interrupt instead.
+    """
+    return _exception(_received[0]) if _received else None
+
+
+def raise_if_interrupted() -> None:
+    """Raise the interrupt received since :func:`handling_interrupts` began, if any."""
+    if _received:
+        raise _exception(_received[0])
+
+
+@contextlib.contextmanager
+def handling_interrupts():
+    """Record SIGINT and SIGTERM while the block runs; restore the previous handlers afterwards."""
+    _received.clear()
+    previous = {sig: signal.signal(sig, _handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
