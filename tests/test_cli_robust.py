@@ -61,7 +61,7 @@ def test_several_mistakes_come_together_one_line_each(capsys):
     lines = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert len(lines) == 4 and all(line.startswith("csuas render: error: ") for line in lines)
-    for option in ("--range-m = -1.0", "--range-m = nan", "--seed = -1", "--elevation-deg = 95.0"):
+    for option in ("range_m = -1.0", "range_m = nan", "seed = -1", "elevation_deg = 95.0"):
         assert any(option in line for line in lines), option
 
 
@@ -165,5 +165,5 @@ def test_work_beyond_the_tube_budget_is_refused_before_tracing(capsys):
     start = time.perf_counter()
     code = cli.main(["rcs", "dji_mini_4_pro", "--frequency-ghz", "35", "--rays-per-wavelength", "1000"])
     err = capsys.readouterr().err
-    assert code == 2 and "--max-tubes" in err and "min on 2 CPU cores" in err
+    assert code == 2 and "max_tubes" in err and "min on 2 CPU cores" in err
     assert time.perf_counter() - start < 30.0

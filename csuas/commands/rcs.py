@@ -143,18 +143,18 @@ def _validate(args) -> None:
     """Every numeric option checked before the mesh is loaded; all mistakes at once."""
     errors = []
     if not (0.0 < args.frequency_ghz <= 3000.0):
-        errors.append(ParameterError("--frequency-ghz", args.frequency_ghz, "0 < f <= 3000 [GHz]"))
-    for option, value in (("--azimuth-deg", args.azimuth_deg), ("--observe-azimuth-deg", args.observe_azimuth_deg)):
+        errors.append(ParameterError("frequency_ghz", args.frequency_ghz, "0 < f <= 3000 [GHz]"))
+    for option, value in (("azimuth_deg", args.azimuth_deg), ("observe_azimuth_deg", args.observe_azimuth_deg)):
         if value is not None and not (-360.0 <= value <= 360.0):
             errors.append(ParameterError(option, value, "-360 to 360 [deg]"))
-    for option, value in (("--elevation-deg", args.elevation_deg),
-                          ("--observe-elevation-deg", args.observe_elevation_deg)):
+    for option, value in (("elevation_deg", args.elevation_deg),
+                          ("observe_elevation_deg", args.observe_elevation_deg)):
         if value is not None and not (-90.0 <= value <= 90.0):
             errors.append(ParameterError(option, value, "-90 to 90 [deg]"))
     if args.shell_thickness_mm is not None and not (0.0 < args.shell_thickness_mm < 1000.0):
-        errors.append(ParameterError("--shell-thickness-mm", args.shell_thickness_mm, "0 < t < 1000 [mm]"))
+        errors.append(ParameterError("shell_thickness_mm", args.shell_thickness_mm, "0 < t < 1000 [mm]"))
     if not (args.max_tubes >= 1.0 and math.isfinite(args.max_tubes)):
-        errors.append(ParameterError("--max-tubes", args.max_tubes, "a finite number >= 1"))
+        errors.append(ParameterError("max_tubes", args.max_tubes, "a finite number >= 1"))
     raise_all(errors)
 
 
@@ -169,7 +169,7 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
     cost = {"tubes": tubes, "tubes_per_aspect": per_aspect, "aspects": aspects,
             "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces)}
     if tubes > args.max_tubes:
-        raise ParameterError("--max-tubes", args.max_tubes,
+        raise ParameterError("max_tubes", args.max_tubes,
                              f"at least the estimated {tubes:.3g} tubes (about {cost['seconds_2_cpu_cores'] / 60:.0f} "
                              f"min on 2 CPU cores) for this target, frequency and --rays-per-wavelength "
                              f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density")

@@ -56,14 +56,14 @@ def run(args) -> dict:
     from csuas.scenario import load_scenario
 
     start = time.perf_counter()
-    errors = [ParameterError("--range-m", r, "finite and > 0 [m]") for r in args.range_m
+    errors = [ParameterError("range_m", r, "finite and > 0 [m]") for r in args.range_m
               if not (0 < r < float("inf"))]
-    for option, value, low, high in (("--azimuth-deg", args.azimuth_deg, -360.0, 360.0),
-                                     ("--elevation-deg", args.elevation_deg, -90.0, 90.0)):
+    for option, value, low, high in (("azimuth_deg", args.azimuth_deg, -360.0, 360.0),
+                                     ("elevation_deg", args.elevation_deg, -90.0, 90.0)):
         if not (low <= value <= high):
             errors.append(ParameterError(option, value, f"{low:g} to {high:g} [deg]"))
     if not (0 <= args.seed < 2**32):
-        errors.append(ParameterError("--seed", args.seed, "an integer from 0 to 2^32 - 1"))
+        errors.append(ParameterError("seed", args.seed, "an integer from 0 to 2^32 - 1"))
     raise_all(errors)
     if args.out is not None:
         prepare_output_dir(args.out)
