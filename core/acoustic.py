@@ -114,10 +114,13 @@ def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_
     RangeResult
         Ranges below 1 m are returned as computed (spreading is referred to 1 m).
 
+        Silence (N_lvl = -inf), or a budget so large that R overflows, without wind or absorption
+        gives R = inf with ``reason`` saying the range is unbounded.
+
     Raises
     ------
     ParameterError
-        When silence (N_lvl = -inf) without wind or absorption leaves the range unbounded.
+        For NaN or out-of-domain inputs, naming the parameter.
     """
     check_convention(convention)
     sl = require("sl_db", sl_db)
@@ -146,9 +149,9 @@ def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_
     if np.any(alpha > 0):
         terms.append(Term("absorption_db_m", alpha, "dB/m", "ISO 9613-1"))
     r = solve_log_linear(budget, alpha, n=2.0)
-    if np.any(np.isinf(r)):
-        raise ParameterError("environment.noise_level_db", -np.inf,
-                             "> -inf when neither wind nor absorption bounds the range (silence: unbounded range)")
+    reason = np.where(np.isinf(r), "unbounded: the noise is so low (or the source so loud) that spherical "
+                      "spreading alone never brings the signal below the required SNR, and neither wind noise nor "
+                      "absorption bounds it", "")
     terms.append(Term("budget_db", budget, "dB", "Eq. 44"))
     model = "spherical_spreading+noise (Eqs. 44, 106-108)" + (" + ISO 9613-1 absorption" if np.any(alpha > 0) else "")
-    return RangeResult(r, "acoustic", model, terms)
+    return RangeResult(r, "acoustic", model, terms, reason if np.any(np.isinf(r)) else None)

@@ -147,13 +147,15 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     Raises
     ------
     ParameterError
-        When a range is unbounded (e.g. P_desired = 0 with nothing else limiting it).
+        When a range is unbounded without a model's explanation (P_desired = 0 with nothing else
+        limiting the Johnson range); an unbounded range a model explains in ``reason`` (silence
+        for the acoustic model) is returned as it is.
     """
     conv = check_convention(convention or scenario.convention)
     results = {}
     for name, sensor in scenario.sensors.items():
         result = ADAPTERS[sensor.modality](scenario, sensor, conv)
-        if not np.all(np.isfinite(result.range_m)):
+        if not np.all(np.isfinite(result.range_m)) and result.reason is None:
             raise ParameterError(f"sensors.{name}.p_desired", sensor.params.get("p_desired"),
                                  "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits")
         if scenario.target["altitude_m"] != 0.0:

@@ -42,9 +42,10 @@ def test_default_loss_model_of_table_32():
     assert float(r.range_m) == pytest.approx(10 ** ((80 - 10 - n_total + 20) / 20), rel=1e-12)
 
 
-def test_silence_without_wind_is_an_explicit_error():
-    with pytest.raises(ParameterError, match="noise_level_db"):
-        acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=-np.inf, g_array_db=0)
+def test_silence_without_wind_is_an_explained_unbounded_range():
+    r = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=np.array([-np.inf, 35.0]), g_array_db=0)
+    assert np.isinf(r.range_m[0]) and r.reason[0].startswith("unbounded")
+    assert r.range_m[1] == pytest.approx(10 ** ((80 - 10 - 35) / 20), rel=1e-12) and r.reason[1] == ""
 
 
 def test_minus_infinity_ambient_with_wind_is_finite():
