@@ -13,6 +13,7 @@ import numpy as np
 
 from csuas.core import acoustic, eo, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.johnson import ifov_from_pitch_rad
 from csuas.core.mrtd import ParametricMrtd, TabulatedMrtd
 from csuas.core.radiometry import BANDS_UM, graybody_apparent_temperature
@@ -100,7 +101,7 @@ def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         l_hardware_db=p["l_hardware_db"], l_processing_db=p["l_processing_db"],
         rain_rate_mm_h=env["rain_rate_mm_h"], lwc_g_m3=env["lwc_g_m3"], temperature_k=env["temperature_k"],
         loss_frequency_ghz=p["loss_frequency_ghz"], d_rain_km=p["d_rain_km"], d_fog_km=p["d_fog_km"],
-        convention=convention)
+        k_b=p.get("boltzmann_j_k"), convention=convention)
 
 
 def paper_eta_tl(sc: Scenario, s: SensorSpec) -> float:
@@ -158,11 +159,85 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
         if not np.all(np.isfinite(result.range_m)) and result.reason is None:
             raise ParameterError(f"sensors.{name}.p_desired", sensor.params.get("p_desired"),
                                  "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits")
-        if scenario.target["altitude_m"] != 0.0:
-            result.terms.append(Term("horizontal_range_m", horizontal_range_m(result.range_m, scenario.target["altitude_m"]),
-                                     "m", "Eq. 13 (Eq. 14 takes R* for it)"))
+        _apply_horizon(scenario, sensor, result)
+        _explain_short_range(scenario, sensor, result, conv)
+        altitude = scenario.target["altitude_m"]
+        if altitude != 0.0:
+            horizontal = horizontal_range_m(result.range_m, altitude)
+            result.terms.append(Term("horizontal_range_m", horizontal, "m", "Eq. 13 (Eq. 14 takes R* for it)"))
+            _add_reason(result, np.isnan(horizontal),
+                        f"the target flies {abs(altitude):g} m {'above' if altitude > 0 else 'below'} the sensor, "
+                        f"beyond the slant range: it is never within range at that altitude")
         results[name] = result
     return results
+
+
+#: Modality -> (effective Earth-radius factor, name) of its horizon; acoustic ranges are not capped.
+HORIZONS = {"rf": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
+            "radar": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
+            "eo": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
+            "tir": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
+            "lidar": (K_OPTICAL, "optical horizon, refraction coefficient 0.13")}
+#: Heights of the flag raised when a scenario gives no sensor height: a mast-less sensor, a drone at
+#: the 120 m ceiling of open-category flight [m].
+REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M = 2.0, 120.0
+
+
+def _add_reason(result: RangeResult, mask, text: str) -> None:
+    """Append ``text`` to the reason of the elements where ``mask`` holds."""
+    mask = np.broadcast_to(np.asarray(mask, bool), np.shape(result.range_m))
+    if not np.any(mask):
+        return
+    old = np.broadcast_to(np.asarray(result.reason if result.reason is not None else "", dtype=object),
+                          mask.shape)
+    joined = np.where(old != "", old + "; " + text, text)
+    result.reason = np.where(mask, joined, old).astype(str)
+
+
+def _apply_horizon(scenario: Scenario, sensor: SensorSpec, result: RangeResult) -> None:
+    """Cap a radio or optical range at the line-of-sight horizon (heights given), or flag it."""
+    if sensor.modality not in HORIZONS:
+        return
+    k, label = HORIZONS[sensor.modality]
+    height = sensor.params.get("height_m")
+    if height is None:
+        limit = line_of_sight_limit_m(REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M, k)
+        _add_reason(result, np.asarray(result.range_m) > limit,
+                    f"beyond the {label} of a {REFERENCE_SENSOR_HEIGHT_M:g} m sensor and a "
+                    f"{REFERENCE_TARGET_HEIGHT_M:g} m target ({limit / 1000:.1f} km): set "
+                    f"sensors.{sensor.name}.height_m and target.altitude_m to cap it")
+        return
+    target_height = max(height + scenario.target["altitude_m"], 0.0)
+    limit = float(line_of_sight_limit_m(height, target_height, k))
+    capped = np.asarray(result.range_m) > limit
+    result.terms.append(Term("horizon_m", limit, "m", f"{label}: sensor {height:g} m, target {target_height:g} m "
+                             f"above ground"))
+    _add_reason(result, capped, f"limited by the {label} ({limit / 1000:.2f} km)")
+    result.range_m = np.where(capped, limit, result.range_m)
+
+
+#: A range below this is reported with its cause [m].
+SHORT_RANGE_M = 1.0
+
+
+def _explain_short_range(scenario: Scenario, sensor: SensorSpec, result: RangeResult, convention: str) -> None:
+    """Name the cause of a zero or near-zero range that the model left unexplained."""
+    r = np.asarray(result.range_m, float)
+    unexplained = (r < SHORT_RANGE_M) & (np.broadcast_to(np.asarray(
+        result.reason if result.reason is not None else "", dtype=object), r.shape) == "")
+    if not np.any(unexplained):
+        return
+    if sensor.modality == "lidar" and convention == "paper" and "eta_tl" not in sensor.explicit \
+            and {"fog", "haze"} & scenario.effects:
+        eta = paper_eta_tl(scenario, sensor)
+        text = (f"eta_TL = {eta:.3g}: the paper convention applies Kruse extinction at "
+                f"{scenario.optical_visibility_km:g} km visibility over Table 47's fixed "
+                f"{sensor.params['tl_path_km']:g} km path, whatever the range (docs/conventions.md point 8)")
+    else:
+        losses = [f"{t.name} = {float(np.max(t.value)):.3g} dB" for t in result.terms
+                  if t.unit == "dB" and ("loss" in t.name or t.name.startswith("l_"))]
+        text = "the budget is spent before 1 m" + (f" (losses: {', '.join(losses)})" if losses else "")
+    _add_reason(result, unexplained, f"range below {SHORT_RANGE_M:g} m: {text}")
 
 
 def horizontal_range_m(slant_range_m, altitude_m):
@@ -170,10 +245,12 @@ def horizontal_range_m(slant_range_m, altitude_m):
 
     The models compute the slant (line-of-sight) range R*; the paper's Eq. 14
     approximates the horizontal distance by it. A target higher above the
-    sensor than its detection range is detectable at no horizontal distance (0).
+    sensor than its detection range is never within range: NaN there (the range
+    command explains it in ``reason``).
     """
     r = np.asarray(slant_range_m, dtype=float)
-    return np.sqrt(np.maximum(r**2 - float(altitude_m) ** 2, 0.0))
+    h = float(altitude_m)
+    return np.where(r >= abs(h), np.sqrt(np.maximum(r**2 - h**2, 0.0)), np.nan)
 
 
 def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:

@@ -24,7 +24,7 @@ else:  # pragma: no cover
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
-from csuas.base.errors import ScenarioError
+from csuas.base.errors import ScenarioError, raise_all
 
 #: Aliases of environment parameters that take class names (SPEC 3.1).
 ENVIRONMENT_ALIASES = {
@@ -53,6 +53,9 @@ class SensorSpec:
         Every parameter of the modality (defaults, preset, overrides, derived).
     explicit : set of str
         Parameters given by the scenario or the preset (not defaults).
+    origin : dict
+        ``{parameter: "scenario" | "preset NAME" | "derived (...)"}`` for every parameter not
+        at its default; the others come from ``defaults/parameters.toml`` (:func:`provenance`).
     """
 
     name: str
@@ -60,6 +63,7 @@ class SensorSpec:
     preset: str
     params: dict
     explicit: set = field(default_factory=set)
+    origin: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -75,6 +79,10 @@ class Scenario:
     sensors : dict of SensorSpec
     explicit : dict
         ``{"target": set, "environment": set}`` of parameters set explicitly.
+    origin : dict
+        ``{"target": {...}, "environment": {...}}``, as :attr:`SensorSpec.origin`.
+    warnings : list of str
+        Plausibility warnings (likely unit mistakes); not errors.
     """
 
     name: str
@@ -85,6 +93,8 @@ class Scenario:
     environment_preset: str
     sensors: dict
     explicit: dict
+    origin: dict = field(default_factory=lambda: {"target": {}, "environment": {}})
+    warnings: list = field(default_factory=list)
 
     @property
     def effects(self) -> frozenset:
@@ -154,23 +164,32 @@ def _class_value(key: str, param: str, value):
 
 
 def _apply_overrides(section: str, prefix: str, registry: dict, values: dict, overrides: dict,
-                     explicit: set, reserved: tuple = ()):
+                     explicit: set, errors: list, origin: dict, label: str, reserved: tuple = ()):
+    """Validate and apply ``overrides``; each mistake goes to ``errors`` and the others still apply."""
     for key, raw in overrides.items():
         if key in reserved:
             continue
         param = ENVIRONMENT_ALIASES.get(key, key) if section == "environment" else key
         full = f"{prefix}.{key}"
-        if param not in registry:
-            allowed = sorted(set(registry) | set(reserved) | (set(ENVIRONMENT_ALIASES) if section == "environment" else set()))
-            _fail(full, raw, "a known key: " + ", ".join(allowed))
-        value = _class_value(full, param, raw)
-        if section == "environment" and param == "fog_visibility_m" and isinstance(raw, str):
-            # A fog class also sets its liquid water content (Table 16) unless given.
-            if "lwc_g_m3" not in overrides:
-                values["lwc_g_m3"] = load_tables()["classes"]["lwc_g_m3"][raw]
-                explicit.add("lwc_g_m3")
-        values[param] = _check_value(full, registry[param], value)
+        try:
+            if param not in registry:
+                allowed = sorted(set(registry) | set(reserved)
+                                 | (set(ENVIRONMENT_ALIASES) if section == "environment" else set()))
+                _fail(full, raw, "a known key: " + ", ".join(allowed))
+            value = _class_value(full, param, raw)
+            if section == "environment" and param == "fog_visibility_m" and isinstance(raw, str):
+                # A fog class also sets its liquid water content (Table 16) unless given.
+                if "lwc_g_m3" not in overrides:
+                    values["lwc_g_m3"] = load_tables()["classes"]["lwc_g_m3"][raw]
+                    explicit.add("lwc_g_m3")
+                    origin["lwc_g_m3"] = f"{label} (fog class {raw!r}, Table 16)"
+            values[param] = _check_value(full, registry[param], value)
+        except ScenarioError as exc:
+            errors.append(exc)
+            continue
         explicit.add(param)
+        origin[param] = label if not isinstance(raw, str) or "choices" in registry[param] else \
+            f"{label} (class {raw!r}, {load_tables()['classes'][param]['source']})"
 
 
 def _preset(kind: str, name: str, key: str, modality: str | None = None) -> dict:
@@ -188,7 +207,7 @@ def _defaults(section: str) -> dict:
     return {k: v.get("value") for k, v in load_parameters()[section].items()}
 
 
-def _resolve_sensor(name: str, table: dict) -> SensorSpec:
+def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec:
     prefix = f"sensors.{name}"
     if not isinstance(table, dict):
         _fail(prefix, table, "a table with modality = ...")
@@ -196,18 +215,24 @@ def _resolve_sensor(name: str, table: dict) -> SensorSpec:
     if modality not in MODALITIES:
         _fail(f"{prefix}.modality", modality, ", ".join(MODALITIES))
     registry = load_parameters()[modality]
-    values, explicit = _defaults(modality), set()
+    values, explicit, origin = _defaults(modality), set(), {}
     preset = table.get("preset", "default")
     if not isinstance(preset, str):
         _fail(f"{prefix}.preset", preset, "a preset name")
     _apply_overrides(modality, f"{prefix}(preset {preset})", registry, values,
-                     _preset("sensor", preset, f"{prefix}.preset", modality), explicit)
-    _apply_overrides(modality, prefix, registry, values, table, explicit, reserved=("modality", "preset"))
+                     _preset("sensor", preset, f"{prefix}.preset", modality), explicit, errors, origin,
+                     f"preset {preset}")
+    _apply_overrides(modality, prefix, registry, values, table, explicit, errors, origin, "scenario",
+                     reserved=("modality", "preset"))
+    if errors:
+        return None
     if modality in ("eo", "tir"):
         if "lp_task" not in explicit:
             values["lp_task"] = johnson.line_pairs(values["task"])
+            origin["lp_task"] = f"derived from task = {values['task']!r} (Table 20)"
         if "n_ttpf" not in explicit:
             values["n_ttpf"] = float(johnson.n_ttpf(values["p_desired"]))
+            origin["n_ttpf"] = f"derived from p_desired = {values['p_desired']:g} (Table 21)"
         curve = [values.get("mrtd_frequency_cy_mrad"), values.get("mrtd_k")]
         if (curve[0] is None) != (curve[1] is None):
             _fail(f"{prefix}.mrtd_k", curve[1], "given together with mrtd_frequency_cy_mrad (same length)")
@@ -216,7 +241,7 @@ def _resolve_sensor(name: str, table: dict) -> SensorSpec:
             _fail(f"{prefix}.frequency_ghz", values["frequency_ghz"], "either wavelength_m or frequency_ghz, not both")
         if values["model"] == "range_equation" and values.get("p_rx_min_w") is None:
             _fail(f"{prefix}.p_rx_min_w", None, "a power > 0 [W] when model = range_equation")
-    return SensorSpec(name, modality, preset, values, explicit)
+    return SensorSpec(name, modality, preset, values, explicit, origin)
 
 
 def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
@@ -227,38 +252,98 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
     ScenarioError
         Unknown key, wrong type, out-of-range value, unknown preset or class.
     """
+    errors: list = []
+
+    def attempt(step, *args):
+        try:
+            return step(*args)
+        except ScenarioError as exc:
+            errors.append(exc)
+            return None
+
     for key in data:
         if key not in TOP_LEVEL_KEYS:
-            _fail(key, data[key], "a known key: " + ", ".join(TOP_LEVEL_KEYS))
+            attempt(_fail, key, data[key], "a known key: " + ", ".join(TOP_LEVEL_KEYS))
     convention = data.get("convention", "paper")
     if convention not in CONVENTIONS:
-        _fail("convention", convention, " or ".join(CONVENTIONS))
+        attempt(_fail, "convention", convention, " or ".join(CONVENTIONS))
     params = load_parameters()
-    sections = {}
-    explicit = {}
+    sections, explicit, origin = {}, {}, {}
     for section, preset_kind, default_preset in (("target", "target", "dji_mini_4_pro"),
                                                  ("environment", "environment", "clear_day")):
         table = data.get(section, {})
         if not isinstance(table, dict):
-            _fail(section, table, "a table")
+            attempt(_fail, section, table, "a table")
+            table = {}
         preset = table.get("preset", default_preset)
         if not isinstance(preset, str) or preset not in load_presets()[preset_kind]:
-            _fail(f"{section}.preset", preset, ", ".join(load_presets()[preset_kind]))
-        values, given = _defaults(section), set()
+            attempt(_fail, f"{section}.preset", preset, ", ".join(load_presets()[preset_kind]))
+            preset = default_preset
+        values, given, where = _defaults(section), set(), {}
         _apply_overrides(section, f"{section}(preset {preset})", params[section], values,
-                         _preset(preset_kind, preset, f"{section}.preset"), given)
-        _apply_overrides(section, section, params[section], values, table, given, reserved=("preset",))
+                         _preset(preset_kind, preset, f"{section}.preset"), given, errors, where, f"preset {preset}")
+        _apply_overrides(section, section, params[section], values, table, given, errors, where, "scenario",
+                         reserved=("preset",))
         sections[section] = (values, preset)
-        explicit[section] = given
+        explicit[section], origin[section] = given, where
     sensors_table = data.get("sensors", {})
     if not isinstance(sensors_table, dict) or not sensors_table:
-        _fail("sensors", sensors_table, "at least one [sensors.<name>] table")
-    sensors = {key: _resolve_sensor(key, table) for key, table in sensors_table.items()}
+        attempt(_fail, "sensors", sensors_table, "at least one [sensors.<name>] table")
+        sensors_table = {}
+    sensors = {}
+    for key, table in sensors_table.items():
+        own: list = []
+        spec = attempt(_resolve_sensor, key, table, own)
+        errors.extend(own)
+        sensors[key] = spec
     scenario_name = data.get("name", name)
     if not isinstance(scenario_name, str):
-        _fail("name", scenario_name, "a string")
+        attempt(_fail, "name", scenario_name, "a string")
+    raise_all(errors)
+    warnings = [w for spec in sensors.values() for w in plausibility_warnings(spec)]
     return Scenario(scenario_name, convention, sections["target"][0], sections["target"][1],
-                    sections["environment"][0], sections["environment"][1], sensors, explicit)
+                    sections["environment"][0], sections["environment"][1], sensors, explicit, origin, warnings)
+
+
+def plausibility_warnings(sensor: SensorSpec) -> list[str]:
+    """Likely unit mistakes of an imaging sensor: a field of view that does not fit its detector.
+
+    The fields of view of a pinhole camera with square pixels satisfy
+    tan(HFOV/2) / tan(VFOV/2) = N_H / N_V. A ratio off by more than a factor of two, or a field of
+    view below 0.2 deg beside one above 2 deg, most often means degrees and radians were mixed.
+    """
+    p = sensor.params
+    if sensor.modality not in ("eo", "tir"):
+        return []
+    h, v = p["hfov_deg"], p["vfov_deg"]
+    optical = math.tan(math.radians(min(h, 179.0)) / 2) / math.tan(math.radians(min(v, 179.0)) / 2)
+    pixels = p["n_h"] / p["n_v"]
+    found = []
+    if not (0.5 <= optical / pixels <= 2.0):
+        found.append(f"sensors.{sensor.name}: hfov_deg = {h:g} and vfov_deg = {v:g} give an aspect ratio of "
+                     f"{optical:.3g}, but the detector's n_h / n_v is {pixels:.3g}; is a field of view in radians?")
+    for key, value, other in (("hfov_deg", h, v), ("vfov_deg", v, h)):
+        if value < 0.2 and other > 2.0:
+            found.append(f"sensors.{sensor.name}.{key} = {value:g} deg beside {other:g} deg: radians instead of "
+                         f"degrees? ({value:g} rad = {math.degrees(value):.3g} deg)")
+    return found
+
+
+def provenance(section: str, params: dict, origin: dict) -> dict:
+    """``{parameter: {value, unit, source}}`` of every parameter used: scenario, preset or default.
+
+    ``source`` is ``"scenario"``, ``"preset NAME"``, ``"derived from ..."`` or ``"default (TABLE)"``
+    with the table of ``defaults/parameters.toml``; optional parameters left unset are omitted.
+    """
+    registry = load_parameters()[section]
+    out = {}
+    for key, value in params.items():
+        if value is None:
+            continue
+        spec = registry.get(key, {})
+        source = origin.get(key) or f"default ({spec.get('source', 'parameters.toml')})"
+        out[key] = {"value": value, "unit": spec.get("unit", "-"), "source": source}
+    return out
 
 
 #: Largest scenario file read [bytes]; a scenario is a few hundred bytes.

@@ -151,9 +151,12 @@ def test_altitude_adds_the_horizontal_range_of_eq_13():
     from csuas.ranges import horizontal_range_m
 
     assert horizontal_range_m(500.0, 300.0) == pytest.approx(400.0)   # 3-4-5 triangle
-    assert horizontal_range_m(100.0, 120.0) == 0.0                    # higher than the range: no ground coverage
+    assert np.isnan(horizontal_range_m(100.0, 120.0))                 # higher than the range: never within range
     sc = parse_scenario({"target": {"altitude_m": 120.0}, "sensors": {"e": {"modality": "eo"}}})
     result = evaluate(sc)["e"]
     slant = float(result.range_m)
     assert result.term("horizontal_range_m").value == pytest.approx((slant**2 - 120.0**2) ** 0.5)
     assert "horizontal_range_m" not in {t.name for t in evaluate(_scenario())["eo"].terms}
+    high = evaluate(parse_scenario({"target": {"altitude_m": 5000.0}, "sensors": {"e": {"modality": "eo"}}}))["e"]
+    assert np.isnan(high.term("horizontal_range_m").value)
+    assert "never within range at that altitude" in str(high.reason)

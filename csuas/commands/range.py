@@ -1,18 +1,41 @@
-"""``csuas range SCENARIO``: predicted detection range of each sensor (SPEC 8)."""
+"""``csuas range SCENARIO``: predicted detection range of each sensor, with everything it used.
+
+JSON (``--json``): ``sensors.<name>`` with ``range_m``, ``modality``, ``model``, ``terms`` (each
+``{value, unit, source}``), ``reason`` (why a range is zero, short, unbounded or capped),
+``horizontal_range_m`` (with ``target.altitude_m``; null where the target is never within range),
+``inputs`` (every parameter used, ``{value, unit, source}``, source ``scenario``, ``preset NAME``,
+``derived from ...`` or ``default (TABLE)``) and ``notes``; top-level ``target_inputs``,
+``environment_inputs``, ``effects``, ``ignored_effects`` and ``warnings``.
+"""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
-from csuas.ranges import evaluate
-from csuas.scenario import load_scenario
+from csuas.ranges import evaluate, radar_wavelength_m
+from csuas.scenario import load_scenario, provenance
+
+#: Effects a scenario may declare that no range model of the paper reads, with the reason.
+IGNORED_EFFECTS = {
+    "night": "no range model of the paper reads illuminance_lx (Table 11): the EO model (Eqs. 18, 21) "
+             "has no light-level term, so night changes no range",
+}
+#: Why Table 39's default radar reaches only tens of metres (shown for radars at the default preset).
+DEFAULT_RADAR_NOTE = (
+    "Table 39's default radar (10 W, 25 dB, 200 MHz, 10 pulses integrated coherently) loses Table 44's "
+    "13 dB (10 dB hardware + 3 dB processing, a factor 10^(-13/40) = 0.47 on the range): 47 m on the "
+    "default 0.01 m^2 target (100 m without the losses, 56 m with neither losses nor integration). The "
+    "paper's Section 4.9.3 radar, preset paper_section_4_9 (100 W, 35 dB, 50 MHz, no losses, no "
+    "integration), gives 445.3 m.")
 
 
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument("scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet)")
     parser.add_argument("--convention", choices=("paper", "physical"), default=None,
-                        help="override the scenario's convention (SPEC 3.4)")
+                        help="override the scenario's convention (docs/conventions.md)")
 
 
 def _scalar(value):
@@ -21,27 +44,74 @@ def _scalar(value):
 
 
 def run(args) -> dict:
-    """Evaluate the scenario; return ``{scenario, convention, effects, sensors: {name: {...}}}``."""
+    """Evaluate the scenario; return ``{scenario, convention, effects, sensors: {name: {...}}, ...}``."""
     scenario = load_scenario(args.scenario)
+    for warning in scenario.warnings:
+        print(f"csuas range: warning: {warning}", file=sys.stderr)
     convention = args.convention or scenario.convention
     results = evaluate(scenario, convention)
     sensors = {}
     for name, result in results.items():
+        spec = scenario.sensors[name]
         entry = result.as_dict()
         entry["range_m"] = _scalar(entry["range_m"])
         entry["terms"] = {k: {**v, "value": _scalar(v["value"])} for k, v in entry["terms"].items()}
+        if "horizontal_range_m" in entry["terms"]:
+            entry["horizontal_range_m"] = entry["terms"]["horizontal_range_m"]["value"]
         if "reason" in entry:
             entry["reason"] = _scalar(entry["reason"])
+        entry["preset"] = spec.preset
+        entry["inputs"] = provenance(spec.modality, spec.params, spec.origin)
+        if spec.modality == "radar" and spec.params.get("frequency_ghz") is not None:
+            entry["inputs"]["wavelength_m"] = {
+                "value": radar_wavelength_m(spec.params, convention), "unit": "m",
+                "source": "derived from frequency_ghz (c = 3e8 m/s in the paper convention, Section 4.9.3)"}
+        entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and spec.preset == "default" else []
         sensors[name] = entry
+    effects = sorted(scenario.effects)
     return {"scenario": scenario.name, "convention": convention, "target": scenario.target_preset,
-            "effects": sorted(scenario.effects), "sensors": sensors}
+            "environment": scenario.environment_preset, "effects": effects,
+            "ignored_effects": {e: IGNORED_EFFECTS[e] for e in effects if e in IGNORED_EFFECTS},
+            "warnings": list(scenario.warnings),
+            "target_inputs": provenance("target", scenario.target, scenario.origin["target"]),
+            "environment_inputs": provenance("environment", scenario.environment, scenario.origin["environment"]),
+            "sensors": sensors}
+
+
+def _metres(value) -> str:
+    if value is None or not np.isfinite(value):
+        return "unbounded" if value is not None and value > 0 else "n/a"
+    return f"{value:.1f} m" if value >= 1.0 else f"{value:.3g} m"
+
+
+def _value(value) -> str:
+    if isinstance(value, (float, np.floating)):
+        return f"{value:.6g}"
+    if isinstance(value, np.ndarray):
+        return np.array2string(value, precision=4, separator=", ")
+    return str(value)
 
 
 def render_text(result: dict) -> str:
-    """Human-readable table of the ranges."""
+    """The ranges, then each sensor's applied terms and the inputs not at their defaults."""
     lines = [f"scenario {result['scenario']} ({result['convention']} convention), target {result['target']}, "
-             f"effects: {', '.join(result['effects']) or 'none'}"]
+             f"environment {result['environment']}, effects: {', '.join(result['effects']) or 'none'}"]
+    lines += [f"  note: {effect} changes nothing: {why}" for effect, why in result["ignored_effects"].items()]
     for name, s in result["sensors"].items():
-        reason = f"  [{s['reason']}]" if s.get("reason") else ""
-        lines.append(f"  {name:<12} {s['modality']:<9} {s['range_m']:>12.1f} m   {s['model']}{reason}")
+        horizontal = (f", horizontal {_metres(s['horizontal_range_m'])}" if "horizontal_range_m" in s else "")
+        lines.append(f"  {name:<12} {s['modality']:<9} {_metres(s['range_m']):>14}{horizontal}   {s['model']}")
+        if s.get("reason"):
+            lines.append(f"      why: {s['reason']}")
+        lines += [f"      term  {k:<26} {_value(t['value']):>14} {t['unit']:<6} {t['source']}"
+                  for k, t in s["terms"].items()]
+        lines += [f"      input {k:<26} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
+                  for k, i in s["inputs"].items() if not i["source"].startswith("default")]
+        lines += [f"      note: {n}" for n in s["notes"]]
+    given = {**{f"target.{k}": v for k, v in result["target_inputs"].items()},
+             **{f"environment.{k}": v for k, v in result["environment_inputs"].items()}}
+    shown = [f"  input {k:<32} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
+             for k, i in given.items() if not i["source"].startswith("default")]
+    if shown:
+        lines.append("  target and environment inputs not at their defaults (all of them: --json):")
+        lines += shown
     return "\n".join(lines)
