@@ -1,5 +1,6 @@
 """Scenario files (SPEC 3): parsing, presets, class names, validation errors and effects."""
 
+import numpy as np
 import pytest
 
 from csuas.core import itu
