@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from csuas.defaults import load_parameters
+from csuas.defaults import load_parameters, load_presets
 
 
 def add_arguments(parser):
     """Declare the options of ``csuas defaults``."""
-    parser.add_argument("action", choices=("list", "check"), help="list the parameters, or check derived defaults")
+    parser.add_argument("action", choices=("list", "check", "presets"),
+                        help="list the parameters, check derived defaults, or list every preset with the values it sets")
     parser.add_argument("--core-only", action="store_true",
                         help="check: skip the checks that need a simulation (drone mesh, RCS, LCS)")
 
@@ -27,10 +28,26 @@ def list_parameters() -> list[dict]:
     return entries
 
 
+def list_presets() -> list[dict]:
+    """Every target, environment and sensor preset: kind, modality, name, description, source, values set."""
+    entries = []
+    for kind, table in load_presets().items():
+        groups = table.items() if kind == "sensor" else [(None, table)]
+        for modality, presets in groups:
+            for name, preset in presets.items():
+                values = {k: v for k, v in preset.items() if k not in ("description", "source")}
+                entries.append({"kind": kind, "modality": modality, "name": name,
+                                "description": preset.get("description", ""), "source": preset.get("source", ""),
+                                "sets": values})
+    return entries
+
+
 def run(args) -> dict:
-    """``{"parameters": [...]}`` for list, ``{"checks": [...], "summary": {...}}`` for check."""
+    """``{"parameters": [...]}`` for list, ``{"presets": [...]}`` for presets, checks and summary for check."""
     if args.action == "list":
         return {"parameters": list_parameters()}
+    if args.action == "presets":
+        return {"presets": list_presets()}
     from csuas.validation.defaults_checks import all_checks
 
     checks = [c.as_dict() for c in all_checks(include_simulation=not args.core_only)]
@@ -43,8 +60,19 @@ def run(args) -> dict:
 def render_text(result: dict) -> str:
     """Aligned table of parameters or checks."""
     if "parameters" in result:
-        return "\n".join(f"{p['name']:<36} {str(p['value']):>12} {p['unit']:<10} {p['source']}"
-                         for p in result["parameters"])
+        lines = []
+        for p in result["parameters"]:
+            valid = ("one of " + ", ".join(p["choices"])) if "choices" in p else f"{p['min']:g} .. {p['max']:g}"
+            lines.append(f"{p['name']:<34} {str(p['value']):>10} {p['unit']:<8} [{valid}]  {p['description']} "
+                         f"({p['source']})")
+        return "\n".join(lines)
+    if "presets" in result:
+        lines = []
+        for p in result["presets"]:
+            where = f"{p['kind']}.{p['modality']}" if p["modality"] else p["kind"]
+            sets = ", ".join(f"{k} = {v}" for k, v in p["sets"].items()) or "nothing (the defaults)"
+            lines.append(f"{where}.{p['name']}: {p['description']}\n    sets {sets}  ({p['source']})")
+        return "\n".join(lines)
     lines = []
     for c in result["checks"]:
         verdict = "ok" if c["ok"] else ("known" if c["known_deviation"] else "FAIL")

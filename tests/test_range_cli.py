@@ -1,0 +1,134 @@
+"""``csuas range`` shows everything it used and never a silent zero (issue 9, section 2)."""
+
+import json
+import math
+
+import pytest
+
+from csuas.cli import main
+
+A = 6_371_000.0
+
+
+def _range(capsys, tmp_path, text, *extra):
+    path = tmp_path / "s.toml"
+    path.write_text('name = "t"\n' + text)
+    assert main(["range", str(path), "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_the_section_4_9_radar_is_a_preset_giving_445_3_m_and_the_default_radar_says_why_it_gives_47_m(
+        capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[sensors.paper]\nmodality = "radar"\npreset = "paper_section_4_9"\n'
+                                   '[sensors.table39]\nmodality = "radar"\n')
+    assert out["sensors"]["paper"]["range_m"] == pytest.approx(445.3, abs=0.05)   # Section 4.9.3, Fig. 5
+    default = out["sensors"]["table39"]
+    assert default["range_m"] == pytest.approx(47.1, abs=0.05)
+    assert any("13 dB" in n and "paper_section_4_9" in n for n in default["notes"])
+    # Eq. 109 by hand: 100 W, G = 35 dB, lambda = 0.0125 m, sigma 0.01, SNR 10 dB, k_B 1.381e-23, 290 K, F 10 dB, 50 MHz
+    eq_109 = (100 * 10**7 * 0.0125**2 * 0.01 / ((4 * math.pi) ** 3 * 10 * 1.381e-23 * 290 * 10 * 50e6)) ** 0.25
+    assert out["sensors"]["paper"]["range_m"] == pytest.approx(eq_109, rel=1e-9)
+
+
+def test_every_input_states_where_it_came_from(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[sensors.r]\nmodality = "radar"\npreset = "echoshield"\nsnr_min_db = 13.0\n'
+                                   '[environment]\nrain = "moderate"\n')
+    inputs = out["sensors"]["r"]["inputs"]
+    assert inputs["frequency_ghz"] == {"value": 16.0, "unit": "GHz", "source": "preset echoshield"}
+    assert inputs["snr_min_db"]["source"] == "scenario"
+    assert inputs["p_tx_w"]["source"] == "default (Table 39)"
+    assert inputs["wavelength_m"]["value"] == pytest.approx(3e8 / 16e9, rel=1e-12)
+    assert out["environment_inputs"]["rain_rate_mm_h"]["source"].startswith("scenario (class 'moderate'")
+    assert out["target_inputs"]["d_crit_m"]["source"] == "default (Table 8)"
+
+
+def test_dense_fog_lidar_names_table_47s_fixed_path(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[environment]\nfog = "dense"\n[sensors.l]\nmodality = "lidar"\n')
+    lidar = out["sensors"]["l"]
+    # Kruse at V = 0.1 km (Kim's q = 0 below 0.5 km): 3.912 / 0.1 per km, read as dB/km over 3 km
+    eta = 10 ** (-3.912 / 0.1 * 3 / 10)
+    assert lidar["range_m"] < 0.01
+    assert f"{eta:.3g}" in lidar["reason"] and "3 km" in lidar["reason"]
+
+
+def test_a_target_above_the_slant_range_has_no_horizontal_range_and_says_so(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[target]\naltitude_m = 300.0\n[sensors.e]\nmodality = "eo"\n'
+                                   '[sensors.r]\nmodality = "radar"\n')
+    eo, radar = out["sensors"]["e"], out["sensors"]["r"]
+    assert eo["horizontal_range_m"] == pytest.approx(math.sqrt(eo["range_m"] ** 2 - 300.0**2), rel=1e-12)
+    assert radar["horizontal_range_m"] is None
+    assert "never within range at that altitude" in radar["reason"]
+
+
+def test_a_sensor_height_caps_radio_ranges_at_the_4_3_earth_horizon(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[target]\naltitude_m = 110.0\n[sensors.rf]\nmodality = "rf"\nheight_m = 10.0\n'
+                                   '[sensors.eo]\nmodality = "eo"\nheight_m = 10.0\n')
+    limit = math.sqrt(2 * 4 / 3 * A * 10.0) + math.sqrt(2 * 4 / 3 * A * 120.0)
+    rf = out["sensors"]["rf"]
+    assert rf["range_m"] == pytest.approx(limit, rel=1e-12)
+    assert rf["terms"]["horizon_m"]["value"] == pytest.approx(limit, rel=1e-12)
+    assert "4/3-Earth" in rf["terms"]["horizon_m"]["source"] and "limited by" in rf["reason"]
+    optical = math.sqrt(2 * A * 10.0 / 0.87) + math.sqrt(2 * A * 120.0 / 0.87)
+    assert out["sensors"]["eo"]["terms"]["horizon_m"]["value"] == pytest.approx(optical, rel=1e-12)
+    assert out["sensors"]["eo"]["range_m"] == pytest.approx(555.54, abs=0.01)   # far inside: unchanged
+
+
+def test_without_heights_a_range_past_the_horizon_is_flagged(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[sensors.rf]\nmodality = "rf"\n[sensors.eo]\nmodality = "eo"\n')
+    limit = math.sqrt(2 * 4 / 3 * A * 2.0) + math.sqrt(2 * 4 / 3 * A * 120.0)
+    assert out["sensors"]["rf"]["range_m"] > limit
+    assert f"({limit / 1000:.1f} km)" in out["sensors"]["rf"]["reason"]
+    assert "horizon" not in out["sensors"]["eo"].get("reason", "")
+
+
+def test_night_is_named_as_an_effect_no_model_reads(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[environment]\npreset = "night"\n[sensors.e]\nmodality = "eo"\n')
+    assert "night" in out["effects"] and "illuminance_lx" in out["ignored_effects"]["night"]
+    day = _range(capsys, tmp_path, '[sensors.e]\nmodality = "eo"\n')
+    assert out["sensors"]["e"]["range_m"] == day["sensors"]["e"]["range_m"]
+
+
+def test_the_text_output_shows_terms_inputs_and_horizontal_range(capsys, tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('[target]\naltitude_m = 100.0\n[sensors.r]\nmodality = "radar"\npreset = "echoshield"\n'
+                    '[sensors.e]\nmodality = "eo"\n')
+    assert main(["range", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "term  l_total_db" in text and "Eqs. 84-86" in text
+    assert "input frequency_ghz" in text and "preset echoshield" in text
+    assert "horizontal n/a" in text and "horizontal 546.5 m" in text
+
+
+def test_a_fov_in_radians_draws_a_warning_not_an_error(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[sensors.e]\nmodality = "eo"\nhfov_deg = 0.17\nvfov_deg = 20.0\n')
+    assert any("radians" in w for w in out["warnings"])
+    assert not _range(capsys, tmp_path, '[sensors.e]\nmodality = "eo"\n')["warnings"]
+
+
+def test_every_mistake_of_a_scenario_comes_at_once(capsys, tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('surprise = 1\n[target]\nd_crit_m = -1\n[environment]\nrain = "biblical"\n'
+                    '[sensors.r]\nmodality = "radar"\np_tx_w = -5\n[sensors.x]\nmodality = "sonar"\n')
+    assert main(["range", str(path)]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 5
+    for key in ("surprise", "target.d_crit_m", "environment.rain", "sensors.r.p_tx_w", "sensors.x.modality"):
+        assert sum(key in line for line in lines) == 1, key
+
+
+def test_every_drone_mesh_preset_is_a_target_preset(capsys):
+    from csuas.drone_models import list_presets
+
+    assert main(["defaults", "presets", "--json"]) == 0
+    presets = json.loads(capsys.readouterr().out)["presets"]
+    targets = {p["name"] for p in presets if p["kind"] == "target"}
+    assert set(list_presets()) <= targets
+    radar = {p["name"]: p for p in presets if p["kind"] == "sensor" and p["modality"] == "radar"}
+    assert radar["paper_section_4_9"]["sets"]["p_tx_w"] == 100.0
+
+
+def test_defaults_list_text_shows_the_valid_range_and_description(capsys):
+    assert main(["defaults", "list"]) == 0
+    text = capsys.readouterr().out
+    line = next(l for l in text.splitlines() if l.startswith("eo.hfov_deg"))
+    assert "0 .. 180" in line and "horizontal field of view" in line
