@@ -142,7 +142,9 @@ def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_
     if np.any(windy):
         rl_wind = np.where(windy, n_wind - 20.0 * np.log10(r_wind), -np.inf)
         noise = power_sum_db(n_lvl, rl_wind)
-        terms.append(Term("wind_noise_db", n_wind, "dB", "Table 31"))
+        held = wind_noise_level_db is None and np.any(windy & wind_noise_extrapolated(v))
+        terms.append(Term("wind_noise_db", n_wind, "dB",
+                          "Table 31, beyond its 1-12 m/s: the 12 m/s value (89 dB) held" if held else "Table 31"))
         terms.append(Term("wind_noise_at_sensor_db", rl_wind, "dB", "Eq. 46"))
         terms.append(Term("noise_total_db", noise, "dB", "Eq. 108"))
     budget = sl - snr - noise + gain

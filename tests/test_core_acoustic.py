@@ -92,3 +92,11 @@ def test_extreme_source_levels_stay_finite():
 
 def test_log_linear_closed_form_constant():
     assert LN10 == pytest.approx(math.log(10))
+
+
+def test_wind_beyond_table_31_is_flagged_in_the_term():
+    gale = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=50.0)
+    breeze = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=6.7)
+    assert "beyond its 1-12 m/s" in gale.term("wind_noise_db").source
+    assert float(gale.term("wind_noise_db").value) == 89.0          # Table 31's last row, held
+    assert breeze.term("wind_noise_db").source == "Table 31"
