@@ -51,7 +51,7 @@ class Check:
         return abs(self.computed - self.paper) <= max(self.abs_tol, self.rel_tol * abs(self.paper))
 
     def as_dict(self) -> dict:
-        """JSON form with the keys of SPEC 8 (``name``, ``paper``, ``computed``, ``ok``)."""
+        """JSON form with the keys of docs/command-line.md (``name``, ``paper``, ``computed``, ``ok``)."""
         return {"name": self.name, "paper": self.paper, "computed": self.computed, "ok": self.ok,
                 "unit": self.unit, "source": self.source, "method": self.method,
                 "rel_tol": self.rel_tol, "abs_tol": self.abs_tol,

@@ -13,7 +13,7 @@ class ParameterError(CsuasError, ValueError):
     Parameters
     ----------
     name : str
-        Canonical parameter name (SPEC 3.2), e.g. ``"eo.hfov_deg"``.
+        Canonical parameter name (docs/scenarios.md), e.g. ``"eo.hfov_deg"``.
     value : object
         The offending value.
     allowed : str

@@ -1,6 +1,6 @@
 """Optical atmosphere: Beer-Lambert (Eq. 10), Koschmieder (Eq. 12) and Kruse (Eqs. 19-20).
 
-Convention note (SPEC 3.4 point 1): Kruse and Koschmieder give an extinction
+Convention note (docs/conventions.md point 1): Kruse and Koschmieder give an extinction
 coefficient in km^-1, which the paper labels dB/km and inserts in the decibel
 form of Beer-Lambert, Eq. 10 (Table 47's eta_TL = 0.681 is computed that way).
 The ``paper`` convention reproduces this; ``physical`` uses tau = exp(-beta R).

@@ -59,7 +59,7 @@ def eo_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf, c_eo, c_min, wavelengt
         Sensor wavelength [nm] and visibility [km] for the Kruse extinction
         (Eqs. 19-20); in fog, the fog visibility.
     convention : {"paper", "physical"}
-        How the Kruse coefficient enters Beer-Lambert (SPEC 3.4 point 1).
+        How the Kruse coefficient enters Beer-Lambert (docs/conventions.md point 1).
 
     Returns
     -------

@@ -1,6 +1,6 @@
 """Lidar detection range: range equation (Eqs. 87-99) and losses (Eqs. 100-104).
 
-Conventions (SPEC 3.4 point 8):
+Conventions (docs/conventions.md point 8):
 
 * ``paper``: R = R_max (eta_TL^2 eta_SYS)^(1/4) (Eq. 104) with a given one-way
   transmission factor eta_TL (Table 47: 0.681, from Kruse at V = 3 km over a

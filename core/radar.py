@@ -6,7 +6,7 @@ Conventions:
   printed); rain and fog losses at ``loss_frequency_ghz`` (Table 44: 12 GHz)
   over the fixed paths d_rain, d_fog (Table 44: 1 km); the total loss scales the
   range by 10^(-L/40) (Eq. 86).
-* ``physical`` (SPEC 3.4 points 4-6): non-coherent gain sqrt(n_p); weather
+* ``physical`` (docs/conventions.md points 4-6): non-coherent gain sqrt(n_p); weather
   losses at the radar's own frequency over the actual two-way path, solved
   exactly from 40 log10 R + 2 gamma R = budget.
 """

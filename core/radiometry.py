@@ -1,4 +1,4 @@
-"""Band-integrated Planck radiance and radiance temperature (thermal IR, SPEC 3.4 point 2).
+"""Band-integrated Planck radiance and radiance temperature (thermal IR, docs/conventions.md point 2).
 
 The paper's Eq. 26 linearises radiance as emissivity x temperature. The
 physical convention integrates Planck's law over the sensor band and converts

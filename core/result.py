@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-#: The two conventions of SPEC 3.4.
+#: The two conventions of docs/conventions.md.
 CONVENTIONS = ("paper", "physical")
 
 
@@ -58,7 +58,7 @@ class RangeResult:
     model : str
         Model name with its equation, e.g. ``"johnson_ttpf+contrast (Eqs. 18, 21)"``.
     terms : list of Term
-        Only the terms that were applied (SPEC 3.3).
+        Only the terms that were applied (docs/scenarios.md (effects)).
     reason : ndarray of str
         Per element, empty where detectable, else why the range is 0 or which
         limit applies.
@@ -78,7 +78,7 @@ class RangeResult:
         raise KeyError(name)
 
     def as_dict(self) -> dict:
-        """JSON form with the keys of SPEC 8 (``range_m``, ``modality``, ``model``, ``terms``)."""
+        """JSON form with the keys of docs/command-line.md (``range_m``, ``modality``, ``model``, ``terms``)."""
         out = {"range_m": self.range_m, "modality": self.modality, "model": self.model,
                "terms": {t.name: t.as_dict() for t in self.terms}}
         if self.reason is not None and np.any(np.asarray(self.reason) != ""):

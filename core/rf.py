@@ -1,6 +1,6 @@
 """Passive RF detection range: Friis (Eqs. 50-57) with rain and fog losses (Eqs. 58-61).
 
-Conventions (SPEC 3.4 point 4): ``paper`` applies the rain and fog losses over
+Conventions (docs/conventions.md point 4): ``paper`` applies the rain and fog losses over
 fixed path lengths d_rain, d_fog (Table 37: 1 km); ``physical`` applies the
 specific attenuations over the actual range and solves
 20 log10(4 pi R / lambda) + (gamma_rain + gamma_fog) R = budget exactly.

@@ -1,6 +1,6 @@
 """Thermal-infrared detection range: Johnson (Eqs. 22-23) and MRTD with attenuation (Eqs. 24-31).
 
-Conventions (SPEC 3.4 point 2):
+Conventions (docs/conventions.md point 2):
 
 * ``paper``: Delta T = e_s T_s - e_b T_b (Eq. 26), attenuated as
   Delta T(z) = Delta T(0) exp(-sigma z) with sigma read in dB/km as printed (Eq. 31);

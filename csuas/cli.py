@@ -1,4 +1,4 @@
-"""Command line of csuas (SPEC 8).
+"""Command line of csuas (docs/command-line.md).
 
 Each command lives in ``csuas.commands.<name>`` and exposes
 

@@ -1,8 +1,8 @@
-"""Scenario files (SPEC 3.1): TOML in, validated and fully resolved parameters out.
+"""Scenario files (docs/scenarios.md): TOML in, validated and fully resolved parameters out.
 
 A scenario names a target, an environment and any number of sensors. Each
 section may start from a preset and override any canonical parameter
-(SPEC 3.2). Environment class names of Tables 11, 14, 16, 18, 27 and 30 are
+(docs/scenarios.md). Environment class names of Tables 11, 14, 16, 18, 27 and 30 are
 accepted in place of numbers, either under the parameter's own name
 (``rain_rate_mm_h = "moderate"``) or under a short alias (``rain = "moderate"``).
 
@@ -26,7 +26,7 @@ from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
 from csuas.base.errors import ScenarioError, raise_all
 
-#: Aliases of environment parameters that take class names (SPEC 3.1).
+#: Aliases of environment parameters that take class names (docs/scenarios.md).
 ENVIRONMENT_ALIASES = {
     "illumination": "illuminance_lx",
     "rain": "rain_rate_mm_h",

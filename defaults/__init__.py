@@ -3,7 +3,7 @@
 Files
 -----
 parameters.toml
-    Every canonical parameter (SPEC 3.2) with value, unit, source and valid range.
+    Every canonical parameter (docs/scenarios.md) with value, unit, source and valid range.
 tables.toml
     Class tables (Tables 11, 14, 16, 18, 27, 30), lookup tables (Tables 20, 21,
     31, 38, 41) and the printed values that ``csuas defaults check`` recomputes.

@@ -1,4 +1,4 @@
-"""Procedural drone models, materials and exact silhouette metrics (SPEC 5).
+"""Procedural drone models, materials and exact silhouette metrics (docs/simulation.md).
 
 >>> from csuas.drone_models import build_drone, list_presets
 >>> drone = build_drone("dji_mini_4_pro")

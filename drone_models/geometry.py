@@ -1,6 +1,6 @@
 """View directions, image-plane axes and quasi-uniform direction sets.
 
-Conventions (SPEC 8)
+Conventions (docs/command-line.md)
 --------------------
 Body frame: metres, origin at the centre of the drone's bounding box, +x
 forward, +y left, +z up. A view direction is given by ``azimuth_deg``

@@ -1,4 +1,4 @@
-"""Command line (SPEC 8): JSON keys, exit codes, one-line errors."""
+"""Command line (docs/command-line.md): JSON keys, exit codes, one-line errors."""
 
 import json
 import subprocess

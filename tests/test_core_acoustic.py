@@ -73,7 +73,7 @@ def test_iso_9613_absorption_against_published_table(t_c, rh):
 
 
 def test_iso_9613_oracle_value():
-    assert acoustic.iso9613_absorption_db_m(1000.0) * 1000 == pytest.approx(4.98, abs=0.005)  # ORACLES
+    assert acoustic.iso9613_absorption_db_m(1000.0) * 1000 == pytest.approx(4.98, abs=0.005)  # docs/validation.md
 
 
 @given(st.floats(30, 120), st.floats(1e-5, 0.05))

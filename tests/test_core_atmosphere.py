@@ -16,7 +16,7 @@ def test_koschmieder_reproduces_table_16():
 
 
 def test_koschmieder_wmo_threshold():
-    # WMO's 5 % threshold: sigma = 2.996 / V (ORACLES)
+    # WMO's 5 % threshold: sigma = 2.996 / V (docs/validation.md)
     assert atmosphere.koschmieder_extinction_per_km(1.0, 0.05) == pytest.approx(2.9957, abs=1e-4)
 
 

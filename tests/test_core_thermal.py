@@ -1,4 +1,4 @@
-"""Thermal IR: band radiometry (ORACLES), Eq. 26, MRTD curves and the MRTD range with attenuation."""
+"""Thermal IR: band radiometry (docs/validation.md), Eq. 26, MRTD curves and the MRTD range with attenuation."""
 
 import math
 
@@ -23,7 +23,7 @@ def _planck_quad(t, lo_um, hi_um):
                                           (288.15, "lwir", 31.4780), (298.15, "lwir", 37.3463)])
 def test_band_radiance_oracles(t, band, ref):
     value = radiometry.band_radiance(t, band)
-    assert value == pytest.approx(ref, abs=1e-4)                      # ORACLES.md, 6 digits
+    assert value == pytest.approx(ref, abs=1e-4)                      # docs/validation.md, 6 digits
     lo, hi = radiometry.BANDS_UM[band]
     assert value == pytest.approx(_planck_quad(t, lo, hi), rel=1e-10)  # adaptive quadrature
 
@@ -37,10 +37,10 @@ def test_radiance_temperature_inverts_band_radiance():
 
 @pytest.mark.parametrize("band, t_s, t_b, diff", [("lwir", 267.78, 283.11, 15.33), ("mwir", 278.60, 291.19, 12.59)])
 def test_graybody_apparent_temperatures(band, t_s, t_b, diff):
-    # ORACLES: e = 0.68 at 288.15 K and e = 0.77 at 298.15 K, no reflected surroundings
+    # docs/validation.md: e = 0.68 at 288.15 K and e = 0.77 at 298.15 K, no reflected surroundings
     a = radiometry.graybody_apparent_temperature(0.68, 288.15, band)
     b = radiometry.graybody_apparent_temperature(0.77, 298.15, band)
-    assert (a, b) == (pytest.approx(t_s, abs=0.01), pytest.approx(t_b, abs=0.01))  # ORACLES: 2 decimals
+    assert (a, b) == (pytest.approx(t_s, abs=0.01), pytest.approx(t_b, abs=0.01))  # docs/validation.md: 2 decimals
     assert abs(float(tir.delta_t_radiometric(0.68, 288.15, 0.77, 298.15, band))) == pytest.approx(diff, abs=0.01)
 
 

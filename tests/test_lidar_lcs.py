@@ -1,4 +1,4 @@
-"""Lidar cross-section of Lambertian targets against closed forms (ORACLES.md, SPEC 6).
+"""Lidar cross-section of Lambertian targets against closed forms (docs/validation.md, docs/simulation.md).
 
 Oracles written here, independent of csuas:
 * Lambertian sphere, radius a, albedo rho: LCS = (8/3) rho pi a^2.

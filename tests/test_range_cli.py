@@ -132,3 +132,9 @@ def test_defaults_list_text_shows_the_valid_range_and_description(capsys):
     text = capsys.readouterr().out
     line = next(l for l in text.splitlines() if l.startswith("eo.hfov_deg"))
     assert "0 .. 180" in line and "horizontal field of view" in line
+
+
+def test_sensitivity_of_a_scenario_with_several_sensors_needs_the_sensor_named(capsys):
+    assert main(["sensitivity", "--scenario", "default", "--vary", "sensor.hfov_deg=1:20"]) == 2
+    err = capsys.readouterr().err
+    assert "--sensor" in err and "eo, tir, acoustic, rf, radar, lidar" in err

@@ -1,4 +1,4 @@
-"""``csuas rcs``: JSON keys of SPEC 8, mesh files, presets, plots and one-line errors."""
+"""``csuas rcs``: JSON keys of docs/command-line.md, mesh files, presets, plots and one-line errors."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""SBR-PO radar cross-section against closed forms and the exact sphere series (ORACLES.md).
+"""SBR-PO radar cross-section against closed forms and the exact sphere series (docs/validation.md).
 
 The oracles are written here, independently of csuas: the Mie series of a PEC
 sphere with scipy's spherical Bessel functions, the physical-optics sphere,
@@ -34,7 +34,7 @@ def db(x):
 
 
 def mie_pec_over_pia2(ka: float) -> float:
-    """Exact monostatic RCS / (pi a^2) of a PEC sphere (ORACLES.md series)."""
+    """Exact monostatic RCS / (pi a^2) of a PEC sphere (docs/validation.md series)."""
     x = float(ka)
     n = np.arange(1, int(x + 4 * x ** (1 / 3) + 15))
     j, y = special.spherical_jn(n, x), special.spherical_yn(n, x)
@@ -80,7 +80,7 @@ def test_pec_sphere_against_physical_optics_and_exact_series(ka):
 
     Point-sampled tubes reproduce the specular (optical) term of the PO
     integral but not its shadow-boundary term, whose relative amplitude is
-    2/(2ka) (ORACLES: PO = |(e^{-jx}(1+jx) - 1)/x|^2, x = 2ka); the tolerance is
+    2/(2ka) (docs/validation.md: PO = |(e^{-jx}(1+jx) - 1)/x|^2, x = 2ka); the tolerance is
     0.25 dB plus the level change that twice that amplitude can cause.
     """
     sphere = canonical.sphere(1.0, subdivisions=6)
@@ -131,7 +131,7 @@ def test_square_plate_sinc_pattern_off_normal():
 
 
 def test_footprint_phase_factor_removes_aliasing_at_oblique_angles():
-    """At 30 deg, 1 ray per wavelength: point-sampled tubes alias to about -1.3 dBsm (ORACLES) for an exact
+    """At 30 deg, 1 ray per wavelength: point-sampled tubes alias to about -1.3 dBsm (docs/validation.md) for an exact
     -21.4 dBsm; with the per-tube sinc factor the result stays within 3 dB, and within 1.5 dB at N = 20."""
     a, theta = 0.1, 30.0
     u = K * a * math.sin(math.radians(theta))

@@ -1,4 +1,4 @@
-"""``csuas render eo|tir``: JSON keys of SPEC 8, EXR metadata, PNG previews, errors, lazy imports."""
+"""``csuas render eo|tir``: JSON keys of docs/command-line.md, EXR metadata, PNG previews, errors, lazy imports."""
 
 from __future__ import annotations
 

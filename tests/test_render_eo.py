@@ -1,4 +1,4 @@
-"""EO rendering against exact geometry, the Johnson range (Eq. 18), Eq. 4 and Koschmieder (SPEC 6, 7).
+"""EO rendering against exact geometry, the Johnson range (Eq. 18), Eq. 4 and Koschmieder (docs/simulation.md, docs/validation.md).
 
 Oracles: the exact silhouette of drone_models (polygon union of projected
 triangles) and, in this file, the pinhole projection of the mesh; Eq. 4 for a
@@ -131,7 +131,7 @@ def test_plate_contrast_is_eq4_under_equal_illuminance():
     assert res.values["target_radiance"] == pytest.approx(rho * e_v / math.pi, rel=1e-5)
     assert res.values["background_radiance"] == pytest.approx(rho_bg * e_v / math.pi, rel=1e-12)
     assert res.values["contrast"] == pytest.approx((rho - rho_bg) / (rho + rho_bg), rel=1e-5)
-    assert res.terms == []  # no atmosphere requested, none applied: it changes nothing (SPEC 3.3)
+    assert res.terms == []  # no atmosphere requested, none applied: it changes nothing (docs/scenarios.md (effects))
     assert res.values["contrast"] == res.values["contrast_inherent"]
     assert res.values["target_radiance_apparent"] == res.values["target_radiance"]
 

@@ -1,4 +1,4 @@
-"""Accuracy against samples per pixel, quality presets, bounded launches and the window benchmark (SPEC 7, 9)."""
+"""Accuracy against samples per pixel, quality presets, bounded launches and the window benchmark (docs/validation.md, docs/performance.md)."""
 
 from __future__ import annotations
 

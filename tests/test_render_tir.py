@@ -1,7 +1,7 @@
-"""Thermal-IR rendering against band-Planck oracles (ORACLES.md), the paper's linear Delta T (Eq. 26)
-and the MRTD range of core/ (SPEC 6, 7).
+"""Thermal-IR rendering against band-Planck oracles (docs/validation.md), the paper's linear Delta T (Eq. 26)
+and the MRTD range of core/ (docs/simulation.md, docs/validation.md).
 
-Reference values: tests/reference/render_tir_oracles.csv (from ORACLES.md "Thermal IR radiometry").
+Reference values: tests/reference/render_tir_oracles.csv (from docs/validation.md "Thermal IR radiometry").
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ def test_graybody_plate_delta_t_matches_band_planck_oracle(row):
     # The paper's linear Delta T (Eq. 26) beside it: 0.68 * 288.15 - 0.77 * 298.15.
     assert res.values["delta_t_linear_k"] == pytest.approx(0.68 * 288.15 - 0.77 * 298.15, rel=1e-12)
     assert res.values["delta_t_linear_k"] == pytest.approx(-33.6335, abs=1e-4)
-    assert abs(res.values["delta_t_linear_k"]) > 2 * abs(dt)  # the linear rule overstates it (SPEC 3.4 point 2)
+    assert abs(res.values["delta_t_linear_k"]) > 2 * abs(dt)  # the linear rule overstates it (docs/conventions.md point 2)
 
 
 def test_plate_delta_t_same_at_10_m_and_20_km():

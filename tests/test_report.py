@@ -1,6 +1,6 @@
-"""``csuas report`` on a test-only registry subset: SPEC 8 keys, baseline regressions, exceptions, HTML.
+"""``csuas report`` on a test-only registry subset: docs/command-line.md keys, baseline regressions, exceptions, HTML.
 
-The subset holds fast, exact checks (the analytic-core defaults, SPEC 3.4
+The subset holds fast, exact checks (the analytic-core defaults, docs/conventions.md
 point 6) and synthetic specs (a passing figure with a plot, a known
 deviation, a check that raises), so the machinery is tested in seconds; the
 whole quick report runs in ``test_report_e2e.py``.
@@ -107,7 +107,7 @@ def test_html_is_self_contained_with_embedded_pngs(good_report):
     for value in images:
         assert base64.b64decode(value.split(",", 1)[1])[:8] == PNG_SIGNATURE
     assert "<link" not in text and "@import" not in text and "url(" not in text
-    assert "SPEC 3.4 (6)" in text and "Defaults check" in text and "Time of each check" in text
+    assert "docs/conventions.md point 6" in text and "Defaults check" in text and "Time of each check" in text
 
 
 def test_markdown_summary_lists_known_deviations(good_report):

@@ -1,4 +1,4 @@
-"""Scenario files (SPEC 3): parsing, presets, class names, validation errors and effects."""
+"""Scenario files (docs/scenarios.md): parsing, presets, class names, validation errors and effects."""
 
 import numpy as np
 import pytest

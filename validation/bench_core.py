@@ -1,4 +1,4 @@
-"""Benchmarks of the analytic core (SPEC 9): evaluations per second and exact solves vs the paper's loops."""
+"""Benchmarks of the analytic core (docs/performance.md): evaluations per second and exact solves vs the paper's loops."""
 
 from __future__ import annotations
 

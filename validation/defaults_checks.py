@@ -133,7 +133,7 @@ def sensor_checks() -> list[Check]:
                                             env["emissivity_bg"], env["t_bg_k"], "lwir"))
     checks.append(Check("Eq26.delta_t.lwir", dt_linear, dt_lwir, "K", "Eq. 26 (Table 27 values)",
                         "band-integrated Planck radiance, 8-12 um, no reflected surroundings", abs_tol=0.5,
-                        known_deviation="Eq. 26 multiplies emissivity by temperature; radiometry (SPEC 3.4 point 2) "
+                        known_deviation="Eq. 26 multiplies emissivity by temperature; radiometry (docs/conventions.md point 2) "
                         "gives less than half of that difference"))
     return checks
 

@@ -1,4 +1,4 @@
-"""``csuas bench``: benchmarks with their figures and ratios (SPEC 9)."""
+"""``csuas bench``: benchmarks with their figures and ratios (docs/performance.md)."""
 
 from __future__ import annotations
 

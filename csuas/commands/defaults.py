@@ -1,4 +1,4 @@
-"""``csuas defaults list|check``: the paper's parameters, and every derivable default recomputed (SPEC 8)."""
+"""``csuas defaults list|check``: the paper's parameters, and every derivable default recomputed (docs/command-line.md)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``csuas drone PRESET``: a drone model's size, silhouette metrics and orientation averages (SPEC 8)."""
+"""``csuas drone PRESET``: a drone model's size, silhouette metrics and orientation averages (docs/command-line.md)."""
 
 from __future__ import annotations
 

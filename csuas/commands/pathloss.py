@@ -1,4 +1,4 @@
-"""``csuas pathloss``: RF path gain drone -> RF sensor by Sionna RT, beside Friis and two-ray (SPEC 8)."""
+"""``csuas pathloss``: RF path gain drone -> RF sensor by Sionna RT, beside Friis and two-ray (docs/command-line.md)."""
 
 from __future__ import annotations
 

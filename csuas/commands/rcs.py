@@ -1,4 +1,4 @@
-"""``csuas rcs MESH_OR_PRESET --frequency-ghz F``: radar cross-section by SBR-PO (SPEC 6, 8)."""
+"""``csuas rcs MESH_OR_PRESET --frequency-ghz F``: radar cross-section by SBR-PO (docs/simulation.md, docs/command-line.md)."""
 
 from __future__ import annotations
 
@@ -52,7 +52,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> dict:
-    """Compute the RCS; returns the ``--json`` object (keys of SPEC 8 plus details)."""
+    """Compute the RCS; returns the ``--json`` object (keys of docs/command-line.md plus details)."""
     from csuas.render.rcs.solver import POLARISATIONS, compute_rcs, get_engine, resolve_quality
 
     start = time.perf_counter()

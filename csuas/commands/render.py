@@ -1,4 +1,4 @@
-"""``csuas render eo|tir SCENARIO --range-m R...``: synthetic images and their figures (SPEC 6, 8).
+"""``csuas render eo|tir SCENARIO --range-m R...``: synthetic images and their figures (docs/simulation.md, docs/command-line.md).
 
 Modality dispatch: :data:`MODES` maps a mode name to ``"module:function"``
 of a render mode (contract in :mod:`csuas.render.imaging.modes`), imported
@@ -52,7 +52,7 @@ def resolve_mode(name: str):
 
 
 def run(args) -> dict:
-    """Render each range; returns the ``--json`` object (``results[]`` with SPEC 8 keys)."""
+    """Render each range; returns the ``--json`` object (``results[]`` with docs/command-line.md keys)."""
     from csuas.scenario import load_scenario
 
     start = time.perf_counter()

@@ -1,4 +1,4 @@
-"""``csuas report [--quick|--full] [--out DIR] [--baseline FILE]``: the validation report (SPEC 7, 8).
+"""``csuas report [--quick|--full] [--out DIR] [--baseline FILE]``: the validation report (docs/validation.md, docs/command-line.md).
 
 Runs every registered cross-check between the analytic core and the
 simulators on the embedded defaults, writes ``DIR/report.html``

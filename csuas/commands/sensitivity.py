@@ -65,7 +65,11 @@ def _scenario_analysis(args) -> dict:
     from csuas.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
-    sensor = args.sensor or next(iter(scenario.sensors))
+    sensor = args.sensor
+    if sensor is None:
+        if len(scenario.sensors) > 1:
+            raise ParameterError("--sensor", None, "one of the scenario's sensors: " + ", ".join(scenario.sensors))
+        sensor = next(iter(scenario.sensors))
     baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
     title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
     entry = {"title": title, "source": "one-at-a-time, Section 4.9 method", "baseline_m": baseline,

@@ -1,4 +1,4 @@
-"""EO and thermal-IR imaging of drones in Mitsuba 3 (SPEC 6).
+"""EO and thermal-IR imaging of drones in Mitsuba 3 (docs/simulation.md).
 
 >>> from csuas.render.imaging import render_eo, render_tir
 >>> result = render_eo("dji_mini_4_pro", range_m=500.0, quality="draft")

@@ -1,4 +1,4 @@
-"""Benchmark: window around the target against the full sensor frame (SPEC 9).
+"""Benchmark: window around the target against the full sensor frame (docs/performance.md).
 
 Both renders use the same sensor, target, range and samples per pixel; the
 window samples only the box that contains the target's image, the full frame

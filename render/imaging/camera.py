@@ -7,7 +7,7 @@ carries square pixels of pitch IFOV, so a pixel near the optical axis
 subtends exactly the paper's IFOV. (The full frame then spans
 2 atan(N_H IFOV / 2) horizontally, which differs from the nominal HFOV by
 0.25 % at 10 deg and 3.5 % at 36.67 deg; only the pixels around the target
-are rendered, SPEC 6.)
+are rendered, docs/simulation.md.)
 
 Film coordinates are continuous pixel coordinates of the FULL sensor frame:
 pixel ``(i, j)`` covers ``[i, i+1) x [j, j+1)``, ``x`` to the right, ``y``

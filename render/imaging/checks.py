@@ -1,4 +1,4 @@
-"""Cross-checks of the analytic core against the EO and thermal renders (SPEC 7), as report records.
+"""Cross-checks of the analytic core against the EO and thermal renders (docs/validation.md), as report records.
 
 Each :class:`csuas.base.checks.Check` compares a closed form or a value of the
 paper (``paper``) with a rendered figure (``computed``); ``extra`` carries
@@ -40,14 +40,14 @@ def _thermal_checks(q, seed) -> list:
         oracle = float(radiance_temperature(0.77 * band_radiance(298.15, band), band)
                        - radiance_temperature(0.68 * band_radiance(288.15, band), band))
         out.append(Check(f"render.tir.delta_t.graybody_plate.{band}", oracle, -res.values["delta_t_k"], "K",
-                         "ORACLES.md thermal IR radiometry (band Planck, no reflected surroundings)",
+                         "docs/validation.md thermal IR radiometry (band Planck, no reflected surroundings)",
                          f"Mitsuba area emitters eps L_band(T) on a 1 m plate, {band.upper()} radiance temperatures",
                          abs_tol=0.01, extra=_extra(res, "delta_t_k")))
         linear = -float(delta_t_linear(0.68, 288.15, 0.77, 298.15))
         out.append(Check(f"Eq26.delta_t_linear_vs_rendered.{band}", linear, -res.values["delta_t_k"], "K",
                          "Eq. 26 with Table 27 defaults", "rendered band-radiometric apparent Delta T", rel_tol=0.05,
                          known_deviation=("Eq. 26 multiplies emissivity by temperature; band-integrated Planck radiance "
-                                          "turned into radiance temperatures gives less than half (SPEC 3.4 point 2)."),
+                                          "turned into radiance temperatures gives less than half (docs/conventions.md point 2)."),
                          extra=_extra(res, "delta_t_k")))
     return out
 

@@ -1,4 +1,4 @@
-"""Visible-band (EO) rendering of a target at a slant range (SPEC 6, paper Sections 2.3.1, 4.3).
+"""Visible-band (EO) rendering of a target at a slant range (docs/simulation.md, paper Sections 2.3.1, 4.3).
 
 Scene: the target's parts as Lambertian surfaces of albedo
 ``material.reflectance_rgb`` (linear sRGB), lit by the sun (a directional
@@ -98,7 +98,7 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
     hfov_deg, n_h, n_v : float, int, int
         Sensor field of view and pixels (Table 22); IFOV = HFOV / N_H (Eq. 15).
     azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor (SPEC 8) [deg].
+        Direction from the target toward the sensor (docs/command-line.md) [deg].
     illuminance_lx : float
         Horizontal illuminance E_v (Table 11) [lx].
     diffuse_fraction, sun_elevation_deg, ground_reflectance : float

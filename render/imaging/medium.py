@@ -1,4 +1,4 @@
-"""Fog as a homogeneous participating medium: validation of the analytic airlight (SPEC 6).
+"""Fog as a homogeneous participating medium: validation of the analytic airlight (docs/simulation.md).
 
 The renderers apply haze and fog analytically (:mod:`csuas.render.imaging.path`):
 L(R) = L0 tau + L_h (1 - tau). This module renders the same scene with the

@@ -1,7 +1,7 @@
-"""Scenario-driven EO and thermal renders behind ``csuas render eo|tir`` (SPEC 8).
+"""Scenario-driven EO and thermal renders behind ``csuas render eo|tir`` (docs/command-line.md).
 
 A *render mode* is a callable ``mode(scenario, **options) -> list of dict``
-returning one JSON-ready result per range with at least the SPEC 8 keys
+returning one JSON-ready result per range with at least the docs/command-line.md keys
 ``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``, ``contrast``,
 ``stderr``, ``time_s`` and ``files``. Options passed by the command:
 ``ranges_m`` (list of float), ``quality`` (str), ``azimuth_deg``,
@@ -11,7 +11,7 @@ modality), ``atmosphere`` ("auto", "on", "off") and ``progress`` (a text
 stream or None).
 
 ``atmosphere="auto"`` applies the path only when the scenario calls for it
-(SPEC 3.3): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
+(docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
 set by the scenario). EO then uses Koschmieder with the optical visibility
 (fog visibility in fog); thermal the sensor's ``extinction_db_km`` with path
 radiance at the environment's ``temperature_k``.

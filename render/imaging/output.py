@@ -1,4 +1,4 @@
-"""Image files of a render: linear float32 OpenEXR with metadata, and PNG previews (SPEC 6).
+"""Image files of a render: linear float32 OpenEXR with metadata, and PNG previews (docs/simulation.md).
 
 EXR channels: EO ``R, G, B`` (apparent luminance-scaled radiance [cd m^-2])
 and ``A`` (fractional target coverage); thermal ``L`` (apparent band

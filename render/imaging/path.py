@@ -4,7 +4,7 @@ The render gives the radiance leaving the target and the background toward
 the sensor. The atmosphere between them and the sensor is a homogeneous
 horizontal path of length R:
 
-* visible (Koschmieder 1924; ORACLES.md "Atmospheric optics"):
+* visible (Koschmieder 1924; docs/validation.md, "Optics and thermal radiometry"):
   L(R) = L0 tau + L_h (1 - tau), tau = exp(-beta R), beta from Kruse/Kim
   (Eqs. 19-20, physical convention: km^-1) at the sensor's wavelength and
   visibility (fog visibility in fog), L_h the horizon sky luminance;
@@ -43,7 +43,7 @@ class PathEffect:
     path_radiance : float
         Radiance added by the path [same unit as the image].
     terms : list of dict
-        The applied terms (name, value, unit, source) for reports (SPEC 3.3).
+        The applied terms (name, value, unit, source) for reports (docs/scenarios.md (effects)).
     """
 
     transmittance: float

@@ -1,4 +1,4 @@
-"""Sample-count presets and accuracy-against-time sweeps (SPEC 7).
+"""Sample-count presets and accuracy-against-time sweeps (docs/validation.md).
 
 A preset fixes the jittered strata per pixel side (``n_side``; n_side**2
 samples per pixel and batch) and the number of independent batches that give

@@ -17,7 +17,7 @@ class ImagingResult:
     band : str
         ``"visible"`` (luminance) or the thermal band name.
     range_m, azimuth_deg, elevation_deg : float
-        Geometry (SPEC 8 direction convention).
+        Geometry (docs/command-line.md direction convention).
     ifov_rad : float
         Pixel IFOV [rad].
     window : Window
@@ -66,7 +66,7 @@ class ImagingResult:
     notes: list = field(default_factory=list)
 
     def summary(self) -> dict:
-        """JSON-ready figures (SPEC 8 keys ``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``,
+        """JSON-ready figures (docs/command-line.md keys ``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``,
         ``contrast``, ``stderr``, ``time_s``; thermal adds ``delta_t_k``)."""
         out = {"range_m": self.range_m, "modality": self.modality, "band": self.band,
                "azimuth_deg": self.azimuth_deg, "elevation_deg": self.elevation_deg, "ifov_rad": self.ifov_rad}

@@ -1,4 +1,4 @@
-"""Range-normalised, camera-relative Mitsuba scenes of a target (SPEC 6).
+"""Range-normalised, camera-relative Mitsuba scenes of a target (docs/simulation.md).
 
 Far ranges must not cost float32 precision. The target is therefore rotated
 into the *render frame* and scaled by its bounding radius ``r_b`` (float64,
@@ -6,7 +6,7 @@ before the cast to float32):
 
 * render frame: image right ``h`` -> +x, image up ``v`` -> +y, the direction
   from the target toward the sensor ``d`` -> +z, with ``(h, v, d)`` from
-  :func:`csuas.drone_models.geometry.view_basis` (SPEC 8 convention; a
+  :func:`csuas.drone_models.geometry.view_basis` (docs/command-line.md convention; a
   right-handed rotation since ``h x v = d``);
 * unit: ``r_b``, so the target fills the unit sphere about the origin and
   Mitsuba's ray-spawn offsets (proportional to ``1 + |p|``) stay tiny
@@ -98,7 +98,7 @@ def normalise_target(target, azimuth_deg: float, elevation_deg: float) -> Normal
     target : str, Drone or list of parts
         See :func:`target_parts`.
     azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor (SPEC 8) [deg].
+        Direction from the target toward the sensor (docs/command-line.md) [deg].
     """
     parts = target_parts(target)
     d = direction_vector(azimuth_deg, elevation_deg)

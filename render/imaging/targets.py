@@ -23,7 +23,7 @@ def grey_material(reflectance: float = 0.5, emissivity: float = 0.68, temperatur
 def plate(width_m: float = 1.0, height_m: float = 1.0, thickness_m: float = 0.01, **material) -> list:
     """A thin closed box whose large faces are normal to body +x.
 
-    Seen from azimuth 0, elevation 0 (SPEC 8) it shows ``width_m`` across
+    Seen from azimuth 0, elevation 0 (docs/command-line.md) it shows ``width_m`` across
     (body y) and ``height_m`` up (body z); from azimuth 90 deg it is edge-on
     (``thickness_m`` across). ``material`` goes to :func:`grey_material`.
     """

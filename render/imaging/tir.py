@@ -1,4 +1,4 @@
-"""Thermal-infrared rendering: band radiance, apparent Delta T and the MRTD range (SPEC 6, paper 2.3.2, 4.4).
+"""Thermal-infrared rendering: band radiance, apparent Delta T and the MRTD range (docs/simulation.md, paper 2.3.2, 4.4).
 
 Each part of the target is a graybody of band emissivity eps (the material's
 ``emissivity_lwir`` or ``emissivity_mwir``) at its ``temperature_k``: it
@@ -74,12 +74,12 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
     band : {"lwir", "mwir"}
         8-12 um or 3-5 um.
     azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor (SPEC 8) [deg].
+        Direction from the target toward the sensor (docs/command-line.md) [deg].
     t_bg_k, emissivity_bg : float
         Background graybody (Table 27).
     surroundings_k : float or None
         Temperature of the uniform surroundings reflected by target and
-        background [K]; None reflects nothing (ORACLES.md's first case).
+        background [K]; None reflects nothing (the thermal case of docs/validation.md without reflected surroundings).
     extinction_db_km : float or None
         Path attenuation (Table 27) [dB/km]; None: no atmosphere.
     air_temperature_k : float

@@ -1,4 +1,4 @@
-"""Lidar cross-section (LCS) of drone meshes by Monte Carlo ray tracing in Mitsuba 3 (SPEC 6).
+"""Lidar cross-section (LCS) of drone meshes by Monte Carlo ray tracing in Mitsuba 3 (docs/simulation.md).
 
 >>> from csuas.render.lidar import LidarTarget, lidar_cross_section
 >>> target = LidarTarget.from_drone(build_drone("dji_mini_4_pro"))

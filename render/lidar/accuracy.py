@@ -4,7 +4,7 @@ The reference problem is a Lambertian icosphere (radius 0.1 m, 2562 vertices,
 albedo 0.5) seen from azimuth 20 deg, elevation 30 deg. A convex
 polyhedron does not shadow itself, so its single-bounce monostatic LCS is the
 closed form ``4 rho * sum_f A_f max(0, n_f . d)^2`` over its faces (each
-facet is a plate, ORACLES.md); the smooth sphere's ``(8/3) rho pi a^2``
+facet is a plate, docs/validation.md); the smooth sphere's ``(8/3) rho pi a^2``
 differs from it by the faceting (0.12 % here).
 """
 

@@ -5,7 +5,7 @@ Physics (single bounce)
 A monostatic lidar at distance ``R`` in direction ``d`` (from the target
 toward the sensor) illuminates the target with irradiance ``E`` and measures
 the radiant intensity ``I`` scattered back toward itself; the lidar
-cross-section is ``sigma = 4 pi I / E`` (SPEC 6; paper Section 2.3.6). For a
+cross-section is ``sigma = 4 pi I / E`` (docs/simulation.md; paper Section 2.3.6). For a
 Lambertian surface element ``dA`` of albedo ``rho`` hit at incidence ``theta``
 the irradiance is ``E cos(theta)``, the radiance ``(rho / pi) E cos(theta)``,
 and the intensity sent back along the same line
@@ -15,7 +15,7 @@ the element's area projected on the plane normal to the beam,
     sigma = 4 pi I / E = 4 pi * sum (rho / pi) cos(theta) dA_p = 4 rho * sum cos(theta) dA_p,
 
 which gives the oracles ``(8/3) rho pi a^2`` for a sphere and
-``4 rho A cos^2(theta)`` for a flat plate (ORACLES.md). Rays are cast from
+``4 rho A cos^2(theta)`` for a flat plate (docs/validation.md). Rays are cast from
 the sensor side toward the target through a jittered grid over the target's
 projected window; each first hit contributes Mitsuba's BSDF value
 ``f_r cos(theta_o)`` (``bsdf.eval`` of a two-sided ``diffuse``) times the
@@ -351,7 +351,7 @@ def lidar_cross_section(target, azimuth_deg: float = 0.0, elevation_deg: float =
     ----------
     target : LidarTarget
     azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor [deg] (SPEC 8 convention).
+        Direction from the target toward the sensor [deg] (docs/command-line.md convention).
     range_m : float
         Sensor distance [m]; ``inf`` (default) for a plane wave.
     quality : {"draft", "standard", "reference"}

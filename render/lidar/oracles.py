@@ -1,4 +1,4 @@
-"""The lidar cross-section against its closed forms, as report rows (SPEC 7, ORACLES.md).
+"""The lidar cross-section against its closed forms, as report rows (docs/validation.md).
 
 Each row compares a ray-traced LCS with an exact value for a Lambertian
 target and carries the Monte Carlo standard error, the tolerance (five

@@ -13,7 +13,7 @@ For each range the result holds
   projected area. The physical counterpart of Eq. 89 is
   ``I_laser = lcs_illuminated_m2 / A_illum``; with the default 3 mm aperture
   the footprint is 6.3 mm wide at 10 m, so only a spot of the drone returns
-  light (SPEC 3.4 item 8);
+  light (docs/conventions.md point 8);
 * an EXR and PNG map of the far-field LCS per pixel when ``out_dir`` is given.
 """
 
@@ -115,7 +115,7 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
     quality : {"draft", "standard", "reference"}
         Ray-sampling preset (:data:`csuas.render.lidar.QUALITY_PRESETS`).
     azimuth_deg, elevation_deg : float
-        Direction from the drone toward the sensor [deg] (SPEC 8).
+        Direction from the drone toward the sensor [deg] (docs/command-line.md).
     out_dir : str or pathlib.Path, optional
         Where to write ``lidar_<preset>_<range>m.exr`` and ``.png``; no files when omitted.
     sensor : str, optional

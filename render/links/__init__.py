@@ -1,4 +1,4 @@
-"""Sionna RT links (SPEC 6): RF path gain drone -> RF sensor and the monostatic radar link.
+"""Sionna RT links (docs/simulation.md): RF path gain drone -> RF sensor and the monostatic radar link.
 
 Modules
 -------

@@ -33,7 +33,7 @@ from csuas.render.links.rf import LinkResult, check_distances, check_height
 from csuas.render.links.scene import TargetSpec, check_frequency, ground_properties, link_scene, rcs_solver
 from csuas.render.links.sionna_backend import active_variant, load_sionna_rt
 
-#: Size of the target's cuboid [m] (DJI Mini 4 Pro unfolded, 298 x 373 x 101 mm, SPEC 5).
+#: Size of the target's cuboid [m] (DJI Mini 4 Pro unfolded, 298 x 373 x 101 mm, docs/simulation.md).
 DEFAULT_TARGET_SIZE_M = (0.298, 0.373, 0.101)
 
 

@@ -2,7 +2,7 @@
 
 A table sigma(azimuth, elevation) [m^2] (e.g. from the SBR-PO engine of
 ``csuas.render.rcs``) is interpolated bilinearly in sigma, periodically in
-azimuth when the table covers the full circle. Angles follow SPEC 8: in
+azimuth when the table covers the full circle. Angles follow docs/command-line.md: in
 the drone's body frame (+x forward, +y left, +z up), azimuth from +x toward
 +y and elevation from the xy-plane, of the direction *from the target toward
 the sensor*.

@@ -1,4 +1,4 @@
-"""Radar cross-section by shooting and bouncing rays with physical optics (SPEC 6).
+"""Radar cross-section by shooting and bouncing rays with physical optics (docs/simulation.md).
 
 Public entry points (importing this package does not import Mitsuba or Dr.Jit;
 the engine selects a variant through :func:`csuas.render.backend.use_variant`

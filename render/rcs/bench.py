@@ -1,4 +1,4 @@
-"""Benchmarks of the SBR-PO engine for ``csuas bench`` (SPEC 9).
+"""Benchmarks of the SBR-PO engine for ``csuas bench`` (docs/performance.md).
 
 :func:`bench_sbr` measures, on the same mesh and machine,
 
@@ -9,7 +9,7 @@
   a warm launch, including tube generation, Fresnel reflection, the PO
   radiation integral and the sums),
 
-and their ratio (SPEC 9: "within a small factor of Mitsuba's raw throughput").
+and their ratio (docs/performance.md: "within a small factor of Mitsuba's raw throughput").
 :func:`bench_memory` runs a large launch in bounded batches and reports the
 peak resident memory.
 """

@@ -3,7 +3,7 @@
 Every mesh is a :class:`trimesh.Trimesh` in metres. Open surfaces (plates,
 dihedral and trihedral faces) are single sheets of zero thickness, which the
 SBR engine illuminates from either side. The closed-form RCS of each target is
-in ``../shared/ORACLES.md``; the tests restate the formulas independently.
+in ``docs/validation.md``; the tests restate the formulas independently.
 """
 
 from __future__ import annotations

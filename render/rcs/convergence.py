@@ -2,7 +2,7 @@
 
 Error model. Point-sampled tubes of size ``d = lambda / N`` cover the
 illuminated silhouette up to a staircase along its boundary: the covered
-area errs by a fraction of order ``perimeter * d / area`` (ORACLES.md, SBR-PO
+area errs by a fraction of order ``perimeter * d / area`` (docs/validation.md, SBR-PO
 facts), and the RCS of a specular return (proportional to area squared) by
 
     error_db ~= C * P * lambda / (A * N)                         (1)
@@ -159,7 +159,7 @@ def convergence_curve(densities=(1, 2, 4, 8, 16, 32), *, trials: int = 64, seed:
 
 
 def canonical_cases(frequency_ghz: float = 10.0) -> list[tuple]:
-    """(name, mesh, azimuth_deg, elevation_deg, exact_m2) of the canonical oracles (ORACLES.md)."""
+    """(name, mesh, azimuth_deg, elevation_deg, exact_m2) of the canonical oracles (docs/validation.md)."""
     lam = C_LIGHT / (frequency_ghz * 1e9)
     k = 2 * math.pi / lam
     axis_el = math.degrees(math.asin(1 / math.sqrt(3)))

@@ -1,6 +1,6 @@
 """Target meshes and direction conventions of the radar cross-section engine.
 
-Directions follow SPEC 8: ``azimuth_deg`` from +x toward +y, ``elevation_deg``
+Directions follow docs/command-line.md: ``azimuth_deg`` from +x toward +y, ``elevation_deg``
 from the xy-plane, and the direction points *from the target toward the
 sensor*. The incident wave of a radar at direction ``d`` therefore propagates
 along ``-d``. Polarisations use the spherical unit vectors of the direction

@@ -7,7 +7,7 @@ error estimate and the cost.
 
 Error estimate. The dominant discretisation error of SBR-PO is the
 staircase truncation of the illuminated area by tubes of size ``d = lambda/N``
-(error proportional to ``perimeter * d / area``, ``../shared/ORACLES.md``),
+(error proportional to ``perimeter * d / area``, ``docs/validation.md``),
 so it halves when ``N`` doubles. The run is repeated at ``N/2`` (a quarter
 of the tubes, 25 % extra time) and ``error_db = |dB(sigma_N) - dB(sigma_N/2)|``
 estimates the error of the ``N`` result (Richardson's estimate for a
@@ -60,13 +60,13 @@ class RcsResult:
         Discretisation error estimate [dB] (module docstring).
     frequency_ghz : ndarray (F,)
     azimuth_deg, elevation_deg : ndarray (A,)
-        Incidence (transmitter) directions [deg], SPEC 8 convention.
+        Incidence (transmitter) directions [deg], docs/command-line.md convention.
     observe_azimuth_deg, observe_elevation_deg : ndarray (A, M)
         Receiver directions [deg]; equal to the incidence for monostatic.
     rays_per_wavelength, max_bounces : float, int
         Accuracy knobs used.
     tubes : int
-        Tubes launched in the main run (the ``rays`` of SPEC 8).
+        Tubes launched in the main run (the ``rays`` of docs/command-line.md).
     ray_casts : int
         Ray-scene intersection queries of the main run (tubes x bounces).
     exits_by_bounce : ndarray
@@ -202,7 +202,7 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
     frequency_ghz : float or array_like (F,)
         Radar frequencies [GHz].
     azimuth_deg, elevation_deg : float or array_like, broadcast to (A,)
-        Directions from the target toward the transmitter [deg] (SPEC 8).
+        Directions from the target toward the transmitter [deg] (docs/command-line.md).
     observe_azimuth_deg, observe_elevation_deg : array_like (M,) or (A, M), optional
         Receiver directions [deg] for bistatic RCS; default monostatic.
     material : str or material, optional

@@ -72,7 +72,7 @@ def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polar
     frequency_ghz : float
         Frequency [GHz].
     azimuth_deg, elevation_deg : array_like (Na,), (Ne,)
-        Grid axes [deg] (SPEC 8 directions, target -> radar).
+        Grid axes [deg] (docs/command-line.md directions, target -> radar).
     polarisation : str
         "VV", "HH", "HV", "VH".
     **kwargs

@@ -1,4 +1,4 @@
-"""``csuas report``: the registry of validation checks, the report files and the baseline comparison (SPEC 7).
+"""``csuas report``: the registry of validation checks, the report files and the baseline comparison (docs/validation.md).
 
 Modules
 -------

@@ -53,7 +53,7 @@ def _number(value):
 
 
 def compare(new_checks: list, old_checks: list) -> dict:
-    """Regressions of ``new_checks`` against ``old_checks`` (lists of check dicts of SPEC 8).
+    """Regressions of ``new_checks`` against ``old_checks`` (lists of check dicts of docs/command-line.md).
 
     Returns
     -------

@@ -1,12 +1,12 @@
-"""The convention differences of SPEC 3.4: the paper's value, the physical value and the simulated value.
+"""The convention differences of docs/conventions.md: the paper's value, the physical value and the simulated value.
 
-One spec per point of SPEC 3.4. Each fills a side-by-side table (quantity,
+One spec per point of docs/conventions.md. Each fills a side-by-side table (quantity,
 paper, physical, simulated where a simulator exists) and two kinds of
 figures:
 
 * ``conv.<n>.*.paper_vs_physical``: expected = the paper convention's value,
   measured = the physical value; they differ by construction, so such a
-  figure is reported as a *known deviation* with the explanation of SPEC 3.4
+  figure is reported as a *known deviation* with the explanation of docs/conventions.md
   (never as a silent pass);
 * ``conv.<n>.*.simulated``: expected = the physical value of the analytic
   core, measured = the simulation (Mitsuba renders, Sionna RT links); these
@@ -64,14 +64,14 @@ def _deviation(name, paper, physical, unit, explanation, source, tolerance=None)
     """The paper convention's value against the physical one: a known deviation when they differ."""
     tol = tolerance if tolerance is not None else 1e-3 * max(abs(paper), 1e-12)
     outcome = Outcome(f"{name}.paper_vs_physical", float(paper), float(physical), tol, unit, source=source,
-                      method="physical convention of csuas.core (SPEC 3.4)")
+                      method="physical convention of csuas.core (docs/conventions.md)")
     if not outcome.ok:
         outcome.known_deviation = explanation
     return outcome
 
 
 # --- 1. extinction in 1/km read as dB/km ------------------------------------------------------------------
-EXPLAIN_1 = ("SPEC 3.4 (1): Kruse (Eq. 19) and Koschmieder (Eq. 12) give the extinction in 1/km; the paper "
+EXPLAIN_1 = ("docs/conventions.md point 1: Kruse (Eq. 19) and Koschmieder (Eq. 12) give the extinction in 1/km; the paper "
              "labels it dB/km and uses it in Eq. 10 (10^(-sigma z/10)), which understates the attenuation "
              "4.343 times. Physical: tau = exp(-beta R).")
 
@@ -145,10 +145,10 @@ def point_1(render_quality: str) -> Section:
 
 
 # --- 2. TIR Delta T: linear vs band radiometry, Eq. 31 -------------------------------------------------------
-EXPLAIN_2 = ("SPEC 3.4 (2): Eq. 26 multiplies emissivity by temperature; the physical Delta T is the difference "
+EXPLAIN_2 = ("docs/conventions.md point 2: Eq. 26 multiplies emissivity by temperature; the physical Delta T is the difference "
              "of radiance temperatures of band-integrated Planck radiance (LWIR 8-12 um, MWIR 3-5 um), less than "
              "half as large.")
-EXPLAIN_2B = ("SPEC 3.4 (2): Eq. 31 uses exp(-sigma z) with sigma in dB/km (4.343 times too strong an "
+EXPLAIN_2B = ("docs/conventions.md point 2: Eq. 31 uses exp(-sigma z) with sigma in dB/km (4.343 times too strong an "
               "attenuation) and ignores the path radiance; physical: radiance transmittance 10^(-sigma z/10) "
               "plus the air's path radiance.")
 
@@ -190,7 +190,7 @@ def point_2(render_quality: str) -> Section:
                                      tolerance=0.5))
         s.outcomes.append(Outcome(
             f"conv.2.delta_t.{band}.simulated", dt_rad, sim, 0.05 + N_SIGMA * se, "K", error_estimate=se,
-            time_s=res.time_s, source="band Planck radiometry (csuas.core.radiometry), ORACLES.md",
+            time_s=res.time_s, source="band Planck radiometry (csuas.core.radiometry), docs/validation.md",
             method=f"Mitsuba thermal render of a graybody plate (eps {t['emissivity_suas']}, {t['t_suas_k']} K) "
                    f"against the background graybody, {render_quality} quality"))
     # reflected surroundings at the air temperature (physical only) and the rendered drone
@@ -238,7 +238,7 @@ def point_2(render_quality: str) -> Section:
 
 
 # --- 3. C_TIR ---------------------------------------------------------------------------------------------
-EXPLAIN_3 = ("SPEC 3.4 (3): Table 8 sets C_TIR = 0.5 while Eq. 5 with T_sUAS = 288.15 K and T_bg = 298.15 K gives "
+EXPLAIN_3 = ("docs/conventions.md point 3: Table 8 sets C_TIR = 0.5 while Eq. 5 with T_sUAS = 288.15 K and T_bg = 298.15 K gives "
              "-0.017; no range model consumes C_TIR.")
 
 
@@ -269,9 +269,9 @@ def point_3(render_quality: str) -> Section:
 
 
 # --- 4 and 5. RF and radar weather losses -------------------------------------------------------------------
-EXPLAIN_4 = ("SPEC 3.4 (4): the rain and fog losses use a fixed 1 km path (Tables 37, 44); physical applies the "
+EXPLAIN_4 = ("docs/conventions.md point 4: the rain and fog losses use a fixed 1 km path (Tables 37, 44); physical applies the "
              "specific attenuation over the actual range (two-way for radar) and solves for R.")
-EXPLAIN_5 = ("SPEC 3.4 (5): the radar's weather losses are computed at 12 GHz (Table 44) while the default radar "
+EXPLAIN_5 = ("docs/conventions.md point 5: the radar's weather losses are computed at 12 GHz (Table 44) while the default radar "
              "works at lambda = 1.25 cm (24 GHz); physical uses the radar's own frequency.")
 
 
@@ -353,7 +353,7 @@ def point_5(_knob=None) -> Section:
 
 
 # --- 6. non-coherent integration ---------------------------------------------------------------------------
-EXPLAIN_6 = ("SPEC 3.4 (6): the paper's non-coherent integration bound n_p^(1/n_p) (Eqs. 78, 81) is almost "
+EXPLAIN_6 = ("docs/conventions.md point 6: the paper's non-coherent integration bound n_p^(1/n_p) (Eqs. 78, 81) is almost "
              "surely meant as sqrt(n_p), the usual non-coherent integration gain.")
 
 
@@ -379,7 +379,7 @@ def point_6(_knob=None) -> Section:
 
 
 # --- 7. acoustic array gain and absorption -----------------------------------------------------------------
-EXPLAIN_7 = ("SPEC 3.4 (7): Table 32 rounds the array gain of 128 microphones to 20 dB where Eq. 42 gives "
+EXPLAIN_7 = ("docs/conventions.md point 7: Table 32 rounds the array gain of 128 microphones to 20 dB where Eq. 42 gives "
              "21.07 dB, and the paper omits sound absorption in air (ISO 9613-1), which the physical convention adds.")
 
 
@@ -404,7 +404,7 @@ def point_7(_knob=None) -> Section:
 
 
 # --- 8. lidar ----------------------------------------------------------------------------------------------
-EXPLAIN_8 = ("SPEC 3.4 (8): I_laser = sigma/A_illum exceeds 1 when the beam footprint is smaller than the target "
+EXPLAIN_8 = ("docs/conventions.md point 8: I_laser = sigma/A_illum exceeds 1 when the beam footprint is smaller than the target "
              "(the default 3 mm aperture gives a 6 mm spot at 10 m), and eta_TL uses a fixed 3 km path in the dB "
              "reading of Eq. 10; physical bounds the interaction by the projected area and applies exp(-2 beta R).")
 
@@ -447,7 +447,7 @@ def point_9(_knob=None) -> Section:
         s.table.append(_row(f"EO range as horizontal distance, drone at {altitude:g} m above the sensor", "m",
                             r_eo, math.sqrt(max(r_eo**2 - altitude**2, 0.0)),
                             note="physical: the Johnson range is a slant range; horizontal = sqrt(R^2 - h^2)"))
-    s.notes.append("SPEC 3.4 (9): Eq. 14 uses the horizontal distance; renders and links use the slant range.")
+    s.notes.append("docs/conventions.md point 9: Eq. 14 uses the horizontal distance; renders and links use the slant range.")
     return s
 
 
@@ -459,12 +459,12 @@ def point_10(_knob=None) -> Section:
         s.table.append(_row(f"Wind noise N_wind at {v:g} m/s ({name})", "dB", None, float(acoustic.wind_noise_db(v)),
                             note=("outside Table 31: " if bool(acoustic.wind_noise_extrapolated(v)) else "")
                             + ("below 1 m/s no wind term is applied" if v < 1 else "the last value, 89 dB, is held")))
-    s.notes.append("SPEC 3.4 (10): Table 31's wind-noise data cover 1-12 m/s.")
+    s.notes.append("docs/conventions.md point 10: Table 31's wind-noise data cover 1-12 m/s.")
     return s
 
 
 def _spec(n, title, run, compares, tolerance_why, knob=None, knob_values=None, simulated=False):
-    return CheckSpec(f"conv.{n}", f"SPEC 3.4 ({n}): {title}", "conventions", compares, tolerance_why, run, knob,
+    return CheckSpec(f"conv.{n}", f"docs/conventions.md ({n}): {title}", "conventions", compares, tolerance_why, run, knob,
                      knob_values or {}, simulated)
 
 

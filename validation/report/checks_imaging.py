@@ -9,7 +9,7 @@
 * ``imaging.gallery``: EO and thermal previews of the default scenario at
   several ranges.
 
-The contrast limit against rendered contrast is ``conv.1`` (SPEC 3.4 (1)).
+The contrast limit against rendered contrast is ``conv.1`` (docs/conventions.md point 1).
 Knob: jittered samples per pixel (:data:`csuas.render.imaging.QUALITY_PRESETS`).
 """
 

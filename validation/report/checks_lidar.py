@@ -1,6 +1,6 @@
 """Lidar cross-section by ray tracing against the Lambertian oracles, and its accuracy against time.
 
-Oracles (ORACLES.md): Lambertian plate at normal incidence LCS = 4 rho A;
+Oracles (docs/validation.md): Lambertian plate at normal incidence LCS = 4 rho A;
 Lambertian sphere (8/3) rho pi a^2 (the faceted icosphere's exact value is
 ``4 rho sum A_f cos^2``, :func:`csuas.render.lidar.accuracy.convex_polyhedron_lcs`).
 Knob: the ray grid and jitter replicates (:data:`csuas.render.lidar.QUALITY_PRESETS`).
@@ -38,7 +38,7 @@ def oracles(quality: str) -> Section:
     exact = 4.0 * ALBEDO * side * side
     s.outcomes.append(Outcome("lidar.oracle.plate_normal.lcs_m2", exact, res.lcs_m2,
                               N_SIGMA * res.stderr_m2 + 1e-3 * exact,
-                              "m^2", error_estimate=res.stderr_m2, time_s=elapsed, source="4 rho A (ORACLES.md)",
+                              "m^2", error_estimate=res.stderr_m2, time_s=elapsed, source="4 rho A (docs/validation.md)",
                               method=f"Mitsuba ray grid {res.grid} x {res.replicates} replicates, rho = {ALBEDO}"))
     radius = 0.1
     sphere = trimesh.creation.icosphere(subdivisions=5, radius=radius)
@@ -52,7 +52,7 @@ def oracles(quality: str) -> Section:
                               method=f"Mitsuba ray grid {res.grid} x {res.replicates}, icosphere 10242 vertices"))
     s.outcomes.append(Outcome("lidar.oracle.sphere_smooth.lcs_m2", smooth, res.lcs_m2,
                               N_SIGMA * res.stderr_m2 + abs(faceted - smooth) + 1e-3 * smooth, "m^2",
-                              error_estimate=res.stderr_m2, time_s=elapsed, source="(8/3) rho pi a^2 (ORACLES.md)",
+                              error_estimate=res.stderr_m2, time_s=elapsed, source="(8/3) rho pi a^2 (docs/validation.md)",
                               method="same render; the tolerance includes the faceting difference"))
     return s
 

@@ -1,6 +1,6 @@
 """SBR-PO radar cross-section against its canonical oracles, convergence, and the drone's RCS patterns.
 
-Oracles (ORACLES.md, closed forms): PEC plate 4 pi A^2/lambda^2, disk,
+Oracles (docs/validation.md, closed forms): PEC plate 4 pi A^2/lambda^2, disk,
 dihedral 8 pi a^2 b^2/lambda^2, square trihedral 12 pi a^4/lambda^2,
 triangular trihedral, cylinder 2 pi r L^2/lambda, sphere ka = 50 (physical
 optics value), as listed by :func:`csuas.render.rcs.convergence.canonical_cases`.
@@ -40,7 +40,7 @@ def canonical(quality: str) -> Section:
         err = max(float(res.error_estimate_db("VV").ravel()[0]), float(res.error_estimate_db("HH").ravel()[0]))
         s.outcomes.append(Outcome(
             f"rcs.canonical.{name}.dbsm", float(to_dbsm(exact)), float(to_dbsm(sigma)), tolerance, "dBsm",
-            error_estimate=err, time_s=elapsed, source="closed form (ORACLES.md)",
+            error_estimate=err, time_s=elapsed, source="closed form (docs/validation.md)",
             method=f"SBR-PO, PEC, 10 GHz, az {az:g} el {el:.3f} deg, {quality}: {res.rays_per_wavelength:g} rays per "
                    f"wavelength, {res.max_bounces} bounces, {res.tubes} tubes",
             details={"exact_m2": exact, "sigma_m2": float(sigma)}))

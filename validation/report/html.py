@@ -14,7 +14,7 @@ import math
 GROUPS = {
     "defaults": "Defaults check (csuas defaults check)",
     "worked_numbers": "Section 4.9 worked numbers and tornado plots",
-    "conventions": "Convention differences (SPEC 3.4): paper, physical and simulated values",
+    "conventions": "Convention differences (docs/conventions.md): paper, physical and simulated values",
     "links": "Sionna RT links vs Friis and the radar equation",
     "rcs": "Radar cross-section (SBR-PO) vs oracles",
     "lidar": "Lidar cross-section vs oracles",
@@ -190,7 +190,7 @@ def render_markdown(report: dict) -> str:
                   "|---|---|---|---|---|"]
         lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
                   f"{c['known_deviation'].replace('|', '/')} |" for c in known] + [""]
-    lines += ["## Convention differences (SPEC 3.4)", "", "| quantity | unit | paper | physical | simulated |",
+    lines += ["## Convention differences (docs/conventions.md)", "", "| quantity | unit | paper | physical | simulated |",
               "|---|---|---|---|---|"]
     for sec in report["sections"]:
         if sec["group"] == "conventions":

@@ -1,4 +1,4 @@
-"""The registry of validation checks behind ``csuas report`` (SPEC 7).
+"""The registry of validation checks behind ``csuas report`` (docs/validation.md).
 
 A check is a small declared unit, :class:`CheckSpec`: what it compares (an
 oracle or a core prediction against a simulation, or the paper against
@@ -7,7 +7,7 @@ quality (``quick``, ``full``), and a function ``run(knob_value) -> Section``
 that computes the figures. One spec may produce several figures
 (:class:`Outcome`: expected, measured, tolerance, error estimate, time,
 known deviation) plus plots, images and a side-by-side table (the
-convention differences of SPEC 3.4 show paper, physical and simulated values).
+convention differences of docs/conventions.md show paper, physical and simulated values).
 
 :func:`run_spec` never lets a check's exception escape: it becomes a failed
 outcome carrying the error text and traceback, so one broken simulator does

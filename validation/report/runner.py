@@ -29,7 +29,7 @@ def all_specs() -> list:
 
 
 def check_record(spec, outcome) -> dict:
-    """JSON record of one figure: the SPEC 8 keys first, then unit, error estimate and provenance."""
+    """JSON record of one figure: the docs/command-line.md keys first, then unit, error estimate and provenance."""
     return {"name": outcome.name, "expected": outcome.expected, "measured": outcome.measured,
             "tolerance": outcome.tolerance, "ok": outcome.ok, "known_deviation": outcome.known_deviation,
             "time_s": outcome.time_s, "verdict": outcome.verdict, "unit": outcome.unit,
@@ -70,7 +70,7 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
     Returns
     -------
     dict
-        ``checks`` (SPEC 8 keys), ``summary``, ``sections``, ``baseline``,
+        ``checks`` (docs/command-line.md keys), ``summary``, ``sections``, ``baseline``,
         ``files``, ``exit_code`` (0: every check passes or is a known
         deviation and nothing regressed; 1 otherwise).
     """
