@@ -7,8 +7,10 @@ returning one JSON-ready result per range with at least the docs/command-line.md
 ``ranges_m`` (list of float), ``quality`` (str), ``azimuth_deg``,
 ``elevation_deg`` (float), ``out_dir`` (path or None: no files), ``seed``
 (int), ``sensor`` (sensor name or None: the scenario's first sensor of the
-modality), ``atmosphere`` ("auto", "on", "off") and ``progress`` (a text
-stream or None).
+modality), ``atmosphere`` ("auto", "on", "off"), ``progress`` (a text
+stream or None) and, for EO only, ``exposure`` of the preview ("scene": a camera set
+for clear daylight, so night looks dark; "auto": the brightest pixel white).
+File names and EXR metadata: :mod:`csuas.render.files`.
 
 ``atmosphere="auto"`` applies the path only when the scenario calls for it
 (docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
@@ -46,15 +48,21 @@ def _atmosphere_on(scenario, atmosphere: str) -> bool:
     return atmosphere == "on"
 
 
-def _files(result, out_dir, stem: str) -> list:
+def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: str = "scene") -> list:
     if out_dir is None:
         return []
+    from csuas.render.files import file_stem
     from csuas.render.imaging.output import write_images
-    return write_images(result, Path(out_dir), stem)
+
+    stem = file_stem(scenario.name, spec.name, result.modality, result.range_m, result.azimuth_deg,
+                     result.elevation_deg, quality, seed)
+    meta = {"target": scenario.target_preset, "scenario": scenario.name, "sensor": spec.name, "quality": quality,
+            "seed": seed, "frame_width_px": spec.params["n_h"], "frame_height_px": spec.params["n_v"]}
+    return write_images(result, Path(out_dir), stem, meta, exposure=exposure)
 
 
 def eo_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elevation_deg=0.0, out_dir=None, seed=0,
-                sensor=None, atmosphere="auto", progress=None) -> list:
+                sensor=None, atmosphere="auto", progress=None, exposure="scene") -> list:
     """Render the scenario's EO sensor at each range (mode ``eo``)."""
     from csuas.render.imaging.eo import render_eo
 
@@ -68,7 +76,7 @@ def eo_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elev
                         visibility_km=visibility, wavelength_nm=p["wavelength_nm"], quality=quality, seed=seed,
                         lp_task=p["lp_task"], n_ttpf=p["n_ttpf"], c_min=p["c_min"], progress=progress)
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, out_dir, f"{scenario.name}_{spec.name}_eo_{r:g}m"))
+        row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed, exposure))
         out.append(row)
     return out
 
@@ -92,6 +100,6 @@ def tir_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, ele
                          linear_reference=(target["emissivity_suas"], target["t_suas_k"]), quality=quality, seed=seed,
                          progress=progress)
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, out_dir, f"{scenario.name}_{spec.name}_tir_{r:g}m"))
+        row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed))
         out.append(row)
     return out

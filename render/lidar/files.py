@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.fileio import atomic_path
+from csuas.render.files import write_colour_map
 
 #: Colour map of the PNG preview (perceptually uniform, dark = no return).
 PREVIEW_COLORMAP = "magma"
@@ -54,20 +55,16 @@ def write_exr(path, image: np.ndarray, metadata: dict) -> str:
     return str(path)
 
 
-def write_png_preview(path, image: np.ndarray) -> str:
-    """Write a colour-mapped PNG of ``image`` scaled from 0 to its maximum."""
-    import matplotlib.image
-
-    top = float(np.max(image)) if image.size else 0.0
-    with atomic_path(path) as tmp:
-        matplotlib.image.imsave(str(tmp), np.asarray(image, dtype=float), cmap=PREVIEW_COLORMAP, vmin=0.0,
-                                vmax=top if top > 0.0 else 1.0, format="png")
-    return str(path)
+def write_png_preview(path, image: np.ndarray, title: str = "lidar cross-section map") -> str:
+    """Write a readable colour-mapped PNG of ``image`` with a colour bar [m^2 per pixel]."""
+    return str(write_colour_map(path, image, "LCS per pixel [m^2]", PREVIEW_COLORMAP, title))
 
 
 def write_lcs_map(out_dir, stem: str, image: np.ndarray, metadata: dict) -> list:
     """Write ``<stem>.exr`` and ``<stem>.png`` into ``out_dir`` (created); return both paths."""
     directory = Path(out_dir)
     directory.mkdir(parents=True, exist_ok=True)
+    title = (f"lidar {metadata.get('band', '')}, R = {metadata.get('range_m', 0):g} m: "
+             f"LCS {metadata.get('lcs_m2', float('nan')):.3g} m^2")
     return [write_exr(directory / f"{stem}.exr", image, metadata),
-            write_png_preview(directory / f"{stem}.png", image)]
+            write_png_preview(directory / f"{stem}.png", image, title)]

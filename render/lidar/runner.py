@@ -26,6 +26,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.render.lidar.cross_section import lidar_cross_section
+from csuas.render.files import file_stem
 from csuas.render.lidar.files import write_lcs_map
 from csuas.render.lidar.sphere_average import K_LCS_PAPER
 from csuas.render.lidar.target import LidarTarget
@@ -149,6 +150,8 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
     if atmosphere not in ("auto", "on", "off"):
         raise ParameterError("atmosphere", atmosphere, "auto, on, off")
     params = lidar_parameters(scenario, sensor)
+    lidars = [n for n, s in (getattr(scenario, "sensors", {}) or {}).items() if getattr(s, "modality", None) == "lidar"]
+    sensor_name = sensor or (lidars[0] if lidars else "table45")
     notes = []
     if not any(getattr(s, "modality", None) == "lidar" for s in (getattr(scenario, "sensors", {}) or {}).values()):
         notes.append("no lidar sensor in the scenario: Table 45 defaults (1550 nm, 3 mm aperture)")
@@ -172,12 +175,16 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
         files = []
         if out_dir is not None:
             pixel = (far.window_m[1] - far.window_m[0]) / far.image_m2.shape[1]
-            files = write_lcs_map(out_dir, f"lidar_{drone.name}_{range_m:g}m", far.image_m2, {
-                "modality": "lidar", "quantity": "lidar cross-section per pixel (far field)",
-                "units": "m^2 per pixel", "band": f"{params['wavelength_nm']:g} nm", "range_m": float(range_m),
-                "pixel_size_m": pixel, "ifov_rad": pixel / range_m, "azimuth_deg": float(azimuth_deg),
-                "elevation_deg": float(elevation_deg), "lcs_m2": far.lcs_m2, "stderr_m2": far.stderr_m2,
-                "quality": far.quality, "target": drone.name})
+            stem = file_stem(scenario.name, sensor_name, "lidar", range_m, azimuth_deg, elevation_deg, quality, seed)
+            rows, columns = far.image_m2.shape
+            files = write_lcs_map(out_dir, stem, far.image_m2, {
+                "modality": "lidar", "target": drone.name, "scenario": scenario.name, "sensor": sensor_name,
+                "band": f"{params['wavelength_nm']:g} nm", "units": "m^2 per pixel", "channels": "Y",
+                "quality": str(far.quality), "seed": seed, "frame_width_px": columns, "frame_height_px": rows,
+                "range_m": float(range_m), "azimuth_deg": float(azimuth_deg),
+                "elevation_deg": float(elevation_deg), "ifov_rad": pixel / range_m,
+                "quantity": "lidar cross-section per pixel (far field)", "pixel_size_m": pixel,
+                "lcs_m2": far.lcs_m2, "stderr_m2": far.stderr_m2})
         results.append({
             "range_m": float(range_m), "lcs_m2": far.lcs_m2, "stderr": far.stderr_m2,
             "time_s": time.perf_counter() - start, "files": files,
