@@ -30,6 +30,9 @@ class Check:
     known_deviation : str or None
         Explanation when the paper disagrees with itself or with physics; a
         failing check with a known deviation is reported, not hidden.
+    limitation : str or None
+        Explanation when the disagreement comes from a documented limit of
+        csuas's own models rather than from the paper.
     """
 
     name: str
@@ -41,6 +44,7 @@ class Check:
     rel_tol: float = 0.0
     abs_tol: float = 0.0
     known_deviation: str | None = None
+    limitation: str | None = None
     extra: dict = field(default_factory=dict)
 
     @property
@@ -55,4 +59,4 @@ class Check:
         return {"name": self.name, "paper": self.paper, "computed": self.computed, "ok": self.ok,
                 "unit": self.unit, "source": self.source, "method": self.method,
                 "rel_tol": self.rel_tol, "abs_tol": self.abs_tol,
-                "known_deviation": self.known_deviation, **self.extra}
+                "known_deviation": self.known_deviation, "limitation": self.limitation, **self.extra}

@@ -113,6 +113,30 @@ def prepare_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
     return folder
 
 
+@contextlib.contextmanager
+def exclusive_lock(path: str | os.PathLike, option: str) -> Iterator[Path]:
+    """Hold an exclusive, non-blocking lock on ``path`` (created) for the block.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``option`` when another process holds the lock.
+    """
+    import fcntl
+
+    lock = Path(path)
+    with open(lock, "a+") as handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise ParameterError(option, str(lock.parent), "a folder no other csuas run is writing into "
+                                 f"(its lock {lock.name} is held)") from None
+        try:
+            yield lock
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
 def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` atomically and return the path."""
     with atomic_path(path) as tmp:

@@ -27,5 +27,5 @@ def test_known_deviations_are_the_documented_ones():
 def test_simulation_checks_are_ok_or_explained():
     checks = all_checks()
     assert len(checks) > len(core_checks())
-    bad = [(c.name, c.paper, c.computed) for c in checks if not c.ok and not c.known_deviation]
+    bad = [(c.name, c.paper, c.computed) for c in checks if not c.ok and not (c.known_deviation or c.limitation)]
     assert not bad

@@ -210,3 +210,95 @@ def test_registry_declares_every_check():
         assert s.compares and s.tolerance_why and callable(s.run)
         if s.simulated:
             assert s.knob and set(s.knob_values) == {"quick", "full"}, s.name
+
+
+def _check(name, expected, measured, tolerance, **extra):
+    return {"name": name, "expected": expected, "measured": measured, "tolerance": tolerance, "ok": True,
+            "known_deviation": None, "unit": "dB", **extra}
+
+
+def test_a_figure_moving_toward_its_reference_is_an_improvement_not_a_regression():
+    from csuas.validation.report.baseline import compare
+
+    old = [_check("err", 0.0, 1.0, 0.01), _check("drift", 5.0, 5.0, 0.01), _check("gone", 1.0, 1.0, 0.1)]
+    new = [_check("err", 0.0, 3e-6, 0.01), _check("drift", 5.0, 5.5, 0.01), _check("fresh", 1.0, 1.0, 0.1)]
+    result = compare(new, old)
+    assert [r["name"] for r in result["improvements"]] == ["err"]
+    assert sorted(r["name"] for r in result["regressions"]) == ["drift", "gone"]
+    assert result["new_checks"] == ["fresh"] and result["missing_checks"] == ["gone"]
+
+
+def test_new_missing_and_improved_checks_are_named_in_console_html_and_markdown():
+    from csuas.commands.report import render_text
+    from csuas.validation.report.html import render_html, render_markdown
+
+    baseline = {"file": "old.json", "quality": "quick", "compared": 3, "regressions": [],
+                "improvements": [{"name": "err", "what": "measured moved by -1 dB", "old": 1.0, "new": 3e-6,
+                                  "tolerance": 0.01}],
+                "new_checks": ["fresh"], "missing_checks": ["gone"]}
+    report = {"quality": "quick", "generated_utc": "now", "machine": "m", "version": "v", "time_s": 1.0,
+              "summary": {"total": 0, "ok": 0, "known_deviation": 0, "limitation": 0, "failed": 0},
+              "checks": [], "sections": [], "baseline": baseline, "exit_code": 0, "files": {}}
+    for text in (render_text(report), render_html(report, []), render_markdown(report)):
+        assert "fresh" in text and "gone" in text and "improvement" in text and "err" in text
+
+
+def test_report_values_are_spelled_out_never_as_python_reprs():
+    from csuas.validation.report.html import fmt, knob_text
+
+    assert fmt(None) == "\u2014"
+    assert fmt({"rays_per_wavelength": 3.0, "max_bounces": 2}) == "rays_per_wavelength = 3, max_bounces = 2"
+    assert knob_text(None, None) == "exact (no accuracy knob)"
+    assert knob_text("samples", [64, 256]) == "samples = 64, 256"
+
+
+def test_two_reports_into_one_folder_at_once_are_refused(tmp_path):
+    from csuas.base.errors import ParameterError
+    from csuas.base.fileio import exclusive_lock
+    from csuas.validation.report.runner import LOCK_NAME, run_report
+
+    with exclusive_lock(tmp_path / LOCK_NAME, "--out"), pytest.raises(ParameterError, match="lock"):
+        run_report("quick", tmp_path, specs=[])
+
+
+def test_an_interrupted_report_leaves_no_old_report_json_beside_new_figures(tmp_path):
+    from csuas.validation.report.registry import CheckSpec, Figure, Section
+    from csuas.validation.report.runner import run_report
+
+    (tmp_path / "report.json").write_text('{"checks": []}')
+    (tmp_path / "figures").mkdir()
+    (tmp_path / "figures" / "old_plot.png").write_bytes(b"old")
+
+    def interrupted(_):
+        raise KeyboardInterrupt
+
+    def plot(_):
+        return Section(figures=[Figure("new_plot", "new", b"png")])
+
+    with pytest.raises(KeyboardInterrupt):
+        run_report("quick", tmp_path, specs=[CheckSpec("a", "a", "rcs", "x", "y", plot),
+                                             CheckSpec("b", "b", "rcs", "x", "y", interrupted)])
+    assert not (tmp_path / "report.json").exists()
+    report = run_report("quick", tmp_path, specs=[CheckSpec("a", "a", "rcs", "x", "y", plot)])
+    assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == ["new_plot.png"]
+    assert report["figures"] == ["figures/new_plot.png"]
+
+
+def test_the_fitted_contrast_crossing_error_covers_the_true_error():
+    """Monte Carlo: noisy Koschmieder contrasts; 3 standard errors must cover |R - R_true| in >= 99 % of trials."""
+    from csuas.validation.report.checks_conventions import contrast_crossing_m
+
+    rng = np.random.default_rng(7)
+    ranges = np.array([40.0, 80.0, 120.0, 160.0, 200.0, 260.0])
+    c0, beta, c_min = 0.09, 9.78e-3, 0.05                        # beta per metre: fog of 400 m visibility
+    truth = math.log(c0 / c_min) / beta
+    clean = c0 * np.exp(-beta * ranges)
+    stderr = 0.004 * np.ones_like(ranges)
+    errors, sigmas = [], []
+    for _ in range(2000):
+        r, se, _ = contrast_crossing_m(ranges, clean + rng.normal(0.0, stderr), stderr, c_min)
+        errors.append(r - truth)
+        sigmas.append(se)
+    errors, sigmas = np.array(errors), np.array(sigmas)
+    assert np.mean(np.abs(errors) <= 3 * sigmas) >= 0.99
+    assert 0.7 < np.std(errors) / np.median(sigmas) < 1.3      # the estimate is neither loose nor tight

@@ -53,7 +53,10 @@ def run(args) -> dict:
     checks = [c.as_dict() for c in all_checks(include_simulation=not args.core_only)]
     summary = {"total": len(checks), "ok": sum(c["ok"] for c in checks),
                "known_deviation": sum((not c["ok"]) and c["known_deviation"] is not None for c in checks),
-               "failed": sum((not c["ok"]) and c["known_deviation"] is None for c in checks)}
+               "limitation": sum((not c["ok"]) and c["known_deviation"] is None and c["limitation"] is not None
+                                 for c in checks),
+               "failed": sum((not c["ok"]) and c["known_deviation"] is None and c["limitation"] is None
+                             for c in checks)}
     return {"checks": checks, "summary": summary, "exit_code": 1 if summary["failed"] else 0}
 
 
@@ -75,10 +78,11 @@ def render_text(result: dict) -> str:
         return "\n".join(lines)
     lines = []
     for c in result["checks"]:
-        verdict = "ok" if c["ok"] else ("known" if c["known_deviation"] else "FAIL")
+        verdict = "ok" if c["ok"] else ("known" if c["known_deviation"] else ("limit" if c["limitation"] else "FAIL"))
         lines.append(f"{verdict:<6} {c['name']:<40} paper {c['paper']:<12.6g} computed {c['computed']:<12.6g} {c['unit']}")
-        if not c["ok"] and c["known_deviation"]:
-            lines.append(f"       -> {c['known_deviation']}")
+        if not c["ok"] and (c["known_deviation"] or c["limitation"]):
+            lines.append(f"       -> {c['known_deviation'] or c['limitation']}")
     s = result["summary"]
-    lines.append(f"{s['ok']}/{s['total']} ok, {s['known_deviation']} known deviations, {s['failed']} failed")
+    lines.append(f"{s['ok']}/{s['total']} ok, {s['known_deviation']} known deviations of the paper, "
+                 f"{s['limitation']} limits of csuas's models, {s['failed']} failed")
     return "\n".join(lines)

@@ -29,13 +29,11 @@ def add_arguments(parser):
 
 def run(args) -> dict:
     """Run the report; the returned object holds ``checks[]``, ``summary``, ``files``, ``exit_code``."""
-    from csuas.base.fileio import prepare_output_dir
     from csuas.validation.report.baseline import load_baseline
     from csuas.validation.report.runner import run_report
 
     if args.baseline is not None:
         load_baseline(args.baseline)  # refused now, not after the checks
-    prepare_output_dir(args.out)
     report = run_report(args.quality, args.out, args.baseline, progress=sys.stderr)
     return {"quality": report["quality"], "time_s": report["time_s"], "summary": report["summary"],
             "checks": report["checks"], "baseline": report["baseline"], "files": report["files"],
@@ -45,7 +43,8 @@ def run(args) -> dict:
 def render_text(result: dict) -> str:
     """Summary lines: counts, failures, regressions and the files written."""
     s = result["summary"]
-    lines = [f"{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations, {s['failed']} failed "
+    lines = [f"{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations of the paper, "
+             f"{s.get('limitation', 0)} limits of csuas's models, {s['failed']} failed "
              f"({result['quality']}, {result['time_s']:.1f} s)"]
     lines += [f"FAIL {c['name']}: expected {c['expected']}, measured {c['measured']}, tolerance {c['tolerance']}"
               + (f" ({c['details']['error']})" if c["details"].get("error") else "")
@@ -54,5 +53,8 @@ def render_text(result: dict) -> str:
         regs = result["baseline"]["regressions"]
         lines.append(f"baseline {result['baseline']['file']}: {len(regs)} regression(s)")
         lines += [f"REGRESSION {r['name']}: {r['what']}" for r in regs]
+        lines += [f"improvement {r['name']}: {r['what']}" for r in result["baseline"].get("improvements", [])]
+        lines += [f"new check {n}" for n in result["baseline"].get("new_checks", [])]
+        lines += [f"missing check {n}" for n in result["baseline"].get("missing_checks", [])]
     lines += [f"{kind}: {path}" for kind, path in result["files"].items()]
     return "\n".join(lines)

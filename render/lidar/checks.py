@@ -54,10 +54,10 @@ def default_checks(quality: str = "draft", seed: int = 0) -> list:
               computed=r["lcs_m2"]["mean"], unit="m^2", source="Table 8, Eqs. 7 and 9 (k_LCS = 0.1 [48])",
               method=(f"sphere average (Eq. 7, {r['n_directions']} directions) of the monostatic LCS 4 pi I / E of "
                       f"the {DEFAULT_PRESET} mesh, Lambertian parts at 1550 nm, single-bounce Mitsuba 3 ray tracing"),
-              rel_tol=0.5, known_deviation=deviation, extra=extra),
+              rel_tol=0.5, limitation=deviation, extra=extra),
         Check(name=f"Eq9.k_lcs.{DEFAULT_PRESET}.raytraced", paper=K_LCS_PAPER, computed=r["k_lcs_measured"]["mean"],
               unit="1", source="Eq. 9 (Titterton [48])",
               method="ray-traced mean LCS over the exact mean projected area of the same directions",
-              rel_tol=0.5, known_deviation=deviation,
+              rel_tol=0.5, limitation=deviation,
               extra={**extra, "stderr": r["k_lcs_measured"]["stderr"]}),
     ]

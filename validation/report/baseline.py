@@ -10,7 +10,8 @@ regression is
   taken at a coarser quality is compared with its own, wider, tolerance), or
   that became non-finite.
 
-Checks new in this report are listed, not counted as regressions.
+A measured value that moved beyond the tolerance toward its expected value is an improvement:
+listed, not counted. Checks new in this report are listed, not counted as regressions.
 """
 
 from __future__ import annotations
@@ -58,12 +59,13 @@ def compare(new_checks: list, old_checks: list) -> dict:
     Returns
     -------
     dict
-        ``regressions`` (list of ``{name, what, old, new, tolerance}``),
+        ``regressions`` and ``improvements`` (lists of ``{name, what, old, new, tolerance}``),
+        ``missing_checks`` (names absent from the new report, also regressions),
         ``compared`` (count), ``new_checks`` (names absent from the baseline).
     """
     new = {c["name"]: c for c in new_checks}
     old = {c["name"]: c for c in old_checks}
-    regressions = []
+    regressions, improvements = [], []
     for name, o in old.items():
         n = new.get(name)
         if n is None:
@@ -84,7 +86,21 @@ def compare(new_checks: list, old_checks: list) -> dict:
                 regressions.append({"name": name, "what": f"{key} is no longer a finite number", "old": before,
                                     "new": n.get(key), "tolerance": tol})
             elif before is not None and tol is not None and abs(after - before) > tol:
-                regressions.append({"name": name, "what": f"{key} moved by {after - before:+.4g} {n.get('unit', '')}"
-                                    f" (tolerance {tol:.4g})", "old": before, "new": after, "tolerance": tol})
-    return {"regressions": regressions, "compared": len(old),
-            "new_checks": sorted(set(new) - set(old))}
+                entry = {"name": name, "what": f"{key} moved by {after - before:+.4g} {n.get('unit', '')}"
+                         f" (tolerance {tol:.4g})", "old": before, "new": after, "tolerance": tol}
+                (improvements if key == "measured" and _closer(n, o) else regressions).append(entry)
+    return {"regressions": regressions, "improvements": improvements, "compared": len(old),
+            "new_checks": sorted(set(new) - set(old)), "missing_checks": sorted(set(old) - set(new))}
+
+
+def _closer(new: dict, old: dict) -> bool:
+    """True when the new measured value lies nearer its expected value than the old one did.
+
+    A measured error that falls from 1 dB to 3e-6 dB moves by more than its tolerance, but toward
+    the reference: an improvement, reported and not failing.
+    """
+    e_new, m_new = _number(new.get("expected")), _number(new.get("measured"))
+    e_old, m_old = _number(old.get("expected")), _number(old.get("measured"))
+    if None in (e_new, m_new, e_old, m_old):
+        return False
+    return abs(m_new - e_new) < abs(m_old - e_old)

@@ -110,28 +110,22 @@ def point_1(render_quality: str) -> Section:
     c, c_se, c0, c0_se, times = (np.array(x) for x in zip(*rows))
     c0_mean = float(np.average(np.abs(c0), weights=1.0 / np.maximum(c0_se, 1e-9) ** 2))
     measured = np.abs(c)
-    # range where the rendered |C| falls to c_min: linear interpolation of ln|C| between the bracketing ranges
-    ln_c = np.log(np.maximum(measured, 1e-12))
-    target = math.log(c_min)
-    idx = int(np.searchsorted(-ln_c, -target))
-    if 0 < idx < len(ranges):
-        r0, r1, y0, y1 = ranges[idx - 1], ranges[idx], ln_c[idx - 1], ln_c[idx]
-        r_sim = float(r0 + (target - y0) * (r1 - r0) / (y1 - y0))
-        slope_err = float(np.hypot(c_se[idx - 1] / measured[idx - 1], c_se[idx] / measured[idx]))
-        r_sim_err = slope_err / beta * 1000.0
-    else:
-        r_sim, r_sim_err = math.nan, math.nan
+    # range where the rendered |C| falls to c_min: weighted least-squares line through ln|C| against R at all
+    # ranges (Koschmieder: ln|C| = ln C0 - beta R), its standard error propagated from the fit's covariance
+    r_sim, r_sim_err, fit = contrast_crossing_m(ranges, measured, c_se, c_min)
     r_paper_sim = float(eo.contrast_limited_range_m(min(c0_mean, 1.0), c_min, beta, "paper"))
     r_phys_sim = float(eo.contrast_limited_range_m(min(c0_mean, 1.0), c_min, beta, "physical"))
     s.table.append(_row(f"EO contrast-limited range, rendered C0 = {c0_mean:.3f} (Weber, against the horizon sky)",
                         "m", r_paper_sim, r_phys_sim, r_sim, r_sim_err,
                         note="simulated: where the rendered apparent contrast crosses c_min"))
     s.outcomes.append(Outcome(
-        "conv.1.eo_contrast_range.simulated", r_phys_sim, r_sim, 0.02 * r_phys_sim + N_SIGMA * r_sim_err, "m",
+        "conv.1.eo_contrast_range.simulated", r_phys_sim, r_sim, N_SIGMA * r_sim_err, "m",
         error_estimate=r_sim_err, time_s=float(times.sum()), source="Eq. 21 (physical), Koschmieder",
+        tolerance_source=f"{N_SIGMA:g} standard errors of the fitted crossing (weighted least squares over "
+                         f"{len(ranges)} renders, Monte Carlo standard errors propagated)",
         method=f"Mitsuba EO renders of the drone at {len(ranges)} ranges in fog, {render_quality} quality; "
-               "range where |C_weber| = c_min by log-linear interpolation",
-        details={"ranges_m": ranges, "contrast_weber": c, "stderr": c_se, "beta_per_km": beta}))
+               "range where the weighted least-squares line through ln|C_weber| meets ln c_min",
+        details={"ranges_m": ranges, "contrast_weber": c, "stderr": c_se, "beta_per_km": beta, **fit}))
     rr = np.linspace(1.0, 1.3 * max(r_paper_sim, ranges[-1]), 300)
     s.figures.append(curves(
         "conv1_contrast_vs_range", f"EO apparent contrast in fog (V = {v_km * 1000:g} m, 550 nm)",
@@ -142,6 +136,34 @@ def point_1(render_quality: str) -> Section:
         caption="Contrast limit (Eq. 21): analytic curves with the rendered inherent contrast C0; points: "
                 f"rendered apparent contrast, error bars {N_SIGMA:g} standard errors."))
     return s
+
+
+def contrast_crossing_m(ranges_m, contrast, stderr, c_min: float):
+    """Range where a line fitted to ln|C| against R meets ln c_min, with its standard error [m].
+
+    Weighted least squares with weights 1 / (stderr / |C|)^2 (the standard error of ln|C|);
+    the crossing R = (ln c_min - a) / b and its variance g Cov g^T, g = (-1/b, -R/b).
+
+    Returns
+    -------
+    range_m, stderr_m : float
+    fit : dict
+        ``fit_ln_c0``, ``fit_slope_per_m``, ``fit_chi2_per_dof``.
+    """
+    x = np.asarray(ranges_m, float)
+    y = np.log(np.maximum(np.abs(contrast), 1e-12))
+    sy = np.maximum(np.asarray(stderr, float), 1e-12) / np.maximum(np.abs(contrast), 1e-12)
+    design = np.stack([np.ones_like(x), x], axis=1)
+    weights = 1.0 / sy**2
+    cov = np.linalg.inv(design.T @ (design * weights[:, None]))
+    a, b = cov @ (design.T @ (weights * y))
+    if not b < 0:
+        return math.nan, math.nan, {"fit_ln_c0": float(a), "fit_slope_per_m": float(b), "fit_chi2_per_dof": math.nan}
+    r = (math.log(c_min) - a) / b
+    g = np.array([-1.0 / b, -r / b])
+    chi2 = float(np.sum(weights * (y - a - b * x) ** 2) / max(len(x) - 2, 1))
+    return float(r), float(math.sqrt(g @ cov @ g)), {"fit_ln_c0": float(a), "fit_slope_per_m": float(b),
+                                                     "fit_chi2_per_dof": chi2}
 
 
 # --- 2. TIR Delta T: linear vs band radiometry, Eq. 31 -------------------------------------------------------

@@ -118,10 +118,13 @@ def pixels_on_target(settings: dict) -> Section:
     for row in rows:
         row["abs_relative_error"] = abs(row["relative_error"])
         row["stderr_rel"] = row["stderr"] / (area / (ifov * r) ** 2)
+    from csuas.render.imaging.quality import QUALITY_PRESETS
+
     s.figures.append(plot_accuracy(
         "imaging_accuracy_vs_time", f"EO render: pixels on target at {r:g} m vs time", rows, knob="spp",
         error_key="abs_relative_error", error_label="|relative error| vs exact area", stderr_key="stderr_rel",
-        caption="Labels: samples per pixel (jittered strata x 8 batches)."))
+        caption="Labels: samples per pixel (jittered strata x 8 batches).",
+        presets={name: q.n_side**2 * q.n_batches for name, q in QUALITY_PRESETS.items()}))
     s.table = rows
     s.notes.append(f"spp sweep {elapsed:.1f} s")
     return s

@@ -63,11 +63,14 @@ def accuracy(grids) -> Section:
 
     s = Section()
     rows, elapsed = timed(accuracy_vs_time, grids, replicates=8)
+    from csuas.render.lidar.cross_section import QUALITY_PRESETS
+
     s.figures.append(plot_accuracy(
         "lidar_accuracy_vs_time", "Lidar cross-section: |error| vs time (Lambertian icosphere)", rows, knob="grid",
         error_key="error_rel", error_label="|relative error| vs exact", stderr_key="stderr_rel",
         caption="8 jitter replicates per grid; "
-        "labels: grid cells per side."))
+        "labels: grid cells per side.",
+        presets={name: grid for name, (grid, _) in QUALITY_PRESETS.items()}))
     for r in rows:
         s.outcomes.append(Outcome(f"lidar.accuracy.grid{r['grid']}.error_rel", 0.0, r["error_rel"],
                                   N_SIGMA * r["stderr_rel"] + 1e-3, "-", error_estimate=r["stderr_rel"],

@@ -162,6 +162,8 @@ def link_accuracy(budgets) -> Section:
     """Accuracy against time of the RF link over ground and the radar link in free space."""
     from csuas.render.links.accuracy import accuracy_vs_time
 
+    from csuas.render.links.budget import PRESETS
+
     s = Section()
     chosen = _budgets(budgets)
     for link, kwargs in (("rf", {"frequency_ghz": 2.4}),
@@ -172,7 +174,8 @@ def link_accuracy(budgets) -> Section:
         s.figures.append(plot_accuracy(
             f"links_{link}_accuracy_vs_time", f"Sionna RT {link} link over {GROUND}: error vs time", rows,
             knob="samples", error_key="max_error_db", error_label="largest |error| vs closed form [dB]",
-            caption="Warm wall time per solve; labels: rays per source."))
+            caption="Warm wall time per solve; labels: rays per source.",
+            presets={name: b.samples for name, b in PRESETS.items()}))
         best = [r for r in rows if r["budget"] in ("draft", "standard")]
         for r in best:
             s.outcomes.append(Outcome(f"links.{link}.accuracy.{r['budget']}.max_error_db", 0.0, r["max_error_db"],

@@ -52,6 +52,7 @@ def canonical(quality: str) -> Section:
 def convergence(settings: dict) -> Section:
     """Error against rays per wavelength and time on the plate oracle (grid aligned: the worst case)."""
     from csuas.render.rcs.convergence import ERROR_COEFFICIENT_DB, convergence_curve
+    from csuas.render.rcs.solver import QUALITY_PRESETS
 
     s = Section()
     rows, elapsed = timed(convergence_curve, settings["densities"], trials=settings["trials"])
@@ -59,7 +60,8 @@ def convergence(settings: dict) -> Section:
         "rcs_accuracy_vs_time", "SBR-PO: mean |error| on the 0.1 m plate at 10 GHz vs time", rows,
         knob="rays_per_wavelength", error_key="mean_abs_error_db", error_label="mean |error| [dB]",
         stderr_key="model_error_db", stderr_label="error model C P lambda / (A N)",
-        caption=f"{settings['trials']} random grid placements per density; labels: rays per wavelength."))
+        caption=f"{settings['trials']} random grid placements per density; labels: rays per wavelength.",
+        presets={name: q["rays_per_wavelength"] for name, q in QUALITY_PRESETS.items()}))
     for r in rows:
         # the error model (1) of convergence.py: the measured mean within a factor 2 of the rule
         s.outcomes.append(Outcome(

@@ -42,16 +42,28 @@ def _e(value) -> str:
 
 
 def fmt(value, digits: int = 5) -> str:
-    """Compact number formatting (``-`` for None, ``nan``/``inf`` spelled out)."""
+    """Readable text of any report value: numbers compact, None as a dash, dicts and lists spelled out.
+
+    Never a Python repr: ``{'a': 1.0}`` becomes ``a = 1``, ``None`` becomes ``—``.
+    """
     if value is None:
-        return "-"
+        return "\u2014"
     if isinstance(value, bool):
-        return str(value)
+        return "yes" if value else "no"
     if isinstance(value, (int, float)):
         if isinstance(value, float) and not math.isfinite(value):
             return str(value)
         return f"{value:.{digits}g}"
+    if isinstance(value, dict):
+        return ", ".join(f"{k} = {fmt(v, digits)}" for k, v in value.items())
+    if isinstance(value, (list, tuple)):
+        return ", ".join(fmt(v, digits) for v in value)
     return str(value)
+
+
+def knob_text(name, value) -> str:
+    """``rays_per_wavelength = 3`` or ``exact`` for a check without an accuracy knob."""
+    return f"{name} = {fmt(value)}" if name else "exact (no accuracy knob)"
 
 
 def _img(figure) -> str:
@@ -65,12 +77,15 @@ def _checks_table(checks: list) -> str:
             "<th>error est.</th><th>unit</th><th>time [s]</th><th>source / method</th></tr>"]
     for c in checks:
         dev = f'<div class="dev">known deviation: {_e(c["known_deviation"])}</div>' if c["known_deviation"] else ""
+        if c.get("limitation"):
+            dev += f'<div class="dev">limit of csuas\'s model: {_e(c["limitation"])}</div>'
+        why = f'<br><span class="meta">tolerance: {_e(c["tolerance_source"])}</span>' if c.get("tolerance_source") else ""
         err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
         rows.append(f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
                     f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
                     f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
                     f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
-                    f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span></td></tr>')
+                    f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span>{why}</td></tr>')
     rows.append("</table>")
     return "\n".join(rows)
 
@@ -110,20 +125,27 @@ def render_html(report: dict, sections: list) -> str:
            f"<h1>csuas validation report &mdash; {_e(report['quality'])}</h1>",
            f"<p class='meta'>generated {_e(report['generated_utc'])} on {_e(report['machine'])}; "
            f"total time {report['time_s']:.1f} s; csuas {_e(report['version'])}</p>",
-           "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations</th><th>failed</th>"
-           "<th>exit code</th></tr>",
+           "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations of the paper</th>"
+           "<th>limits of csuas's models</th><th>failed</th><th>exit code</th></tr>",
            f"<tr><td>{s['total']}</td><td class='ok'>{s['ok']}</td><td class='known'>{s['known_deviation']}</td>"
+           f"<td class='known'>{s.get('limitation', 0)}</td>"
            f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td>"
            "</tr></table>"]
     baseline = report.get("baseline")
     if baseline:
-        regs = baseline["regressions"]
+        regs, better = baseline["regressions"], baseline.get("improvements", [])
         out.append(f"<h2 id='baseline'>Baseline comparison</h2><p>{_e(baseline['file'])}: {baseline['compared']} "
-                   f"checks compared, <b>{len(regs)} regression(s)</b>.</p>")
-        if regs:
-            out.append("<table><tr><th>check</th><th>what</th><th>old</th><th>new</th></tr>" + "".join(
-                f"<tr class='FAIL'><td>{_e(r['name'])}</td><td>{_e(r['what'])}</td><td>{fmt(r['old'])}</td>"
-                f"<td>{fmt(r['new'])}</td></tr>" for r in regs) + "</table>")
+                   f"checks compared, <b>{len(regs)} regression(s)</b>, {len(better)} improvement(s), "
+                   f"{len(baseline.get('new_checks', []))} new and {len(baseline.get('missing_checks', []))} "
+                   f"missing check(s).</p>")
+        rows = [("FAIL", "regression", r) for r in regs] + [("ok", "improvement", r) for r in better]
+        if rows:
+            out.append("<table><tr><th>kind</th><th>check</th><th>what</th><th>old</th><th>new</th></tr>" + "".join(
+                f"<tr class='{cls}'><td>{kind}</td><td>{_e(r['name'])}</td><td>{_e(r['what'])}</td>"
+                f"<td>{fmt(r['old'])}</td><td>{fmt(r['new'])}</td></tr>" for cls, kind, r in rows) + "</table>")
+        for label, key in (("New checks", "new_checks"), ("Missing checks", "missing_checks")):
+            if baseline.get(key):
+                out.append(f"<p><b>{label}:</b> {_e(', '.join(baseline[key]))}</p>")
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
         out.append("<h2 id='failed'>Failed checks</h2>" + _checks_table(failed))
@@ -138,7 +160,7 @@ def render_html(report: dict, sections: list) -> str:
         for spec, section in sections:
             if spec.group != group:
                 continue
-            knob = f"; knob: {_e(spec.knob)} = {_e(spec.knob_value(report['quality']))}" if spec.knob else ""
+            knob = f"; knob: {_e(knob_text(spec.knob, spec.knob_value(report['quality'])))}"
             out.append(f"<h3 id='{_e(spec.name)}'>{_e(spec.title)}</h3>"
                        f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
                        f"<br>time: {section.time_s:.2f} s</p>")
@@ -161,7 +183,7 @@ def render_html(report: dict, sections: list) -> str:
     out.append("<h2 id='timing'>Time of each check</h2><table><tr><th>check</th><th>figures</th><th>knob</th>"
                "<th>time [s]</th></tr>" + "".join(
                    f"<tr><td><a href='#{_e(x['name'])}'>{_e(x['name'])}</a></td><td>{len(by_spec.get(x['name'], []))}"
-                   f"</td><td>{_e(x['knob'] or '-')} = {_e(x['knob_value'])}</td><td class='num'>{x['time_s']:.2f}</td>"
+                   f"</td><td>{_e(knob_text(x['knob'], x['knob_value']))}</td><td class='num'>{x['time_s']:.2f}</td>"
                    f"</tr>" for x in report["sections"]) + "</table>")
     out.append("</body></html>")
     return "\n".join(out)
@@ -172,13 +194,18 @@ def render_markdown(report: dict) -> str:
     s = report["summary"]
     lines = [f"# csuas validation report ({report['quality']})", "",
              f"Generated {report['generated_utc']} on {report['machine']}; total {report['time_s']:.1f} s.", "",
-             f"**{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations, {s['failed']} failed** "
+             f"**{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations of the paper, "
+             f"{s.get('limitation', 0)} limits of csuas's models, {s['failed']} failed** "
              f"(exit code {report['exit_code']}).", ""]
     baseline = report.get("baseline")
     if baseline:
         lines += [f"Baseline {baseline['file']}: {baseline['compared']} compared, "
-                  f"{len(baseline['regressions'])} regression(s).", ""]
-        lines += [f"- REGRESSION {r['name']}: {r['what']}" for r in baseline["regressions"]] + [""]
+                  f"{len(baseline['regressions'])} regression(s), {len(baseline.get('improvements', []))} "
+                  f"improvement(s).", ""]
+        lines += [f"- REGRESSION {r['name']}: {r['what']}" for r in baseline["regressions"]]
+        lines += [f"- improvement {r['name']}: {r['what']}" for r in baseline.get("improvements", [])]
+        lines += [f"- new check {name}" for name in baseline.get("new_checks", [])]
+        lines += [f"- missing check {name}" for name in baseline.get("missing_checks", [])] + [""]
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
         lines += ["## Failed", "", "| check | expected | measured | tolerance | note |", "|---|---|---|---|---|"]
@@ -190,6 +217,12 @@ def render_markdown(report: dict) -> str:
                   "|---|---|---|---|---|"]
         lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
                   f"{c['known_deviation'].replace('|', '/')} |" for c in known] + [""]
+    limits = [c for c in report["checks"] if c["verdict"] == "limit"]
+    if limits:
+        lines += ["## Limits of csuas's own models", "", "| check | expected | measured | unit | explanation |",
+                  "|---|---|---|---|---|"]
+        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
+                  f"{c['limitation'].replace('|', '/')} |" for c in limits] + [""]
     lines += ["## Convention differences (docs/conventions.md)", "", "| quantity | unit | paper | physical | simulated |",
               "|---|---|---|---|---|"]
     for sec in report["sections"]:
@@ -198,6 +231,6 @@ def render_markdown(report: dict) -> str:
                       f"{fmt(r['simulated'])}{' +- ' + fmt(r['simulated_error'], 2) if r['simulated_error'] else ''} |"
                       for r in sec["table"]]
     lines += ["", "## Time of each check", "", "| check | knob | time [s] |", "|---|---|---|"]
-    lines += [f"| {x['name']} | {x['knob'] or '-'} = {x['knob_value']} | {x['time_s']:.2f} |"
+    lines += [f"| {x['name']} | {knob_text(x['knob'], x['knob_value'])} | {x['time_s']:.2f} |"
               for x in report["sections"]]
     return "\n".join(lines) + "\n"

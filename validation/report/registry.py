@@ -46,8 +46,15 @@ class Outcome:
         Estimated error of ``measured`` (standard error, Richardson estimate,
         quadrature error) in ``unit``; None for exact computations.
     known_deviation : str or None
-        Explanation when the figure disagrees for a documented reason (a
-        known deviation of the paper), so that it is reported, not hidden.
+        Explanation when the figure disagrees because the paper deviates (from
+        itself or from physics), so that it is reported, not hidden.
+    limitation : str or None
+        Explanation when the figure disagrees because of a documented limit of
+        csuas's own models (e.g. no edge diffraction in SBR-PO); reported apart
+        from the paper's deviations.
+    tolerance_source : str
+        Where the tolerance comes from (an error estimate times a factor, a
+        printed precision, a derived bound); empty: the spec's ``tolerance_why``.
     time_s : float
         Wall time of the computation that produced the figure [s]; figures
         computed together share that time equally.
@@ -66,6 +73,8 @@ class Outcome:
     unit: str = ""
     error_estimate: float | None = None
     known_deviation: str | None = None
+    limitation: str | None = None
+    tolerance_source: str = ""
     time_s: float = 0.0
     source: str = ""
     method: str = ""
@@ -85,10 +94,12 @@ class Outcome:
 
     @property
     def verdict(self) -> str:
-        """``ok``, ``known`` (a known, explained deviation) or ``FAIL``."""
+        """``ok``, ``known`` (a deviation of the paper), ``limit`` (a limit of csuas's models) or ``FAIL``."""
         if self.ok:
             return "ok"
-        return "known" if self.known_deviation else "FAIL"
+        if self.known_deviation:
+            return "known"
+        return "limit" if self.limitation else "FAIL"
 
 
 @dataclass
@@ -198,7 +209,8 @@ def from_check(check, time_s: float = 0.0) -> Outcome:
     if "time_s" in extra and not time_s:
         time_s = float(extra["time_s"])
     return Outcome(name=check.name, expected=check.paper, measured=check.computed, tolerance=tolerance,
-                   unit=check.unit, error_estimate=error, known_deviation=check.known_deviation, time_s=time_s,
+                   unit=check.unit, error_estimate=error, known_deviation=check.known_deviation,
+                   limitation=check.limitation, time_s=time_s,
                    source=check.source, method=check.method,
                    details={"rel_tol": check.rel_tol, "abs_tol": check.abs_tol, **extra},
                    ok_override=None if check.ok == (abs(check.computed - check.paper) <= tolerance) else check.ok)

@@ -13,7 +13,8 @@ import time
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
-from csuas.base.fileio import atomic_path, dumps, to_jsonable, write_text_atomic
+from csuas.base.fileio import (atomic_path, dumps, exclusive_lock, prepare_output_dir, to_jsonable,
+                               write_text_atomic)
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
 from csuas.validation.report.registry import QUALITIES, run_spec
@@ -33,6 +34,7 @@ def check_record(spec, outcome) -> dict:
     return {"name": outcome.name, "expected": outcome.expected, "measured": outcome.measured,
             "tolerance": outcome.tolerance, "ok": outcome.ok, "known_deviation": outcome.known_deviation,
             "time_s": outcome.time_s, "verdict": outcome.verdict, "unit": outcome.unit,
+            "limitation": outcome.limitation, "tolerance_source": outcome.tolerance_source or spec.tolerance_why,
             "error_estimate": outcome.error_estimate, "check": spec.name, "group": spec.group,
             "source": outcome.source, "method": outcome.method, "details": outcome.details}
 
@@ -78,7 +80,25 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
         raise ParameterError("quality", quality, ", ".join(QUALITIES))
     old = load_baseline(baseline) if baseline is not None else None
     specs = all_specs() if specs is None else list(specs)
-    out = Path(out_dir)
+    out = prepare_output_dir(out_dir)
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _run_locked(quality, out, baseline, old, specs, progress)
+
+
+#: Lock file inside the output folder: one report writes into a folder at a time.
+LOCK_NAME = ".csuas-report.lock"
+#: The report's own files; report.json, written last, is the manifest of a complete set.
+REPORT_FILES = ("report.json", "report.html", "report.md")
+
+
+def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
+    """The body of :func:`run_report`, holding the folder's lock.
+
+    The previous report's own files go first, so that an interrupted run can never leave new
+    figures beside an old ``report.json``; ``report.json`` is written last and lists the set.
+    """
+    for name in REPORT_FILES:
+        (out / name).unlink(missing_ok=True)
     start = time.perf_counter()
     results, checks, section_records = [], [], []
     for i, spec in enumerate(specs, 1):
@@ -102,12 +122,17 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
                                 "notes": section.notes, "figures": figure_files})
         if progress is not None:
             verdicts = [r["verdict"] for r in records]
-            tally = ", ".join(f"{verdicts.count(v)} {v}" for v in ("ok", "known", "FAIL") if verdicts.count(v))
+            tally = ", ".join(f"{verdicts.count(v)} {v}" for v in ("ok", "known", "limit", "FAIL") if verdicts.count(v))
             print(f"        {section.time_s:6.2f} s  {tally or 'table and plots only'}"
                   + (f"  ERROR {section.error}" if section.error else ""), file=progress, flush=True)
     summary = {"total": len(checks), "ok": sum(c["verdict"] == "ok" for c in checks),
                "known_deviation": sum(c["verdict"] == "known" for c in checks),
+               "limitation": sum(c["verdict"] == "limit" for c in checks),
                "failed": sum(c["verdict"] == "FAIL" for c in checks)}
+    written = {f["file"] for sec in section_records for f in sec["figures"]}
+    for stale in (out / "figures").glob("*.png"):
+        if str(stale.relative_to(out)) not in written:
+            stale.unlink()
     report = {"quality": quality, "generated_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
                   timespec="seconds"), "machine": _machine(), "version": _version(),
               "time_s": time.perf_counter() - start, "summary": summary, "checks": to_jsonable(checks),
@@ -119,10 +144,14 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
     report["exit_code"] = 1 if summary["failed"] or regressions else 0
     report["files"] = {"html": str(out / "report.html"), "json": str(out / "report.json"),
                        "markdown": str(out / "report.md")}
-    write_text_atomic(out / "report.json", dumps(report))
+    report["figures"] = sorted(written)
     write_text_atomic(out / "report.md", render_markdown(report))
     write_text_atomic(out / "report.html", render_html(report, results))
-    if progress is not None:
-        for r in regressions:
-            print(f"REGRESSION {r['name']}: {r['what']}", file=progress, flush=True)
+    write_text_atomic(out / "report.json", dumps(report))
+    if progress is not None and report["baseline"]:
+        b = report["baseline"]
+        lines = ([f"REGRESSION {r['name']}: {r['what']}" for r in b["regressions"]]
+                 + [f"improvement {r['name']}: {r['what']}" for r in b["improvements"]]
+                 + [f"new check {n}" for n in b["new_checks"]] + [f"missing check {n}" for n in b["missing_checks"]])
+        print("\n".join(lines), file=progress, flush=True)
     return report
