@@ -32,7 +32,7 @@ def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: 
         If any element is NaN, infinite (unless allowed) or outside the bounds.
     """
     arr = np.asarray(value, dtype=float)
-    bad = np.isnan(arr) | (~allow_inf & np.isinf(arr))
+    bad = np.isnan(arr) | ((not allow_inf) & np.isinf(arr))
     parts = []
     if gt is not None:
         bad |= ~(arr > gt)

@@ -17,7 +17,7 @@ import numpy as np
 
 from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
-from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, frequency_ghz, linear_to_db
 from csuas.base.errors import ParameterError
@@ -82,11 +82,11 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
         SNR model (Eq. 75 with integration, Eqs. 80/82) or the range equation
         with a minimum received power ``p_rx_min_w`` (Eq. 69).
     snr_min_db, t0_k, noise_figure_db, bandwidth_mhz : array_like
-        Detection threshold and noise parameters (Table 39).
+        Detection threshold and noise parameters (Table 39); every dB value finite.
     n_pulses, integration : array_like, str
         Pulses integrated and how (Table 39, Eqs. 77-82).
     l_hardware_db, l_processing_db : array_like
-        Loss budget terms (Tables 41, 44); zero adds no term.
+        Loss budget terms (Tables 41, 44), >= 0 dB; zero adds no term.
     rain_rate_mm_h, lwc_g_m3, temperature_k : array_like
         Weather; zero rain or LWC adds no term.
     loss_frequency_ghz, d_rain_km, d_fog_km : array_like
@@ -95,11 +95,25 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
         Boltzmann constant [J/K]; default Table 39's 1.38e-23 (paper) or the
         exact SI value (physical).
     convention : {"paper", "physical"}
+
+    Returns
+    -------
+    RangeResult
+        A budget too large for a float64 range (e.g. absurd gains) gives R = inf with ``reason``.
+
+    Raises
+    ------
+    ParameterError
+        NaN, an infinite dB value or a negative loss, naming the parameter.
     """
     check_convention(convention)
     if model not in ("snr", "range_equation"):
         raise ParameterError("radar.model", model, "snr, range_equation")
     lam = require("wavelength_m", wavelength_m, gt=0)
+    g_tx_db, g_rx_db = require("g_tx_db", g_tx_db), require("g_rx_db", g_rx_db)
+    snr_min_db, noise_figure_db = require("snr_min_db", snr_min_db), require("noise_figure_db", noise_figure_db)
+    l_hardware_db = require("l_hardware_db", l_hardware_db, ge=0)
+    l_processing_db = require("l_processing_db", l_processing_db, ge=0)
     numerator = (require("p_tx_w", p_tx_w, gt=0) * db_to_linear(g_tx_db) * db_to_linear(g_rx_db)
                  * lam**2 * require("sigma_m2", sigma_m2, gt=0) / (4 * np.pi) ** 3)
     terms = []
@@ -147,4 +161,4 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
             terms.append(Term("l_propagation_db", two_way * r, "dB", "Eqs. 59, 61 over the two-way path"))
     if np.any(loss != 0):
         terms.append(Term("l_total_db", loss, "dB", "Eqs. 84-86"))
-    return RangeResult(r, "radar", name, terms)
+    return RangeResult(r, "radar", name, terms, unbounded_reason(r))

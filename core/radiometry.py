@@ -40,7 +40,7 @@ def spectral_radiance(wavelength_um, temperature_k):
     """Planck spectral radiance [W m^-2 sr^-1 um^-1] of a blackbody."""
     lam = np.asarray(wavelength_um, dtype=float) * 1e-6
     t = np.asarray(temperature_k, dtype=float)
-    with np.errstate(over="ignore", divide="ignore"):
+    with np.errstate(over="ignore", divide="ignore"):  # T = 0: exp(inf) = inf, radiance 0
         return _C1 / lam**5 / np.expm1(_C2 / (lam * t)) * 1e-6
 
 
@@ -53,11 +53,11 @@ def band_radiance(temperature_k, band="lwir"):
     Parameters
     ----------
     temperature_k : array_like
-        Temperature [K], > 0.
+        Temperature [K], >= 0 (0 K emits nothing: radiance 0).
     band : str or (float, float)
         ``"lwir"`` (8-12 um), ``"mwir"`` (3-5 um) or explicit limits [um].
     """
-    t = require("temperature_k", temperature_k, gt=0)
+    t = require("temperature_k", temperature_k, ge=0)
     low, high = band_limits_um(band)
     half = 0.5 * (high - low)
     lam = low + half * (_NODES + 1.0)
@@ -74,15 +74,22 @@ def radiance_temperature(radiance, band="lwir"):
     """Temperature [K] of the blackbody with the given band radiance (inverse of :func:`band_radiance`).
 
     Linear interpolation of temperature against log-radiance on a 0.05 K
-    grid (interpolation error below 1e-5 K between 150 and 1000 K).
+    grid (interpolation error below 1e-5 K between 150 and 1000 K). A zero
+    radiance (an emissivity of 0, or a scene so cold that its band radiance
+    underflows) is 0 K: nothing in the band is emitted. A radiance between 0
+    and that of 20 K, or above that of 2000 K, is refused.
     """
     key = band if isinstance(band, str) else tuple(float(b) for b in band)
     lrad, temps = _inversion_table(key)
-    r = require("radiance", radiance, gt=0)
-    if np.any((r < lrad[0]) | (r > lrad[-1])):
-        raise ParameterError("radiance", float(r.flat[0]),
-                             f"between the band radiances of {T_TABLE_RANGE_K[0]:g} K and {T_TABLE_RANGE_K[1]:g} K")
-    return np.interp(np.log(r), np.log(lrad), temps)
+    r = require("radiance", radiance, ge=0)
+    positive = r > 0
+    outside = positive & ((r < lrad[0]) | (r > lrad[-1]))
+    if np.any(outside):
+        raise ParameterError("radiance", float(r[outside].flat[0]),
+                             f"0, or between the band radiances of {T_TABLE_RANGE_K[0]:g} K and "
+                             f"{T_TABLE_RANGE_K[1]:g} K (a radiance temperature of 0 or {T_TABLE_RANGE_K[0]:g}-"
+                             f"{T_TABLE_RANGE_K[1]:g} K)")
+    return np.where(positive, np.interp(np.log(np.where(positive, r, lrad[0])), np.log(lrad), temps), 0.0)
 
 
 def graybody_apparent_temperature(emissivity, temperature_k, band="lwir", surroundings_k=None):

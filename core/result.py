@@ -19,6 +19,15 @@ def check_convention(convention: str) -> str:
     return convention
 
 
+def unbounded_reason(range_m):
+    """Per-element reason of an infinite range (a budget beyond float64), or None when every range is finite."""
+    r = np.asarray(range_m)
+    if np.all(np.isfinite(r)):
+        return None
+    return np.where(np.isinf(r), "unbounded: the link budget exceeds anything a finite range can spend "
+                    "(check the dB inputs: gains, sensitivity, threshold)", "")
+
+
 @dataclass(frozen=True)
 class Term:
     """One contribution to a range prediction.

@@ -12,7 +12,7 @@ import numpy as np
 
 from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
-from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import wavelength_m, watt_to_dbm
 
@@ -55,11 +55,22 @@ def rf_range(*, p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, s_rx_dbm, rain_rate_mm
     d_rain_km, d_fog_km : array_like
         Fixed loss path lengths of the paper convention (Table 37).
     convention : {"paper", "physical"}
+
+    Returns
+    -------
+    RangeResult
+        A link budget too large for a float64 range (e.g. s_rx_dbm = -7000) gives R = inf with
+        ``reason``, never a bare infinity.
+
+    Raises
+    ------
+    ParameterError
+        NaN or an infinite dB value, naming the parameter.
     """
     check_convention(convention)
     f = require("frequency_ghz", frequency_ghz, gt=0)
-    budget = watt_to_dbm(require("rf_power_w", p_tx_w, gt=0)) + np.asarray(g_tx_dbi, float) \
-        + np.asarray(g_rx_db, float) - np.asarray(s_rx_dbm, float)
+    budget = watt_to_dbm(require("rf_power_w", p_tx_w, gt=0)) + require("g_tx_dbi", g_tx_dbi) \
+        + require("g_rx_db", g_rx_db) - require("s_rx_dbm", s_rx_dbm)
     lam = wavelength_m(f)
     terms = [Term("p_tx_dbm", watt_to_dbm(p_tx_w), "dBm", "Eq. 52"),
              Term("link_budget_db", budget, "dB", "Eq. 57")]
@@ -87,4 +98,4 @@ def rf_range(*, p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, s_rx_dbm, rain_rate_mm
         r = solve_log_linear(k_db, np.asarray(gamma, float) / 1000.0, n=2.0)
         if rain_present or fog_present:
             terms.append(Term("weather_loss_db", np.asarray(gamma) * r / 1000.0, "dB", "Eqs. 59, 61 over R"))
-    return RangeResult(r, "rf", "friis (Eq. 57)", terms)
+    return RangeResult(r, "rf", "friis (Eq. 57)", terms, unbounded_reason(r))

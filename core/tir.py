@@ -112,7 +112,7 @@ def tir_mrtd_range(*, mrtd, d_crit_m, lp_task, n_ttpf, delta_t0_k, extinction_db
     lp = require("lp_task", lp_task, gt=0)
     n = require("n_ttpf", n_ttpf, gt=0)
     sigma = require("extinction_db_km", extinction_db_km, ge=0)
-    signed_dt0 = np.asarray(delta_t0_k, dtype=float)
+    signed_dt0 = require("delta_t0_k", delta_t0_k)
     shape = np.broadcast_shapes(d.shape, lp.shape, n.shape, sigma.shape, signed_dt0.shape)
     d, lp, n, sigma, signed_dt0 = (np.broadcast_to(v, shape).ravel() for v in (d, lp, n, sigma, signed_dt0))
     dt0 = np.abs(signed_dt0)

@@ -124,7 +124,7 @@ def test_default_checks_table_8():
     assert sigma.paper == 0.006 and k.paper == 0.1
     # physics disagrees with the rule of thumb and says why
     assert not sigma.ok and not k.ok
-    assert "albedo" in sigma.known_deviation and "0.0375" in sigma.known_deviation
+    assert "albedo" in sigma.limitation and "0.0375" in sigma.limitation
     assert sigma.extra["time_s"] < 30.0 and math.isfinite(sigma.extra["stderr_m2"])
     json.dumps(sigma.as_dict())
 
