@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import shutil
 import tempfile
@@ -144,13 +145,27 @@ def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
     return Path(path)
 
 
+def _spelled(value: float) -> str:
+    return "nan" if math.isnan(value) else ("+inf" if value > 0 else "-inf")
+
+
 def to_jsonable(obj):
     """Convert NumPy scalars and arrays (recursively) into plain JSON types.
 
-    Non-finite floats become ``None`` so that the JSON stays standard.
+    JSON has no NaN or infinity: a non-finite float becomes ``None``. So that a null is never
+    silent, a dict entry ``key`` whose scalar value is not finite gains a sibling
+    ``key_nonfinite`` (``"nan"``, ``"+inf"`` or ``"-inf"``), unless the dict already explains it
+    with ``key_note``.
     """
     if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
+        out = {}
+        for k, v in obj.items():
+            out[str(k)] = to_jsonable(v)
+            scalar = v.item() if isinstance(v, np.ndarray) and v.size == 1 else v
+            if (isinstance(scalar, (float, np.floating)) and not math.isfinite(float(scalar))
+                    and f"{k}_note" not in obj):
+                out[f"{k}_nonfinite"] = _spelled(float(scalar))
+        return out
     if isinstance(obj, (list, tuple)):
         return [to_jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
@@ -161,7 +176,7 @@ def to_jsonable(obj):
         return int(obj)
     if isinstance(obj, (float, np.floating)):
         value = float(obj)
-        return value if np.isfinite(value) else None
+        return value if math.isfinite(value) else None
     if isinstance(obj, Path):
         return str(obj)
     return obj

@@ -12,7 +12,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 
 
-def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False):
+def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False, why: str = ""):
     """Return ``value`` as a float array after checking its domain.
 
     Parameters
@@ -25,6 +25,8 @@ def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: 
         Strict / inclusive lower and upper bounds.
     allow_inf : bool
         Whether +/-inf values are allowed (e.g. a -inf dB noise term).
+    why : str, optional
+        Where the bounds come from, appended to the message (e.g. the validity of a recommendation).
 
     Raises
     ------
@@ -50,5 +52,6 @@ def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: 
         first = arr[bad].flat[0] if arr.ndim else float(arr)
         allowed = " and ".join(parts) if parts else "a number"
         allowed += "" if allow_inf else " (finite)"
+        allowed += f": {why}" if why else ""
         raise ParameterError(name, float(first), allowed)
     return arr

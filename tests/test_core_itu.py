@@ -88,3 +88,12 @@ def test_radar_band_edges_are_smooth(f):
 def test_frequency_outside_the_recommendation():
     with pytest.raises(ParameterError, match="frequency_ghz"):
         itu.rain_coefficients(0.5)
+
+
+def test_a_frequency_outside_the_recommendation_says_which_recommendation():
+    from csuas.base.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="ITU-R P.838-3 .rain attenuation. is defined for 1-1000 GHz"):
+        itu.rain_specific_attenuation_db_km(0.5, 6.0)
+    with pytest.raises(ParameterError, match="ITU-R P.840"):
+        itu.fog_specific_attenuation_db_km(0.5, 0.2)

@@ -36,4 +36,22 @@ def test_permissions_follow_the_umask(tmp_path):
 
 
 def test_json_has_no_nan():
-    assert dumps({"a": float("nan"), "b": [float("inf"), 1.0]}).replace(" ", "").replace("\n", "") == '{"a":null,"b":[null,1.0]}'
+    text = dumps({"a": float("nan"), "b": [float("inf"), 1.0]}).replace(" ", "").replace("\n", "")
+    assert text == '{"a":null,"a_nonfinite":"nan","b":[null,1.0]}'
+    assert "NaN" not in text and "Infinity" not in text
+
+
+def test_a_non_finite_value_becomes_null_with_its_value_spelled_beside_it():
+    import json as _json
+
+    import numpy as _np
+
+    from csuas.base.fileio import dumps
+
+    out = _json.loads(dumps({"r": float("inf"), "e": _np.float64("nan"), "a": _np.array(-_np.inf), "ok": 1.0,
+                             "x": float("inf"), "x_note": "unbounded: silence", "list": [1.0, float("nan")]}))
+    assert out["r"] is None and out["r_nonfinite"] == "+inf"
+    assert out["e"] is None and out["e_nonfinite"] == "nan"
+    assert out["a"] is None and out["a_nonfinite"] == "-inf"
+    assert "ok_nonfinite" not in out and "x_nonfinite" not in out and out["x_note"] == "unbounded: silence"
+    assert out["list"] == [1.0, None]

@@ -31,6 +31,11 @@ DEFAULT_RADAR_NOTE = (
     "integration), gives 445.3 m.")
 
 
+#: Radar parameters whose change makes DEFAULT_RADAR_NOTE's figures wrong.
+RADAR_BUDGET_KEYS = {"p_tx_w", "g_tx_db", "g_rx_db", "wavelength_m", "frequency_ghz", "snr_min_db", "noise_figure_db",
+                     "bandwidth_mhz", "n_pulses", "integration", "l_hardware_db", "l_processing_db", "model"}
+
+
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument("scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet)")
@@ -66,7 +71,8 @@ def run(args) -> dict:
             entry["inputs"]["wavelength_m"] = {
                 "value": radar_wavelength_m(spec.params, convention), "unit": "m",
                 "source": "derived from frequency_ghz (c = 3e8 m/s in the paper convention, Section 4.9.3)"}
-        entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and spec.preset == "default" else []
+        at_table_39 = spec.preset == "default" and not spec.explicit & RADAR_BUDGET_KEYS
+        entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and at_table_39 else []
         sensors[name] = entry
     effects = sorted(scenario.effects)
     return {"scenario": scenario.name, "convention": convention, "target": scenario.target_preset,
