@@ -11,6 +11,11 @@ setup:
 test: setup
 	$(VENV)/bin/python -m pytest -q
 
+lint: setup
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/mypy
+
 report: setup
 	$(VENV)/bin/csuas report --quick --out $(OUT)
 

@@ -56,7 +56,17 @@ class Check:
 
     def as_dict(self) -> dict:
         """JSON form with the keys of docs/command-line.md (``name``, ``paper``, ``computed``, ``ok``)."""
-        return {"name": self.name, "paper": self.paper, "computed": self.computed, "ok": self.ok,
-                "unit": self.unit, "source": self.source, "method": self.method,
-                "rel_tol": self.rel_tol, "abs_tol": self.abs_tol,
-                "known_deviation": self.known_deviation, "limitation": self.limitation, **self.extra}
+        return {
+            "name": self.name,
+            "paper": self.paper,
+            "computed": self.computed,
+            "ok": self.ok,
+            "unit": self.unit,
+            "source": self.source,
+            "method": self.method,
+            "rel_tol": self.rel_tol,
+            "abs_tol": self.abs_tol,
+            "known_deviation": self.known_deviation,
+            "limitation": self.limitation,
+            **self.extra,
+        }

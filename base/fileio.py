@@ -8,8 +8,8 @@ import math
 import os
 import shutil
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -130,8 +130,9 @@ def exclusive_lock(path: str | os.PathLike, option: str) -> Iterator[Path]:
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise ParameterError(option, str(lock.parent), "a folder no other csuas run is writing into "
-                                 f"(its lock {lock.name} is held)") from None
+            raise ParameterError(
+                option, str(lock.parent), f"a folder no other csuas run is writing into (its lock {lock.name} is held)"
+            ) from None
         try:
             yield lock
         finally:
@@ -162,8 +163,7 @@ def to_jsonable(obj):
         for k, v in obj.items():
             out[str(k)] = to_jsonable(v)
             scalar = v.item() if isinstance(v, np.ndarray) and v.size == 1 else v
-            if (isinstance(scalar, (float, np.floating)) and not math.isfinite(float(scalar))
-                    and f"{k}_note" not in obj):
+            if isinstance(scalar, (float, np.floating)) and not math.isfinite(float(scalar)) and f"{k}_note" not in obj:
                 out[f"{k}_nonfinite"] = _spelled(float(scalar))
         return out
     if isinstance(obj, (list, tuple)):

@@ -24,7 +24,7 @@ def _exception(signum: int) -> KeyboardInterrupt:
     return Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
 
-def _handler(signum, frame):  # noqa: ARG001 - signal handler signature
+def _handler(signum, frame):
     _received.append(signum)
     raise _exception(signum)
 

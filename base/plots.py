@@ -34,11 +34,20 @@ def tornado_plot(path, title: str, baseline_m: float, bars, *, log_scale: bool =
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 0.6 * len(bars) + 1.6), dpi=110)
     for i, bar in enumerate(reversed(bars)):
-        for value, r, colour in ((bar.low_value, bar.range_at_low_m, "#4c72b0"),
-                                 (bar.high_value, bar.range_at_high_m, "#dd8452")):
+        for value, r, colour in (
+            (bar.low_value, bar.range_at_low_m, "#4c72b0"),
+            (bar.high_value, bar.range_at_high_m, "#dd8452"),
+        ):
             ax.barh(i, r - baseline_m, left=baseline_m, color=colour, height=0.6)
-            ax.annotate(f"{value:g}", (r, i), xytext=(3 if r >= baseline_m else -3, 0),
-                        textcoords="offset points", va="center", ha="left" if r >= baseline_m else "right", fontsize=8)
+            ax.annotate(
+                f"{value:g}",
+                (r, i),
+                xytext=(3 if r >= baseline_m else -3, 0),
+                textcoords="offset points",
+                va="center",
+                ha="left" if r >= baseline_m else "right",
+                fontsize=8,
+            )
     ax.set_yticks(range(len(bars)), [b.parameter for b in reversed(bars)])
     ax.axvline(baseline_m, color="k", ls="--", lw=1)
     ax.set_xlabel("predicted range R* [m]  (blue: low value, orange: high value)")

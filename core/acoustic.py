@@ -17,7 +17,6 @@ from csuas.core.checks import require
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import linear_to_db, power_sum_db
-from csuas.base.errors import ParameterError
 
 #: Wind below this speed [m/s] produces no wind-noise term (Table 31 starts at 1 m/s).
 WIND_NOISE_MIN_M_S = 1.0
@@ -78,14 +77,32 @@ def iso9613_absorption_db_m(frequency_hz, temperature_k=293.15, relative_humidit
     h = hr * psat / pa
     fr_o = pa * (24.0 + 4.04e4 * h * (0.02 + h) / (0.391 + h))
     fr_n = pa * (t / t0) ** -0.5 * (9.0 + 280.0 * h * np.exp(-4.170 * ((t / t0) ** (-1.0 / 3.0) - 1.0)))
-    return 8.686 * f**2 * (1.84e-11 / pa * (t / t0) ** 0.5 + (t / t0) ** -2.5 * (
-        0.01275 * np.exp(-2239.1 / t) / (fr_o + f**2 / fr_o)
-        + 0.1068 * np.exp(-3352.0 / t) / (fr_n + f**2 / fr_n)))
+    return (
+        8.686
+        * f**2
+        * (
+            1.84e-11 / pa * (t / t0) ** 0.5
+            + (t / t0) ** -2.5
+            * (
+                0.01275 * np.exp(-2239.1 / t) / (fr_o + f**2 / fr_o)
+                + 0.1068 * np.exp(-3352.0 / t) / (fr_n + f**2 / fr_n)
+            )
+        )
+    )
 
 
-def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_m_s=0.0,
-                   wind_distance_m=50.0, wind_noise_level_db=None, absorption_db_m=0.0,
-                   convention="paper") -> RangeResult:
+def acoustic_range(
+    *,
+    sl_db,
+    snr_req_db,
+    noise_level_db,
+    g_array_db,
+    wind_speed_m_s=0.0,
+    wind_distance_m=50.0,
+    wind_noise_level_db=None,
+    absorption_db_m=0.0,
+    convention="paper",
+) -> RangeResult:
     """Acoustic detection range [m] (Eqs. 39, 44, 49, 106-108).
 
     Parameters
@@ -130,8 +147,12 @@ def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_
     v = require("wind_speed_m_s", wind_speed_m_s, ge=0)
     r_wind = require("wind_distance_m", wind_distance_m, gt=0)
     alpha = require("absorption_db_m", absorption_db_m, ge=0)
-    terms = [Term("sl_db", sl, "dB", "Table 8"), Term("snr_req_db", snr, "dB", "Eq. 38"),
-             Term("noise_level_db", n_lvl, "dBA", "Eq. 41 (Table 30)"), Term("g_array_db", gain, "dB", "Eq. 42")]
+    terms = [
+        Term("sl_db", sl, "dB", "Table 8"),
+        Term("snr_req_db", snr, "dB", "Eq. 38"),
+        Term("noise_level_db", n_lvl, "dBA", "Eq. 41 (Table 30)"),
+        Term("g_array_db", gain, "dB", "Eq. 42"),
+    ]
     if wind_noise_level_db is None:
         windy = v >= WIND_NOISE_MIN_M_S
         n_wind = np.where(windy, wind_noise_db(v), -np.inf)
@@ -143,17 +164,27 @@ def acoustic_range(*, sl_db, snr_req_db, noise_level_db, g_array_db, wind_speed_
         rl_wind = np.where(windy, n_wind - 20.0 * np.log10(r_wind), -np.inf)
         noise = power_sum_db(n_lvl, rl_wind)
         held = wind_noise_level_db is None and np.any(windy & wind_noise_extrapolated(v))
-        terms.append(Term("wind_noise_db", n_wind, "dB",
-                          "Table 31, beyond its 1-12 m/s: the 12 m/s value (89 dB) held" if held else "Table 31"))
+        terms.append(
+            Term(
+                "wind_noise_db",
+                n_wind,
+                "dB",
+                "Table 31, beyond its 1-12 m/s: the 12 m/s value (89 dB) held" if held else "Table 31",
+            )
+        )
         terms.append(Term("wind_noise_at_sensor_db", rl_wind, "dB", "Eq. 46"))
         terms.append(Term("noise_total_db", noise, "dB", "Eq. 108"))
     budget = sl - snr - noise + gain
     if np.any(alpha > 0):
         terms.append(Term("absorption_db_m", alpha, "dB/m", "ISO 9613-1"))
     r = solve_log_linear(budget, alpha, n=2.0)
-    reason = np.where(np.isinf(r), "unbounded: the noise is so low (or the source so loud) that spherical "
-                      "spreading alone never brings the signal below the required SNR, and neither wind noise nor "
-                      "absorption bounds it", "")
+    reason = np.where(
+        np.isinf(r),
+        "unbounded: the noise is so low (or the source so loud) that spherical "
+        "spreading alone never brings the signal below the required SNR, and neither wind noise nor "
+        "absorption bounds it",
+        "",
+    )
     terms.append(Term("budget_db", budget, "dB", "Eq. 44"))
     model = "spherical_spreading+noise (Eqs. 44, 106-108)" + (" + ISO 9613-1 absorption" if np.any(alpha > 0) else "")
     return RangeResult(r, "acoustic", model, terms, reason if np.any(np.isinf(r)) else None)

@@ -41,8 +41,9 @@ def contrast_limited_range_m(c0, c_min, extinction, convention="paper"):
     return np.where(c0 > cm, r, 0.0)
 
 
-def eo_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf, c_eo, c_min, wavelength_nm,
-             visibility_km, convention="paper") -> RangeResult:
+def eo_range(
+    *, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf, c_eo, c_min, wavelength_nm, visibility_km, convention="paper"
+) -> RangeResult:
     """EO detection range: min(Johnson/TTPF, contrast limit) (Eqs. 15-21).
 
     Parameters
@@ -73,8 +74,11 @@ def eo_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf, c_eo, c_min, wavelengt
     sigma = kruse_extinction_per_km(wavelength_nm, visibility_km)
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
-    reason = np.where(r_contrast <= 0, "never detectable: |c_eo| <= c_min",
-                      np.where(r_contrast < r_johnson, "contrast-limited (Eq. 21)", "resolution-limited (Eq. 18)"))
+    reason = np.where(
+        r_contrast <= 0,
+        "never detectable: |c_eo| <= c_min",
+        np.where(r_contrast < r_johnson, "contrast-limited (Eq. 21)", "resolution-limited (Eq. 18)"),
+    )
     unit = "dB/km" if convention == "paper" else "1/km"
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),

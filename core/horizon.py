@@ -59,5 +59,6 @@ def line_of_sight_limit_m(sensor_height_m, target_height_m, k=K_RADIO, earth_rad
     k : float
         Effective Earth-radius factor [-].
     """
-    return (horizon_distance_m(sensor_height_m, k, earth_radius_m)
-            + horizon_distance_m(target_height_m, k, earth_radius_m))
+    return horizon_distance_m(sensor_height_m, k, earth_radius_m) + horizon_distance_m(
+        target_height_m, k, earth_radius_m
+    )

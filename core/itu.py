@@ -46,8 +46,13 @@ def rain_coefficients(frequency_ghz, elevation_deg=0.0, tau_deg=90.0):
     """
     co = _coefficients()["p838_3"]
     lo, hi = co["frequency_range_ghz"]
-    f = require("frequency_ghz", frequency_ghz, ge=lo, le=hi,
-                why=f"ITU-R P.838-3 (rain attenuation) is defined for {lo:g}-{hi:g} GHz")
+    f = require(
+        "frequency_ghz",
+        frequency_ghz,
+        ge=lo,
+        le=hi,
+        why=f"ITU-R P.838-3 (rain attenuation) is defined for {lo:g}-{hi:g} GHz",
+    )
     el = np.deg2rad(require("elevation_deg", elevation_deg, ge=-90, le=90))
     tau = np.deg2rad(require("tau_deg", tau_deg, ge=-180, le=180))
     log_f = np.log10(f)
@@ -91,8 +96,13 @@ def fog_coefficient_kl(frequency_ghz, temperature_k=293.15):
     """Cloud/fog specific attenuation coefficient K_l [(dB/km)/(g/m^3)] (ITU-R P.840, Eq. 60)."""
     co = _coefficients()["p840"]
     lo, hi = co["frequency_range_ghz"]
-    f = require("frequency_ghz", frequency_ghz, ge=lo, le=hi,
-                why=f"ITU-R P.840 (cloud and fog attenuation) is defined for {lo:g}-{hi:g} GHz")
+    f = require(
+        "frequency_ghz",
+        frequency_ghz,
+        ge=lo,
+        le=hi,
+        why=f"ITU-R P.840 (cloud and fog attenuation) is defined for {lo:g}-{hi:g} GHz",
+    )
     eps_real, eps_imag = water_permittivity(f, temperature_k)
     eta = (2.0 + eps_real) / eps_imag
     return co["k_factor"] * f / (eps_imag * (1.0 + eta**2))

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.checks import require
 from csuas.base.errors import ParameterError
+from csuas.core.checks import require
 
 
 def _tables():
@@ -92,4 +92,6 @@ def johnson_range_m(d_crit_m, ifov, lp_task=1.0, n_ttpf=1.0):
     n = require("n_ttpf", n_ttpf, ge=0)
     denominator = 2.0 * lp * n * i
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(denominator == 0, np.where(d > 0, np.inf, 0.0), d / np.where(denominator == 0, 1.0, denominator))
+        return np.where(
+            denominator == 0, np.where(d > 0, np.inf, 0.0), d / np.where(denominator == 0, 1.0, denominator)
+        )

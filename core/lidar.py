@@ -41,8 +41,16 @@ def lidar_range_no_loss_m(p_tx_w, p_rx_min_w, sigma_m2, aperture_mm, wavelength_
     return (p / pmin * s / (AIRY**2 * np.pi) * d**4 / lam**2) ** 0.25
 
 
-def received_power_w(p_tx_w, sigma_m2, aperture_mm, wavelength_nm, range_m, projected_area_m2=None,
-                     transmittance_two_way=1.0, eta_sys=1.0):
+def received_power_w(
+    p_tx_w,
+    sigma_m2,
+    aperture_mm,
+    wavelength_nm,
+    range_m,
+    projected_area_m2=None,
+    transmittance_two_way=1.0,
+    eta_sys=1.0,
+):
     """Received power (Eqs. 98, 100, 102) [W].
 
     With ``projected_area_m2`` the interaction I = sigma / max(A_illum, A_p)
@@ -52,13 +60,24 @@ def received_power_w(p_tx_w, sigma_m2, aperture_mm, wavelength_nm, range_m, proj
     d = require("aperture_mm", aperture_mm, gt=0) * 1e-3
     a_illum = np.pi * (r * divergence_rad(wavelength_nm, aperture_mm) / 2.0) ** 2  # Eq. 92
     area = a_illum if projected_area_m2 is None else np.maximum(a_illum, projected_area_m2)
-    interaction = np.asarray(sigma_m2, float) / area          # Eq. 89
-    efficiency = d**2 / (4.0 * r**2)                          # Eq. 97
+    interaction = np.asarray(sigma_m2, float) / area  # Eq. 89
+    efficiency = d**2 / (4.0 * r**2)  # Eq. 97
     return np.asarray(p_tx_w, float) * interaction * efficiency * transmittance_two_way * eta_sys
 
 
-def lidar_range(*, p_tx_w, p_rx_min_w, sigma_lidar_m2, aperture_mm, wavelength_nm, eta_sys=0.5,
-                eta_tl=None, visibility_km=None, projected_area_m2=None, convention="paper") -> RangeResult:
+def lidar_range(
+    *,
+    p_tx_w,
+    p_rx_min_w,
+    sigma_lidar_m2,
+    aperture_mm,
+    wavelength_nm,
+    eta_sys=0.5,
+    eta_tl=None,
+    visibility_km=None,
+    projected_area_m2=None,
+    convention="paper",
+) -> RangeResult:
     """Lidar detection range [m] with transmission and system losses (Eqs. 99-104).
 
     Parameters
@@ -89,7 +108,7 @@ def lidar_range(*, p_tx_w, p_rx_min_w, sigma_lidar_m2, aperture_mm, wavelength_n
             e_tl = require("eta_tl", eta_tl, gt=0, le=1)
             factor = factor * e_tl**2
             terms.append(Term("eta_tl", e_tl, "-", "Eq. 101 (Table 47)"))
-        r = r0 * factor**0.25                                   # Eq. 104
+        r = r0 * factor**0.25  # Eq. 104
         return RangeResult(r, "lidar", "lidar_range_equation (Eqs. 99, 104)", terms)
     beta = 0.0 if visibility_km is None else kruse_extinction_per_km(wavelength_nm, visibility_km)
     if visibility_km is not None:

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.checks import require
 from csuas.core.solve import bracketed_root
-from csuas.base.errors import ParameterError
 
 #: Lloyd's 4-bar constant pi^2 / (4 sqrt(14)).
 LLOYD_K = np.pi**2 / (4.0 * np.sqrt(14.0))
@@ -104,8 +104,9 @@ class TabulatedMrtd:
         f = np.asarray(self.frequency_cy_mrad, dtype=float)
         m = np.asarray(self.mrtd_k, dtype=float)
         if f.ndim != 1 or f.shape != m.shape or f.size < 2:
-            raise ParameterError("tir.mrtd_frequency_cy_mrad", list(f.flat),
-                                 "a list of >= 2 frequencies matching tir.mrtd_k in length")
+            raise ParameterError(
+                "tir.mrtd_frequency_cy_mrad", list(f.flat), "a list of >= 2 frequencies matching tir.mrtd_k in length"
+            )
         if np.any(np.diff(f) <= 0) or np.any(f < 0):
             raise ParameterError("tir.mrtd_frequency_cy_mrad", list(f), "non-negative, strictly increasing")
         if np.any(m <= 0) or np.any(np.diff(m) <= 0):

@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, frequency_ghz, linear_to_db
-from csuas.base.errors import ParameterError
 
 INTEGRATIONS = ("coherent", "noncoherent", "none")
 
@@ -58,18 +58,44 @@ def integration_gain(n_pulses, integration="coherent", convention="paper"):
     return np.ones_like(n)
 
 
-def total_loss_db(l_hardware_db, l_processing_db, gamma_rain_db_km=0.0, gamma_fog_db_km=0.0,
-                  d_rain_km=1.0, d_fog_km=1.0):
+def total_loss_db(
+    l_hardware_db, l_processing_db, gamma_rain_db_km=0.0, gamma_fog_db_km=0.0, d_rain_km=1.0, d_fog_km=1.0
+):
     """Total radar loss (Eqs. 83-84) [dB]: L_hw + L_proc + d_rain gamma_rain + d_fog gamma_fog."""
-    return (np.asarray(l_hardware_db, float) + np.asarray(l_processing_db, float)
-            + np.asarray(d_rain_km, float) * gamma_rain_db_km + np.asarray(d_fog_km, float) * gamma_fog_db_km)
+    return (
+        np.asarray(l_hardware_db, float)
+        + np.asarray(l_processing_db, float)
+        + np.asarray(d_rain_km, float) * gamma_rain_db_km
+        + np.asarray(d_fog_km, float) * gamma_fog_db_km
+    )
 
 
-def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr", p_rx_min_w=None,
-                snr_min_db=10.0, t0_k=290.0, noise_figure_db=10.0, bandwidth_mhz=200.0, n_pulses=1,
-                integration="none", l_hardware_db=0.0, l_processing_db=0.0, rain_rate_mm_h=0.0,
-                lwc_g_m3=0.0, temperature_k=293.15, loss_frequency_ghz=12.0, d_rain_km=1.0, d_fog_km=1.0,
-                k_b=None, convention="paper") -> RangeResult:
+def radar_range(
+    *,
+    p_tx_w,
+    g_tx_db,
+    g_rx_db,
+    wavelength_m,
+    sigma_m2,
+    model="snr",
+    p_rx_min_w=None,
+    snr_min_db=10.0,
+    t0_k=290.0,
+    noise_figure_db=10.0,
+    bandwidth_mhz=200.0,
+    n_pulses=1,
+    integration="none",
+    l_hardware_db=0.0,
+    l_processing_db=0.0,
+    rain_rate_mm_h=0.0,
+    lwc_g_m3=0.0,
+    temperature_k=293.15,
+    loss_frequency_ghz=12.0,
+    d_rain_km=1.0,
+    d_fog_km=1.0,
+    k_b=None,
+    convention="paper",
+) -> RangeResult:
     """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86).
 
     Parameters
@@ -114,8 +140,14 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
     snr_min_db, noise_figure_db = require("snr_min_db", snr_min_db), require("noise_figure_db", noise_figure_db)
     l_hardware_db = require("l_hardware_db", l_hardware_db, ge=0)
     l_processing_db = require("l_processing_db", l_processing_db, ge=0)
-    numerator = (require("p_tx_w", p_tx_w, gt=0) * db_to_linear(g_tx_db) * db_to_linear(g_rx_db)
-                 * lam**2 * require("sigma_m2", sigma_m2, gt=0) / (4 * np.pi) ** 3)
+    numerator = (
+        require("p_tx_w", p_tx_w, gt=0)
+        * db_to_linear(g_tx_db)
+        * db_to_linear(g_rx_db)
+        * lam**2
+        * require("sigma_m2", sigma_m2, gt=0)
+        / (4 * np.pi) ** 3
+    )
     terms = []
     if model == "range_equation":
         if p_rx_min_w is None:
@@ -128,11 +160,18 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
         noise = thermal_noise_power_w(t0_k, noise_figure_db, bandwidth_mhz, kb)
         gain = integration_gain(n_pulses, integration, convention)
         p_min = db_to_linear(snr_min_db) * noise / gain
-        terms += [Term("noise_power_w", noise, "W", "Eq. 73"),
-                  Term("integration_gain_db", linear_to_db(gain), "dB",
-                       {"coherent": "Eq. 77", "noncoherent": "Eq. 78", "none": "Eq. 75"}[integration])]
-        name = {"coherent": "snr_coherent (Eq. 80)", "noncoherent": "snr_noncoherent (Eq. 82)",
-                "none": "snr (Eq. 75)"}[integration]
+        terms += [
+            Term("noise_power_w", noise, "W", "Eq. 73"),
+            Term(
+                "integration_gain_db",
+                linear_to_db(gain),
+                "dB",
+                {"coherent": "Eq. 77", "noncoherent": "Eq. 78", "none": "Eq. 75"}[integration],
+            ),
+        ]
+        name = {"coherent": "snr_coherent (Eq. 80)", "noncoherent": "snr_noncoherent (Eq. 82)", "none": "snr (Eq. 75)"}[
+            integration
+        ]
     budget_db = linear_to_db(numerator / p_min)  # 40 log10 R at the threshold, before losses
     fixed_loss = np.asarray(l_hardware_db, float) + np.asarray(l_processing_db, float)
     if np.any(fixed_loss != 0):
@@ -147,8 +186,9 @@ def radar_range(*, p_tx_w, g_tx_db, g_rx_db, wavelength_m, sigma_m2, model="snr"
     if fog:
         terms.append(Term("gamma_fog_db_km", gamma_fog, "dB/km", "Eq. 60 (ITU-R P.840)"))
     if convention == "paper":
-        propagation = (np.asarray(d_rain_km, float) * gamma_rain if rain else 0.0) \
-            + (np.asarray(d_fog_km, float) * gamma_fog if fog else 0.0)
+        propagation = (np.asarray(d_rain_km, float) * gamma_rain if rain else 0.0) + (
+            np.asarray(d_fog_km, float) * gamma_fog if fog else 0.0
+        )
         loss = total_loss_db(l_hardware_db, l_processing_db) + propagation
         if rain or fog:
             terms.append(Term("l_propagation_db", propagation, "dB", "Eq. 83"))

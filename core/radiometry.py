@@ -11,14 +11,14 @@ import functools
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.checks import require
 from csuas.core.units import C_LIGHT, H_PLANCK, K_BOLTZMANN
-from csuas.base.errors import ParameterError
 
 #: Spectral bands [um] (Section 4.4.1 names them; 3-5 and 8-12 um are the atmospheric windows used).
 BANDS_UM = {"mwir": (3.0, 5.0), "lwir": (8.0, 12.0)}
-_C1 = 2.0 * H_PLANCK * C_LIGHT**2          # [W m^2 sr^-1]
-_C2 = H_PLANCK * C_LIGHT / K_BOLTZMANN     # [m K]
+_C1 = 2.0 * H_PLANCK * C_LIGHT**2  # [W m^2 sr^-1]
+_C2 = H_PLANCK * C_LIGHT / K_BOLTZMANN  # [m K]
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(96)
 #: Temperature span of the radiance-temperature inversion table [K] and its step.
 T_TABLE_RANGE_K = (20.0, 2000.0)
@@ -85,10 +85,13 @@ def radiance_temperature(radiance, band="lwir"):
     positive = r > 0
     outside = positive & ((r < lrad[0]) | (r > lrad[-1]))
     if np.any(outside):
-        raise ParameterError("radiance", float(r[outside].flat[0]),
-                             f"0, or between the band radiances of {T_TABLE_RANGE_K[0]:g} K and "
-                             f"{T_TABLE_RANGE_K[1]:g} K (a radiance temperature of 0 or {T_TABLE_RANGE_K[0]:g}-"
-                             f"{T_TABLE_RANGE_K[1]:g} K)")
+        raise ParameterError(
+            "radiance",
+            float(r[outside].flat[0]),
+            f"0, or between the band radiances of {T_TABLE_RANGE_K[0]:g} K and "
+            f"{T_TABLE_RANGE_K[1]:g} K (a radiance temperature of 0 or {T_TABLE_RANGE_K[0]:g}-"
+            f"{T_TABLE_RANGE_K[1]:g} K)",
+        )
     return np.where(positive, np.interp(np.log(np.where(positive, r, lrad[0])), np.log(lrad), temps), 0.0)
 
 

@@ -24,8 +24,12 @@ def unbounded_reason(range_m):
     r = np.asarray(range_m)
     if np.all(np.isfinite(r)):
         return None
-    return np.where(np.isinf(r), "unbounded: the link budget exceeds anything a finite range can spend "
-                    "(check the dB inputs: gains, sensitivity, threshold)", "")
+    return np.where(
+        np.isinf(r),
+        "unbounded: the link budget exceeds anything a finite range can spend "
+        "(check the dB inputs: gains, sensitivity, threshold)",
+        "",
+    )
 
 
 @dataclass(frozen=True)
@@ -88,8 +92,12 @@ class RangeResult:
 
     def as_dict(self) -> dict:
         """JSON form with the keys of docs/command-line.md (``range_m``, ``modality``, ``model``, ``terms``)."""
-        out = {"range_m": self.range_m, "modality": self.modality, "model": self.model,
-               "terms": {t.name: t.as_dict() for t in self.terms}}
+        out = {
+            "range_m": self.range_m,
+            "modality": self.modality,
+            "model": self.model,
+            "terms": {t.name: t.as_dict() for t in self.terms},
+        }
         if self.reason is not None and np.any(np.asarray(self.reason) != ""):
             out["reason"] = self.reason
         return out

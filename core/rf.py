@@ -14,7 +14,7 @@ from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
-from csuas.core.units import wavelength_m, watt_to_dbm
+from csuas.core.units import watt_to_dbm, wavelength_m
 
 
 def free_space_path_loss_db(frequency_ghz, distance_m):
@@ -27,7 +27,9 @@ def free_space_path_loss_db(frequency_ghz, distance_m):
 def received_power_dbm(p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, distance_m):
     """Received power in free space (Eq. 55) [dBm]."""
     p = require("rf_power_w", p_tx_w, gt=0)
-    return watt_to_dbm(p) + np.asarray(g_tx_dbi) + np.asarray(g_rx_db) - free_space_path_loss_db(frequency_ghz, distance_m)
+    return (
+        watt_to_dbm(p) + np.asarray(g_tx_dbi) + np.asarray(g_rx_db) - free_space_path_loss_db(frequency_ghz, distance_m)
+    )
 
 
 def weather_attenuation_db_km(frequency_ghz, rain_rate_mm_h, lwc_g_m3, temperature_k):
@@ -37,8 +39,20 @@ def weather_attenuation_db_km(frequency_ghz, rain_rate_mm_h, lwc_g_m3, temperatu
     return rain, fog
 
 
-def rf_range(*, p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, s_rx_dbm, rain_rate_mm_h=0.0, lwc_g_m3=0.0,
-             temperature_k=293.15, d_rain_km=1.0, d_fog_km=1.0, convention="paper") -> RangeResult:
+def rf_range(
+    *,
+    p_tx_w,
+    g_tx_dbi,
+    g_rx_db,
+    frequency_ghz,
+    s_rx_dbm,
+    rain_rate_mm_h=0.0,
+    lwc_g_m3=0.0,
+    temperature_k=293.15,
+    d_rain_km=1.0,
+    d_fog_km=1.0,
+    convention="paper",
+) -> RangeResult:
     """Passive RF detection range [m] (Eq. 57 with the losses of Eqs. 59, 61).
 
     Parameters
@@ -69,11 +83,14 @@ def rf_range(*, p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, s_rx_dbm, rain_rate_mm
     """
     check_convention(convention)
     f = require("frequency_ghz", frequency_ghz, gt=0)
-    budget = watt_to_dbm(require("rf_power_w", p_tx_w, gt=0)) + require("g_tx_dbi", g_tx_dbi) \
-        + require("g_rx_db", g_rx_db) - require("s_rx_dbm", s_rx_dbm)
+    budget = (
+        watt_to_dbm(require("rf_power_w", p_tx_w, gt=0))
+        + require("g_tx_dbi", g_tx_dbi)
+        + require("g_rx_db", g_rx_db)
+        - require("s_rx_dbm", s_rx_dbm)
+    )
     lam = wavelength_m(f)
-    terms = [Term("p_tx_dbm", watt_to_dbm(p_tx_w), "dBm", "Eq. 52"),
-             Term("link_budget_db", budget, "dB", "Eq. 57")]
+    terms = [Term("p_tx_dbm", watt_to_dbm(p_tx_w), "dBm", "Eq. 52"), Term("link_budget_db", budget, "dB", "Eq. 57")]
     rain_present, fog_present = np.any(np.asarray(rain_rate_mm_h) > 0), np.any(np.asarray(lwc_g_m3) > 0)
     gamma = 0.0
     if rain_present:

@@ -18,11 +18,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.acoustic import acoustic_range
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radar import radar_range
 from csuas.core.units import C_LIGHT_PAPER, wavelength_m
-from csuas.base.errors import ParameterError
 
 
 def eo_johnson_model(d_crit_m, n_ttpf, n_h, hfov_deg, lp_task=1.0):
@@ -30,20 +30,34 @@ def eo_johnson_model(d_crit_m, n_ttpf, n_h, hfov_deg, lp_task=1.0):
     return johnson_range_m(d_crit_m, ifov_rad(hfov_deg, n_h), lp_task, n_ttpf)
 
 
-def acoustic_model(sl_db, snr_req_db, noise_level_db, wind_noise_level_db=None, wind_distance_m=50.0,
-                   g_array_db=0.0):
+def acoustic_model(sl_db, snr_req_db, noise_level_db, wind_noise_level_db=None, wind_distance_m=50.0, g_array_db=0.0):
     """Eqs. 106-108 [m]; wind noise given directly as in Table 50."""
-    return acoustic_range(sl_db=sl_db, snr_req_db=snr_req_db, noise_level_db=noise_level_db, g_array_db=g_array_db,
-                          wind_noise_level_db=wind_noise_level_db, wind_distance_m=wind_distance_m).range_m
+    return acoustic_range(
+        sl_db=sl_db,
+        snr_req_db=snr_req_db,
+        noise_level_db=noise_level_db,
+        g_array_db=g_array_db,
+        wind_noise_level_db=wind_noise_level_db,
+        wind_distance_m=wind_distance_m,
+    ).range_m
 
 
-def radar_model(p_tx_w, g_db, frequency_ghz, sigma_radar_m2, snr_min_db, noise_figure_db, bandwidth_mhz,
-                t0_k=290.0, k_b=1.381e-23):
+def radar_model(
+    p_tx_w, g_db, frequency_ghz, sigma_radar_m2, snr_min_db, noise_figure_db, bandwidth_mhz, t0_k=290.0, k_b=1.381e-23
+):
     """Eq. 109 [m], monostatic (G_tx = G_rx = g)."""
-    return radar_range(p_tx_w=p_tx_w, g_tx_db=g_db, g_rx_db=g_db,
-                       wavelength_m=wavelength_m(frequency_ghz, C_LIGHT_PAPER), sigma_m2=sigma_radar_m2,
-                       snr_min_db=snr_min_db, t0_k=t0_k, noise_figure_db=noise_figure_db,
-                       bandwidth_mhz=bandwidth_mhz, k_b=k_b).range_m
+    return radar_range(
+        p_tx_w=p_tx_w,
+        g_tx_db=g_db,
+        g_rx_db=g_db,
+        wavelength_m=wavelength_m(frequency_ghz, C_LIGHT_PAPER),
+        sigma_m2=sigma_radar_m2,
+        snr_min_db=snr_min_db,
+        t0_k=t0_k,
+        noise_figure_db=noise_figure_db,
+        bandwidth_mhz=bandwidth_mhz,
+        k_b=k_b,
+    ).range_m
 
 
 MODELS = {"eo_johnson": eo_johnson_model, "acoustic": acoustic_model, "radar": radar_model}
@@ -76,9 +90,15 @@ class TornadoBar:
 
     def as_dict(self) -> dict:
         """JSON form."""
-        return {"parameter": self.parameter, "low": self.low_value, "default": self.default_value,
-                "high": self.high_value, "range_at_low_m": self.range_at_low_m,
-                "range_at_high_m": self.range_at_high_m, "span_m": self.span_m}
+        return {
+            "parameter": self.parameter,
+            "low": self.low_value,
+            "default": self.default_value,
+            "high": self.high_value,
+            "range_at_low_m": self.range_at_low_m,
+            "range_at_high_m": self.range_at_high_m,
+            "span_m": self.span_m,
+        }
 
 
 def one_at_a_time(model, parameters: dict, fixed: dict | None = None):

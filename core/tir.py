@@ -36,12 +36,14 @@ def delta_t_radiometric(emissivity_suas, t_suas_k, emissivity_bg, t_bg_k, band="
     :func:`csuas.core.radiometry.graybody_apparent_temperature`); the result
     is target minus background.
     """
-    return (graybody_apparent_temperature(emissivity_suas, t_suas_k, band, surroundings_k)
-            - graybody_apparent_temperature(emissivity_bg, t_bg_k, band, surroundings_k))
+    return graybody_apparent_temperature(
+        emissivity_suas, t_suas_k, band, surroundings_k
+    ) - graybody_apparent_temperature(emissivity_bg, t_bg_k, band, surroundings_k)
 
 
-def attenuated_delta_t(delta_t0, range_m, extinction_db_km, convention="paper", *, t_bg_app_k=None,
-                       air_temperature_k=None, band="lwir"):
+def attenuated_delta_t(
+    delta_t0, range_m, extinction_db_km, convention="paper", *, t_bg_app_k=None, air_temperature_k=None, band="lwir"
+):
     """Apparent temperature difference [K] after a path of ``range_m``.
 
     Parameters
@@ -71,20 +73,34 @@ def attenuated_delta_t(delta_t0, range_m, extinction_db_km, convention="paper", 
     l_bg = band_radiance(t_bg_app_k, band)
     l_target = band_radiance(np.asarray(t_bg_app_k) + dt0, band)
     l_path = (1.0 - tau) * band_radiance(air_temperature_k, band)
-    return (radiance_temperature(tau * l_target + l_path, band)
-            - radiance_temperature(tau * l_bg + l_path, band))
+    return radiance_temperature(tau * l_target + l_path, band) - radiance_temperature(tau * l_bg + l_path, band)
 
 
 def tir_johnson_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf) -> RangeResult:
     """TIR Johnson/TTPF range (Eq. 23). The paper applies no atmosphere to it."""
     ifov = ifov_rad(hfov_deg, n_h)
     r = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
-    return RangeResult(r, "tir", "johnson_ttpf (Eq. 23)",
-                       [Term("ifov_rad", ifov, "rad", "Eqs. 15, 22"), Term("johnson_range_m", r, "m", "Eq. 23")])
+    return RangeResult(
+        r,
+        "tir",
+        "johnson_ttpf (Eq. 23)",
+        [Term("ifov_rad", ifov, "rad", "Eqs. 15, 22"), Term("johnson_range_m", r, "m", "Eq. 23")],
+    )
 
 
-def tir_mrtd_range(*, mrtd, d_crit_m, lp_task, n_ttpf, delta_t0_k, extinction_db_km, convention="paper",
-                   t_bg_app_k=None, air_temperature_k=None, band="lwir") -> RangeResult:
+def tir_mrtd_range(
+    *,
+    mrtd,
+    d_crit_m,
+    lp_task,
+    n_ttpf,
+    delta_t0_k,
+    extinction_db_km,
+    convention="paper",
+    t_bg_app_k=None,
+    air_temperature_k=None,
+    band="lwir",
+) -> RangeResult:
     """TIR range from an MRTD curve with path attenuation (Eqs. 24-31), solved exactly.
 
     The paper iterates R_hyp until it equals R_MRTD(Delta T(R_hyp)). csuas solves
@@ -124,8 +140,11 @@ def tir_mrtd_range(*, mrtd, d_crit_m, lp_task, n_ttpf, delta_t0_k, extinction_db
         sign = np.where(signed_dt0 < 0, -1.0, 1.0)[attenuated]
         kwargs = {}
         if convention == "physical":
-            kwargs = dict(t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[attenuated],
-                          air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[attenuated], band=band)
+            kwargs = dict(
+                t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[attenuated],
+                air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[attenuated],
+                band=band,
+            )
 
         def residual(rr):
             dt = np.abs(attenuated_delta_t(sign * dt0[attenuated], rr, sigma[attenuated], convention, **kwargs))
@@ -137,11 +156,20 @@ def tir_mrtd_range(*, mrtd, d_crit_m, lp_task, n_ttpf, delta_t0_k, extinction_db
         r[attenuated] = np.where(found, root, r0[attenuated])
     r = np.where(d > 0, r, 0.0)
     r, r0, sigma, attenuated, cycles_per_m = (v.reshape(shape) for v in (r, r0, sigma, attenuated, cycles_per_m))
-    reason = np.where(r <= 0, "never detectable: Delta T below the MRTD at every range",
-                      np.where(attenuated, "MRTD with attenuation (Eqs. 27-31)", "MRTD (Eq. 29)"))
-    terms = [Term("delta_t0_k", np.asarray(delta_t0_k, dtype=float), "K",
-                  "Eq. 26" if convention == "paper" else "band radiometry"),
-             Term("mrtd_range_unattenuated_m", r0, "m", "Eq. 29")]
+    reason = np.where(
+        r <= 0,
+        "never detectable: Delta T below the MRTD at every range",
+        np.where(attenuated, "MRTD with attenuation (Eqs. 27-31)", "MRTD (Eq. 29)"),
+    )
+    terms = [
+        Term(
+            "delta_t0_k",
+            np.asarray(delta_t0_k, dtype=float),
+            "K",
+            "Eq. 26" if convention == "paper" else "band radiometry",
+        ),
+        Term("mrtd_range_unattenuated_m", r0, "m", "Eq. 29"),
+    ]
     if np.any(sigma > 0):
         terms.append(Term("extinction_db_km", sigma, "dB/km", "Eq. 31 (Table 27)"))
         dt_r = np.where(r > 0, mrtd(cycles_per_m * r), 0.0)

@@ -31,12 +31,13 @@ COMMANDS = {
     "range": "predicted detection range of each sensor of a scenario",
     "defaults": "list the paper's default parameters, or check every derivable default",
     "sensitivity": "one-at-a-time sensitivity (tornado) analysis and platform comparison",
-    "bench": "benchmarks: core models, exact solves vs the paper's loops, silhouettes, SBR, Sionna, lidar, render window",
+    "bench": "benchmarks: core models, exact solves vs the paper's loops, silhouettes, SBR, Sionna, lidar, "
+    "render window",
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
     "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
-              "Delta T, lidar cross-section",
+    "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",
 }
 
@@ -44,14 +45,17 @@ COMMANDS = {
 class _Parser(argparse.ArgumentParser):
     """Argument parser whose usage errors are one line and exit code 2."""
 
-    def error(self, message):  # noqa: D102 - argparse hook
+    def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The top-level parser; only ``command``'s module is imported (fast start-up)."""
-    parser = _Parser(prog="csuas", description="Counter-drone sensor detection-range models and their validation.",
-                     epilog="--debug (anywhere on the line): show the traceback of an unexpected error")
+    parser = _Parser(
+        prog="csuas",
+        description="Counter-drone sensor detection-range models and their validation.",
+        epilog="--debug (anywhere on the line): show the traceback of an unexpected error",
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, help_text in COMMANDS.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
@@ -101,11 +105,13 @@ def main(argv: list[str] | None = None) -> int:
         detail = _describe_os_error(exc) if isinstance(exc, OSError) else type(exc).__name__
         print(f"csuas {args.command}: error: {detail}", file=sys.stderr)
         return 2
-    except Exception as exc:  # noqa: BLE001 - the last line of defence: one line, never a traceback
+    except Exception as exc:
         if debug:
             raise
-        print(f"csuas {args.command}: internal error: {type(exc).__name__}: {exc} "
-              f"(rerun with --debug for the traceback)", file=sys.stderr)
+        print(
+            f"csuas {args.command}: internal error: {type(exc).__name__}: {exc} (rerun with --debug for the traceback)",
+            file=sys.stderr,
+        )
         return 1
     print(text)
     return int(result.get("exit_code", 0)) if isinstance(result, dict) else 0

@@ -11,6 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core import acoustic, eo, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
@@ -19,16 +20,23 @@ from csuas.core.mrtd import ParametricMrtd, TabulatedMrtd
 from csuas.core.radiometry import BANDS_UM, graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.units import C_LIGHT, C_LIGHT_PAPER, wavelength_m
-from csuas.base.errors import ParameterError
 from csuas.scenario import Scenario, SensorSpec
 
 
 def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p = s.params
-    return eo.eo_range(d_crit_m=sc.target["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"],
-                       lp_task=p["lp_task"], n_ttpf=p["n_ttpf"], c_eo=sc.target["c_eo"], c_min=p["c_min"],
-                       wavelength_nm=p["wavelength_nm"], visibility_km=sc.optical_visibility_km,
-                       convention=convention)
+    return eo.eo_range(
+        d_crit_m=sc.target["d_crit_m"],
+        hfov_deg=p["hfov_deg"],
+        n_h=p["n_h"],
+        lp_task=p["lp_task"],
+        n_ttpf=p["n_ttpf"],
+        c_eo=sc.target["c_eo"],
+        c_min=p["c_min"],
+        wavelength_nm=p["wavelength_nm"],
+        visibility_km=sc.optical_visibility_km,
+        convention=convention,
+    )
 
 
 def mrtd_curve(params: dict):
@@ -36,17 +44,21 @@ def mrtd_curve(params: dict):
     if params.get("mrtd_k") is not None:
         return TabulatedMrtd(tuple(params["mrtd_frequency_cy_mrad"]), tuple(params["mrtd_k"]))
     low, high = BANDS_UM[params["band"]]
-    return ParametricMrtd(netd_k=params["netd_mk"] / 1000.0,
-                          ifov_rad=float(ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"])),
-                          f_number=params["f_number"], pitch_m=params["pitch_um"] * 1e-6,
-                          wavelength_m=0.5 * (low + high) * 1e-6)
+    return ParametricMrtd(
+        netd_k=params["netd_mk"] / 1000.0,
+        ifov_rad=float(ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"])),
+        f_number=params["f_number"],
+        pitch_m=params["pitch_um"] * 1e-6,
+        wavelength_m=0.5 * (low + high) * 1e-6,
+    )
 
 
 def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, t, env = s.params, sc.target, sc.environment
     if p["model"] == "johnson":
-        return tir.tir_johnson_range(d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"],
-                                     lp_task=p["lp_task"], n_ttpf=p["n_ttpf"])
+        return tir.tir_johnson_range(
+            d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"], lp_task=p["lp_task"], n_ttpf=p["n_ttpf"]
+        )
     extra = {}
     if convention == "paper":
         dt0 = tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
@@ -55,9 +67,16 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"])
         dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
         extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
-    return tir.tir_mrtd_range(mrtd=mrtd_curve(p), d_crit_m=t["d_crit_m"], lp_task=p["lp_task"],
-                              n_ttpf=p["n_ttpf"], delta_t0_k=dt0, extinction_db_km=p["extinction_db_km"],
-                              convention=convention, **extra)
+    return tir.tir_mrtd_range(
+        mrtd=mrtd_curve(p),
+        d_crit_m=t["d_crit_m"],
+        lp_task=p["lp_task"],
+        n_ttpf=p["n_ttpf"],
+        delta_t0_k=dt0,
+        extinction_db_km=p["extinction_db_km"],
+        convention=convention,
+        **extra,
+    )
 
 
 def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
@@ -67,21 +86,37 @@ def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     if convention == "physical":
         if "g_array_db" not in s.explicit:
             gain = float(acoustic.array_gain_db(p["n_micro"], p["g_micro_db"]))
-        absorption = acoustic.iso9613_absorption_db_m(p["frequency_hz"], env["temperature_k"],
-                                                      env["relative_humidity_pct"], env["pressure_kpa"])
-    return acoustic.acoustic_range(sl_db=sc.target["sl_db"], snr_req_db=p["snr_req_db"],
-                                   noise_level_db=env["noise_level_db"], g_array_db=gain,
-                                   wind_speed_m_s=env["wind_speed_m_s"], wind_distance_m=p["wind_distance_m"],
-                                   absorption_db_m=absorption, convention=convention)
+        absorption = acoustic.iso9613_absorption_db_m(
+            p["frequency_hz"], env["temperature_k"], env["relative_humidity_pct"], env["pressure_kpa"]
+        )
+    return acoustic.acoustic_range(
+        sl_db=sc.target["sl_db"],
+        snr_req_db=p["snr_req_db"],
+        noise_level_db=env["noise_level_db"],
+        g_array_db=gain,
+        wind_speed_m_s=env["wind_speed_m_s"],
+        wind_distance_m=p["wind_distance_m"],
+        absorption_db_m=absorption,
+        convention=convention,
+    )
 
 
 def _rf(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, t, env = s.params, sc.target, sc.environment
     frequency = p.get("frequency_ghz") or t["rf_frequency_ghz"]
-    return rf.rf_range(p_tx_w=t["rf_power_w"], g_tx_dbi=t["rf_gain_dbi"], g_rx_db=p["g_rx_db"],
-                       frequency_ghz=frequency, s_rx_dbm=p["s_rx_dbm"], rain_rate_mm_h=env["rain_rate_mm_h"],
-                       lwc_g_m3=env["lwc_g_m3"], temperature_k=env["temperature_k"], d_rain_km=p["d_rain_km"],
-                       d_fog_km=p["d_fog_km"], convention=convention)
+    return rf.rf_range(
+        p_tx_w=t["rf_power_w"],
+        g_tx_dbi=t["rf_gain_dbi"],
+        g_rx_db=p["g_rx_db"],
+        frequency_ghz=frequency,
+        s_rx_dbm=p["s_rx_dbm"],
+        rain_rate_mm_h=env["rain_rate_mm_h"],
+        lwc_g_m3=env["lwc_g_m3"],
+        temperature_k=env["temperature_k"],
+        d_rain_km=p["d_rain_km"],
+        d_fog_km=p["d_fog_km"],
+        convention=convention,
+    )
 
 
 def radar_wavelength_m(params: dict, convention: str) -> float:
@@ -94,14 +129,30 @@ def radar_wavelength_m(params: dict, convention: str) -> float:
 def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
     return radar.radar_range(
-        p_tx_w=p["p_tx_w"], g_tx_db=p["g_tx_db"], g_rx_db=p["g_rx_db"], wavelength_m=radar_wavelength_m(p, convention),
-        sigma_m2=sc.target["sigma_radar_m2"], model=p["model"], p_rx_min_w=p.get("p_rx_min_w"),
-        snr_min_db=p["snr_min_db"], t0_k=p["t0_k"], noise_figure_db=p["noise_figure_db"],
-        bandwidth_mhz=p["bandwidth_mhz"], n_pulses=p["n_pulses"], integration=p["integration"],
-        l_hardware_db=p["l_hardware_db"], l_processing_db=p["l_processing_db"],
-        rain_rate_mm_h=env["rain_rate_mm_h"], lwc_g_m3=env["lwc_g_m3"], temperature_k=env["temperature_k"],
-        loss_frequency_ghz=p["loss_frequency_ghz"], d_rain_km=p["d_rain_km"], d_fog_km=p["d_fog_km"],
-        k_b=p.get("boltzmann_j_k"), convention=convention)
+        p_tx_w=p["p_tx_w"],
+        g_tx_db=p["g_tx_db"],
+        g_rx_db=p["g_rx_db"],
+        wavelength_m=radar_wavelength_m(p, convention),
+        sigma_m2=sc.target["sigma_radar_m2"],
+        model=p["model"],
+        p_rx_min_w=p.get("p_rx_min_w"),
+        snr_min_db=p["snr_min_db"],
+        t0_k=p["t0_k"],
+        noise_figure_db=p["noise_figure_db"],
+        bandwidth_mhz=p["bandwidth_mhz"],
+        n_pulses=p["n_pulses"],
+        integration=p["integration"],
+        l_hardware_db=p["l_hardware_db"],
+        l_processing_db=p["l_processing_db"],
+        rain_rate_mm_h=env["rain_rate_mm_h"],
+        lwc_g_m3=env["lwc_g_m3"],
+        temperature_k=env["temperature_k"],
+        loss_frequency_ghz=p["loss_frequency_ghz"],
+        d_rain_km=p["d_rain_km"],
+        d_fog_km=p["d_fog_km"],
+        k_b=p.get("boltzmann_j_k"),
+        convention=convention,
+    )
 
 
 def paper_eta_tl(sc: Scenario, s: SensorSpec) -> float:
@@ -120,12 +171,22 @@ def paper_eta_tl(sc: Scenario, s: SensorSpec) -> float:
 
 def _lidar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, t = s.params, sc.target
-    common = dict(p_tx_w=p["p_tx_w"], p_rx_min_w=p["p_rx_min_w"], sigma_lidar_m2=t["sigma_lidar_m2"],
-                  aperture_mm=p["aperture_mm"], wavelength_nm=p["wavelength_nm"], eta_sys=p["eta_sys"])
+    common = dict(
+        p_tx_w=p["p_tx_w"],
+        p_rx_min_w=p["p_rx_min_w"],
+        sigma_lidar_m2=t["sigma_lidar_m2"],
+        aperture_mm=p["aperture_mm"],
+        wavelength_nm=p["wavelength_nm"],
+        eta_sys=p["eta_sys"],
+    )
     if convention == "paper":
         return lidar.lidar_range(**common, eta_tl=paper_eta_tl(sc, s), convention="paper")
-    return lidar.lidar_range(**common, visibility_km=sc.optical_visibility_km,
-                             projected_area_m2=t["projected_area_m2"], convention="physical")
+    return lidar.lidar_range(
+        **common,
+        visibility_km=sc.optical_visibility_km,
+        projected_area_m2=t["projected_area_m2"],
+        convention="physical",
+    )
 
 
 ADAPTERS = {"eo": _eo, "tir": _tir, "acoustic": _acoustic, "rf": _rf, "radar": _radar, "lidar": _lidar}
@@ -157,27 +218,35 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     for name, sensor in scenario.sensors.items():
         result = ADAPTERS[sensor.modality](scenario, sensor, conv)
         if not np.all(np.isfinite(result.range_m)) and result.reason is None:
-            raise ParameterError(f"sensors.{name}.p_desired", sensor.params.get("p_desired"),
-                                 "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits")
+            raise ParameterError(
+                f"sensors.{name}.p_desired",
+                sensor.params.get("p_desired"),
+                "> 0: n_ttpf = 0 gives an unbounded range that nothing else limits",
+            )
         _apply_horizon(scenario, sensor, result)
         _explain_short_range(scenario, sensor, result, conv)
         altitude = scenario.target["altitude_m"]
         if altitude != 0.0:
             horizontal = horizontal_range_m(result.range_m, altitude)
             result.terms.append(Term("horizontal_range_m", horizontal, "m", "Eq. 13 (Eq. 14 takes R* for it)"))
-            _add_reason(result, np.isnan(horizontal),
-                        f"the target flies {abs(altitude):g} m {'above' if altitude > 0 else 'below'} the sensor, "
-                        f"beyond the slant range: it is never within range at that altitude")
+            _add_reason(
+                result,
+                np.isnan(horizontal),
+                f"the target flies {abs(altitude):g} m {'above' if altitude > 0 else 'below'} the sensor, "
+                f"beyond the slant range: it is never within range at that altitude",
+            )
         results[name] = result
     return results
 
 
 #: Modality -> (effective Earth-radius factor, name) of its horizon; acoustic ranges are not capped.
-HORIZONS = {"rf": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
-            "radar": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
-            "eo": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
-            "tir": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
-            "lidar": (K_OPTICAL, "optical horizon, refraction coefficient 0.13")}
+HORIZONS = {
+    "rf": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
+    "radar": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
+    "eo": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
+    "tir": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
+    "lidar": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
+}
 #: Heights of the flag raised when a scenario gives no sensor height: a mast-less sensor, a drone at
 #: the 120 m ceiling of open-category flight [m].
 REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M = 2.0, 120.0
@@ -188,8 +257,7 @@ def _add_reason(result: RangeResult, mask, text: str) -> None:
     mask = np.broadcast_to(np.asarray(mask, bool), np.shape(result.range_m))
     if not np.any(mask):
         return
-    old = np.broadcast_to(np.asarray(result.reason if result.reason is not None else "", dtype=object),
-                          mask.shape)
+    old = np.broadcast_to(np.asarray(result.reason if result.reason is not None else "", dtype=object), mask.shape)
     joined = np.where(old != "", old + "; " + text, text)
     result.reason = np.where(mask, joined, old).astype(str)
 
@@ -202,16 +270,20 @@ def _apply_horizon(scenario: Scenario, sensor: SensorSpec, result: RangeResult) 
     height = sensor.params.get("height_m")
     if height is None:
         limit = line_of_sight_limit_m(REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M, k)
-        _add_reason(result, np.asarray(result.range_m) > limit,
-                    f"beyond the {label} of a {REFERENCE_SENSOR_HEIGHT_M:g} m sensor and a "
-                    f"{REFERENCE_TARGET_HEIGHT_M:g} m target ({limit / 1000:.1f} km): set "
-                    f"sensors.{sensor.name}.height_m and target.altitude_m to cap it")
+        _add_reason(
+            result,
+            np.asarray(result.range_m) > limit,
+            f"beyond the {label} of a {REFERENCE_SENSOR_HEIGHT_M:g} m sensor and a "
+            f"{REFERENCE_TARGET_HEIGHT_M:g} m target ({limit / 1000:.1f} km): set "
+            f"sensors.{sensor.name}.height_m and target.altitude_m to cap it",
+        )
         return
     target_height = max(height + scenario.target["altitude_m"], 0.0)
     limit = float(line_of_sight_limit_m(height, target_height, k))
     capped = np.asarray(result.range_m) > limit
-    result.terms.append(Term("horizon_m", limit, "m", f"{label}: sensor {height:g} m, target {target_height:g} m "
-                             f"above ground"))
+    result.terms.append(
+        Term("horizon_m", limit, "m", f"{label}: sensor {height:g} m, target {target_height:g} m above ground")
+    )
     _add_reason(result, capped, f"limited by the {label} ({limit / 1000:.2f} km)")
     result.range_m = np.where(capped, limit, result.range_m)
 
@@ -223,19 +295,29 @@ SHORT_RANGE_M = 1.0
 def _explain_short_range(scenario: Scenario, sensor: SensorSpec, result: RangeResult, convention: str) -> None:
     """Name the cause of a zero or near-zero range that the model left unexplained."""
     r = np.asarray(result.range_m, float)
-    unexplained = (r < SHORT_RANGE_M) & (np.broadcast_to(np.asarray(
-        result.reason if result.reason is not None else "", dtype=object), r.shape) == "")
+    unexplained = (r < SHORT_RANGE_M) & (
+        np.broadcast_to(np.asarray(result.reason if result.reason is not None else "", dtype=object), r.shape) == ""
+    )
     if not np.any(unexplained):
         return
-    if sensor.modality == "lidar" and convention == "paper" and "eta_tl" not in sensor.explicit \
-            and {"fog", "haze"} & scenario.effects:
+    if (
+        sensor.modality == "lidar"
+        and convention == "paper"
+        and "eta_tl" not in sensor.explicit
+        and {"fog", "haze"} & scenario.effects
+    ):
         eta = paper_eta_tl(scenario, sensor)
-        text = (f"eta_TL = {eta:.3g}: the paper convention applies Kruse extinction at "
-                f"{scenario.optical_visibility_km:g} km visibility over Table 47's fixed "
-                f"{sensor.params['tl_path_km']:g} km path, whatever the range (docs/conventions.md point 8)")
+        text = (
+            f"eta_TL = {eta:.3g}: the paper convention applies Kruse extinction at "
+            f"{scenario.optical_visibility_km:g} km visibility over Table 47's fixed "
+            f"{sensor.params['tl_path_km']:g} km path, whatever the range (docs/conventions.md point 8)"
+        )
     else:
-        losses = [f"{t.name} = {float(np.max(t.value)):.3g} dB" for t in result.terms
-                  if t.unit == "dB" and ("loss" in t.name or t.name.startswith("l_"))]
+        losses = [
+            f"{t.name} = {float(np.max(t.value)):.3g} dB"
+            for t in result.terms
+            if t.unit == "dB" and ("loss" in t.name or t.name.startswith("l_"))
+        ]
         text = "the budget is spent before 1 m" + (f" (losses: {', '.join(losses)})" if losses else "")
     _add_reason(result, unexplained, f"range below {SHORT_RANGE_M:g} m: {text}")
 
@@ -306,9 +388,19 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
     for key, (low, high) in variations.items():
         section, _, name = key.partition(".")
         current = (only.sensors[sensor_name].params if section == "sensor" else getattr(only, section, {})).get(name)
-        ranges = [float(evaluate(_with_value(only, sensor_name, key, v), convention)[sensor_name].range_m)
-                  for v in (low, high)]
-        bars.append(TornadoBar(key, float(low), float(current) if current is not None else float("nan"),
-                               float(high), ranges[0], ranges[1]))
+        ranges = [
+            float(evaluate(_with_value(only, sensor_name, key, v), convention)[sensor_name].range_m)
+            for v in (low, high)
+        ]
+        bars.append(
+            TornadoBar(
+                key,
+                float(low),
+                float(current) if current is not None else float("nan"),
+                float(high),
+                ranges[0],
+                ranges[1],
+            )
+        )
     bars.sort(key=lambda bar: bar.span_m, reverse=True)
     return baseline, bars

@@ -21,10 +21,10 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
+from csuas.base.errors import ScenarioError, raise_all
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
-from csuas.base.errors import ScenarioError, raise_all
 
 #: Aliases of environment parameters that take class names (docs/scenarios.md).
 ENVIRONMENT_ALIASES = {
@@ -163,8 +163,18 @@ def _class_value(key: str, param: str, value):
     return classes[value]
 
 
-def _apply_overrides(section: str, prefix: str, registry: dict, values: dict, overrides: dict,
-                     explicit: set, errors: list, origin: dict, label: str, reserved: tuple = ()):
+def _apply_overrides(
+    section: str,
+    prefix: str,
+    registry: dict,
+    values: dict,
+    overrides: dict,
+    explicit: set,
+    errors: list,
+    origin: dict,
+    label: str,
+    reserved: tuple = (),
+):
     """Validate and apply ``overrides``; each mistake goes to ``errors`` and the others still apply."""
     for key, raw in overrides.items():
         if key in reserved:
@@ -173,8 +183,9 @@ def _apply_overrides(section: str, prefix: str, registry: dict, values: dict, ov
         full = f"{prefix}.{key}"
         try:
             if param not in registry:
-                allowed = sorted(set(registry) | set(reserved)
-                                 | (set(ENVIRONMENT_ALIASES) if section == "environment" else set()))
+                allowed = sorted(
+                    set(registry) | set(reserved) | (set(ENVIRONMENT_ALIASES) if section == "environment" else set())
+                )
                 _fail(full, raw, "a known key: " + ", ".join(allowed))
             value = _class_value(full, param, raw)
             if section == "environment" and param == "fog_visibility_m" and isinstance(raw, str):
@@ -188,8 +199,11 @@ def _apply_overrides(section: str, prefix: str, registry: dict, values: dict, ov
             errors.append(exc)
             continue
         explicit.add(param)
-        origin[param] = label if not isinstance(raw, str) or "choices" in registry[param] else \
-            f"{label} (class {raw!r}, {load_tables()['classes'][param]['source']})"
+        origin[param] = (
+            label
+            if not isinstance(raw, str) or "choices" in registry[param]
+            else f"{label} (class {raw!r}, {load_tables()['classes'][param]['source']})"
+        )
 
 
 def _preset(kind: str, name: str, key: str, modality: str | None = None) -> dict:
@@ -219,11 +233,20 @@ def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec:
     preset = table.get("preset", "default")
     if not isinstance(preset, str):
         _fail(f"{prefix}.preset", preset, "a preset name")
-    _apply_overrides(modality, f"{prefix}(preset {preset})", registry, values,
-                     _preset("sensor", preset, f"{prefix}.preset", modality), explicit, errors, origin,
-                     f"preset {preset}")
-    _apply_overrides(modality, prefix, registry, values, table, explicit, errors, origin, "scenario",
-                     reserved=("modality", "preset"))
+    _apply_overrides(
+        modality,
+        f"{prefix}(preset {preset})",
+        registry,
+        values,
+        _preset("sensor", preset, f"{prefix}.preset", modality),
+        explicit,
+        errors,
+        origin,
+        f"preset {preset}",
+    )
+    _apply_overrides(
+        modality, prefix, registry, values, table, explicit, errors, origin, "scenario", reserved=("modality", "preset")
+    )
     if errors:
         return None
     if modality in ("eo", "tir"):
@@ -269,8 +292,10 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
         attempt(_fail, "convention", convention, " or ".join(CONVENTIONS))
     params = load_parameters()
     sections, explicit, origin = {}, {}, {}
-    for section, preset_kind, default_preset in (("target", "target", "dji_mini_4_pro"),
-                                                 ("environment", "environment", "clear_day")):
+    for section, preset_kind, default_preset in (
+        ("target", "target", "dji_mini_4_pro"),
+        ("environment", "environment", "clear_day"),
+    ):
         table = data.get(section, {})
         if not isinstance(table, dict):
             attempt(_fail, section, table, "a table")
@@ -280,10 +305,20 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
             attempt(_fail, f"{section}.preset", preset, ", ".join(load_presets()[preset_kind]))
             preset = default_preset
         values, given, where = _defaults(section), set(), {}
-        _apply_overrides(section, f"{section}(preset {preset})", params[section], values,
-                         _preset(preset_kind, preset, f"{section}.preset"), given, errors, where, f"preset {preset}")
-        _apply_overrides(section, section, params[section], values, table, given, errors, where, "scenario",
-                         reserved=("preset",))
+        _apply_overrides(
+            section,
+            f"{section}(preset {preset})",
+            params[section],
+            values,
+            _preset(preset_kind, preset, f"{section}.preset"),
+            given,
+            errors,
+            where,
+            f"preset {preset}",
+        )
+        _apply_overrides(
+            section, section, params[section], values, table, given, errors, where, "scenario", reserved=("preset",)
+        )
         sections[section] = (values, preset)
         explicit[section], origin[section] = given, where
     sensors_table = data.get("sensors", {})
@@ -301,8 +336,18 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
         attempt(_fail, "name", scenario_name, "a string")
     raise_all(errors)
     warnings = [w for spec in sensors.values() for w in plausibility_warnings(spec)]
-    return Scenario(scenario_name, convention, sections["target"][0], sections["target"][1],
-                    sections["environment"][0], sections["environment"][1], sensors, explicit, origin, warnings)
+    return Scenario(
+        scenario_name,
+        convention,
+        sections["target"][0],
+        sections["target"][1],
+        sections["environment"][0],
+        sections["environment"][1],
+        sensors,
+        explicit,
+        origin,
+        warnings,
+    )
 
 
 def plausibility_warnings(sensor: SensorSpec) -> list[str]:
@@ -320,12 +365,16 @@ def plausibility_warnings(sensor: SensorSpec) -> list[str]:
     pixels = p["n_h"] / p["n_v"]
     found = []
     if not (0.5 <= optical / pixels <= 2.0):
-        found.append(f"sensors.{sensor.name}: hfov_deg = {h:g} and vfov_deg = {v:g} give an aspect ratio of "
-                     f"{optical:.3g}, but the detector's n_h / n_v is {pixels:.3g}; is a field of view in radians?")
+        found.append(
+            f"sensors.{sensor.name}: hfov_deg = {h:g} and vfov_deg = {v:g} give an aspect ratio of "
+            f"{optical:.3g}, but the detector's n_h / n_v is {pixels:.3g}; is a field of view in radians?"
+        )
     for key, value, other in (("hfov_deg", h, v), ("vfov_deg", v, h)):
         if value < 0.2 and other > 2.0:
-            found.append(f"sensors.{sensor.name}.{key} = {value:g} deg beside {other:g} deg: radians instead of "
-                         f"degrees? ({value:g} rad = {math.degrees(value):.3g} deg)")
+            found.append(
+                f"sensors.{sensor.name}.{key} = {value:g} deg beside {other:g} deg: radians instead of "
+                f"degrees? ({value:g} rad = {math.degrees(value):.3g} deg)"
+            )
     return found
 
 
@@ -369,8 +418,10 @@ def load_scenario(source) -> Scenario:
     if not path.exists() and not str(source).endswith(".toml"):
         embedded = scenario_path(str(source))
         if not embedded.is_file():
-            raise ScenarioError(f"scenario = {str(source)!r} is neither a file nor an embedded scenario; "
-                                f"embedded scenarios: {', '.join(embedded_scenarios())}")
+            raise ScenarioError(
+                f"scenario = {str(source)!r} is neither a file nor an embedded scenario; "
+                f"embedded scenarios: {', '.join(embedded_scenarios())}"
+            )
         path = embedded
     if not path.exists():
         raise ScenarioError(f"scenario = {str(source)!r}: no such file")
@@ -379,7 +430,7 @@ def load_scenario(source) -> Scenario:
     if not path.is_file():
         raise ScenarioError(f"scenario = {str(source)!r} is not a regular file (a device or a pipe)")
     try:
-        text = path.read_bytes()[:MAX_SCENARIO_BYTES + 1]
+        text = path.read_bytes()[: MAX_SCENARIO_BYTES + 1]
     except OSError as exc:
         raise ScenarioError(f"scenario = {str(source)!r} cannot be read: {exc.strerror or exc}") from None
     if len(text) > MAX_SCENARIO_BYTES:

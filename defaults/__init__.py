@@ -59,25 +59,25 @@ def _validate_parameters(params: dict) -> dict:
     return params
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def load_parameters() -> dict:
     """Parameter registry: ``{section: {name: spec}}`` (validated at first load)."""
     return _validate_parameters(_load("parameters.toml"))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def load_tables() -> dict:
     """Class, lookup and printed-value tables."""
     return _load("tables.toml")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def load_presets() -> dict:
     """Named target, sensor and environment presets."""
     return _load("presets.toml")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def load_sensitivity() -> dict:
     """One-at-a-time analyses of Section 4.9 (Tables 48-51) and the platform table (Table 52)."""
     return _load("sensitivity.toml")

@@ -40,11 +40,19 @@ def bench_silhouette(n_directions: int = 1000, n_reference: int = 50, preset: st
     reference_elapsed = time.perf_counter() - start
     ms_fast = 1e3 * elapsed / n_directions
     ms_ref = 1e3 * reference_elapsed / n_reference
-    return {"preset": preset, "n_directions": n_directions,
-            "n_faces": int(sum(len(p.mesh.faces) for p in drone.parts)), "n_shells": model.n_shells,
-            "prepare_s": prepare, "time_s": elapsed, "directions_per_s": n_directions / elapsed,
-            "ms_per_direction": ms_fast, "reference_ms_per_direction": ms_ref,
-            "speedup_vs_triangle_union": ms_ref / ms_fast,
-            "max_area_difference_m2": float(np.max(np.abs(fast["projected_area_m2"][:n_reference]
-                                                          - reference["projected_area_m2"]))),
-            "mean_projected_area_m2": float(np.mean(fast["projected_area_m2"]))}
+    return {
+        "preset": preset,
+        "n_directions": n_directions,
+        "n_faces": int(sum(len(p.mesh.faces) for p in drone.parts)),
+        "n_shells": model.n_shells,
+        "prepare_s": prepare,
+        "time_s": elapsed,
+        "directions_per_s": n_directions / elapsed,
+        "ms_per_direction": ms_fast,
+        "reference_ms_per_direction": ms_ref,
+        "speedup_vs_triangle_union": ms_ref / ms_fast,
+        "max_area_difference_m2": float(
+            np.max(np.abs(fast["projected_area_m2"][:n_reference] - reference["projected_area_m2"]))
+        ),
+        "mean_projected_area_m2": float(np.mean(fast["projected_area_m2"])),
+    }

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from csuas.drone_models.materials import Material, paper_component_mean_emissivity
 from csuas.base.errors import ParameterError
+from csuas.drone_models.materials import Material, paper_component_mean_emissivity
 
 
 @dataclass
@@ -116,19 +116,21 @@ class Drone:
         areas = np.array([p.mesh.area for p in parts])
         eps = np.array([getattr(p.material, attr) for p in parts])
         distinct = {p.material.name: getattr(p.material, attr) for p in parts}
-        return {"band": band,
-                "area_weighted": float(np.sum(areas * eps) / np.sum(areas)),
-                "component_mean": float(np.mean(list(distinct.values()))),
-                "paper_component_mean": paper_component_mean_emissivity(),
-                "materials": sorted(distinct)}
+        return {
+            "band": band,
+            "area_weighted": float(np.sum(areas * eps) / np.sum(areas)),
+            "component_mean": float(np.mean(list(distinct.values()))),
+            "paper_component_mean": paper_component_mean_emissivity(),
+            "materials": sorted(distinct),
+        }
 
-    def translated(self, offset) -> "Drone":
+    def translated(self, offset) -> Drone:
         """Move every part by ``offset`` [m] in place and return ``self``."""
         for p in self.parts:
             p.mesh.apply_translation(offset)
         return self
 
-    def centred(self) -> "Drone":
+    def centred(self) -> Drone:
         """Put the origin at the centre of the bounding box of all parts (in place)."""
         b = self.bounds()
         return self.translated(-(b[0] + b[1]) / 2.0)

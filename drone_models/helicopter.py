@@ -7,11 +7,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
 from csuas.drone_models.multirotor import PROPELLER_STYLES
-from csuas.base.errors import ParameterError
 
 #: Default material per part kind of a nano helicopter.
 DEFAULT_HELICOPTER_MATERIALS = {
@@ -77,8 +77,9 @@ class HelicopterParams:
     sections: int = P.DEFAULT_SECTIONS
 
 
-def build_helicopter(name: str, params: HelicopterParams, mass_kg: float, spec: dict | None = None,
-                     propellers: str = "disc") -> Drone:
+def build_helicopter(
+    name: str, params: HelicopterParams, mass_kg: float, spec: dict | None = None, propellers: str = "disc"
+) -> Drone:
     """Assemble a single-rotor helicopter (e.g. a Black Hornet class nano sUAS).
 
     Parameters
@@ -107,31 +108,53 @@ def build_helicopter(name: str, params: HelicopterParams, mass_kg: float, spec: 
     hub = np.asarray(params.main_rotor_center_m, dtype=float)
     parts = [Part("fuselage", "body", P.ellipsoid(f_c, f_ext), mat["body"])]
     mast_bottom = np.array([hub[0], hub[1], f_c[2]])
-    parts.append(Part("mast", "mast", P.cylinder_between(mast_bottom, hub, params.mast_diameter_m / 2.0, 16),
-                      mat["mast"]))
+    parts.append(
+        Part("mast", "mast", P.cylinder_between(mast_bottom, hub, params.mast_diameter_m / 2.0, 16), mat["mast"])
+    )
     tail_end = np.asarray(params.tail_boom_end_m, dtype=float)
     boom_start = f_c - [f_ext[0] / 4.0, 0.0, 0.0]
-    parts.append(Part("tail_boom", "tail_boom",
-                      P.cylinder_between(boom_start, tail_end, params.tail_boom_diameter_m / 2.0, 16),
-                      mat["tail_boom"]))
+    parts.append(
+        Part(
+            "tail_boom",
+            "tail_boom",
+            P.cylinder_between(boom_start, tail_end, params.tail_boom_diameter_m / 2.0, 16),
+            mat["tail_boom"],
+        )
+    )
     if propellers != "none":
         if propellers == "disc":
             rotor = P.vertical_disc(hub, params.main_rotor_diameter_m, params.main_rotor_thickness_m, params.sections)
             half = np.array([0.0, params.tail_rotor_thickness_m / 2.0, 0.0])
-            tail = P.cylinder_between(tail_end - half, tail_end + half, params.tail_rotor_diameter_m / 2.0,
-                                      params.sections)
+            tail = P.cylinder_between(
+                tail_end - half, tail_end + half, params.tail_rotor_diameter_m / 2.0, params.sections
+            )
         else:
-            rotor = P.propeller_blades(hub, params.main_rotor_diameter_m, params.n_blades, params.blade_root_chord_m,
-                                       params.blade_tip_chord_m, params.main_rotor_thickness_m / 2.0,
-                                       params.hub_diameter_m, params.blade_phase_deg)
-            tail = P.propeller_blades([0.0, 0.0, 0.0], params.tail_rotor_diameter_m, 2,
-                                      params.tail_rotor_diameter_m / 6.0, params.tail_rotor_diameter_m / 8.0,
-                                      params.tail_rotor_thickness_m / 2.0, params.tail_rotor_diameter_m / 5.0, 0.0)
+            rotor = P.propeller_blades(
+                hub,
+                params.main_rotor_diameter_m,
+                params.n_blades,
+                params.blade_root_chord_m,
+                params.blade_tip_chord_m,
+                params.main_rotor_thickness_m / 2.0,
+                params.hub_diameter_m,
+                params.blade_phase_deg,
+            )
+            tail = P.propeller_blades(
+                [0.0, 0.0, 0.0],
+                params.tail_rotor_diameter_m,
+                2,
+                params.tail_rotor_diameter_m / 6.0,
+                params.tail_rotor_diameter_m / 8.0,
+                params.tail_rotor_thickness_m / 2.0,
+                params.tail_rotor_diameter_m / 5.0,
+                0.0,
+            )
             tail.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2.0, [1.0, 0.0, 0.0]))
             tail.apply_translation(tail_end)
         parts.append(Part("main_rotor", "propeller", rotor, mat["propeller"]))
         parts.append(Part("tail_rotor", "tail_rotor", tail, mat["tail_rotor"]))
     if params.camera_extents_m is not None:
-        parts.append(Part("camera", "gimbal", P.ellipsoid(params.camera_center_m, params.camera_extents_m, 2),
-                          mat["gimbal"]))
+        parts.append(
+            Part("camera", "gimbal", P.ellipsoid(params.camera_center_m, params.camera_extents_m, 2), mat["gimbal"])
+        )
     return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()

@@ -84,8 +84,9 @@ class Material:
             if not 0.0 <= value <= 1.0:
                 raise ParameterError(f"material.{self.name}.{field_name}", value, "0 <= x <= 1")
         if len(self.reflectance_rgb) != 3 or not all(0.0 <= c <= 1.0 for c in self.reflectance_rgb):
-            raise ParameterError(f"material.{self.name}.reflectance_rgb", self.reflectance_rgb,
-                                 "three values in [0, 1]")
+            raise ParameterError(
+                f"material.{self.name}.reflectance_rgb", self.reflectance_rgb, "three values in [0, 1]"
+            )
         if not self.temperature_k > 0.0:
             raise ParameterError(f"material.{self.name}.temperature_k", self.temperature_k, "x > 0 K")
         if self.conductivity_s_m < 0.0:
@@ -99,55 +100,112 @@ class Material:
         if not frequency_ghz > 0.0:
             raise ParameterError("frequency_ghz", frequency_ghz, "x > 0 GHz")
         omega_eps0 = 2.0 * math.pi * frequency_ghz * 1.0e9 * VACUUM_PERMITTIVITY_F_M
-        return complex(self.relative_permittivity.real,
-                       self.relative_permittivity.imag - self.conductivity_s_m / omega_eps0)
+        return complex(
+            self.relative_permittivity.real, self.relative_permittivity.imag - self.conductivity_s_m / omega_eps0
+        )
 
-    def with_temperature(self, temperature_k: float) -> "Material":
+    def with_temperature(self, temperature_k: float) -> Material:
         """A copy of this material at another surface temperature [K]."""
         return dataclasses.replace(self, temperature_k=float(temperature_k))
 
 
 PLASTIC = Material(
-    name="plastic", reflectance_rgb=(0.42, 0.42, 0.43), reflectance_550nm=0.42, reflectance_1550nm=0.45,
-    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(2.8, -0.03), conductivity_s_m=0.0, is_pec=False,
-    source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle et al. 2003)")
+    name="plastic",
+    reflectance_rgb=(0.42, 0.42, 0.43),
+    reflectance_550nm=0.42,
+    reflectance_1550nm=0.45,
+    emissivity_lwir=0.95,
+    emissivity_mwir=0.93,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(2.8, -0.03),
+    conductivity_s_m=0.0,
+    is_pec=False,
+    source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle et al. 2003)",
+)
 
 DARK_PLASTIC = Material(
-    name="dark_plastic", reflectance_rgb=(0.05, 0.05, 0.05), reflectance_550nm=0.05, reflectance_1550nm=0.06,
-    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(2.8, -0.03), conductivity_s_m=0.0, is_pec=False,
-    source="black propeller/gimbal plastic; emissivity as plastic (paper 4.4.3 [114])")
+    name="dark_plastic",
+    reflectance_rgb=(0.05, 0.05, 0.05),
+    reflectance_550nm=0.05,
+    reflectance_1550nm=0.06,
+    emissivity_lwir=0.95,
+    emissivity_mwir=0.93,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(2.8, -0.03),
+    conductivity_s_m=0.0,
+    is_pec=False,
+    source="black propeller/gimbal plastic; emissivity as plastic (paper 4.4.3 [114])",
+)
 
 CARBON_FIBRE = Material(
-    name="carbon_fibre", reflectance_rgb=(0.05, 0.05, 0.05), reflectance_550nm=0.05, reflectance_1550nm=0.06,
-    emissivity_lwir=0.82, emissivity_mwir=0.82, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(12.0, 0.0), conductivity_s_m=1.0e4, is_pec=False,
-    source="emissivity 0.8-0.84 (paper 4.4.3 [115]); CFRP in-plane conductivity ~1e4 S/m")
+    name="carbon_fibre",
+    reflectance_rgb=(0.05, 0.05, 0.05),
+    reflectance_550nm=0.05,
+    reflectance_1550nm=0.06,
+    emissivity_lwir=0.82,
+    emissivity_mwir=0.82,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(12.0, 0.0),
+    conductivity_s_m=1.0e4,
+    is_pec=False,
+    source="emissivity 0.8-0.84 (paper 4.4.3 [115]); CFRP in-plane conductivity ~1e4 S/m",
+)
 
 ALUMINIUM = Material(
-    name="aluminium", reflectance_rgb=(0.70, 0.70, 0.72), reflectance_550nm=0.70, reflectance_1550nm=0.85,
-    emissivity_lwir=0.075, emissivity_mwir=0.07, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=3.5e7, is_pec=False,
-    source="emissivity 0.05-0.1 (paper 4.4.3 [116]); conductivity 3.5e7 S/m (CRC Handbook)")
+    name="aluminium",
+    reflectance_rgb=(0.70, 0.70, 0.72),
+    reflectance_550nm=0.70,
+    reflectance_1550nm=0.85,
+    emissivity_lwir=0.075,
+    emissivity_mwir=0.07,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0),
+    conductivity_s_m=3.5e7,
+    is_pec=False,
+    source="emissivity 0.05-0.1 (paper 4.4.3 [116]); conductivity 3.5e7 S/m (CRC Handbook)",
+)
 
 PAINT = Material(
-    name="paint", reflectance_rgb=(0.45, 0.45, 0.46), reflectance_550nm=0.45, reflectance_1550nm=0.50,
-    emissivity_lwir=0.875, emissivity_mwir=0.85, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(3.0, -0.1), conductivity_s_m=0.0, is_pec=False,
-    source="emissivity 0.8-0.95 (paper 4.4.3 [114]); thin lossy dielectric coat")
+    name="paint",
+    reflectance_rgb=(0.45, 0.45, 0.46),
+    reflectance_550nm=0.45,
+    reflectance_1550nm=0.50,
+    emissivity_lwir=0.875,
+    emissivity_mwir=0.85,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(3.0, -0.1),
+    conductivity_s_m=0.0,
+    is_pec=False,
+    source="emissivity 0.8-0.95 (paper 4.4.3 [114]); thin lossy dielectric coat",
+)
 
 BATTERY_PACK = Material(
-    name="battery_pack", reflectance_rgb=(0.30, 0.30, 0.31), reflectance_550nm=0.30, reflectance_1550nm=0.33,
-    emissivity_lwir=0.95, emissivity_mwir=0.93, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=1.0e6, is_pec=False,
-    source="plastic-sleeved Li-ion cells: plastic surface (IR/optical), metal-cased conductor (radio)")
+    name="battery_pack",
+    reflectance_rgb=(0.30, 0.30, 0.31),
+    reflectance_550nm=0.30,
+    reflectance_1550nm=0.33,
+    emissivity_lwir=0.95,
+    emissivity_mwir=0.93,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0),
+    conductivity_s_m=1.0e6,
+    is_pec=False,
+    source="plastic-sleeved Li-ion cells: plastic surface (IR/optical), metal-cased conductor (radio)",
+)
 
 PEC = Material(
-    name="pec", reflectance_rgb=(0.90, 0.90, 0.90), reflectance_550nm=0.90, reflectance_1550nm=0.95,
-    emissivity_lwir=0.02, emissivity_mwir=0.02, temperature_k=T_SUAS_K,
-    relative_permittivity=complex(1.0, 0.0), conductivity_s_m=float("inf"), is_pec=True,
-    source="idealised perfect electric conductor (radar oracles)")
+    name="pec",
+    reflectance_rgb=(0.90, 0.90, 0.90),
+    reflectance_550nm=0.90,
+    reflectance_1550nm=0.95,
+    emissivity_lwir=0.02,
+    emissivity_mwir=0.02,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0),
+    conductivity_s_m=float("inf"),
+    is_pec=True,
+    source="idealised perfect electric conductor (radar oracles)",
+)
 
 #: Registry of the named materials.
 MATERIALS = {m.name: m for m in (PLASTIC, DARK_PLASTIC, CARBON_FIBRE, ALUMINIUM, PAINT, BATTERY_PACK, PEC)}

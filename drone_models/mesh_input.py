@@ -6,9 +6,9 @@ from pathlib import Path
 
 import trimesh
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
-from csuas.base.errors import ParameterError
 
 
 def load_mesh_drone(path, material: str = "plastic") -> Drone:
@@ -40,5 +40,10 @@ def load_mesh_drone(path, material: str = "plastic") -> Drone:
         raise ParameterError("mesh file", str(path), f"a file trimesh can read ({exc})") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise ParameterError("mesh file", str(path), "a file with at least one triangle")
-    return Drone(name=file.stem, mass_kg=None, parts=[Part("mesh", "body", mesh, get_material(material))],
-                 spec={"source": str(file)}, propellers="as file")
+    return Drone(
+        name=file.stem,
+        mass_kg=None,
+        parts=[Part("mesh", "body", mesh, get_material(material))],
+        spec={"source": str(file)},
+        propellers="as file",
+    )

@@ -7,10 +7,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
-from csuas.base.errors import ParameterError
 
 #: Accepted propeller representations.
 PROPELLER_STYLES = ("disc", "blades", "none")
@@ -122,13 +122,21 @@ def propeller_mesh(center, params: MultirotorParams, style: str):
     """Propeller of ``params`` at hub ``center`` as a swept disc or as blades."""
     if style == "disc":
         return P.vertical_disc(center, params.propeller_diameter_m, params.propeller_thickness_m, params.sections)
-    return P.propeller_blades(center, params.propeller_diameter_m, params.n_blades, params.blade_root_chord_m,
-                              params.blade_tip_chord_m, params.propeller_thickness_m / 2.0, params.hub_diameter_m,
-                              params.blade_phase_deg)
+    return P.propeller_blades(
+        center,
+        params.propeller_diameter_m,
+        params.n_blades,
+        params.blade_root_chord_m,
+        params.blade_tip_chord_m,
+        params.propeller_thickness_m / 2.0,
+        params.hub_diameter_m,
+        params.blade_phase_deg,
+    )
 
 
-def build_multirotor(name: str, params: MultirotorParams, mass_kg: float, spec: dict | None = None,
-                     propellers: str = "disc") -> Drone:
+def build_multirotor(
+    name: str, params: MultirotorParams, mass_kg: float, spec: dict | None = None, propellers: str = "disc"
+) -> Drone:
     """Assemble a multirotor from ``params``.
 
     Parameters
@@ -173,25 +181,38 @@ def build_multirotor(name: str, params: MultirotorParams, mass_kg: float, spec: 
             else:
                 arm = P.cylinder_between(root, motor_mid, params.arm_width_m / 2.0, params.sections)
             parts.append(Part(f"arm_{label}", "arm", arm, mat["arm"]))
-        motor = P.cylinder_between([x, y, z], [x, y, z + params.motor_height_m], params.motor_diameter_m / 2.0,
-                                   params.sections)
+        motor = P.cylinder_between(
+            [x, y, z], [x, y, z + params.motor_height_m], params.motor_diameter_m / 2.0, params.sections
+        )
         parts.append(Part(f"motor_{label}", "motor", motor, mat["motor"]))
         if propellers != "none":
             hub = [x, y, z + params.motor_height_m + params.propeller_gap_m + params.propeller_thickness_m / 2.0]
-            parts.append(Part(f"propeller_{label}", "propeller", propeller_mesh(hub, params, propellers),
-                              mat["propeller"]))
+            parts.append(
+                Part(f"propeller_{label}", "propeller", propeller_mesh(hub, params, propellers), mat["propeller"])
+            )
     if params.gimbal_extents_m is not None:
         g_c = np.asarray(params.gimbal_center_m, dtype=float)
         g_ext = np.asarray(params.gimbal_extents_m, dtype=float)
         front = g_c + [g_ext[0] / 2.0, 0.0, 0.0]
         housing = P.rounded_box(g_c, g_ext, min(g_ext) / 4.0)
-        lens = P.cylinder_between(front - [0.001, 0.0, 0.0], front + [params.lens_length_m, 0.0, 0.0],
-                                  params.lens_diameter_m / 2.0, params.sections)
+        lens = P.cylinder_between(
+            front - [0.001, 0.0, 0.0],
+            front + [params.lens_length_m, 0.0, 0.0],
+            params.lens_diameter_m / 2.0,
+            params.sections,
+        )
         parts.append(Part("gimbal_camera", "gimbal", trimesh.util.concatenate([housing, lens]), mat["gimbal"]))
     for i, (top, bottom) in enumerate(params.landing_legs_m):
-        parts.append(Part(f"landing_leg_{i}", "landing_gear", P.cylinder_between(top, bottom, params.leg_radius_m, 16),
-                          mat["landing_gear"]))
+        parts.append(
+            Part(
+                f"landing_leg_{i}",
+                "landing_gear",
+                P.cylinder_between(top, bottom, params.leg_radius_m, 16),
+                mat["landing_gear"],
+            )
+        )
     if params.battery_extents_m is not None:
-        parts.append(Part("battery", "battery", P.box(params.battery_center_m, params.battery_extents_m),
-                          mat["battery"]))
+        parts.append(
+            Part("battery", "battery", P.box(params.battery_center_m, params.battery_extents_m), mat["battery"])
+        )
     return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()

@@ -71,8 +71,12 @@ def rounded_box(center, extents, corner_radius, subdivisions: int = 2) -> trimes
     if r > ext.min() / 2.0:
         raise ParameterError("corner_radius", r, f"0 < x <= {ext.min() / 2.0:.6g} m (half the smallest extent)")
     # the six axis points make the outer extents exact whatever the icosphere's orientation
-    sphere = np.concatenate([trimesh.creation.icosphere(subdivisions=subdivisions, radius=r).vertices,
-                             r * np.concatenate([np.eye(3), -np.eye(3)])])
+    sphere = np.concatenate(
+        [
+            trimesh.creation.icosphere(subdivisions=subdivisions, radius=r).vertices,
+            r * np.concatenate([np.eye(3), -np.eye(3)]),
+        ]
+    )
     half = ext / 2.0 - r
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
     points = (corners[:, None, :] + sphere[None, :, :]).reshape(-1, 3) + _point("center", center)
@@ -103,8 +107,9 @@ def cylinder_between(start, end, radius, sections: int = DEFAULT_SECTIONS) -> tr
     p0, p1 = _point("start", start), _point("end", end)
     if np.linalg.norm(p1 - p0) <= 0.0:
         raise ParameterError("end", end.tolist() if hasattr(end, "tolist") else end, "a point different from start")
-    return trimesh.creation.cylinder(radius=_positive("radius", radius), segment=np.stack([p0, p1]),
-                                     sections=int(sections))
+    return trimesh.creation.cylinder(
+        radius=_positive("radius", radius), segment=np.stack([p0, p1]), sections=int(sections)
+    )
 
 
 def vertical_disc(center, diameter, thickness, sections: int = DEFAULT_SECTIONS) -> trimesh.Trimesh:
@@ -141,12 +146,14 @@ def bar_between(start, end, width, thickness) -> trimesh.Trimesh:
     transform = np.eye(4)
     transform[:3, 0], transform[:3, 1], transform[:3, 2] = ax, side, up
     transform[:3, 3] = (p0 + p1) / 2.0
-    return trimesh.creation.box(extents=[length, _positive("width", width), _positive("thickness", thickness)],
-                                transform=transform)
+    return trimesh.creation.box(
+        extents=[length, _positive("width", width), _positive("thickness", thickness)], transform=transform
+    )
 
 
-def propeller_blades(center, diameter, n_blades, root_chord, tip_chord, thickness, hub_diameter,
-                     phase_deg: float = 0.0) -> trimesh.Trimesh:
+def propeller_blades(
+    center, diameter, n_blades, root_chord, tip_chord, thickness, hub_diameter, phase_deg: float = 0.0
+) -> trimesh.Trimesh:
     """Propeller as ``n_blades`` flat tapered blades around a cylindrical hub.
 
     Each blade is a convex trapezoidal plate from the hub axis to radius

@@ -24,18 +24,26 @@ motors, legs) are plausible estimates from photographs, marked as such.
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
-from csuas.base.errors import ParameterError
+
+if TYPE_CHECKING:
+    from csuas.drone_models.drone import Drone
 
 INCH_M = 0.0254
 
 
 def _mini_4_pro():
-    spec = {"unfolded_with_propellers_m": (0.298, 0.373, 0.101), "folded_without_propellers_m": (0.148, 0.094, 0.064),
-            "mass_kg": 0.249, "propeller_diameter_m": 6.0 * INCH_M,
-            "source": "DJI Mini 4 Pro specifications (dji.com), paper Table 8 [49]"}
+    spec = {
+        "unfolded_with_propellers_m": (0.298, 0.373, 0.101),
+        "folded_without_propellers_m": (0.148, 0.094, 0.064),
+        "mass_kg": 0.249,
+        "propeller_diameter_m": 6.0 * INCH_M,
+        "source": "DJI Mini 4 Pro specifications (dji.com), paper Table 8 [49]",
+    }
     length, width, height = spec["unfolded_with_propellers_m"]
     prop_d = spec["propeller_diameter_m"]
     motor_x, motor_y = (length - prop_d) / 2.0, (width - prop_d) / 2.0  # rotor discs touch the bounding box
@@ -43,52 +51,98 @@ def _mini_4_pro():
     front_base = height - prop_t - gap - motor_h  # front propellers reach the top of the box
     rear_base = 0.010  # rear arms fold down (estimate)
     params = MultirotorParams(
-        body_extents_m=(0.125, 0.085, 0.050), body_center_m=(0.0, 0.0, 0.040), body_corner_radius_m=0.012,
-        rotor_positions_m=((motor_x, motor_y, front_base), (motor_x, -motor_y, front_base),
-                           (-motor_x, motor_y, rear_base), (-motor_x, -motor_y, rear_base)),
-        propeller_diameter_m=prop_d, propeller_thickness_m=prop_t, propeller_gap_m=gap,
-        motor_diameter_m=0.020, motor_height_m=motor_h, arm_width_m=0.014, arm_thickness_m=0.008,
-        gimbal_extents_m=(0.030, 0.036, 0.032), gimbal_center_m=(0.075, 0.0, 0.034),
-        lens_diameter_m=0.014, lens_length_m=0.006,
-        landing_legs_m=(((0.045, 0.030, 0.016), (0.045, 0.030, 0.0)), ((0.045, -0.030, 0.016), (0.045, -0.030, 0.0)),
-                        ((-motor_x, motor_y, rear_base), (-motor_x, motor_y, 0.0)),
-                        ((-motor_x, -motor_y, rear_base), (-motor_x, -motor_y, 0.0))),
+        body_extents_m=(0.125, 0.085, 0.050),
+        body_center_m=(0.0, 0.0, 0.040),
+        body_corner_radius_m=0.012,
+        rotor_positions_m=(
+            (motor_x, motor_y, front_base),
+            (motor_x, -motor_y, front_base),
+            (-motor_x, motor_y, rear_base),
+            (-motor_x, -motor_y, rear_base),
+        ),
+        propeller_diameter_m=prop_d,
+        propeller_thickness_m=prop_t,
+        propeller_gap_m=gap,
+        motor_diameter_m=0.020,
+        motor_height_m=motor_h,
+        arm_width_m=0.014,
+        arm_thickness_m=0.008,
+        gimbal_extents_m=(0.030, 0.036, 0.032),
+        gimbal_center_m=(0.075, 0.0, 0.034),
+        lens_diameter_m=0.014,
+        lens_length_m=0.006,
+        landing_legs_m=(
+            ((0.045, 0.030, 0.016), (0.045, 0.030, 0.0)),
+            ((0.045, -0.030, 0.016), (0.045, -0.030, 0.0)),
+            ((-motor_x, motor_y, rear_base), (-motor_x, motor_y, 0.0)),
+            ((-motor_x, -motor_y, rear_base), (-motor_x, -motor_y, 0.0)),
+        ),
         leg_radius_m=0.003,
-        battery_extents_m=(0.014, 0.062, 0.034), battery_center_m=(-0.066, 0.0, 0.040))
+        battery_extents_m=(0.014, 0.062, 0.034),
+        battery_center_m=(-0.066, 0.0, 0.040),
+    )
     return build_multirotor, params, spec
 
 
 def _mavic_3():
-    spec = {"unfolded_without_propellers_m": (0.3475, 0.283, 0.1077),
-            "folded_without_propellers_m": (0.221, 0.0963, 0.0903),
-            "mass_kg": 0.895, "propeller_diameter_m": 9.4 * INCH_M,
-            "source": "DJI Mavic 3 specifications (dji.com)"}
+    spec = {
+        "unfolded_without_propellers_m": (0.3475, 0.283, 0.1077),
+        "folded_without_propellers_m": (0.221, 0.0963, 0.0903),
+        "mass_kg": 0.895,
+        "propeller_diameter_m": 9.4 * INCH_M,
+        "source": "DJI Mavic 3 specifications (dji.com)",
+    }
     length, width, height = spec["unfolded_without_propellers_m"]
     motor_d, motor_h = 0.034, 0.022
     motor_x, motor_y = (length - motor_d) / 2.0, (width - motor_d) / 2.0  # motors touch the box without propellers
     front_base, rear_base = height - motor_h, 0.045
     params = MultirotorParams(
-        body_extents_m=(0.190, 0.096, 0.075), body_center_m=(0.0, 0.0, 0.0575), body_corner_radius_m=0.015,
-        rotor_positions_m=((motor_x, motor_y, front_base), (motor_x, -motor_y, front_base),
-                           (-motor_x, motor_y, rear_base), (-motor_x, -motor_y, rear_base)),
-        propeller_diameter_m=spec["propeller_diameter_m"], propeller_thickness_m=0.008, propeller_gap_m=0.003,
-        motor_diameter_m=motor_d, motor_height_m=motor_h, arm_width_m=0.020, arm_thickness_m=0.012,
-        n_blades=2, blade_root_chord_m=0.026, blade_tip_chord_m=0.014, hub_diameter_m=0.016,
-        gimbal_extents_m=(0.045, 0.050, 0.045), gimbal_center_m=(0.113, 0.0, 0.050),
-        lens_diameter_m=0.026, lens_length_m=0.008,
-        landing_legs_m=(((motor_x, motor_y, front_base), (motor_x, motor_y, 0.0)),
-                        ((motor_x, -motor_y, front_base), (motor_x, -motor_y, 0.0)),
-                        ((-0.070, 0.030, 0.020), (-0.070, 0.030, 0.0)),
-                        ((-0.070, -0.030, 0.020), (-0.070, -0.030, 0.0))),
+        body_extents_m=(0.190, 0.096, 0.075),
+        body_center_m=(0.0, 0.0, 0.0575),
+        body_corner_radius_m=0.015,
+        rotor_positions_m=(
+            (motor_x, motor_y, front_base),
+            (motor_x, -motor_y, front_base),
+            (-motor_x, motor_y, rear_base),
+            (-motor_x, -motor_y, rear_base),
+        ),
+        propeller_diameter_m=spec["propeller_diameter_m"],
+        propeller_thickness_m=0.008,
+        propeller_gap_m=0.003,
+        motor_diameter_m=motor_d,
+        motor_height_m=motor_h,
+        arm_width_m=0.020,
+        arm_thickness_m=0.012,
+        n_blades=2,
+        blade_root_chord_m=0.026,
+        blade_tip_chord_m=0.014,
+        hub_diameter_m=0.016,
+        gimbal_extents_m=(0.045, 0.050, 0.045),
+        gimbal_center_m=(0.113, 0.0, 0.050),
+        lens_diameter_m=0.026,
+        lens_length_m=0.008,
+        landing_legs_m=(
+            ((motor_x, motor_y, front_base), (motor_x, motor_y, 0.0)),
+            ((motor_x, -motor_y, front_base), (motor_x, -motor_y, 0.0)),
+            ((-0.070, 0.030, 0.020), (-0.070, 0.030, 0.0)),
+            ((-0.070, -0.030, 0.020), (-0.070, -0.030, 0.0)),
+        ),
         leg_radius_m=0.004,
-        battery_extents_m=(0.020, 0.070, 0.050), battery_center_m=(-0.095, 0.0, 0.060))
+        battery_extents_m=(0.020, 0.070, 0.050),
+        battery_center_m=(-0.095, 0.0, 0.060),
+    )
     return build_multirotor, params, spec
 
 
 def _black_hornet_3():
-    spec = {"length_m": 0.168, "main_rotor_diameter_m": 0.123, "height_m": 0.025, "mass_kg": 0.033,
-            "source": "paper Section 4.9.4 and Table 52 (Teledyne FLIR Black Hornet 3 [196]); "
-                      "height 25 mm assumed (consistent with Table 52 d_crit = 0.025 m)"}
+    spec = {
+        "length_m": 0.168,
+        "main_rotor_diameter_m": 0.123,
+        "height_m": 0.025,
+        "mass_kg": 0.033,
+        "source": "paper Section 4.9.4 and Table 52 (Teledyne FLIR Black Hornet 3 [196]); "
+        "height 25 mm assumed (consistent with Table 52 d_crit = 0.025 m)",
+    }
     rotor_r = spec["main_rotor_diameter_m"] / 2.0
     rotor_t = 0.003
     nose_x = rotor_r  # fuselage nose under the front rotor tip
@@ -96,12 +150,18 @@ def _black_hornet_3():
     tail_rotor_d = 0.020
     tail_x = nose_x - spec["length_m"] + tail_rotor_d / 2.0  # tail rotor tip at the rear of the box
     params = HelicopterParams(
-        fuselage_extents_m=(fus_len, 0.022, 0.016), fuselage_center_m=(nose_x - fus_len / 2.0, 0.0, 0.008),
-        main_rotor_diameter_m=spec["main_rotor_diameter_m"], main_rotor_thickness_m=rotor_t,
+        fuselage_extents_m=(fus_len, 0.022, 0.016),
+        fuselage_center_m=(nose_x - fus_len / 2.0, 0.0, 0.008),
+        main_rotor_diameter_m=spec["main_rotor_diameter_m"],
+        main_rotor_thickness_m=rotor_t,
         main_rotor_center_m=(0.0, 0.0, spec["height_m"] - rotor_t / 2.0),
-        tail_boom_end_m=(tail_x, 0.0, 0.010), tail_boom_diameter_m=0.004,
-        tail_rotor_diameter_m=tail_rotor_d, tail_rotor_thickness_m=0.002,
-        camera_extents_m=(0.012, 0.010, 0.008), camera_center_m=(nose_x - 0.008, 0.0, 0.005))
+        tail_boom_end_m=(tail_x, 0.0, 0.010),
+        tail_boom_diameter_m=0.004,
+        tail_rotor_diameter_m=tail_rotor_d,
+        tail_rotor_thickness_m=0.002,
+        camera_extents_m=(0.012, 0.010, 0.008),
+        camera_center_m=(nose_x - 0.008, 0.0, 0.005),
+    )
     return build_helicopter, params, spec
 
 

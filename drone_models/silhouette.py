@@ -34,9 +34,9 @@ import scipy.sparse.csgraph
 import shapely
 import trimesh
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
 from csuas.drone_models.signature import critical_dimension, sphere_equivalent_radius
-from csuas.base.errors import ParameterError
 
 #: Triangles with area below this fraction of the squared bounding-box diagonal are degenerate.
 DEGENERATE_AREA_FRACTION = 1e-14
@@ -89,7 +89,7 @@ class SilhouetteModel:
     n_degenerate_faces: int
 
     @classmethod
-    def from_mesh(cls, mesh, use_convex_hulls: bool = True, warn: bool = True) -> "SilhouetteModel":
+    def from_mesh(cls, mesh, use_convex_hulls: bool = True, warn: bool = True) -> SilhouetteModel:
         """Prepare ``mesh`` (a trimesh.Trimesh, a Drone, or a sequence of meshes).
 
         Parameters
@@ -132,22 +132,30 @@ class SilhouetteModel:
             norms.append(outward * np.asarray(shell.face_normals))
             cull.append(np.full(len(shell_faces), oriented))
         if not watertight and warn:
-            warnings.warn("mesh is not watertight: its silhouette uses both faces of every triangle of the open "
-                          "shells (exact for the surface as given)", NonWatertightWarning, stacklevel=2)
+            warnings.warn(
+                "mesh is not watertight: its silhouette uses both faces of every triangle of the open "
+                "shells (exact for the surface as given)",
+                NonWatertightWarning,
+                stacklevel=2,
+            )
         groups: dict = {}
         for verts in convex:
             k = 1 << int(np.ceil(np.log2(max(len(verts), 2))))
             groups.setdefault(k, []).append(np.concatenate([verts, np.repeat(verts[-1:], k - len(verts), axis=0)]))
-        return cls(convex_groups=[np.stack(g) for _, g in sorted(groups.items())],
-                   triangles=np.concatenate(tris) if tris else np.zeros((0, 3, 3)),
-                   normals=np.concatenate(norms) if norms else np.zeros((0, 3)),
-                   cullable=np.concatenate(cull) if cull else np.zeros(0, dtype=bool),
-                   extent_vertices=vertices[np.unique(kept)],
-                   watertight=watertight, n_shells=len(shells), n_convex_shells=len(convex),
-                   n_degenerate_faces=int(np.count_nonzero(~keep)))
+        return cls(
+            convex_groups=[np.stack(g) for _, g in sorted(groups.items())],
+            triangles=np.concatenate(tris) if tris else np.zeros((0, 3, 3)),
+            normals=np.concatenate(norms) if norms else np.zeros((0, 3)),
+            cullable=np.concatenate(cull) if cull else np.zeros(0, dtype=bool),
+            extent_vertices=vertices[np.unique(kept)],
+            watertight=watertight,
+            n_shells=len(shells),
+            n_convex_shells=len(convex),
+            n_degenerate_faces=int(np.count_nonzero(~keep)),
+        )
 
     @classmethod
-    def from_drone(cls, drone, **kwargs) -> "SilhouetteModel":
+    def from_drone(cls, drone, **kwargs) -> SilhouetteModel:
         """Prepare all parts of a :class:`~csuas.drone_models.drone.Drone`."""
         return cls.from_mesh([p.mesh for p in drone.parts], **kwargs)
 
@@ -242,13 +250,18 @@ def metrics_for_directions(model: SilhouetteModel, directions, azimuth_deg=None,
     y = model.extent_vertices @ v.T
     dx, dy = np.ptp(x, axis=0), np.ptp(y, axis=0)
     batch = max(1, min(BATCH_DIRECTIONS, TRIANGLE_BUDGET // max(1, len(model.triangles))))
-    polygons = np.concatenate([_silhouettes(model, d[i:i + batch], h[i:i + batch], v[i:i + batch])
-                               for i in range(0, len(d), batch)])
+    polygons = np.concatenate(
+        [_silhouettes(model, d[i : i + batch], h[i : i + batch], v[i : i + batch]) for i in range(0, len(d), batch)]
+    )
     area = shapely.area(polygons)
-    out = {"d_x_proj_m": dx, "d_y_proj_m": dy,
-           "d_crit_min_m": critical_dimension(dx, dy, "min"),
-           "d_crit_geometric_mean_m": critical_dimension(dx, dy, "geometric_mean"),
-           "projected_area_m2": area, "sphere_equivalent_radius_m": sphere_equivalent_radius(area)}
+    out = {
+        "d_x_proj_m": dx,
+        "d_y_proj_m": dy,
+        "d_crit_min_m": critical_dimension(dx, dy, "min"),
+        "d_crit_geometric_mean_m": critical_dimension(dx, dy, "geometric_mean"),
+        "projected_area_m2": area,
+        "sphere_equivalent_radius_m": sphere_equivalent_radius(area),
+    }
     if keep_polygons:
         out["silhouette"] = polygons
     return out
@@ -278,13 +291,17 @@ def projected_metrics(mesh, azimuth_deg: float, elevation_deg: float) -> dict:
     """
     az, el = validate_angles(azimuth_deg, elevation_deg)
     if az.ndim or el.ndim:
-        raise ParameterError("azimuth_deg/elevation_deg", (azimuth_deg, elevation_deg),
-                             "scalars (use metrics_for_directions for many directions)")
+        raise ParameterError(
+            "azimuth_deg/elevation_deg",
+            (azimuth_deg, elevation_deg),
+            "scalars (use metrics_for_directions for many directions)",
+        )
     model = mesh if isinstance(mesh, SilhouetteModel) else SilhouetteModel.from_mesh(mesh)
     d = direction_vector(az, el)
     h, v = view_basis(d, az)
     m = metrics_for_directions(model, d[None, :], np.atleast_1d(az), keep_polygons=True)
     out = {k: (val[0] if k == "silhouette" else float(val[0])) for k, val in m.items()}
-    out.update(direction=d, h_axis=h, v_axis=v, watertight=model.watertight,
-               n_degenerate_faces=model.n_degenerate_faces)
+    out.update(
+        direction=d, h_axis=h, v_axis=v, watertight=model.watertight, n_degenerate_faces=model.n_degenerate_faces
+    )
     return out

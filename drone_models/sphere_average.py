@@ -16,9 +16,9 @@ import time
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
-from csuas.base.errors import ParameterError
 
 #: Accuracy presets: name -> (replicates, directions per replicate).
 QUALITY_PRESETS = {"draft": (4, 64), "standard": (8, 128), "reference": (16, 512)}
@@ -27,8 +27,13 @@ QUALITY_PRESETS = {"draft": (4, 64), "standard": (8, 128), "reference": (16, 512
 AVERAGED_METRICS = ("projected_area_m2", "d_x_proj_m", "d_y_proj_m", "d_crit_min_m", "d_crit_geometric_mean_m")
 
 
-def sphere_average(mesh, quality: str = "standard", replicates: int | None = None,
-                   directions_per_replicate: int | None = None, seed: int = 0) -> dict:
+def sphere_average(
+    mesh,
+    quality: str = "standard",
+    replicates: int | None = None,
+    directions_per_replicate: int | None = None,
+    seed: int = 0,
+) -> dict:
     """Sphere-averaged silhouette metrics with standard errors.
 
     Parameters
@@ -69,9 +74,13 @@ def sphere_average(mesh, quality: str = "standard", replicates: int | None = Non
     out = {}
     for key in AVERAGED_METRICS:
         per_replicate = values[key].reshape(r, m).mean(axis=1)
-        out[key] = {"mean": float(per_replicate.mean()),
-                    "stderr": float(per_replicate.std(ddof=1) / np.sqrt(r)),
-                    "min": float(values[key].min()), "max": float(values[key].max())}
-    out.update(n_directions=int(r * m), replicates=int(r), quality=quality, seed=int(seed),
-               time_s=time.perf_counter() - start)
+        out[key] = {
+            "mean": float(per_replicate.mean()),
+            "stderr": float(per_replicate.std(ddof=1) / np.sqrt(r)),
+            "min": float(values[key].min()),
+            "max": float(values[key].max()),
+        }
+    out.update(
+        n_directions=int(r * m), replicates=int(r), quality=quality, seed=int(seed), time_s=time.perf_counter() - start
+    )
     return out

@@ -84,13 +84,15 @@ def ensure_libllvm() -> str:
     if given:
         if not os.path.exists(given):
             raise BackendError(
-                f"DRJIT_LIBLLVM_PATH={given!r} does not exist; "
-                + _INSTALL_HINT.format(min=MIN_LLVM_MAJOR))
+                f"DRJIT_LIBLLVM_PATH={given!r} does not exist; " + _INSTALL_HINT.format(min=MIN_LLVM_MAJOR)
+            )
         return given
     found = find_libllvm()
     if found is None:
-        raise BackendError("no libLLVM >= %d found for Dr.Jit's LLVM back-end; " % MIN_LLVM_MAJOR
-                           + _INSTALL_HINT.format(min=MIN_LLVM_MAJOR))
+        raise BackendError(
+            f"no libLLVM >= {MIN_LLVM_MAJOR} found for Dr.Jit's LLVM back-end; "
+            + _INSTALL_HINT.format(min=MIN_LLVM_MAJOR)
+        )
     os.environ["DRJIT_LIBLLVM_PATH"] = found
     return found
 
@@ -108,8 +110,9 @@ def cuda_available() -> bool:
         pass
     try:
         import drjit as dr
+
         return bool(dr.has_backend(dr.JitBackend.CUDA))
-    except Exception:  # noqa: BLE001 - any failure means "no CUDA here"
+    except Exception:
         return False
 
 
@@ -139,7 +142,10 @@ def use_variant(family: str = "ad_rgb", variant: str | None = None) -> str:
             raise BackendError(f"variant={wanted!r} is not available; valid: {', '.join(available)}")
         order = [wanted]
     else:
-        order = ([f"cuda_{family}"] if cuda_available() else []) + [f"llvm_{family}", f"scalar_{family.replace('ad_', '')}"]
+        order = ([f"cuda_{family}"] if cuda_available() else []) + [
+            f"llvm_{family}",
+            f"scalar_{family.replace('ad_', '')}",
+        ]
     for name in order:
         if name in available:
             if mi.variant() != name:

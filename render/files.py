@@ -16,8 +16,23 @@ import numpy as np
 from csuas.base.fileio import atomic_path
 
 #: Header attributes (``csuas_<key>``) every render's EXR carries.
-METADATA_KEYS = ("modality", "target", "scenario", "sensor", "band", "units", "channels", "quality", "seed",
-                 "frame_width_px", "frame_height_px", "range_m", "azimuth_deg", "elevation_deg", "ifov_rad")
+METADATA_KEYS = (
+    "modality",
+    "target",
+    "scenario",
+    "sensor",
+    "band",
+    "units",
+    "channels",
+    "quality",
+    "seed",
+    "frame_width_px",
+    "frame_height_px",
+    "range_m",
+    "azimuth_deg",
+    "elevation_deg",
+    "ifov_rad",
+)
 
 
 def _number(value: float) -> str:
@@ -30,8 +45,16 @@ def coordinates_label(range_m: float, azimuth_deg: float, elevation_deg: float) 
     return f"r{_number(range_m)}m_az{_number(azimuth_deg)}_el{_number(elevation_deg)}"
 
 
-def file_stem(scenario: str, sensor: str, modality: str, range_m: float, azimuth_deg: float, elevation_deg: float,
-              quality: str, seed: int) -> str:
+def file_stem(
+    scenario: str,
+    sensor: str,
+    modality: str,
+    range_m: float,
+    azimuth_deg: float,
+    elevation_deg: float,
+    quality: str,
+    seed: int,
+) -> str:
     """File name without suffix of one render (module docstring)."""
     stem = f"{scenario}_{sensor}_{modality}_{coordinates_label(range_m, azimuth_deg, elevation_deg)}_{quality}"
     return stem + (f"_seed{seed}" if seed else "")

@@ -16,8 +16,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: folder -> layer name, lowest first
 LAYERS = ("base", "defaults", "core", "drone_models", "render", "validation", "cli")
-FOLDERS = {"base": "base", "defaults": "defaults", "core": "core", "drone_models": "drone_models",
-           "render": "render", "validation": "validation", "csuas": "cli"}
+FOLDERS = {
+    "base": "base",
+    "defaults": "defaults",
+    "core": "core",
+    "drone_models": "drone_models",
+    "render": "render",
+    "validation": "validation",
+    "csuas": "cli",
+}
 
 #: What each layer may import besides csuas and the standard library.
 THIRD_PARTY = {"base": {"numpy", "matplotlib"}, "defaults": {"tomli"}, "core": {"numpy", "scipy"}}
@@ -80,8 +87,15 @@ def test_known_debts_still_exist():
     assert KNOWN_DEBTS - _violations() == set()
 
 
-@pytest.mark.parametrize("rel, module", [("core/x.py", "csuas.render.rcs"), ("render/x.py", "csuas.validation"),
-                                         ("drone_models/x.py", "csuas.render"), ("validation/x.py", "csuas.cli")])
+@pytest.mark.parametrize(
+    "rel, module",
+    [
+        ("core/x.py", "csuas.render.rcs"),
+        ("render/x.py", "csuas.validation"),
+        ("drone_models/x.py", "csuas.render"),
+        ("validation/x.py", "csuas.cli"),
+    ],
+)
 def test_the_checker_sees_an_upward_import(rel, module):
     layer = FOLDERS[rel.split("/")[0]]
     assert LAYERS.index(_layer_of_module(module)) > LAYERS.index(layer)

@@ -33,8 +33,16 @@ def test_defaults_list_and_check(capsys):
     params = _json(capsys, "defaults", "list")["parameters"]
     assert {"name", "value", "unit", "source"} <= set(params[0])
     names = {p["name"] for p in params}
-    for required in ("target.d_crit_m", "environment.visibility_km", "eo.c_min", "tir.focal_mm",
-                     "acoustic.wind_distance_m", "rf.s_rx_dbm", "radar.bandwidth_mhz", "lidar.eta_sys"):
+    for required in (
+        "target.d_crit_m",
+        "environment.visibility_km",
+        "eo.c_min",
+        "tir.focal_mm",
+        "acoustic.wind_distance_m",
+        "rf.s_rx_dbm",
+        "radar.bandwidth_mhz",
+        "lidar.eta_sys",
+    ):
         assert required in names
     checks = _json(capsys, "defaults", "check", "--core-only")["checks"]
     assert {"name", "paper", "computed", "ok"} <= set(checks[0])
@@ -50,11 +58,14 @@ def test_sensitivity_writes_tornado_plots(tmp_path, capsys):
         assert out["analyses"][name]["baseline_m"] == pytest.approx(out["analyses"][name]["paper_baseline_m"], abs=0.05)
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["range", "missing.toml"], "no such file"),
-    (["range", "default", "--convention", "exact"], "invalid choice"),
-    (["frobnicate"], "invalid choice"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["range", "missing.toml"], "no such file"),
+        (["range", "default", "--convention", "exact"], "invalid choice"),
+        (["frobnicate"], "invalid choice"),
+    ],
+)
 def test_errors_exit_2_with_one_line(argv, fragment):
     proc = subprocess.run([sys.executable, "-m", "csuas.cli", *argv], capture_output=True, text=True)
     assert proc.returncode == 2

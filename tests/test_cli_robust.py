@@ -8,7 +8,6 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,11 +28,16 @@ def _fail_with(monkeypatch, exc):
     monkeypatch.setattr(range_command, "run", boom)
 
 
-@pytest.mark.parametrize("exc", [FileExistsError(17, "File exists", "out/x.exr"),
-                                 IsADirectoryError(21, "Is a directory", "b.json"),
-                                 PermissionError(13, "Permission denied", "s.toml"),
-                                 NotADirectoryError(20, "Not a directory", "f/report.json"),
-                                 RecursionError("maximum recursion depth exceeded")])
+@pytest.mark.parametrize(
+    "exc",
+    [
+        FileExistsError(17, "File exists", "out/x.exr"),
+        IsADirectoryError(21, "Is a directory", "b.json"),
+        PermissionError(13, "Permission denied", "s.toml"),
+        NotADirectoryError(20, "Not a directory", "f/report.json"),
+        RecursionError("maximum recursion depth exceeded"),
+    ],
+)
 def test_an_operating_system_error_is_one_line_and_exit_code_2(monkeypatch, capsys, exc):
     _fail_with(monkeypatch, exc)
     assert cli.main(["range", "default"]) == 2
@@ -93,9 +97,11 @@ def test_a_stale_temporary_file_of_a_dead_process_is_removed_by_the_next_write(t
 
 
 def test_sigkill_mid_write_leaves_a_temp_that_the_next_write_removes(tmp_path):
-    code = ("import sys, time; from csuas.base.fileio import atomic_path\n"
-            f"with atomic_path({str(tmp_path / 'a.exr')!r}) as tmp:\n"
-            "    tmp.write_bytes(b'half'); print('ready', flush=True); time.sleep(60)\n")
+    code = (
+        "import sys, time; from csuas.base.fileio import atomic_path\n"
+        f"with atomic_path({str(tmp_path / 'a.exr')!r}) as tmp:\n"
+        "    tmp.write_bytes(b'half'); print('ready', flush=True); time.sleep(60)\n"
+    )
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     assert proc.stdout.readline().strip() == "ready"
     proc.kill()
@@ -126,8 +132,12 @@ def _interrupt(argv, after_s, sig, cwd):
 def test_sigint_while_the_renderer_loads_is_never_lost(tmp_path):
     """Ctrl-C in the first second, while Dr.Jit and Mitsuba load, used to be swallowed (exit 0, files)."""
     out_dir = tmp_path / "out"
-    code, _, err = _interrupt(["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--quiet",
-                               "--out", str(out_dir)], 0.6, signal.SIGINT, tmp_path)
+    code, _, err = _interrupt(
+        ["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--quiet", "--out", str(out_dir)],
+        0.6,
+        signal.SIGINT,
+        tmp_path,
+    )
     # 130: csuas reported the interrupt; -2: the interrupt ended the process while Dr.Jit held the signal
     assert code in (130, -signal.SIGINT), err
     assert "Traceback" not in err
@@ -136,8 +146,12 @@ def test_sigint_while_the_renderer_loads_is_never_lost(tmp_path):
 
 @pytest.mark.slow
 def test_sigterm_ends_a_running_command_like_sigint(tmp_path):
-    code, _, err = _interrupt(["rcs", "dji_mini_4_pro", "--frequency-ghz", "24", "--sphere-average",
-                               "--quality", "draft"], 2.5, signal.SIGTERM, tmp_path)
+    code, _, err = _interrupt(
+        ["rcs", "dji_mini_4_pro", "--frequency-ghz", "24", "--sphere-average", "--quality", "draft"],
+        2.5,
+        signal.SIGTERM,
+        tmp_path,
+    )
     assert code == 143, err
     assert err.strip().splitlines()[-1] == "csuas rcs: terminated" and "Traceback" not in err
 

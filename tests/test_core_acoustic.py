@@ -4,17 +4,18 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
 from csuas.core import acoustic
 from csuas.core.solve import LN10
-from csuas.base.errors import ParameterError
 
 
 def test_wind_noise_table_31_interpolation():
     assert acoustic.wind_noise_db(6.7) == pytest.approx(79.25)  # Table 32
-    np.testing.assert_allclose(acoustic.wind_noise_db(np.arange(1, 13)),
-                               [72, 72, 73, 74, 75, 77.5, 80, 82.5, 85, 87.5, 88.5, 89])
+    np.testing.assert_allclose(
+        acoustic.wind_noise_db(np.arange(1, 13)), [72, 72, 73, 74, 75, 77.5, 80, 82.5, 85, 87.5, 88.5, 89]
+    )
 
 
 def test_wind_outside_table_31():
@@ -23,7 +24,7 @@ def test_wind_outside_table_31():
     assert acoustic.wind_noise_extrapolated(np.array([0.3, 6.7, 12.3])).tolist() == [True, False, True]
     calm = acoustic.acoustic_range(sl_db=70, snr_req_db=10, noise_level_db=30, g_array_db=0, wind_speed_m_s=0.3)
     assert "wind_noise_db" not in {t.name for t in calm.terms}
-    assert float(calm.range_m) == pytest.approx(10 ** 1.5)
+    assert float(calm.range_m) == pytest.approx(10**1.5)
     strong = acoustic.acoustic_range(sl_db=70, snr_req_db=10, noise_level_db=30, g_array_db=0, wind_speed_m_s=12.3)
     n_total = 10 * math.log10(10**3 + 10 ** ((89 - 20 * math.log10(50)) / 10))
     assert float(strong.range_m) == pytest.approx(10 ** ((60 - n_total) / 20), rel=1e-12)
@@ -36,8 +37,9 @@ def test_array_gain_eq_42():
 
 def test_default_loss_model_of_table_32():
     # SL 80, SNR 10, N_lvl 35, G 20, moderate breeze at 50 m (Eqs. 44, 46, 108)
-    r = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=6.7,
-                                wind_distance_m=50)
+    r = acoustic.acoustic_range(
+        sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=6.7, wind_distance_m=50
+    )
     n_total = 10 * math.log10(10**3.5 + 10 ** ((79.25 - 20 * math.log10(50)) / 10))
     assert float(r.range_m) == pytest.approx(10 ** ((80 - 10 - n_total + 20) / 20), rel=1e-12)
 
@@ -78,14 +80,18 @@ def test_iso_9613_oracle_value():
 
 @given(st.floats(30, 120), st.floats(1e-5, 0.05))
 def test_absorption_range_solves_the_budget(budget, alpha):
-    r = float(acoustic.acoustic_range(sl_db=budget + 10, snr_req_db=10, noise_level_db=0.0, g_array_db=0,
-                                      absorption_db_m=alpha).range_m)
+    r = float(
+        acoustic.acoustic_range(
+            sl_db=budget + 10, snr_req_db=10, noise_level_db=0.0, g_array_db=0, absorption_db_m=alpha
+        ).range_m
+    )
     assert 20 * math.log10(r) + alpha * r == pytest.approx(budget, abs=1e-7 * max(budget, 1))
 
 
 def test_extreme_source_levels_stay_finite():
-    r = acoustic.acoustic_range(sl_db=np.array([-50.0, 200.0, 1e4]), snr_req_db=10, noise_level_db=30,
-                                g_array_db=0, absorption_db_m=5e-3).range_m
+    r = acoustic.acoustic_range(
+        sl_db=np.array([-50.0, 200.0, 1e4]), snr_req_db=10, noise_level_db=30, g_array_db=0, absorption_db_m=5e-3
+    ).range_m
     assert np.all(np.isfinite(r)) and r[0] < 1e-3 and r[2] > r[1]
     assert 20 * math.log10(r[2]) + 5e-3 * r[2] == pytest.approx(1e4 - 40, rel=1e-12)
 
@@ -98,5 +104,5 @@ def test_wind_beyond_table_31_is_flagged_in_the_term():
     gale = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=50.0)
     breeze = acoustic.acoustic_range(sl_db=80, snr_req_db=10, noise_level_db=35, g_array_db=20, wind_speed_m_s=6.7)
     assert "beyond its 1-12 m/s" in gale.term("wind_noise_db").source
-    assert float(gale.term("wind_noise_db").value) == 89.0          # Table 31's last row, held
+    assert float(gale.term("wind_noise_db").value) == 89.0  # Table 31's last row, held
     assert breeze.term("wind_noise_db").source == "Table 31"

@@ -4,10 +4,11 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from csuas.core import atmosphere
 from csuas.base.errors import ParameterError
+from csuas.core import atmosphere
 
 
 def test_koschmieder_reproduces_table_16():
@@ -20,9 +21,24 @@ def test_koschmieder_wmo_threshold():
     assert atmosphere.koschmieder_extinction_per_km(1.0, 0.05) == pytest.approx(2.9957, abs=1e-4)
 
 
-@pytest.mark.parametrize("v_km, q", [
-    (0.3, 0.0), (0.5, 0.0), (0.5 + 1e-9, 0.0), (0.75, 0.25), (1.0, 0.5), (1.0 + 1e-9, 0.5),
-    (3.0, 0.82), (6.0, 1.3), (6.0 + 1e-9, 1.3), (10.0, 1.3), (50.0, 1.3), (50.0 + 1e-9, 1.6), (100.0, 1.6)])
+@pytest.mark.parametrize(
+    "v_km, q",
+    [
+        (0.3, 0.0),
+        (0.5, 0.0),
+        (0.5 + 1e-9, 0.0),
+        (0.75, 0.25),
+        (1.0, 0.5),
+        (1.0 + 1e-9, 0.5),
+        (3.0, 0.82),
+        (6.0, 1.3),
+        (6.0 + 1e-9, 1.3),
+        (10.0, 1.3),
+        (50.0, 1.3),
+        (50.0 + 1e-9, 1.6),
+        (100.0, 1.6),
+    ],
+)
 def test_kruse_q_at_every_breakpoint(v_km, q):
     # Eq. 20: continuous at 0.5, 1 and 6 km; jumps to 1.6 above 50 km
     assert atmosphere.kruse_q(v_km) == pytest.approx(q, abs=1e-8)
@@ -71,13 +87,16 @@ def test_far_ranges_stay_finite():
     assert np.all(np.diff(tau) <= 0)
 
 
-@pytest.mark.parametrize("call, name", [
-    (lambda: atmosphere.kruse_extinction_per_km(550, 0.0), "visibility_km"),
-    (lambda: atmosphere.kruse_extinction_per_km(-1, 10), "wavelength_nm"),
-    (lambda: atmosphere.transmittance(-0.1, 10), "extinction"),
-    (lambda: atmosphere.transmittance(0.1, np.nan), "range_m"),
-    (lambda: atmosphere.transmittance(0.1, 10, "exact"), "convention"),
-])
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: atmosphere.kruse_extinction_per_km(550, 0.0), "visibility_km"),
+        (lambda: atmosphere.kruse_extinction_per_km(-1, 10), "wavelength_nm"),
+        (lambda: atmosphere.transmittance(-0.1, 10), "extinction"),
+        (lambda: atmosphere.transmittance(0.1, np.nan), "range_m"),
+        (lambda: atmosphere.transmittance(0.1, 10, "exact"), "convention"),
+    ],
+)
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(ParameterError, match=name):
         call()

@@ -4,10 +4,11 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from csuas.core import eo, johnson
 from csuas.base.errors import ParameterError
+from csuas.core import eo, johnson
 
 
 def test_johnson_default_is_555_5_m():
@@ -17,8 +18,10 @@ def test_johnson_default_is_555_5_m():
     assert round(float(r), 1) == 555.5
 
 
-@pytest.mark.parametrize("p, n", list(zip([1.00, 0.95, 0.80, 0.50, 0.30, 0.10, 0.02, 0.00],
-                                          [3.00, 2.00, 1.50, 1.00, 0.75, 0.50, 0.25, 0.00])))
+@pytest.mark.parametrize(
+    "p, n",
+    list(zip([1.00, 0.95, 0.80, 0.50, 0.30, 0.10, 0.02, 0.00], [3.00, 2.00, 1.50, 1.00, 0.75, 0.50, 0.25, 0.00])),
+)
 def test_ttpf_table_21(p, n):
     assert johnson.n_ttpf(p) == pytest.approx(n)
 
@@ -54,8 +57,18 @@ def test_johnson_scaling_with_pixels_and_fov(d, hfov, n_h, k):
 
 
 def _eo(**kw):
-    args = dict(d_crit_m=0.101, hfov_deg=10.0, n_h=1920, lp_task=1.0, n_ttpf=1.0, c_eo=0.5, c_min=0.05,
-                wavelength_nm=550.0, visibility_km=10.0, convention="paper")
+    args = dict(
+        d_crit_m=0.101,
+        hfov_deg=10.0,
+        n_h=1920,
+        lp_task=1.0,
+        n_ttpf=1.0,
+        c_eo=0.5,
+        c_min=0.05,
+        wavelength_nm=550.0,
+        visibility_km=10.0,
+        convention="paper",
+    )
     args.update(kw)
     return eo.eo_range(**args)
 
@@ -66,7 +79,8 @@ def test_contrast_limit_closed_forms():
     assert eo.contrast_limited_range_m(0.5, 0.05, sigma, "paper") == pytest.approx(10.0 / sigma * 1000.0, rel=1e-12)
     # physical: C0 exp(-beta R) = c_min -> R = ln(C0/c_min)/beta km
     assert eo.contrast_limited_range_m(0.5, 0.05, sigma, "physical") == pytest.approx(
-        math.log(10.0) / sigma * 1000.0, rel=1e-12)
+        math.log(10.0) / sigma * 1000.0, rel=1e-12
+    )
 
 
 def test_clear_day_is_resolution_limited_and_fog_contrast_limited():

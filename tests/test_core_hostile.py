@@ -16,32 +16,116 @@ from csuas.core import acoustic, eo, lidar, radar, rf, tir
 from csuas.core.mrtd import ParametricMrtd
 
 MODELS = {
-    "eo": (eo.eo_range, dict(d_crit_m=0.101, hfov_deg=10.0, n_h=1920, lp_task=1.0, n_ttpf=1.0, c_eo=0.5, c_min=0.05,
-                             wavelength_nm=550.0, visibility_km=10.0)),
+    "eo": (
+        eo.eo_range,
+        dict(
+            d_crit_m=0.101,
+            hfov_deg=10.0,
+            n_h=1920,
+            lp_task=1.0,
+            n_ttpf=1.0,
+            c_eo=0.5,
+            c_min=0.05,
+            wavelength_nm=550.0,
+            visibility_km=10.0,
+        ),
+    ),
     "tir_johnson": (tir.tir_johnson_range, dict(d_crit_m=0.101, hfov_deg=36.67, n_h=1280, lp_task=1.0, n_ttpf=1.0)),
-    "tir_mrtd": (tir.tir_mrtd_range, dict(mrtd=ParametricMrtd(netd_k=0.05, ifov_rad=5e-4, f_number=1.0,
-                                                               pitch_m=10e-6, wavelength_m=10e-6),
-                                          d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=15.0,
-                                          extinction_db_km=0.2)),
-    "acoustic": (acoustic.acoustic_range, dict(sl_db=80.0, snr_req_db=10.0, noise_level_db=35.0, g_array_db=20.0,
-                                               wind_speed_m_s=6.7, wind_distance_m=50.0)),
-    "rf": (rf.rf_range, dict(p_tx_w=0.1, g_tx_dbi=8.0, g_rx_db=14.0, frequency_ghz=2.4, s_rx_dbm=-100.0,
-                             rain_rate_mm_h=6.0, lwc_g_m3=0.2, d_rain_km=1.0, d_fog_km=1.0)),
-    "radar": (radar.radar_range, dict(p_tx_w=10.0, g_tx_db=25.0, g_rx_db=25.0, wavelength_m=0.0125, sigma_m2=0.01,
-                                      snr_min_db=10.0, t0_k=290.0, noise_figure_db=10.0, bandwidth_mhz=200.0,
-                                      n_pulses=10, integration="coherent", l_hardware_db=10.0, l_processing_db=3.0,
-                                      rain_rate_mm_h=6.0, lwc_g_m3=0.2)),
-    "lidar": (lidar.lidar_range, dict(p_tx_w=1.0, p_rx_min_w=1e-10, sigma_lidar_m2=0.006, aperture_mm=3.0,
-                                      wavelength_nm=1550.0, eta_sys=0.5, eta_tl=0.681)),
+    "tir_mrtd": (
+        tir.tir_mrtd_range,
+        dict(
+            mrtd=ParametricMrtd(netd_k=0.05, ifov_rad=5e-4, f_number=1.0, pitch_m=10e-6, wavelength_m=10e-6),
+            d_crit_m=0.101,
+            lp_task=1.0,
+            n_ttpf=1.0,
+            delta_t0_k=15.0,
+            extinction_db_km=0.2,
+        ),
+    ),
+    "acoustic": (
+        acoustic.acoustic_range,
+        dict(
+            sl_db=80.0, snr_req_db=10.0, noise_level_db=35.0, g_array_db=20.0, wind_speed_m_s=6.7, wind_distance_m=50.0
+        ),
+    ),
+    "rf": (
+        rf.rf_range,
+        dict(
+            p_tx_w=0.1,
+            g_tx_dbi=8.0,
+            g_rx_db=14.0,
+            frequency_ghz=2.4,
+            s_rx_dbm=-100.0,
+            rain_rate_mm_h=6.0,
+            lwc_g_m3=0.2,
+            d_rain_km=1.0,
+            d_fog_km=1.0,
+        ),
+    ),
+    "radar": (
+        radar.radar_range,
+        dict(
+            p_tx_w=10.0,
+            g_tx_db=25.0,
+            g_rx_db=25.0,
+            wavelength_m=0.0125,
+            sigma_m2=0.01,
+            snr_min_db=10.0,
+            t0_k=290.0,
+            noise_figure_db=10.0,
+            bandwidth_mhz=200.0,
+            n_pulses=10,
+            integration="coherent",
+            l_hardware_db=10.0,
+            l_processing_db=3.0,
+            rain_rate_mm_h=6.0,
+            lwc_g_m3=0.2,
+        ),
+    ),
+    "lidar": (
+        lidar.lidar_range,
+        dict(
+            p_tx_w=1.0,
+            p_rx_min_w=1e-10,
+            sigma_lidar_m2=0.006,
+            aperture_mm=3.0,
+            wavelength_nm=1550.0,
+            eta_sys=0.5,
+            eta_tl=0.681,
+        ),
+    ),
 }
 #: Arguments whose error names the scenario's canonical parameter instead.
 CANONICAL = {("rf", "p_tx_w"): "rf_power_w"}
 #: Parameters where -inf is meaningful (silence), answered by an explained unbounded range.
 INF_ALLOWED = {("acoustic", "noise_level_db")}
 #: Losses, powers, sizes and rates: a negative value is never physical.
-NON_NEGATIVE = ("_w", "_m2", "_m", "_mm", "_nm", "_km", "_mm_h", "_g_m3", "l_hardware_db", "l_processing_db",
-                "d_crit_m", "wind_speed_m_s", "extinction_db_km", "n_h", "n_pulses", "eta_", "c_min", "lp_task",
-                "n_ttpf", "hfov_deg", "visibility_km", "t0_k", "bandwidth_mhz", "frequency_ghz")
+NON_NEGATIVE = (
+    "_w",
+    "_m2",
+    "_m",
+    "_mm",
+    "_nm",
+    "_km",
+    "_mm_h",
+    "_g_m3",
+    "l_hardware_db",
+    "l_processing_db",
+    "d_crit_m",
+    "wind_speed_m_s",
+    "extinction_db_km",
+    "n_h",
+    "n_pulses",
+    "eta_",
+    "c_min",
+    "lp_task",
+    "n_ttpf",
+    "hfov_deg",
+    "visibility_km",
+    "t0_k",
+    "bandwidth_mhz",
+    "frequency_ghz",
+)
 
 
 def _cases():
@@ -92,8 +176,9 @@ def test_an_absurd_but_finite_budget_is_an_explained_unbounded_range():
 
 def test_a_negative_loss_is_refused():
     with pytest.raises(ParameterError, match="l_hardware_db"):
-        radar.radar_range(p_tx_w=10.0, g_tx_db=25.0, g_rx_db=25.0, wavelength_m=0.0125, sigma_m2=0.01,
-                          l_hardware_db=-100.0)
+        radar.radar_range(
+            p_tx_w=10.0, g_tx_db=25.0, g_rx_db=25.0, wavelength_m=0.0125, sigma_m2=0.01, l_hardware_db=-100.0
+        )
 
 
 def test_require_names_the_offending_element_of_an_array():
@@ -112,5 +197,4 @@ def test_a_zero_emissivity_or_a_frozen_background_is_a_valid_thermal_scene():
     assert radiance_temperature(0.0) == 0.0
     assert band_radiance(0.0) == 0.0
     assert graybody_apparent_temperature(0.0, 288.15) == 0.0
-    np.testing.assert_allclose(radiance_temperature(band_radiance(np.array([0.0, 288.15]))), [0.0, 288.15],
-                               atol=1e-4)
+    np.testing.assert_allclose(radiance_temperature(band_radiance(np.array([0.0, 288.15]))), [0.0, 288.15], atol=1e-4)

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.core import itu
 from csuas.defaults import load_tables
-from csuas.base.errors import ParameterError
 
 itur838 = pytest.importorskip("itur.models.itu838")
 itur840 = pytest.importorskip("itur.models.itu840")

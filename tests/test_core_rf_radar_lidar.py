@@ -4,11 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from csuas.base.errors import ParameterError
 from csuas.core import itu, lidar, radar, rf
 from csuas.core.units import C_LIGHT, db_to_linear, wavelength_m
-from csuas.base.errors import ParameterError
 
 
 def _rf(**kw):
@@ -27,7 +28,9 @@ def test_friis_range_eq_57():
 
 
 def test_fspl_closed_form():
-    assert rf.free_space_path_loss_db(2.4, 1000.0) == pytest.approx(20 * math.log10(4 * math.pi * 1000 * 2.4e9 / C_LIGHT))
+    assert rf.free_space_path_loss_db(2.4, 1000.0) == pytest.approx(
+        20 * math.log10(4 * math.pi * 1000 * 2.4e9 / C_LIGHT)
+    )
 
 
 def test_paper_rf_losses_over_a_fixed_kilometre():
@@ -64,14 +67,25 @@ def test_radar_equation_received_power_eq_68():
 
 
 def test_range_equation_model_inverts_eq_68():
-    r = radar.radar_range(p_tx_w=10, g_tx_db=25, g_rx_db=25, wavelength_m=0.0125, sigma_m2=0.01,
-                          model="range_equation", p_rx_min_w=1e-13)
+    r = radar.radar_range(
+        p_tx_w=10, g_tx_db=25, g_rx_db=25, wavelength_m=0.0125, sigma_m2=0.01, model="range_equation", p_rx_min_w=1e-13
+    )
     assert radar.received_power_w(10, 25, 25, 0.0125, 0.01, float(r.range_m)) == pytest.approx(1e-13, rel=1e-12)
 
 
 def test_snr_model_eq_75_and_integration():
-    kw = dict(p_tx_w=10, g_tx_db=25, g_rx_db=25, wavelength_m=0.0125, sigma_m2=0.01, snr_min_db=10,
-              t0_k=290, noise_figure_db=10, bandwidth_mhz=200, k_b=1.38e-23)
+    kw = dict(
+        p_tx_w=10,
+        g_tx_db=25,
+        g_rx_db=25,
+        wavelength_m=0.0125,
+        sigma_m2=0.01,
+        snr_min_db=10,
+        t0_k=290,
+        noise_figure_db=10,
+        bandwidth_mhz=200,
+        k_b=1.38e-23,
+    )
     single = float(radar.radar_range(**kw).range_m)
     noise = 1.38e-23 * 290 * 10 * 200e6
     expected = (10 * 10**5 * 0.0125**2 * 0.01 / ((4 * math.pi) ** 3 * 10 * noise)) ** 0.25
@@ -103,8 +117,17 @@ def test_loss_budget_scales_range_by_l_over_40():
 
 
 def test_physical_radar_losses_at_own_frequency_two_way():
-    kw = dict(p_tx_w=10, g_tx_db=25, g_rx_db=25, wavelength_m=C_LIGHT / 35e9, sigma_m2=0.01, rain_rate_mm_h=30.0,
-              convention="physical", model="range_equation", p_rx_min_w=1e-15)
+    kw = dict(
+        p_tx_w=10,
+        g_tx_db=25,
+        g_rx_db=25,
+        wavelength_m=C_LIGHT / 35e9,
+        sigma_m2=0.01,
+        rain_rate_mm_h=30.0,
+        convention="physical",
+        model="range_equation",
+        p_rx_min_w=1e-15,
+    )
     r = float(radar.radar_range(**kw).range_m)
     gamma = float(itu.rain_specific_attenuation_db_km(35.0, 30.0))
     p = radar.received_power_w(10, 25, 25, C_LIGHT / 35e9, 0.01, r) * 10 ** (-2 * gamma * r / 1000 / 10)
@@ -116,14 +139,26 @@ def test_physical_radar_losses_at_own_frequency_two_way():
 def test_radar_fourth_root_scaling(p_tx, sigma, k):
     kw = dict(g_tx_db=25, g_rx_db=25, wavelength_m=0.0125, l_hardware_db=10, l_processing_db=3)
     base = float(radar.radar_range(p_tx_w=p_tx, sigma_m2=sigma, **kw).range_m)
-    assert float(radar.radar_range(p_tx_w=k * p_tx, sigma_m2=sigma, **kw).range_m) == pytest.approx(base * k**0.25, rel=1e-10)
-    assert float(radar.radar_range(p_tx_w=p_tx, sigma_m2=k * sigma, **kw).range_m) == pytest.approx(base * k**0.25, rel=1e-10)
+    assert float(radar.radar_range(p_tx_w=k * p_tx, sigma_m2=sigma, **kw).range_m) == pytest.approx(
+        base * k**0.25, rel=1e-10
+    )
+    assert float(radar.radar_range(p_tx_w=p_tx, sigma_m2=k * sigma, **kw).range_m) == pytest.approx(
+        base * k**0.25, rel=1e-10
+    )
 
 
 def test_extreme_db_values_do_not_overflow():
-    r = radar.radar_range(p_tx_w=10, g_tx_db=np.array([-50.0, 80.0]), g_rx_db=80.0, wavelength_m=0.0125,
-                          sigma_m2=1e6, l_hardware_db=0.0, l_processing_db=0.0, rain_rate_mm_h=30.0,
-                          convention="physical").range_m
+    r = radar.radar_range(
+        p_tx_w=10,
+        g_tx_db=np.array([-50.0, 80.0]),
+        g_rx_db=80.0,
+        wavelength_m=0.0125,
+        sigma_m2=1e6,
+        l_hardware_db=0.0,
+        l_processing_db=0.0,
+        rain_rate_mm_h=30.0,
+        convention="physical",
+    ).range_m
     assert np.all(np.isfinite(r)) and r[1] > r[0] > 0
 
 
@@ -133,8 +168,9 @@ def test_lidar_eq_99_and_104():
     assert lidar.lidar_range_no_loss_m(1.0, 1e-10, 0.006, 3.0, 1550.0) == pytest.approx(r99, rel=1e-12)
     # Eq. 98 at the Eq. 99 range equals the minimum power
     assert lidar.received_power_w(1.0, 0.006, 3.0, 1550.0, r99) == pytest.approx(1e-10, rel=1e-12)
-    r = lidar.lidar_range(p_tx_w=1, p_rx_min_w=1e-10, sigma_lidar_m2=0.006, aperture_mm=3, wavelength_nm=1550,
-                          eta_sys=0.5, eta_tl=0.681)
+    r = lidar.lidar_range(
+        p_tx_w=1, p_rx_min_w=1e-10, sigma_lidar_m2=0.006, aperture_mm=3, wavelength_nm=1550, eta_sys=0.5, eta_tl=0.681
+    )
     assert float(r.range_m) == pytest.approx(r99 * (0.681**2 * 0.5) ** 0.25, rel=1e-12)  # Eq. 104
     assert float(r.range_m) == pytest.approx(r99 * math.sqrt(0.681) * 0.5**0.25, rel=1e-12)  # Eqs. 101, 103
 

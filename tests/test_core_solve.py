@@ -4,7 +4,8 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 from scipy.special import lambertw
 
 from csuas.core.solve import bracketed_root, lambertw_exp, solve_log_linear
@@ -47,7 +48,7 @@ def test_bracketed_root_reports_missing_roots():
 
 def test_bracketed_root_flat_and_steep_residuals():
     # a residual that is flat over most of the bracket, then steep (a bisection safeguard is needed)
-    f = lambda x: np.tanh(50 * (x - np.array([0.9, 0.1])))  # noqa: E731
+    f = lambda x: np.tanh(50 * (x - np.array([0.9, 0.1])))
     root, found = bracketed_root(f, np.zeros(2), np.ones(2))
     assert found.all()
     np.testing.assert_allclose(root, [0.9, 0.1], atol=1e-10)

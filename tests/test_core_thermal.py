@@ -6,24 +6,26 @@ import numpy as np
 import pytest
 from scipy import integrate
 
+from csuas.base.errors import ParameterError
 from csuas.core import radiometry, tir
 from csuas.core.mrtd import LLOYD_K, ParametricMrtd, TabulatedMrtd, diffraction_mtf
-from csuas.base.errors import ParameterError
 from csuas.validation.paper_procedures import tir_step_reduction
 
 H, C, KB = 6.62607015e-34, 299792458.0, 1.380649e-23
 
 
 def _planck_quad(t, lo_um, hi_um):
-    f = lambda lam: 2 * H * C**2 / lam**5 / math.expm1(H * C / (lam * KB * t))  # noqa: E731
+    f = lambda lam: 2 * H * C**2 / lam**5 / math.expm1(H * C / (lam * KB * t))
     return integrate.quad(f, lo_um * 1e-6, hi_um * 1e-6, epsabs=0, epsrel=1e-12)[0]
 
 
-@pytest.mark.parametrize("t, band, ref", [(288.15, "mwir", 1.19403), (298.15, "mwir", 1.74415),
-                                          (288.15, "lwir", 31.4780), (298.15, "lwir", 37.3463)])
+@pytest.mark.parametrize(
+    "t, band, ref",
+    [(288.15, "mwir", 1.19403), (298.15, "mwir", 1.74415), (288.15, "lwir", 31.4780), (298.15, "lwir", 37.3463)],
+)
 def test_band_radiance_oracles(t, band, ref):
     value = radiometry.band_radiance(t, band)
-    assert value == pytest.approx(ref, abs=1e-4)                      # docs/validation.md, 6 digits
+    assert value == pytest.approx(ref, abs=1e-4)  # docs/validation.md, 6 digits
     lo, hi = radiometry.BANDS_UM[band]
     assert value == pytest.approx(_planck_quad(t, lo, hi), rel=1e-10)  # adaptive quadrature
 
@@ -101,8 +103,9 @@ def test_tabulated_mrtd_interpolates_log_linearly():
 
 def test_hot_target_mrtd_range_equals_johnson_at_nyquist():
     # With Delta T far above the MRTD, the Nyquist limit gives Eq. 29 = Eq. 23: d / (2 lp IFOV) = 101 m
-    r = tir.tir_mrtd_range(mrtd=_mrtd(), d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=-33.63,
-                           extinction_db_km=0.0)
+    r = tir.tir_mrtd_range(
+        mrtd=_mrtd(), d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=-33.63, extinction_db_km=0.0
+    )
     assert float(r.range_m) == pytest.approx(0.101 / (2 * 5e-4), rel=1e-12)
 
 
@@ -111,8 +114,16 @@ def test_attenuated_range_solves_the_balance(convention):
     m = _mrtd()
     dt0, sigma = np.array([-0.08, 0.3, -1.0]), np.array([5.0, 40.0, 400.0])
     kw = dict(t_bg_app_k=283.11, air_temperature_k=293.15) if convention == "physical" else {}
-    r = tir.tir_mrtd_range(mrtd=m, d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=dt0, extinction_db_km=sigma,
-                           convention=convention, **kw).range_m
+    r = tir.tir_mrtd_range(
+        mrtd=m,
+        d_crit_m=0.101,
+        lp_task=1.0,
+        n_ttpf=1.0,
+        delta_t0_k=dt0,
+        extinction_db_km=sigma,
+        convention=convention,
+        **kw,
+    ).range_m
     assert np.all((r > 0) & (r < 101.0))
     dt_r = np.abs(tir.attenuated_delta_t(dt0, r, sigma, convention, **kw))
     np.testing.assert_allclose(dt_r, m(r / 0.101), rtol=1e-8)  # Eq. 27 at the predicted range
@@ -121,8 +132,11 @@ def test_attenuated_range_solves_the_balance(convention):
 def test_exact_solve_agrees_with_paper_iteration():
     m = _mrtd()
     for dt0, sigma in [(0.1, 10.0), (0.5, 60.0), (2.0, 300.0)]:
-        exact = float(tir.tir_mrtd_range(mrtd=m, d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=dt0,
-                                         extinction_db_km=sigma).range_m)
+        exact = float(
+            tir.tir_mrtd_range(
+                mrtd=m, d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=dt0, extinction_db_km=sigma
+            ).range_m
+        )
         # the paper's loop stops within one step below the exact range
         loop = tir_step_reduction(m, 0.101, 1.0, 1.0, dt0, sigma, step_m=0.1)
         assert exact - 0.1 <= loop <= exact + 1e-9
@@ -136,6 +150,5 @@ def test_paper_attenuation_reads_db_as_nepers():
 
 
 def test_zero_delta_t_is_never_detectable():
-    r = tir.tir_mrtd_range(mrtd=_mrtd(), d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=0.0,
-                           extinction_db_km=0.2)
+    r = tir.tir_mrtd_range(mrtd=_mrtd(), d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=0.0, extinction_db_km=0.2)
     assert float(r.range_m) == 0.0 and "never detectable" in str(r.reason)

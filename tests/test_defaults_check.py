@@ -7,8 +7,17 @@ from csuas.validation.defaults_checks import all_checks, core_checks
 
 def test_core_checks_cover_the_paper_tables():
     names = {c.name for c in core_checks()}
-    for prefix in ("T35/T42.gamma_rain", "T36/T43.gamma_fog", "T16.sigma_fog", "T32.wind_noise", "T32.g_array",
-                   "T47.eta_tl", "Eq85.l_radar_total", "T44.l_propagation", "T41.l_hardware"):
+    for prefix in (
+        "T35/T42.gamma_rain",
+        "T36/T43.gamma_fog",
+        "T16.sigma_fog",
+        "T32.wind_noise",
+        "T32.g_array",
+        "T47.eta_tl",
+        "Eq85.l_radar_total",
+        "T44.l_propagation",
+        "T41.l_hardware",
+    ):
         assert any(n.startswith(prefix) for n in names), prefix
 
 
@@ -19,8 +28,15 @@ def test_core_checks_have_no_unexplained_failure():
 
 def test_known_deviations_are_the_documented_ones():
     deviations = {c.name for c in core_checks() if not c.ok}
-    assert deviations == {"T35/T42.k.5.8GHz", "T35/T42.gamma_rain.5.8GHz.1mm_h", "T35/T42.gamma_rain.5.8GHz.6mm_h",
-                          "T35/T42.gamma_rain.5.8GHz.30mm_h", "T32.g_array", "T8.c_tir", "Eq26.delta_t.lwir"}
+    assert deviations == {
+        "T35/T42.k.5.8GHz",
+        "T35/T42.gamma_rain.5.8GHz.1mm_h",
+        "T35/T42.gamma_rain.5.8GHz.6mm_h",
+        "T35/T42.gamma_rain.5.8GHz.30mm_h",
+        "T32.g_array",
+        "T8.c_tir",
+        "Eq26.delta_t.lwir",
+    }
 
 
 @pytest.mark.slow

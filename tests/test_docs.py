@@ -20,8 +20,12 @@ def _tracked_text_files():
 
 
 def test_nothing_cites_the_teams_design_notes():
-    offenders = [f"{p.relative_to(ROOT)}:{i}" for p in _tracked_text_files()
-                 for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if TEAM_NOTES.search(line)]
+    offenders = [
+        f"{p.relative_to(ROOT)}:{i}"
+        for p in _tracked_text_files()
+        for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+        if TEAM_NOTES.search(line)
+    ]
     assert offenders == []
 
 
@@ -33,15 +37,21 @@ def test_no_help_text_cites_the_teams_design_notes(command):
 
 
 def test_every_cited_docs_page_exists():
-    cited = {m.group(0) for p in _tracked_text_files()
-             for m in re.finditer(r"docs/[a-z-]+\.md", p.read_text(encoding="utf-8"))}
+    cited = {
+        m.group(0)
+        for p in _tracked_text_files()
+        for m in re.finditer(r"docs/[a-z-]+\.md", p.read_text(encoding="utf-8"))
+    }
     assert cited, "the code cites its docs"
     assert sorted(c for c in cited if not (ROOT / c).is_file()) == []
 
 
 def test_every_cited_convention_point_is_a_heading():
     headings = set(re.findall(r"^## Point (\d+):", (ROOT / "docs" / "conventions.md").read_text(), re.M))
-    cited = {m.group(1) for p in _tracked_text_files()
-             for m in re.finditer(r"docs/conventions\.md points? (\d+)", p.read_text(encoding="utf-8"))}
+    cited = {
+        m.group(1)
+        for p in _tracked_text_files()
+        for m in re.finditer(r"docs/conventions\.md points? (\d+)", p.read_text(encoding="utf-8"))
+    }
     assert cited and cited <= headings, sorted(cited - headings)
     assert headings == {str(n) for n in range(1, len(headings) + 1)}

@@ -7,12 +7,12 @@ import pytest
 import trimesh
 
 from csuas.base.checks import Check
+from csuas.base.errors import ParameterError
 from csuas.cli import main
 from csuas.drone_models import build_drone
 from csuas.drone_models.bench import bench_silhouette
 from csuas.drone_models.checks import default_checks
 from csuas.drone_models.export import export_drone
-from csuas.base.errors import ParameterError
 
 
 def run_json(capsys, *argv):
@@ -38,24 +38,29 @@ def test_cli_json_keys_and_values(capsys):
 
 
 def test_cli_view_from_above(capsys):
-    code, result = run_json(capsys, "black_hornet_3", "--azimuth-deg", "0", "--elevation-deg", "90",
-                            "--quality", "none")
+    code, result = run_json(
+        capsys, "black_hornet_3", "--azimuth-deg", "0", "--elevation-deg", "90", "--quality", "none"
+    )
     assert code == 0 and "sphere_average" not in result
     assert result["view"]["h_axis"] == pytest.approx([0, 1, 0], abs=1e-12)
     assert result["d_y_proj_m"] == pytest.approx(0.168, rel=0.01)  # seen from above: length along v
     assert result["d_x_proj_m"] == pytest.approx(0.123, rel=0.01)  # rotor disc across
-    code, bare = run_json(capsys, "black_hornet_3", "--elevation-deg", "90", "--quality", "none",
-                          "--propellers", "none")
+    code, bare = run_json(
+        capsys, "black_hornet_3", "--elevation-deg", "90", "--quality", "none", "--propellers", "none"
+    )
     assert bare["propellers"] == "none" and bare["projected_area_m2"] < 0.2 * result["projected_area_m2"]
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["dji_mini_5"], "preset"),
-    (["dji_mini_4_pro", "--elevation-deg", "120"], "elevation_deg"),
-    (["dji_mini_4_pro", "--azimuth-deg", "nan"], "azimuth_deg"),
-    (["dji_mini_4_pro", "--export", "drone.stl"], "export"),
-    (["dji_mini_4_pro", "--t-illum", "0"], "t_illum"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["dji_mini_5"], "preset"),
+        (["dji_mini_4_pro", "--elevation-deg", "120"], "elevation_deg"),
+        (["dji_mini_4_pro", "--azimuth-deg", "nan"], "azimuth_deg"),
+        (["dji_mini_4_pro", "--export", "drone.stl"], "export"),
+        (["dji_mini_4_pro", "--t-illum", "0"], "t_illum"),
+    ],
+)
 def test_cli_bad_input_is_one_line_exit_2(capsys, argv, fragment):
     assert main(["drone", *argv, "--quality", "none"]) == 2
     err = capsys.readouterr().err

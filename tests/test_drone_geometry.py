@@ -3,9 +3,15 @@
 import numpy as np
 import pytest
 
-from csuas.drone_models.geometry import (direction_angles, direction_vector, fibonacci_sphere, random_rotations,
-                                         validate_angles, view_basis)
 from csuas.base.errors import ParameterError
+from csuas.drone_models.geometry import (
+    direction_angles,
+    direction_vector,
+    fibonacci_sphere,
+    random_rotations,
+    validate_angles,
+    view_basis,
+)
 
 
 def test_direction_vector_cardinal_directions():
@@ -28,9 +34,17 @@ def test_direction_vector_broadcasts_and_round_trips():
     np.testing.assert_allclose(el2, np.broadcast_to(el, (7, 5)), atol=1e-12)
 
 
-@pytest.mark.parametrize("az, el, name", [(400, 0, "azimuth_deg"), (-361, 0, "azimuth_deg"), (0, 90.5, "elevation_deg"),
-                                          (0, -91, "elevation_deg"), (np.nan, 0, "azimuth_deg"),
-                                          (0, np.inf, "elevation_deg")])
+@pytest.mark.parametrize(
+    "az, el, name",
+    [
+        (400, 0, "azimuth_deg"),
+        (-361, 0, "azimuth_deg"),
+        (0, 90.5, "elevation_deg"),
+        (0, -91, "elevation_deg"),
+        (np.nan, 0, "azimuth_deg"),
+        (0, np.inf, "elevation_deg"),
+    ],
+)
 def test_angles_out_of_range_raise(az, el, name):
     with pytest.raises(ParameterError, match=name):
         validate_angles(az, el)

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone, get_material, list_presets
 from csuas.drone_models import parts as P
 from csuas.drone_models.materials import MATERIALS, PAPER_EMISSIVITY_RANGES, paper_component_mean_emissivity
@@ -13,7 +14,6 @@ from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
 from csuas.drone_models.parts import radial_layout
 from csuas.drone_models.signature import critical_dimension, lcs_estimate, sphere_equivalent_radius
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.base.errors import ParameterError
 
 STYLES = ("disc", "blades", "none")
 SPECS_FILE = Path(__file__).parent / "reference" / "drone_specs.csv"
@@ -45,8 +45,9 @@ def test_list_presets_names():
 
 def test_mini_4_pro_bbox_within_1_percent_of_spec(mini):
     assert SPECS["dji_mini_4_pro"]["configuration"] == "unfolded_with_propellers"
-    np.testing.assert_allclose(mini.extents(), spec_values("dji_mini_4_pro", "length_x", "width_y", "height_z"),
-                               rtol=0.01)
+    np.testing.assert_allclose(
+        mini.extents(), spec_values("dji_mini_4_pro", "length_x", "width_y", "height_z"), rtol=0.01
+    )
     assert mini.mass_kg == pytest.approx(spec_values("dji_mini_4_pro", "mass")[0])
 
 
@@ -122,8 +123,14 @@ def test_bad_preset_and_style_raise():
 
 def test_generic_hexacopter_rotor_count():
     layout = radial_layout(6, 0.3, z_m=0.05, phase_deg=0.0)
-    params = MultirotorParams(body_extents_m=(0.2, 0.2, 0.08), body_center_m=(0, 0, 0.06), rotor_positions_m=layout,
-                              propeller_diameter_m=0.25, arm_profile="tube", arm_width_m=0.02)
+    params = MultirotorParams(
+        body_extents_m=(0.2, 0.2, 0.08),
+        body_center_m=(0, 0, 0.06),
+        rotor_positions_m=layout,
+        propeller_diameter_m=0.25,
+        arm_profile="tube",
+        arm_width_m=0.02,
+    )
     drone = build_multirotor("hex", params, 3.0)
     assert sum(p.kind == "propeller" for p in drone.parts) == 6
     assert sum(p.kind == "arm" for p in drone.parts) == 6
@@ -191,7 +198,7 @@ def test_eq1_eq2_eq8_eq9():
     # Table 8: k_LCS = 0.1, T_illum = 1 and sigma = 0.006 m^2 <=> A_p = 0.06 m^2
     assert lcs_estimate(0.06) == pytest.approx(0.006)
     assert lcs_estimate(0.06, k_lcs=0.1, t_illum=0.5) == pytest.approx(0.003)
-    assert sphere_equivalent_radius(np.pi * 0.138 ** 2) == pytest.approx(0.138)
+    assert sphere_equivalent_radius(np.pi * 0.138**2) == pytest.approx(0.138)
     with pytest.raises(ParameterError, match="t_illum"):
         lcs_estimate(0.06, t_illum=1.5)
     with pytest.raises(ParameterError, match="k_lcs"):
@@ -216,8 +223,12 @@ def test_parameter_overrides():
 
 
 def test_single_rotor_above_the_body_has_no_arm():
-    params = MultirotorParams(body_extents_m=(0.1, 0.1, 0.05), body_center_m=(0, 0, 0.025),
-                              rotor_positions_m=((0.0, 0.0, 0.05),), propeller_diameter_m=0.2)
+    params = MultirotorParams(
+        body_extents_m=(0.1, 0.1, 0.05),
+        body_center_m=(0, 0, 0.025),
+        rotor_positions_m=((0.0, 0.0, 0.05),),
+        propeller_diameter_m=0.2,
+    )
     drone = build_multirotor("coaxial", params, 0.1)
     assert not any(p.kind == "arm" for p in drone.parts)
     assert drone.extents()[:2] == pytest.approx([0.2, 0.2], rel=1e-9)

@@ -18,15 +18,20 @@ import trimesh
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from csuas.drone_models.geometry import direction_vector, fibonacci_sphere, random_rotations
-from csuas.drone_models.silhouette import (NonWatertightWarning, SilhouetteModel, metrics_for_directions,
-                                           projected_metrics)
-from csuas.drone_models.sphere_average import sphere_average
 from csuas.base.errors import ParameterError
+from csuas.drone_models.geometry import direction_vector, fibonacci_sphere, random_rotations
+from csuas.drone_models.silhouette import (
+    NonWatertightWarning,
+    SilhouetteModel,
+    metrics_for_directions,
+    projected_metrics,
+)
+from csuas.drone_models.sphere_average import sphere_average
 
 RNG = np.random.default_rng(20240611)
-ANGLES = [(float(a), float(e))
-          for a, e in zip(RNG.uniform(-180, 180, 12), np.degrees(np.arcsin(RNG.uniform(-1, 1, 12))))]
+ANGLES = [
+    (float(a), float(e)) for a, e in zip(RNG.uniform(-180, 180, 12), np.degrees(np.arcsin(RNG.uniform(-1, 1, 12))))
+]
 
 
 def image_axes(d):
@@ -84,9 +89,9 @@ def test_tilted_cylinder_prism(az, el):
     mesh = trimesh.creation.cylinder(radius=radius, segment=[-a * height / 2, a * height / 2], sections=sections)
     d = direction_vector(az, el)
     cos_t = abs(a @ d)
-    sin_t = np.sqrt(max(0.0, 1 - cos_t ** 2))
+    sin_t = np.sqrt(max(0.0, 1 - cos_t**2))
     cap = mesh.vertices[np.abs(mesh.vertices @ a - height / 2) < 1e-9]
-    cap_area = sections / 2 * radius ** 2 * np.sin(2 * np.pi / sections)  # regular n-gon, circumradius r
+    cap_area = sections / 2 * radius**2 * np.sin(2 * np.pi / sections)  # regular n-gon, circumradius r
     across = np.cross(a, d)
     width = np.ptp(cap @ (across / np.linalg.norm(across))) if sin_t > 1e-12 else 0.0
     area = cap_area * cos_t + height * sin_t * width
@@ -94,13 +99,13 @@ def test_tilted_cylinder_prism(az, el):
     h, v = image_axes(d) if abs(d[2]) < 1 else (None, None)
     m = projected_metrics(mesh, az, el)
     assert m["projected_area_m2"] == pytest.approx(area, rel=1e-10)
-    smooth_area = np.pi * radius ** 2 * cos_t + 2 * radius * height * sin_t
+    smooth_area = np.pi * radius**2 * cos_t + 2 * radius * height * sin_t
     assert m["projected_area_m2"] <= smooth_area * (1 + 1e-12)
     assert m["projected_area_m2"] >= smooth_area * np.cos(np.pi / sections) ** 2
     if h is not None:
         for axis, key in ((h, "d_x_proj_m"), (v, "d_y_proj_m")):
             ua = axis @ a
-            smooth = 2 * radius * np.sqrt(max(0.0, 1 - ua ** 2)) + height * abs(ua)
+            smooth = 2 * radius * np.sqrt(max(0.0, 1 - ua**2)) + height * abs(ua)
             assert smooth * np.cos(np.pi / sections) - 1e-12 <= m[key] <= smooth + 1e-12
 
 
@@ -112,8 +117,8 @@ def test_icosphere_area_within_faceting_bounds(subdivisions):
     r_in = np.min(np.abs(np.sum(mesh.face_normals * centroids, axis=1)))  # inscribed-sphere radius
     dirs = fibonacci_sphere(30)
     out = metrics_for_directions(SilhouetteModel.from_mesh(mesh), dirs)
-    assert np.all(out["projected_area_m2"] <= np.pi * r ** 2)
-    assert np.all(out["projected_area_m2"] >= np.pi * r_in ** 2)
+    assert np.all(out["projected_area_m2"] <= np.pi * r**2)
+    assert np.all(out["projected_area_m2"] >= np.pi * r_in**2)
     assert np.all(out["d_x_proj_m"] <= 2 * r + 1e-15) and np.all(out["d_x_proj_m"] >= 2 * r_in)
 
 
@@ -179,16 +184,20 @@ def test_open_box_warns_and_stays_exact(az, el):
     with pytest.warns(NonWatertightWarning):
         m = projected_metrics(open_box, az, el)
     assert m["watertight"] is False
-    area, dx, dy = box_reference(extents, np.eye(3), direction_vector(az, el)) if abs(el) < 90 else \
-        (0.2 * 0.1, 0.1, 0.2)
+    area, dx, dy = (
+        box_reference(extents, np.eye(3), direction_vector(az, el)) if abs(el) < 90 else (0.2 * 0.1, 0.1, 0.2)
+    )
     assert m["projected_area_m2"] == pytest.approx(area, rel=1e-12)
     assert m["d_x_proj_m"] == pytest.approx(dx, rel=1e-12)
     assert m["d_y_proj_m"] == pytest.approx(dy, rel=1e-12)
 
 
 def test_zero_thickness_plate_edge_on_has_zero_area_and_zero_d_crit():
-    plate = trimesh.Trimesh(vertices=[[-0.1, -0.05, 0], [0.1, -0.05, 0], [0.1, 0.05, 0], [-0.1, 0.05, 0]],
-                            faces=[[0, 1, 2], [0, 2, 3]], process=False)
+    plate = trimesh.Trimesh(
+        vertices=[[-0.1, -0.05, 0], [0.1, -0.05, 0], [0.1, 0.05, 0], [-0.1, 0.05, 0]],
+        faces=[[0, 1, 2], [0, 2, 3]],
+        process=False,
+    )
     with pytest.warns(NonWatertightWarning):
         model = SilhouetteModel.from_mesh(plate)
     m = projected_metrics(model, 0.0, 0.0)  # looking along x: the plate is a line
@@ -232,10 +241,14 @@ def test_non_convex_l_prism():
     l_shape = shapely.Polygon([(0, 0), (0.2, 0), (0.2, 0.05), (0.05, 0.05), (0.05, 0.15), (0, 0.15)])
     prism = trimesh.creation.extrude_polygon(l_shape, 0.03)
     assert prism.is_watertight and not prism.is_convex
-    boxes = [trimesh.creation.box(extents=[0.2, 0.05, 0.03], transform=trimesh.transformations.translation_matrix(
-                 [0.1, 0.025, 0.015])),
-             trimesh.creation.box(extents=[0.05, 0.15, 0.03], transform=trimesh.transformations.translation_matrix(
-                 [0.025, 0.075, 0.015]))]
+    boxes = [
+        trimesh.creation.box(
+            extents=[0.2, 0.05, 0.03], transform=trimesh.transformations.translation_matrix([0.1, 0.025, 0.015])
+        ),
+        trimesh.creation.box(
+            extents=[0.05, 0.15, 0.03], transform=trimesh.transformations.translation_matrix([0.025, 0.075, 0.015])
+        ),
+    ]
     top = projected_metrics(prism, 0.0, 90.0)
     assert top["projected_area_m2"] == pytest.approx(l_shape.area, rel=1e-12)
     dirs = fibonacci_sphere(25)
@@ -248,8 +261,9 @@ def test_non_convex_l_prism():
 
 
 def test_inside_out_mesh_gives_the_same_silhouette():
-    prism = trimesh.creation.extrude_polygon(shapely.Polygon([(0, 0), (1, 0), (1, 0.2), (0.2, 0.2), (0.2, 1), (0, 1)]),
-                                             0.1)
+    prism = trimesh.creation.extrude_polygon(
+        shapely.Polygon([(0, 0), (1, 0), (1, 0.2), (0.2, 0.2), (0.2, 1), (0, 1)]), 0.1
+    )
     flipped = prism.copy()
     flipped.invert()
     dirs = fibonacci_sphere(10)
@@ -266,7 +280,7 @@ def test_scaling_and_antipodal_symmetry(scale, az, el):
     big.apply_scale(scale)
     m = projected_metrics(mesh, az, el)
     s = projected_metrics(big, az, el)
-    assert s["projected_area_m2"] == pytest.approx(scale ** 2 * m["projected_area_m2"], rel=1e-10)
+    assert s["projected_area_m2"] == pytest.approx(scale**2 * m["projected_area_m2"], rel=1e-10)
     assert s["d_crit_min_m"] == pytest.approx(scale * m["d_crit_min_m"], rel=1e-10)
     back = projected_metrics(mesh, az + 180.0 if az < 0 else az - 180.0, -el)
     assert back["projected_area_m2"] == pytest.approx(m["projected_area_m2"], rel=1e-10)

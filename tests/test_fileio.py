@@ -48,8 +48,19 @@ def test_a_non_finite_value_becomes_null_with_its_value_spelled_beside_it():
 
     from csuas.base.fileio import dumps
 
-    out = _json.loads(dumps({"r": float("inf"), "e": _np.float64("nan"), "a": _np.array(-_np.inf), "ok": 1.0,
-                             "x": float("inf"), "x_note": "unbounded: silence", "list": [1.0, float("nan")]}))
+    out = _json.loads(
+        dumps(
+            {
+                "r": float("inf"),
+                "e": _np.float64("nan"),
+                "a": _np.array(-_np.inf),
+                "ok": 1.0,
+                "x": float("inf"),
+                "x_note": "unbounded: silence",
+                "list": [1.0, float("nan")],
+            }
+        )
+    )
     assert out["r"] is None and out["r_nonfinite"] == "+inf"
     assert out["e"] is None and out["e_nonfinite"] == "nan"
     assert out["a"] is None and out["a_nonfinite"] == "-inf"

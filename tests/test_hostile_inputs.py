@@ -118,7 +118,7 @@ MALFORMED_FILES = {
     "unknown_fog_class": 'name = "x"\n[environment]\nfog = "pea_soup"\n[sensors.s]\nmodality = "eo"\n',
     "unknown_convention": 'name = "x"\nconvention = "mine"\n[sensors.s]\nmodality = "eo"\n',
     "radar_wavelength_and_frequency": 'name = "x"\n[sensors.s]\nmodality = "radar"\nwavelength_m = 0.03\n'
-                                      'frequency_ghz = 10.0\n',
+    "frequency_ghz = 10.0\n",
     "target_not_a_table": 'name = "x"\ntarget = "drone"\n[sensors.s]\nmodality = "eo"\n',
     "boolean_for_number": 'name = "x"\n[sensors.s]\nmodality = "eo"\nhfov_deg = true\n',
     "array_for_number": 'name = "x"\n[sensors.s]\nmodality = "eo"\nhfov_deg = [1, 2]\n',
@@ -159,10 +159,15 @@ BAD_COMMAND_LINES = {
     "rcs_nan_frequency": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "nan"],
     "rcs_inf_frequency": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "inf"],
     "rcs_absurd_frequency": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "1e6"],
-    "rcs_zero_rays_per_wavelength": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10",
-                                     "--rays-per-wavelength", "0"],
-    "rcs_negative_rays_per_wavelength": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10",
-                                         "--rays-per-wavelength", "-3"],
+    "rcs_zero_rays_per_wavelength": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10", "--rays-per-wavelength", "0"],
+    "rcs_negative_rays_per_wavelength": [
+        "rcs",
+        "dji_mini_4_pro",
+        "--frequency-ghz",
+        "10",
+        "--rays-per-wavelength",
+        "-3",
+    ],
     "rcs_elevation_out_of_range": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10", "--elevation-deg", "100"],
     "rcs_nan_azimuth": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10", "--azimuth-deg", "nan"],
     "rcs_unknown_material": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10", "--material", "kryptonite"],
@@ -174,11 +179,29 @@ BAD_COMMAND_LINES = {
     "pathloss_negative_distance": ["pathloss", "--frequency-ghz", "2.4", "--distance-m", "-5"],
     "pathloss_zero_frequency": ["pathloss", "--frequency-ghz", "0", "--distance-m", "100"],
     "pathloss_nan_frequency": ["pathloss", "--frequency-ghz", "nan", "--distance-m", "100"],
-    "pathloss_unknown_ground": ["pathloss", "--frequency-ghz", "2.4", "--distance-m", "100", "--tx-height-m", "2",
-                                "--rx-height-m", "2", "--ground", "cheese"],
+    "pathloss_unknown_ground": [
+        "pathloss",
+        "--frequency-ghz",
+        "2.4",
+        "--distance-m",
+        "100",
+        "--tx-height-m",
+        "2",
+        "--rx-height-m",
+        "2",
+        "--ground",
+        "cheese",
+    ],
     "sensitivity_unknown_analysis": ["sensitivity", "--analysis", "everything"],
-    "sensitivity_unknown_sensor": ["sensitivity", "--scenario", "default", "--sensor", "nope",
-                                   "--vary", "sensor.hfov_deg=1:20"],
+    "sensitivity_unknown_sensor": [
+        "sensitivity",
+        "--scenario",
+        "default",
+        "--sensor",
+        "nope",
+        "--vary",
+        "sensor.hfov_deg=1:20",
+    ],
     "sensitivity_bad_vary": ["sensitivity", "--scenario", "default", "--sensor", "eo", "--vary", "nonsense"],
     "report_baseline_missing": ["report", "--quick", "--baseline", "/no/such/report.json"],
     "report_baseline_directory": ["report", "--quick", "--baseline", "/tmp"],
@@ -213,20 +236,20 @@ def test_an_output_that_is_a_file_is_refused_before_rendering(tmp_path, capsys):
 
 
 HARD_BUT_VALID = {
-    "dense_fog_every_sensor": 'name = "x"\n[environment]\nfog = "dense"\n' + "".join(
-        f'[sensors.{m}]\nmodality = "{m}"\n' for m in SECTION_OF_MODALITY),
+    "dense_fog_every_sensor": 'name = "x"\n[environment]\nfog = "dense"\n'
+    + "".join(f'[sensors.{m}]\nmodality = "{m}"\n' for m in SECTION_OF_MODALITY),
     "storm_rain": 'name = "x"\n[environment]\nrain_rate_mm_h = 300.0\n[sensors.rf]\nmodality = "rf"\n'
-                  '[sensors.radar]\nmodality = "radar"\n',
+    '[sensors.radar]\nmodality = "radar"\n',
     "gale_acoustic": 'name = "x"\n[environment]\nwind_speed_m_s = 50.0\n[sensors.a]\nmodality = "acoustic"\n',
-    "tiny_target": 'name = "x"\n[target]\nd_crit_m = 1e-6\n' + "".join(
-        f'[sensors.{m}]\nmodality = "{m}"\n' for m in ("eo", "tir")),
+    "tiny_target": 'name = "x"\n[target]\nd_crit_m = 1e-6\n'
+    + "".join(f'[sensors.{m}]\nmodality = "{m}"\n' for m in ("eo", "tir")),
     "zero_contrast": 'name = "x"\n[target]\nc_eo = 0.0\n[sensors.eo]\nmodality = "eo"\n',
     "p_desired_one": 'name = "x"\n[sensors.eo]\nmodality = "eo"\np_desired = 1.0\n',
     "visibility_at_kruse_breakpoint": 'name = "x"\n[environment]\nvisibility_km = 6.0\n[sensors.eo]\nmodality = "eo"\n',
     "visibility_at_50_km": 'name = "x"\n[environment]\nvisibility_km = 50.0\n[sensors.eo]\nmodality = "eo"\n'
-                           'wavelength_nm = 400.0\n',
-    "high_target": 'name = "x"\n[target]\naltitude_m = 5000.0\n' + "".join(
-        f'[sensors.{m}]\nmodality = "{m}"\n' for m in SECTION_OF_MODALITY),
+    "wavelength_nm = 400.0\n",
+    "high_target": 'name = "x"\n[target]\naltitude_m = 5000.0\n'
+    + "".join(f'[sensors.{m}]\nmodality = "{m}"\n' for m in SECTION_OF_MODALITY),
     "silent_night": 'name = "x"\n[environment]\nnoise_level_db = -1e6\n[sensors.a]\nmodality = "acoustic"\n',
 }
 

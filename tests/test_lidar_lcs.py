@@ -62,7 +62,7 @@ def plate():
 
 def faceted_exact(mesh, rho, d):
     cos = np.clip(mesh.face_normals @ d, 0.0, None)
-    return 4.0 * rho * float(np.sum(mesh.area_faces * cos ** 2))
+    return 4.0 * rho * float(np.sum(mesh.area_faces * cos**2))
 
 
 # ---------------------------------------------------------------- sphere
@@ -71,10 +71,10 @@ def test_sphere_lcs_matches_faceted_and_smooth_closed_forms(sphere, icosphere, a
     r = lidar_cross_section(sphere, az, el, quality="standard")
     exact = faceted_exact(icosphere, RHO_SPHERE, unit(az, el))
     assert within(r.lcs_m2, exact, r.stderr_m2, rel=2e-5)
-    smooth = 8.0 / 3.0 * RHO_SPHERE * math.pi * A_SPHERE ** 2
+    smooth = 8.0 / 3.0 * RHO_SPHERE * math.pi * A_SPHERE**2
     # faceting: the icosphere's LCS differs from the smooth sphere's by its flat facets (~0.1-0.2 %)
     assert abs(r.lcs_m2 / smooth - 1.0) < 3e-3
-    assert abs(r.projected_area_m2 / (math.pi * A_SPHERE ** 2) - 1.0) < 5e-3
+    assert abs(r.projected_area_m2 / (math.pi * A_SPHERE**2) - 1.0) < 5e-3
     assert 0.0 < r.stderr_m2 < 1e-3 * r.lcs_m2 and r.time_s > 0.0 and r.rays == 128 * 128 * 8
 
 
@@ -150,14 +150,13 @@ def test_near_range_sphere_closed_form_at_10_m(sphere, icosphere):
 def test_beam_footprint_on_a_plate_is_a_disk(plate):
     radius = 0.03
     r = lidar_cross_section(plate, 0.0, 90.0, quality="standard", beam_radius_m=radius)
-    assert within(r.lcs_m2, 4.0 * RHO_PLATE * math.pi * radius ** 2, r.stderr_m2, rel=1e-4)
-    assert within(r.projected_area_m2, math.pi * radius ** 2, r.projected_area_stderr_m2, rel=1e-4)
+    assert within(r.lcs_m2, 4.0 * RHO_PLATE * math.pi * radius**2, r.stderr_m2, rel=1e-4)
+    assert within(r.projected_area_m2, math.pi * radius**2, r.projected_area_stderr_m2, rel=1e-4)
 
 
 # ---------------------------------------------------------------- properties
 def test_linear_in_albedo_deterministic_and_image_sums_to_lcs(icosphere):
-    a = lidar_cross_section(LidarTarget.from_mesh(icosphere, 0.2), 10.0, 5.0, quality="draft", seed=7,
-                            keep_image=True)
+    a = lidar_cross_section(LidarTarget.from_mesh(icosphere, 0.2), 10.0, 5.0, quality="draft", seed=7, keep_image=True)
     b = lidar_cross_section(LidarTarget.from_mesh(icosphere, 0.4), 10.0, 5.0, quality="draft", seed=7)
     c = lidar_cross_section(LidarTarget.from_mesh(icosphere, 0.2), 10.0, 5.0, quality="draft", seed=7)
     assert b.lcs_m2 == pytest.approx(2.0 * a.lcs_m2, rel=1e-6)
@@ -210,8 +209,10 @@ def test_multibounce_adds_interreflection_in_a_corner():
     # 90-degree dihedral seen along its bisector: single bounce sees both faces at 45 deg,
     # multiple bounces add light reflected from one face onto the other and back
     a = 0.1
-    faces = [trimesh.Trimesh([[0, 0, 0], [a, 0, 0], [a, 0, a], [0, 0, a]], [[0, 1, 2], [0, 2, 3]], process=False),
-             trimesh.Trimesh([[0, 0, 0], [0, a, 0], [0, a, a], [0, 0, a]], [[0, 1, 2], [0, 2, 3]], process=False)]
+    faces = [
+        trimesh.Trimesh([[0, 0, 0], [a, 0, 0], [a, 0, a], [0, 0, a]], [[0, 1, 2], [0, 2, 3]], process=False),
+        trimesh.Trimesh([[0, 0, 0], [0, a, 0], [0, a, a], [0, 0, a]], [[0, 1, 2], [0, 2, 3]], process=False),
+    ]
     target = LidarTarget.from_mesh(faces, 0.8)
     single = lidar_cross_section(target, 45.0, 0.0, quality="standard")
     assert within(single.lcs_m2, 2 * 4.0 * 0.8 * a * a * 0.5, single.stderr_m2, rel=1e-4)
@@ -251,10 +252,17 @@ def test_bad_range(sphere, range_m):
         lidar_cross_section(sphere, 0.0, 0.0, range_m, "draft")
 
 
-@pytest.mark.parametrize("kwargs,name", [({"quality": "ultra"}, "quality"), ({"grid": 0}, "grid"),
-                                         ({"replicates": 1}, "replicates"), ({"azimuth_deg": 400.0}, "azimuth_deg"),
-                                         ({"elevation_deg": 95.0}, "elevation_deg"),
-                                         ({"beam_radius_m": 0.0}, "beam_radius_m")])
+@pytest.mark.parametrize(
+    "kwargs,name",
+    [
+        ({"quality": "ultra"}, "quality"),
+        ({"grid": 0}, "grid"),
+        ({"replicates": 1}, "replicates"),
+        ({"azimuth_deg": 400.0}, "azimuth_deg"),
+        ({"elevation_deg": 95.0}, "elevation_deg"),
+        ({"beam_radius_m": 0.0}, "beam_radius_m"),
+    ],
+)
 def test_bad_options(sphere, kwargs, name):
     with pytest.raises(ParameterError, match=name):
         lidar_cross_section(sphere, **kwargs)

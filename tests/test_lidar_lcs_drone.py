@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.base.errors import ParameterError
 from csuas.render.lidar import LidarTarget, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
@@ -35,8 +35,9 @@ def target(drone):
 
 @pytest.fixture(scope="module")
 def scenario():
-    return parse_scenario({"target": {"preset": "dji_mini_4_pro"},
-                           "sensors": {"lid": {"modality": "lidar", "preset": "pulsed_lidar"}}})
+    return parse_scenario(
+        {"target": {"preset": "dji_mini_4_pro"}, "sensors": {"lid": {"modality": "lidar", "preset": "pulsed_lidar"}}}
+    )
 
 
 def test_mini_4_pro_mean_lcs_against_the_rule_of_thumb(drone):
@@ -118,8 +119,10 @@ def test_default_checks_table_8():
     from csuas.render.lidar.checks import default_checks
 
     checks = default_checks()
-    assert [c.name for c in checks] == ["T8.sigma_lidar_m2.dji_mini_4_pro.raytraced",
-                                        "Eq9.k_lcs.dji_mini_4_pro.raytraced"]
+    assert [c.name for c in checks] == [
+        "T8.sigma_lidar_m2.dji_mini_4_pro.raytraced",
+        "Eq9.k_lcs.dji_mini_4_pro.raytraced",
+    ]
     sigma, k = checks
     assert sigma.paper == 0.006 and k.paper == 0.1
     # physics disagrees with the rule of thumb and says why
@@ -150,8 +153,18 @@ def test_render_lidar_follows_the_render_mode_contract():
     from csuas.scenario import load_scenario
 
     stream = io.StringIO()
-    rows = render_lidar(load_scenario("default"), ranges_m=[100.0], quality="draft", azimuth_deg=0.0,
-                        elevation_deg=0.0, out_dir=None, seed=0, sensor=None, atmosphere="on", progress=stream)
+    rows = render_lidar(
+        load_scenario("default"),
+        ranges_m=[100.0],
+        quality="draft",
+        azimuth_deg=0.0,
+        elevation_deg=0.0,
+        out_dir=None,
+        seed=0,
+        sensor=None,
+        atmosphere="on",
+        progress=stream,
+    )
     assert "[1/1] lidar 100 m" in stream.getvalue()
     assert rows[0]["files"] == [] and any("atmosphere" in n for n in rows[0]["notes"])
     with pytest.raises(ParameterError, match="atmosphere"):

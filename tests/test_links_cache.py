@@ -60,7 +60,7 @@ def test_new_frequency_or_ground_builds_a_new_scene():
 
     d = np.array([20.0, 300.0, 4000.0])
     calls = [(5.0, "concrete"), (2.4, "concrete"), (2.4, "medium_dry_ground"), (5.0, "concrete")]
-    for f_ghz, ground in calls:                            # each call follows one on another scene
+    for f_ghz, ground in calls:  # each call follows one on another scene
         result = rf_path_gain(f_ghz, d, 30.0, 2.0, ground=ground, budget="draft")
         direct, expected = two_ray(f_ghz, d, 30.0, 2.0, itu_eta(ground, f_ghz))
         assert np.max(np.abs(result.coefficients.sum(-1) - expected) / np.abs(direct)) < 1e-4
@@ -82,7 +82,7 @@ def test_devices_are_moved_added_and_removed():
 
     for d, h_t in (([10.0, 100.0, 1e3, 1e4], 50.0), ([70.0], 20.0), ([30.0, 3e3, 900.0], 40.0)):
         d = np.asarray(d)
-        result = rf_path_gain(2.4, d, h_t, 2.0, budget="draft")     # one scene: free space at 2.4 GHz
+        result = rf_path_gain(2.4, d, h_t, 2.0, budget="draft")  # one scene: free space at 2.4 GHz
         assert result.coefficients.shape[0] == len(d) and np.all(result.n_paths == 1)
         np.testing.assert_allclose(result.path_gain_db, friis_db(2.4, np.hypot(d, h_t - 2.0)), atol=0.05)
         assert_same(result, uncached(rf_path_gain, 2.4, d, h_t, 2.0, budget="draft"))
@@ -104,15 +104,19 @@ def test_radar_target_height_and_cross_section_follow_each_call():
 
     ranges = np.array([20.0, 200.0, 2000.0])
     for h_target, rcs in ((5.0, 0.01), (40.0, 0.01), (40.0, 2.5), (40.0, lambda az, el: np.full(np.shape(az), 0.3))):
-        result = radar_link_gain(10.0, ranges, radar_height_m=5.0, target_height_m=h_target, rcs=rcs,
-                                 budget="draft")
+        result = radar_link_gain(10.0, ranges, radar_height_m=5.0, target_height_m=h_target, rcs=rcs, budget="draft")
         sigma = rcs if not callable(rcs) else 0.3
         slant = np.hypot(ranges, h_target - 5.0)
         lam = C / 10e9
-        np.testing.assert_allclose(result.path_gain_db,
-                                   10 * np.log10(lam**2 * sigma / ((4 * np.pi) ** 3 * slant**4)), atol=0.1)
-        assert_same(result, uncached(radar_link_gain, 10.0, ranges, radar_height_m=5.0, target_height_m=h_target,
-                                     rcs=rcs, budget="draft"))
+        np.testing.assert_allclose(
+            result.path_gain_db, 10 * np.log10(lam**2 * sigma / ((4 * np.pi) ** 3 * slant**4)), atol=0.1
+        )
+        assert_same(
+            result,
+            uncached(
+                radar_link_gain, 10.0, ranges, radar_height_m=5.0, target_height_m=h_target, rcs=rcs, budget="draft"
+            ),
+        )
 
 
 def test_cache_is_bounded():

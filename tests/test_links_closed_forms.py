@@ -11,8 +11,13 @@ import pytest
 from csuas.base.errors import ParameterError
 from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, resolve_budget
 from csuas.render.links.rcs_table import RCSTable, as_rcs_function, bisector_aspect
-from csuas.render.links.two_ray import (complex_permittivity, fresnel_coefficients, radar_four_paths,
-                                        two_ray_path_gain_db, two_ray_paths)
+from csuas.render.links.two_ray import (
+    complex_permittivity,
+    fresnel_coefficients,
+    radar_four_paths,
+    two_ray_path_gain_db,
+    two_ray_paths,
+)
 
 C = 299_792_458.0
 
@@ -50,7 +55,7 @@ def test_two_ray_free_space_is_friis():
 def test_two_ray_far_field_d4_law_over_pec(polarization):
     # Far beyond the last lobe over a PEC: H (r_te = -1) gives |h|^2 -> (h_t h_r / d^2)^2 (the d^-4 law);
     # V (r_tm = +1, upright image) makes the two rays add: 4x Friis.
-    d = np.array([2e5, 1e6])                     # k * path difference <= 0.03 rad: small-angle limit
+    d = np.array([2e5, 1e6])  # k * path difference <= 0.03 rad: small-angle limit
     h_t, h_r, f = 30.0, 2.0, 2.4
     gain = two_ray_path_gain_db(f, d, h_t, h_r, -1e15j, polarization)
     if polarization == "H":
@@ -71,7 +76,7 @@ def test_two_ray_scalar_form_in_the_vertical_plane():
     r_tm = (eta * cos_i - root) / (eta * cos_i + root)
     expected = lam / (4 * np.pi) * (np.exp(-2j * np.pi * r1 / lam) / r1 + r_tm * np.exp(-2j * np.pi * r2 / lam) / r2)
     tx = np.stack([0 * d, 0 * d, h_t + 0 * d], -1)
-    rx = np.stack([d * np.cos(0.7), d * np.sin(0.7), h_r + 0 * d], -1)      # any azimuth: same physics
+    rx = np.stack([d * np.cos(0.7), d * np.sin(0.7), h_r + 0 * d], -1)  # any azimuth: same physics
     np.testing.assert_allclose(two_ray_paths(f, tx, rx, eta).sum(-1), expected, rtol=1e-8, atol=0)
 
 
@@ -98,38 +103,46 @@ def test_rcs_table_interpolation_wrap_and_clamp():
     sigma = np.outer(1.0 + az / 100.0, [1.0, 2.0, 3.0])
     table = RCSTable(az, el, sigma)
     assert table.periodic
-    np.testing.assert_allclose(table(60.0, 0.0), 1.6 * 2.0)                      # node
-    np.testing.assert_allclose(table(45.0, 15.0), (1.3 + 1.6) / 2 * 2.5)         # bilinear
-    np.testing.assert_allclose(table(345.0, 0.0), (4.3 + 1.0) / 2 * 2.0)         # wraps 330 -> 360 = 0
+    np.testing.assert_allclose(table(60.0, 0.0), 1.6 * 2.0)  # node
+    np.testing.assert_allclose(table(45.0, 15.0), (1.3 + 1.6) / 2 * 2.5)  # bilinear
+    np.testing.assert_allclose(table(345.0, 0.0), (4.3 + 1.0) / 2 * 2.0)  # wraps 330 -> 360 = 0
     np.testing.assert_allclose(table(-15.0, 0.0), table(345.0, 0.0))
-    np.testing.assert_allclose(table(0.0, 80.0), 3.0)                            # clamped elevation
+    np.testing.assert_allclose(table(0.0, 80.0), 3.0)  # clamped elevation
     assert table(np.zeros((2, 3)), 0.0).shape == (2, 3)
-    closed = RCSTable(np.linspace(-180, 180, 13), el, np.ones((13, 3)))           # closing column accepted
+    closed = RCSTable(np.linspace(-180, 180, 13), el, np.ones((13, 3)))  # closing column accepted
     assert closed.periodic and closed(179.0, 0.0) == 1.0
 
 
-@pytest.mark.parametrize("az, el, sigma", [
-    ([0.0, 0.0], [0.0], [[1.0], [1.0]]),                 # not increasing
-    ([0.0, 400.0], [0.0], [[1.0], [1.0]]),               # spans more than 360 deg
-    ([0.0, 90.0], [-100.0, 0.0], np.ones((2, 2))),       # elevation below -90
-    ([0.0, 90.0], [0.0], [[1.0], [-1.0]]),               # negative sigma
-    ([0.0, 90.0], [0.0], [[1.0], [np.nan]]),             # NaN
-    ([0.0, 90.0], [0.0], [[1.0, 1.0]]),                  # wrong shape
-])
+@pytest.mark.parametrize(
+    "az, el, sigma",
+    [
+        ([0.0, 0.0], [0.0], [[1.0], [1.0]]),  # not increasing
+        ([0.0, 400.0], [0.0], [[1.0], [1.0]]),  # spans more than 360 deg
+        ([0.0, 90.0], [-100.0, 0.0], np.ones((2, 2))),  # elevation below -90
+        ([0.0, 90.0], [0.0], [[1.0], [-1.0]]),  # negative sigma
+        ([0.0, 90.0], [0.0], [[1.0], [np.nan]]),  # NaN
+        ([0.0, 90.0], [0.0], [[1.0, 1.0]]),  # wrong shape
+    ],
+)
 def test_rcs_table_bad_input(az, el, sigma):
     with pytest.raises(ParameterError):
         RCSTable(az, el, sigma)
 
 
 def test_rcs_functions_and_bisector():
-    assert as_rcs_function(None)(0.0, 0.0) == 0.01                     # Table 8 default
+    assert as_rcs_function(None)(0.0, 0.0) == 0.01  # Table 8 default
     assert np.all(as_rcs_function(2.0)(np.zeros(3), 0.0) == 2.0)
     for bad in (-1.0, np.inf, "big"):
         with pytest.raises(ParameterError):
             as_rcs_function(bad)
     # Monostatic: the bisector of -k_i and k_s is the direction toward the radar.
-    to_radar = np.array([np.cos(np.radians(40)) * np.cos(np.radians(10)),
-                         np.sin(np.radians(40)) * np.cos(np.radians(10)), np.sin(np.radians(10))])
+    to_radar = np.array(
+        [
+            np.cos(np.radians(40)) * np.cos(np.radians(10)),
+            np.sin(np.radians(40)) * np.cos(np.radians(10)),
+            np.sin(np.radians(10)),
+        ]
+    )
     az, el = bisector_aspect(-to_radar, to_radar)
     np.testing.assert_allclose([az, el], [40.0, 10.0], atol=1e-12)
 

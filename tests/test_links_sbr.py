@@ -26,7 +26,7 @@ def test_cached_sbr_engine_survives_a_sionna_variant_switch():
     from csuas.render.rcs.solver import compute_rcs
 
     first = compute_rcs("dji_mini_4_pro", 24.0, 30.0, 0.0, quality="draft", error_estimate=False).sigma_m2
-    radar_link_gain(24.0, [100.0], 5.0, 5.0, budget="draft")      # Sionna selects its polarised variant
+    radar_link_gain(24.0, [100.0], 5.0, 5.0, budget="draft")  # Sionna selects its polarised variant
     assert "polarized" in mi.variant()
     again = compute_rcs("dji_mini_4_pro", 24.0, 30.0, 0.0, quality="draft", error_estimate=False).sigma_m2
-    np.testing.assert_array_equal(again, first)                    # the cached engine, same tubes, same sums
+    np.testing.assert_array_equal(again, first)  # the cached engine, same tubes, same sums

@@ -51,6 +51,7 @@ def leg(x, h_a, h_b, lam, eta, bounce):
 @pytest.fixture(scope="module")
 def links():
     from csuas.render.links import radar, rf
+
     return rf, radar
 
 
@@ -60,17 +61,18 @@ def test_sionna_runs_on_the_variant_csuas_selects():
 
     rt = load_sionna_rt()
     import mitsuba as mi
+
     expected = "cuda_ad_mono_polarized" if cuda_available() else "llvm_ad_mono_polarized"
     assert mi.variant() == active_variant() == expected
-    mi.set_variant("llvm_ad_rgb")            # another renderer switches ...
-    assert load_sionna_rt() is rt and mi.variant() == expected   # ... and the links switch back
+    mi.set_variant("llvm_ad_rgb")  # another renderer switches ...
+    assert load_sionna_rt() is rt and mi.variant() == expected  # ... and the links switch back
 
 
 @pytest.mark.parametrize("f_ghz", [1.0, 2.4, 10.0, 24.0, 40.0])
 def test_free_space_path_gain_is_friis(links, f_ghz):
     rf, _ = links
     d = np.array([10.0, 100.0, 1e3, 1e4, 5e4])
-    result = rf.rf_path_gain(f_ghz, d, tx_height_m=50.0, rx_height_m=50.0)      # one call, all distances
+    result = rf.rf_path_gain(f_ghz, d, tx_height_m=50.0, rx_height_m=50.0)  # one call, all distances
     friis = -20 * np.log10(4 * np.pi * d / (C / (f_ghz * 1e9)))
     assert np.all(result.n_paths == 1)
     np.testing.assert_allclose(result.path_gain_db, friis, atol=0.05)
@@ -91,26 +93,36 @@ def test_path_gain_over_ground_is_two_ray_with_lobes(links, f_ghz, material):
     measured = result.coefficients.sum(-1)
     assert np.max(np.abs(measured - expected) / np.abs(direct)) < 1e-4
     away_from_nulls = np.abs(expected) > 0.1 * np.abs(direct)
-    np.testing.assert_allclose(result.path_gain_db[away_from_nulls],
-                               20 * np.log10(np.abs(expected[away_from_nulls])), atol=0.01)
+    np.testing.assert_allclose(
+        result.path_gain_db[away_from_nulls], 20 * np.log10(np.abs(expected[away_from_nulls])), atol=0.01
+    )
     lobing = result.path_gain_db - 20 * np.log10(np.abs(direct))
-    assert lobing.max() > 3.0 and lobing.min() < -10.0          # above and below Friis: two-ray lobes
+    assert lobing.max() > 3.0 and lobing.min() < -10.0  # above and below Friis: two-ray lobes
 
 
 def test_ground_material_outside_its_frequency_range(links):
     rf, _ = links
     with pytest.raises(ParameterError, match="frequency_ghz"):
-        rf.rf_path_gain(24.0, 100.0, ground="medium_dry_ground")          # ITU: 1-10 GHz only
+        rf.rf_path_gain(24.0, 100.0, ground="medium_dry_ground")  # ITU: 1-10 GHz only
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"frequency_ghz": 0.05}, "frequency_ghz"), ({"frequency_ghz": 101.0}, "frequency_ghz"),
-    ({"frequency_ghz": float("nan")}, "frequency_ghz"), ({"distance_m": 0.0}, "distance_m"),
-    ({"distance_m": [10.0, np.inf]}, "distance_m"), ({"distance_m": 2e6}, "distance_m"),
-    ({"ground": "lava"}, "ground"), ({"ground": "concrete", "rx_height_m": 0.0}, "rx_height_m"),
-    ({"tx_height_m": -1.0}, "tx_height_m"), ({"polarization": "X"}, "polarization"),
-    ({"samples": 0}, "samples"), ({"budget": "best"}, "budget"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"frequency_ghz": 0.05}, "frequency_ghz"),
+        ({"frequency_ghz": 101.0}, "frequency_ghz"),
+        ({"frequency_ghz": float("nan")}, "frequency_ghz"),
+        ({"distance_m": 0.0}, "distance_m"),
+        ({"distance_m": [10.0, np.inf]}, "distance_m"),
+        ({"distance_m": 2e6}, "distance_m"),
+        ({"ground": "lava"}, "ground"),
+        ({"ground": "concrete", "rx_height_m": 0.0}, "rx_height_m"),
+        ({"tx_height_m": -1.0}, "tx_height_m"),
+        ({"polarization": "X"}, "polarization"),
+        ({"samples": 0}, "samples"),
+        ({"budget": "best"}, "budget"),
+    ],
+)
 def test_rf_bad_input(links, kwargs, name):
     rf, _ = links
     args = {"frequency_ghz": 2.4, "distance_m": 100.0, **kwargs}
@@ -124,7 +136,7 @@ def test_radar_link_free_space_is_radar_equation(links, f_ghz):
     ranges = np.array([10.0, 100.0, 500.0, 1e3, 1e4])
     result = radar.radar_link_gain(f_ghz, ranges, radar_height_m=5.0, target_height_m=5.0)
     lam = C / (f_ghz * 1e9)
-    eq68 = 10 * np.log10(lam**2 * 0.01 / ((4 * np.pi) ** 3 * ranges**4))       # sigma = 0.01 m^2 (Table 8)
+    eq68 = 10 * np.log10(lam**2 * 0.01 / ((4 * np.pi) ** 3 * ranges**4))  # sigma = 0.01 m^2 (Table 8)
     assert np.all(result.n_paths == 1)
     np.testing.assert_allclose(result.path_gain_db, eq68, atol=0.1)
 
@@ -135,16 +147,18 @@ def test_radar_link_reads_the_rcs_table_at_the_radar_aspect(links):
     _, radar = links
     az = np.arange(0.0, 360.0, 15.0)
     el = np.array([-45.0, 0.0, 45.0])
-    sigma = np.outer(0.001 * (1.0 + az / 15.0), [1.0, 1.0, 1.0])       # 0.001 m^2 at 0 deg ... 0.024 at 345
+    sigma = np.outer(0.001 * (1.0 + az / 15.0), [1.0, 1.0, 1.0])  # 0.001 m^2 at 0 deg ... 0.024 at 345
     ranges = np.array([200.0, 2000.0])
     result = radar.radar_link_gain(10.0, ranges, 20.0, 20.0, rcs=RCSTable(az, el, sigma), azimuth_deg=-30.0)
     lam = C / 10e9
-    sigma_330 = 0.001 * (1.0 + 330.0 / 15.0)                              # -30 deg is the 330 deg node
-    np.testing.assert_allclose(result.path_gain_db, 10 * np.log10(lam**2 * sigma_330 / ((4 * np.pi) ** 3 * ranges**4)),
-                               atol=0.01)
+    sigma_330 = 0.001 * (1.0 + 330.0 / 15.0)  # -30 deg is the 330 deg node
+    np.testing.assert_allclose(
+        result.path_gain_db, 10 * np.log10(lam**2 * sigma_330 / ((4 * np.pi) ** 3 * ranges**4)), atol=0.01
+    )
     result = radar.radar_link_gain(10.0, ranges, 20.0, 20.0, rcs=lambda a, e: 0.5 + 0 * a, azimuth_deg=10.0)
-    np.testing.assert_allclose(result.path_gain_db, 10 * np.log10(lam**2 * 0.5 / ((4 * np.pi) ** 3 * ranges**4)),
-                               atol=0.01)
+    np.testing.assert_allclose(
+        result.path_gain_db, 10 * np.log10(lam**2 * 0.5 / ((4 * np.pi) ** 3 * ranges**4)), atol=0.01
+    )
 
 
 @pytest.mark.parametrize("f_ghz, material", [(2.4, "medium_dry_ground"), (24.0, "concrete")])
@@ -158,7 +172,7 @@ def test_radar_link_over_ground_is_four_path_model(links, f_ghz, material):
     amplitude = lam * np.sqrt(sigma) / (4 * np.pi) ** 1.5
     direct = amplitude * leg(ranges, h_radar, h_drone, lam, eta, False) ** 2
     one_way = leg(ranges, h_radar, h_drone, lam, eta, False) + leg(ranges, h_radar, h_drone, lam, eta, True)
-    expected = amplitude * one_way**2                        # (direct + ground)^2: the four paths
+    expected = amplitude * one_way**2  # (direct + ground)^2: the four paths
     assert np.all(result.n_paths == 4)
     measured = result.coefficients.sum(-1)
     assert np.max(np.abs(measured - expected) / np.abs(direct)) < 1e-4
@@ -183,7 +197,7 @@ def test_accuracy_vs_time_rows(links):
     budgets = (LinkBudget("one_ray", 1, 1), LinkBudget("draft", 16, 1))
     rows = accuracy_vs_time("rf", 2.4, (100.0, 1000.0), 30.0, 2.0, "medium_dry_ground", budgets, repeats=1)
     assert [r["budget"] for r in rows] == ["one_ray", "draft"]
-    assert rows[0]["paths_found"] == 1 and rows[0]["max_error_db"] > 1.0       # one ray misses the ground
+    assert rows[0]["paths_found"] == 1 and rows[0]["max_error_db"] > 1.0  # one ray misses the ground
     assert rows[1]["paths_found"] == 2 and rows[1]["max_error_db"] < 1e-3
     assert all(r["time_s"] > 0 and r["cold_time_s"] > 0 for r in rows)
 
@@ -191,8 +205,28 @@ def test_accuracy_vs_time_rows(links):
 def test_cli_pathloss(capsys):
     from csuas.cli import main
 
-    assert main(["pathloss", "--frequency-ghz", "2.4", "--distance-m", "100", "1000", "--tx-height-m", "30",
-                 "--rx-height-m", "2", "--ground", "medium_dry_ground", "--budget", "draft", "--json"]) == 0
+    assert (
+        main(
+            [
+                "pathloss",
+                "--frequency-ghz",
+                "2.4",
+                "--distance-m",
+                "100",
+                "1000",
+                "--tx-height-m",
+                "30",
+                "--rx-height-m",
+                "2",
+                "--ground",
+                "medium_dry_ground",
+                "--budget",
+                "draft",
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert len(out["path_gain_db"]) == len(out["friis_db"]) == len(out["time_s"]) == len(out["two_ray_db"]) == 2
     np.testing.assert_allclose(out["path_gain_db"], out["two_ray_db"], atol=0.01)
@@ -202,8 +236,11 @@ def test_cli_pathloss(capsys):
     assert abs(out["path_gain_db"] - out["friis_db"]) < 0.05
     assert main(["pathloss", "--frequency-ghz", "24", "--distance-m", "500"]) == 0
     assert "Friis" in capsys.readouterr().out
-    for bad in (["--frequency-ghz", "150", "--distance-m", "5"], ["--frequency-ghz", "2", "--distance-m", "-1"],
-                ["--frequency-ghz", "0.5", "--distance-m", "5", "--ground", "concrete"]):
+    for bad in (
+        ["--frequency-ghz", "150", "--distance-m", "5"],
+        ["--frequency-ghz", "2", "--distance-m", "-1"],
+        ["--frequency-ghz", "0.5", "--distance-m", "5", "--ground", "concrete"],
+    ):
         assert main(["pathloss", *bad]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "invalid" in err

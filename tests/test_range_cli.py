@@ -18,10 +18,14 @@ def _range(capsys, tmp_path, text, *extra):
 
 
 def test_the_section_4_9_radar_is_a_preset_giving_445_3_m_and_the_default_radar_says_why_it_gives_47_m(
-        capsys, tmp_path):
-    out = _range(capsys, tmp_path, '[sensors.paper]\nmodality = "radar"\npreset = "paper_section_4_9"\n'
-                                   '[sensors.table39]\nmodality = "radar"\n')
-    assert out["sensors"]["paper"]["range_m"] == pytest.approx(445.3, abs=0.05)   # Section 4.9.3, Fig. 5
+    capsys, tmp_path
+):
+    out = _range(
+        capsys,
+        tmp_path,
+        '[sensors.paper]\nmodality = "radar"\npreset = "paper_section_4_9"\n[sensors.table39]\nmodality = "radar"\n',
+    )
+    assert out["sensors"]["paper"]["range_m"] == pytest.approx(445.3, abs=0.05)  # Section 4.9.3, Fig. 5
     default = out["sensors"]["table39"]
     assert default["range_m"] == pytest.approx(47.1, abs=0.05)
     assert any("13 dB" in n and "paper_section_4_9" in n for n in default["notes"])
@@ -31,8 +35,11 @@ def test_the_section_4_9_radar_is_a_preset_giving_445_3_m_and_the_default_radar_
 
 
 def test_every_input_states_where_it_came_from(capsys, tmp_path):
-    out = _range(capsys, tmp_path, '[sensors.r]\nmodality = "radar"\npreset = "echoshield"\nsnr_min_db = 13.0\n'
-                                   '[environment]\nrain = "moderate"\n')
+    out = _range(
+        capsys,
+        tmp_path,
+        '[sensors.r]\nmodality = "radar"\npreset = "echoshield"\nsnr_min_db = 13.0\n[environment]\nrain = "moderate"\n',
+    )
     inputs = out["sensors"]["r"]["inputs"]
     assert inputs["frequency_ghz"] == {"value": 16.0, "unit": "GHz", "source": "preset echoshield"}
     assert inputs["snr_min_db"]["source"] == "scenario"
@@ -52,8 +59,11 @@ def test_dense_fog_lidar_names_table_47s_fixed_path(capsys, tmp_path):
 
 
 def test_a_target_above_the_slant_range_has_no_horizontal_range_and_says_so(capsys, tmp_path):
-    out = _range(capsys, tmp_path, '[target]\naltitude_m = 300.0\n[sensors.e]\nmodality = "eo"\n'
-                                   '[sensors.r]\nmodality = "radar"\n')
+    out = _range(
+        capsys,
+        tmp_path,
+        '[target]\naltitude_m = 300.0\n[sensors.e]\nmodality = "eo"\n[sensors.r]\nmodality = "radar"\n',
+    )
     eo, radar = out["sensors"]["e"], out["sensors"]["r"]
     assert eo["horizontal_range_m"] == pytest.approx(math.sqrt(eo["range_m"] ** 2 - 300.0**2), rel=1e-12)
     assert radar["horizontal_range_m"] is None
@@ -61,8 +71,12 @@ def test_a_target_above_the_slant_range_has_no_horizontal_range_and_says_so(caps
 
 
 def test_a_sensor_height_caps_radio_ranges_at_the_4_3_earth_horizon(capsys, tmp_path):
-    out = _range(capsys, tmp_path, '[target]\naltitude_m = 110.0\n[sensors.rf]\nmodality = "rf"\nheight_m = 10.0\n'
-                                   '[sensors.eo]\nmodality = "eo"\nheight_m = 10.0\n')
+    out = _range(
+        capsys,
+        tmp_path,
+        '[target]\naltitude_m = 110.0\n[sensors.rf]\nmodality = "rf"\nheight_m = 10.0\n'
+        '[sensors.eo]\nmodality = "eo"\nheight_m = 10.0\n',
+    )
     limit = math.sqrt(2 * 4 / 3 * A * 10.0) + math.sqrt(2 * 4 / 3 * A * 120.0)
     rf = out["sensors"]["rf"]
     assert rf["range_m"] == pytest.approx(limit, rel=1e-12)
@@ -70,7 +84,7 @@ def test_a_sensor_height_caps_radio_ranges_at_the_4_3_earth_horizon(capsys, tmp_
     assert "4/3-Earth" in rf["terms"]["horizon_m"]["source"] and "limited by" in rf["reason"]
     optical = math.sqrt(2 * A * 10.0 / 0.87) + math.sqrt(2 * A * 120.0 / 0.87)
     assert out["sensors"]["eo"]["terms"]["horizon_m"]["value"] == pytest.approx(optical, rel=1e-12)
-    assert out["sensors"]["eo"]["range_m"] == pytest.approx(555.54, abs=0.01)   # far inside: unchanged
+    assert out["sensors"]["eo"]["range_m"] == pytest.approx(555.54, abs=0.01)  # far inside: unchanged
 
 
 def test_without_heights_a_range_past_the_horizon_is_flagged(capsys, tmp_path):
@@ -90,8 +104,10 @@ def test_night_is_named_as_an_effect_no_model_reads(capsys, tmp_path):
 
 def test_the_text_output_shows_terms_inputs_and_horizontal_range(capsys, tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text('[target]\naltitude_m = 100.0\n[sensors.r]\nmodality = "radar"\npreset = "echoshield"\n'
-                    '[sensors.e]\nmodality = "eo"\n')
+    path.write_text(
+        '[target]\naltitude_m = 100.0\n[sensors.r]\nmodality = "radar"\npreset = "echoshield"\n'
+        '[sensors.e]\nmodality = "eo"\n'
+    )
     assert main(["range", str(path)]) == 0
     text = capsys.readouterr().out
     assert "term  l_total_db" in text and "Eqs. 84-86" in text
@@ -107,8 +123,10 @@ def test_a_fov_in_radians_draws_a_warning_not_an_error(capsys, tmp_path):
 
 def test_every_mistake_of_a_scenario_comes_at_once(capsys, tmp_path):
     path = tmp_path / "bad.toml"
-    path.write_text('surprise = 1\n[target]\nd_crit_m = -1\n[environment]\nrain = "biblical"\n'
-                    '[sensors.r]\nmodality = "radar"\np_tx_w = -5\n[sensors.x]\nmodality = "sonar"\n')
+    path.write_text(
+        'surprise = 1\n[target]\nd_crit_m = -1\n[environment]\nrain = "biblical"\n'
+        '[sensors.r]\nmodality = "radar"\np_tx_w = -5\n[sensors.x]\nmodality = "sonar"\n'
+    )
     assert main(["range", str(path)]) == 2
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 5
@@ -130,7 +148,7 @@ def test_every_drone_mesh_preset_is_a_target_preset(capsys):
 def test_defaults_list_text_shows_the_valid_range_and_description(capsys):
     assert main(["defaults", "list"]) == 0
     text = capsys.readouterr().out
-    line = next(l for l in text.splitlines() if l.startswith("eo.hfov_deg"))
+    line = next(row for row in text.splitlines() if row.startswith("eo.hfov_deg"))
     assert "0 .. 180" in line and "horizontal field of view" in line
 
 

@@ -23,14 +23,33 @@ def run_cli(capsys, *argv):
 def test_rcs_of_a_mesh_file_json(tmp_path, capsys):
     path = tmp_path / "plate.ply"
     canonical.plate(0.1).export(path)
-    code, out, _ = run_cli(capsys, "rcs", str(path), "--frequency-ghz", "10", "--elevation-deg", "90",
-                           "--rays-per-wavelength", "10", "--json")
+    code, out, _ = run_cli(
+        capsys,
+        "rcs",
+        str(path),
+        "--frequency-ghz",
+        "10",
+        "--elevation-deg",
+        "90",
+        "--rays-per-wavelength",
+        "10",
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
-    for key in ("rcs_m2", "rcs_dbsm", "rays", "time_s", "polarisation", "error_db", "bounces",
-                "rcs_m2_by_polarisation", "rays_x_bounces_per_s"):
+    for key in (
+        "rcs_m2",
+        "rcs_dbsm",
+        "rays",
+        "time_s",
+        "polarisation",
+        "error_db",
+        "bounces",
+        "rcs_m2_by_polarisation",
+        "rays_x_bounces_per_s",
+    ):
         assert key in data
-    exact = 4 * math.pi * 0.01 ** 2 / (C / 10e9) ** 2
+    exact = 4 * math.pi * 0.01**2 / (C / 10e9) ** 2
     assert data["rcs_dbsm"] == pytest.approx(10 * math.log10(exact), abs=0.3)
     assert data["rcs_m2"] == pytest.approx(data["rcs_m2_by_polarisation"]["VV"])
     assert data["rays"] > 0 and data["materials"] == ["pec"]
@@ -39,21 +58,37 @@ def test_rcs_of_a_mesh_file_json(tmp_path, capsys):
 
 def test_rcs_of_a_drone_preset_with_plot_and_text(tmp_path, capsys):
     png = tmp_path / "cut.png"
-    code, out, _ = run_cli(capsys, "rcs", "dji_mini_4_pro", "--frequency-ghz", "12", "--azimuth-deg", "30",
-                           "--elevation-deg", "-10", "--quality", "draft", "--no-error-estimate",
-                           "--plot", str(png))
+    code, out, _ = run_cli(
+        capsys,
+        "rcs",
+        "dji_mini_4_pro",
+        "--frequency-ghz",
+        "12",
+        "--azimuth-deg",
+        "30",
+        "--elevation-deg",
+        "-10",
+        "--quality",
+        "draft",
+        "--no-error-estimate",
+        "--plot",
+        str(png),
+    )
     assert code == 0
     assert "dBsm" in out and "dji_mini_4_pro" in out
     assert png.read_bytes()[:4] == b"\x89PNG"
 
 
-@pytest.mark.parametrize("argv, name", [
-    (["--frequency-ghz", "-3"], "frequency_ghz"),
-    (["--frequency-ghz", "10", "--rays-per-wavelength", "0.5"], "rays_per_wavelength"),
-    (["--frequency-ghz", "10", "--material", "kryptonite"], "material"),
-    (["--frequency-ghz", "10", "--max-bounces", "0"], "max_bounces"),
-    (["--frequency-ghz", "10", "--elevation-deg", "120"], "elevation_deg"),
-])
+@pytest.mark.parametrize(
+    "argv, name",
+    [
+        (["--frequency-ghz", "-3"], "frequency_ghz"),
+        (["--frequency-ghz", "10", "--rays-per-wavelength", "0.5"], "rays_per_wavelength"),
+        (["--frequency-ghz", "10", "--material", "kryptonite"], "material"),
+        (["--frequency-ghz", "10", "--max-bounces", "0"], "max_bounces"),
+        (["--frequency-ghz", "10", "--elevation-deg", "120"], "elevation_deg"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_code_2(tmp_path, capsys, argv, name):
     path = tmp_path / "plate.stl"
     canonical.plate(0.1).export(path)
@@ -71,13 +106,26 @@ def test_bistatic_plate_from_the_cli(tmp_path, capsys):
     """Normal incidence, receiver 5 deg off the normal: H-pol PO (4 pi A^2/lambda^2) sinc^2(k a sin t / 2)."""
     path = tmp_path / "plate.obj"
     canonical.plate(0.1).export(path)
-    code, out, _ = run_cli(capsys, "rcs", str(path), "--frequency-ghz", "10", "--elevation-deg", "90",
-                           "--observe-azimuth-deg", "0", "--observe-elevation-deg", "85", "--polarisation", "HH",
-                           "--json")
+    code, out, _ = run_cli(
+        capsys,
+        "rcs",
+        str(path),
+        "--frequency-ghz",
+        "10",
+        "--elevation-deg",
+        "90",
+        "--observe-azimuth-deg",
+        "0",
+        "--observe-elevation-deg",
+        "85",
+        "--polarisation",
+        "HH",
+        "--json",
+    )
     data = json.loads(out)
     k = 2 * math.pi / (C / 10e9)
     u = 0.5 * k * 0.1 * math.sin(math.radians(5.0))
-    exact = 4 * math.pi * 0.01 ** 2 / (C / 10e9) ** 2 * (math.sin(u) / u) ** 2
+    exact = 4 * math.pi * 0.01**2 / (C / 10e9) ** 2 * (math.sin(u) / u) ** 2
     assert code == 0 and data["geometry"] == "bistatic"
     assert data["rcs_dbsm"] == pytest.approx(10 * math.log10(exact), abs=0.4)
 
@@ -85,9 +133,15 @@ def test_bistatic_plate_from_the_cli(tmp_path, capsys):
 def test_rcs_table_grid_for_link_simulators():
     from csuas.render.rcs.sweep import rcs_table
 
-    table = rcs_table(canonical.cylinder(0.05, 0.3), 10.0, [0.0, 90.0, 180.0], [-10.0, 0.0], rays_per_wavelength=6,
-                      error_estimate=False)
+    table = rcs_table(
+        canonical.cylinder(0.05, 0.3),
+        10.0,
+        [0.0, 90.0, 180.0],
+        [-10.0, 0.0],
+        rays_per_wavelength=6,
+        error_estimate=False,
+    )
     assert table["rcs_m2"].shape == (3, 2) and table["error_db"] is None
     broadside = 2 * math.pi * 0.05 * 0.09 / (C / 10e9)
     assert 10 * np.log10(table["rcs_m2"][:, 1]) == pytest.approx(np.full(3, 10 * math.log10(broadside)), abs=0.7)
-    assert np.all(table["rcs_m2"][:, 0] < table["rcs_m2"][:, 1])             # broadside is the maximum
+    assert np.all(table["rcs_m2"][:, 0] < table["rcs_m2"][:, 1])  # broadside is the maximum

@@ -11,8 +11,13 @@ import trimesh
 from csuas.base.checks import Check
 from csuas.base.errors import ParameterError
 from csuas.render.rcs import canonical
-from csuas.render.rcs.convergence import (ERROR_COEFFICIENT_DB, convergence_curve, density_for_accuracy,
-                                          preset_errors, silhouette_perimeter_area)
+from csuas.render.rcs.convergence import (
+    ERROR_COEFFICIENT_DB,
+    convergence_curve,
+    density_for_accuracy,
+    preset_errors,
+    silhouette_perimeter_area,
+)
 from csuas.render.rcs.sweep import aspect_sweep, band_sweep, plot_polar, sphere_average
 
 C = 299_792_458.0
@@ -23,7 +28,7 @@ def test_sphere_average_of_an_isotropic_target_equals_its_rcs():
     ka, a = 30.0, 0.1
     f_ghz = ka * C / (2 * math.pi * a) / 1e9
     avg = sphere_average(canonical.sphere(a, 5), f_ghz, n_azimuth=6, n_elevation=4, rays_per_wavelength=4)
-    assert avg["mean_m2"][0] == pytest.approx(math.pi * a * a, rel=0.12)     # optical limit, |PO - exact| < 0.3 dB
+    assert avg["mean_m2"][0] == pytest.approx(math.pi * a * a, rel=0.12)  # optical limit, |PO - exact| < 0.3 dB
     assert avg["std_of_dbsm"][0] < 0.6
     assert avg["quadrature_error_rel"][0] < 0.1
     assert avg["n_aspects"] == 24
@@ -42,7 +47,7 @@ def test_eq6_quadrature_integrates_the_cos_weighted_sphere():
 
 def test_sphere_average_of_a_plate_and_bad_quadrature_sizes():
     avg = sphere_average(canonical.plate(0.1), 10.0, n_azimuth=8, n_elevation=6, rays_per_wavelength=4)
-    peak = 4 * math.pi * 0.01 ** 2 / (C / 10e9) ** 2
+    peak = 4 * math.pi * 0.01**2 / (C / 10e9) ** 2
     assert 0.0 < avg["mean_m2"][0] < 0.1 * peak
     with pytest.raises(ParameterError, match="n_azimuth"):
         sphere_average(canonical.plate(0.1), 10.0, n_azimuth=5)
@@ -55,18 +60,17 @@ def test_aspect_sweep_and_polar_plot(tmp_path):
     cut = aspect_sweep(canonical.cylinder(0.05, 0.3), 10.0, az, 0.0, rays_per_wavelength=6)
     vv = cut["rcs_dbsm"]["VV"][0]
     exact = 10 * math.log10(2 * math.pi * 0.05 * 0.09 / (C / 10e9))
-    assert np.all(np.abs(vv - exact) < 0.7)                  # a cylinder is round in azimuth
+    assert np.all(np.abs(vv - exact) < 0.7)  # a cylinder is round in azimuth
     assert cut["error_db"]["VV"].shape == (1, len(az))
     out = plot_polar(az, {"VV": vv, "HH": cut["rcs_dbsm"]["HH"][0]}, tmp_path / "polar.png", title="cylinder")
     data = (tmp_path / "polar.png").read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and out == tmp_path / "polar.png"
-    assert [p.name for p in tmp_path.iterdir()] == ["polar.png"]          # no temporary file left
+    assert [p.name for p in tmp_path.iterdir()] == ["polar.png"]  # no temporary file left
 
 
 @pytest.mark.slow
 def test_band_sweep_of_the_drone_at_two_bands():
-    sweep = band_sweep("dji_mini_4_pro", (2.4, 35.0), n_azimuth=8, n_elevation=4, cut_step_deg=30.0,
-                       quality="draft")
+    sweep = band_sweep("dji_mini_4_pro", (2.4, 35.0), n_azimuth=8, n_elevation=4, cut_step_deg=30.0, quality="draft")
     assert [b["frequency_ghz"] for b in sweep] == [2.4, 35.0]
     for band in sweep:
         assert np.isfinite(band["mean_dbsm"]) and -45.0 < band["mean_dbsm"] < 0.0
@@ -78,9 +82,12 @@ def test_band_sweep_of_the_drone_at_two_bands():
 @pytest.mark.slow
 def test_default_checks_compare_the_drone_with_table8_and_3gpp():
     checks = __import__("csuas.render.rcs.checks", fromlist=["default_checks"]).default_checks(
-        {"n_azimuth": 8, "n_elevation": 4})
-    assert [c.name for c in checks] == ["rcs.dji_mini_4_pro.mean_dbsm.table8",
-                                        "rcs.dji_mini_4_pro.mean_of_dbsm.3gpp_tr38901"]
+        {"n_azimuth": 8, "n_elevation": 4}
+    )
+    assert [c.name for c in checks] == [
+        "rcs.dji_mini_4_pro.mean_dbsm.table8",
+        "rcs.dji_mini_4_pro.mean_of_dbsm.3gpp_tr38901",
+    ]
     assert all(isinstance(c, Check) and math.isfinite(c.computed) for c in checks)
     assert checks[0].paper == pytest.approx(-20.0) and checks[1].paper == pytest.approx(-12.81)
     for c in checks:
@@ -93,11 +100,11 @@ def test_convergence_follows_the_perimeter_rule():
     curve = convergence_curve((1, 4, 16), trials=16)
     err = [c["mean_abs_error_db"] for c in curve]
     assert err[0] > err[1] > err[2]
-    for c in curve:                                           # rule (1) within a factor 2 either way
+    for c in curve:  # rule (1) within a factor 2 either way
         assert 0.5 * c["model_error_db"] < c["mean_abs_error_db"] < 2.0 * c["model_error_db"]
         assert c["time_s"] > 0 and c["tubes"] > 0
     random = convergence_curve((4,), trials=16, orientation="random")
-    assert random[0]["mean_abs_error_db"] < err[1]            # rotated grids err less: the rule is conservative
+    assert random[0]["mean_abs_error_db"] < err[1]  # rotated grids err less: the rule is conservative
 
 
 def test_density_rule():
@@ -124,8 +131,18 @@ def test_quality_presets_measured_error_ordering():
 def test_bench_returns_throughputs():
     from csuas.render.rcs.bench import bench_sbr
 
-    out = bench_sbr(canonical.dihedral(0.1, 0.15), frequency_ghz=10.0, rays_per_wavelength=8, n_aspects=4,
-                    raw_rays=1 << 14, repeats=1)
-    for key in ("sbr_rays_x_bounces_per_s", "ray_intersect_rays_per_s", "ray_intersect_preliminary_rays_per_s",
-                "ratio_sbr_to_ray_intersect"):
+    out = bench_sbr(
+        canonical.dihedral(0.1, 0.15),
+        frequency_ghz=10.0,
+        rays_per_wavelength=8,
+        n_aspects=4,
+        raw_rays=1 << 14,
+        repeats=1,
+    )
+    for key in (
+        "sbr_rays_x_bounces_per_s",
+        "ray_intersect_rays_per_s",
+        "ray_intersect_preliminary_rays_per_s",
+        "ratio_sbr_to_ray_intersect",
+    ):
         assert out[key] > 0 and math.isfinite(out[key])

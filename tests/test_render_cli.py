@@ -23,8 +23,20 @@ def run_cli(capsys, *argv):
 def test_render_eo_json_and_files(tmp_path, capsys):
     import OpenEXR
 
-    code, out, err = run_cli(capsys, "render", "eo", "default", "--range-m", "300", "2000", "--quality", "draft",
-                             "--out", str(tmp_path), "--json")
+    code, out, err = run_cli(
+        capsys,
+        "render",
+        "eo",
+        "default",
+        "--range-m",
+        "300",
+        "2000",
+        "--quality",
+        "draft",
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     assert [r["range_m"] for r in data["results"]] == [300.0, 2000.0]
@@ -50,8 +62,20 @@ def test_render_eo_json_and_files(tmp_path, capsys):
 
 
 def test_render_tir_text_and_atmosphere_on(capsys):
-    code, out, err = run_cli(capsys, "render", "tir", "default", "--range-m", "150", "--quality", "draft",
-                             "--atmosphere", "on", "--quiet", "--json")
+    code, out, err = run_cli(
+        capsys,
+        "render",
+        "tir",
+        "default",
+        "--range-m",
+        "150",
+        "--quality",
+        "draft",
+        "--atmosphere",
+        "on",
+        "--quiet",
+        "--json",
+    )
     assert code == 0 and err == ""
     row = json.loads(out)["results"][0]
     assert {"delta_t_k", "delta_t_linear_k", "mrtd_range_m", "files"} <= set(row)
@@ -62,13 +86,16 @@ def test_render_tir_text_and_atmosphere_on(capsys):
     assert code == 0 and "Delta T" in out
 
 
-@pytest.mark.parametrize("argv,fragment", [
-    (["render", "eo", "default", "--range-m", "-5"], "range_m"),
-    (["render", "eo", "default", "--range-m", "0.1"], "range_m"),
-    (["render", "eo", "default", "--range-m", "100", "--sensor", "nope"], "sensor"),
-    (["render", "eo", "no_such_scenario", "--range-m", "100"], "scenario"),
-    (["render", "eo", "default", "--range-m", "100", "--elevation-deg", "120"], "elevation_deg"),
-])
+@pytest.mark.parametrize(
+    "argv,fragment",
+    [
+        (["render", "eo", "default", "--range-m", "-5"], "range_m"),
+        (["render", "eo", "default", "--range-m", "0.1"], "range_m"),
+        (["render", "eo", "default", "--range-m", "100", "--sensor", "nope"], "sensor"),
+        (["render", "eo", "no_such_scenario", "--range-m", "100"], "scenario"),
+        (["render", "eo", "default", "--range-m", "100", "--elevation-deg", "120"], "elevation_deg"),
+    ],
+)
 def test_bad_input_exit_code_2_one_line(capsys, argv, fragment):
     code, out, err = run_cli(capsys, *argv, "--quiet")
     assert code == 2 and out == ""
@@ -76,8 +103,10 @@ def test_bad_input_exit_code_2_one_line(capsys, argv, fragment):
 
 
 def test_command_import_does_not_import_mitsuba():
-    code = ("import sys, csuas.cli, csuas.commands.render, csuas.render.imaging; "
-            "csuas.cli.build_parser(); print('mitsuba' in sys.modules, 'drjit' in sys.modules)")
+    code = (
+        "import sys, csuas.cli, csuas.commands.render, csuas.render.imaging; "
+        "csuas.cli.build_parser(); print('mitsuba' in sys.modules, 'drjit' in sys.modules)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False False"
 

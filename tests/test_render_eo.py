@@ -1,4 +1,4 @@
-"""EO rendering against exact geometry, the Johnson range (Eq. 18), Eq. 4 and Koschmieder (docs/simulation.md, docs/validation.md).
+"""EO rendering against exact geometry, the Johnson range (Eq. 18), Eq. 4 and Koschmieder (docs/validation.md).
 
 Oracles: the exact silhouette of drone_models (polygon union of projected
 triangles) and, in this file, the pinhole projection of the mesh; Eq. 4 for a
@@ -15,17 +15,17 @@ import pytest
 import shapely
 from shapely import affinity
 
+from csuas.base.errors import ParameterError
 from csuas.core.eo import contrast_limited_range_m
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.base.errors import ParameterError
 from csuas.render.imaging import Quality, render_eo
 from csuas.render.imaging.targets import plate
 
 pytestmark = pytest.mark.slow
 
-Q = Quality("test", 4, 8)          # 128 samples per pixel
+Q = Quality("test", 4, 8)  # 128 samples per pixel
 EO = dict(hfov_deg=10.0, n_h=1920, n_v=1080)
 IFOV = math.radians(10.0) / 1920
 
@@ -39,14 +39,17 @@ def exact_pixel_coverage(silhouette, range_m, ifov, window, target_px):
     """Exact fractional coverage of each window pixel by the silhouette (orthographic, metres -> px)."""
     scale = 1.0 / (range_m * ifov)
     poly = affinity.affine_transform(silhouette, [scale, 0.0, 0.0, -scale, target_px[0], target_px[1]])
-    jj, ii = np.mgrid[0:window.height, 0:window.width]
-    boxes = shapely.box(window.x0 + ii.ravel(), window.y0 + jj.ravel(), window.x0 + ii.ravel() + 1,
-                        window.y0 + jj.ravel() + 1)
+    jj, ii = np.mgrid[0 : window.height, 0 : window.width]
+    boxes = shapely.box(
+        window.x0 + ii.ravel(), window.y0 + jj.ravel(), window.x0 + ii.ravel() + 1, window.y0 + jj.ravel() + 1
+    )
     return shapely.area(shapely.intersection(boxes, poly)).reshape(window.height, window.width)
 
 
-@pytest.mark.parametrize("range_m,azimuth_deg,elevation_deg", [
-    (300.0, 0.0, 0.0), (300.0, 45.0, 30.0), (900.0, 90.0, 10.0), (300.0, 0.0, 90.0), (1500.0, 120.0, -20.0)])
+@pytest.mark.parametrize(
+    "range_m,azimuth_deg,elevation_deg",
+    [(300.0, 0.0, 0.0), (300.0, 45.0, 30.0), (900.0, 90.0, 10.0), (300.0, 0.0, 90.0), (1500.0, 120.0, -20.0)],
+)
 def test_pixels_on_target_match_exact_silhouette(drone, range_m, azimuth_deg, elevation_deg):
     res = render_eo(drone, range_m=range_m, azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, quality=Q, **EO)
     exact = projected_metrics(drone.mesh(), azimuth_deg, elevation_deg)
@@ -55,8 +58,11 @@ def test_pixels_on_target_match_exact_silhouette(drone, range_m, azimuth_deg, el
     assert se > 0
     assert abs(pot - exact["projected_area_m2"] / px_area) <= 4 * se + 2e-3 * pot
     # Extents along the image axes: d_x_proj, d_y_proj and d_crit (Eq. 1) in pixels.
-    for key, ref in (("pixels_across_x", exact["d_x_proj_m"]), ("pixels_across_y", exact["d_y_proj_m"]),
-                     ("pixels_across_dcrit", exact["d_crit_min_m"])):
+    for key, ref in (
+        ("pixels_across_x", exact["d_x_proj_m"]),
+        ("pixels_across_y", exact["d_y_proj_m"]),
+        ("pixels_across_dcrit", exact["d_crit_min_m"]),
+    ):
         ref_px = ref / (range_m * IFOV)
         assert res.values[key] <= ref_px * 1.002 + 1e-3
         assert res.values[key] == pytest.approx(ref_px, rel=0.02, abs=0.03)
@@ -101,19 +107,29 @@ def test_rendered_dcrit_spans_2_lp_nttpf_pixels_at_johnson_range(drone, lp_task,
 def test_sky_above_ground_below():
     """A horizontal Lambertian plate under the uniform sky hemisphere shows rho L_sky on top, rho L_ground below."""
     import trimesh
+
     from csuas.drone_models import Part
     from csuas.render.imaging.targets import grey_material
 
     flat = [Part("flat", "body", trimesh.creation.box((1.0, 1.0, 0.01)), grey_material(0.5))]
-    kw = dict(range_m=100.0, diffuse_fraction=1.0, ground_reflectance=0.3, illuminance_lx=70000.0,
-              quality=Quality("t", 2, 8), **EO)
+    kw = dict(
+        range_m=100.0,
+        diffuse_fraction=1.0,
+        ground_reflectance=0.3,
+        illuminance_lx=70000.0,
+        quality=Quality("t", 2, 8),
+        **EO,
+    )
     top = render_eo(flat, elevation_deg=90.0, **kw)
     bottom = render_eo(flat, elevation_deg=-90.0, **kw)
     l_sky, l_ground = 70000.0 / math.pi, 0.3 * 70000.0 / math.pi
     assert top.values["sky_radiance"] == pytest.approx(l_sky)
-    assert top.values["target_radiance"] == pytest.approx(0.5 * l_sky, abs=4 * top.stderr["target_radiance"] + 2e-3 * l_sky)
-    assert bottom.values["target_radiance"] == pytest.approx(0.5 * l_ground,
-                                                             abs=4 * bottom.stderr["target_radiance"] + 1e-3 * l_ground)
+    assert top.values["target_radiance"] == pytest.approx(
+        0.5 * l_sky, abs=4 * top.stderr["target_radiance"] + 2e-3 * l_sky
+    )
+    assert bottom.values["target_radiance"] == pytest.approx(
+        0.5 * l_ground, abs=4 * bottom.stderr["target_radiance"] + 1e-3 * l_ground
+    )
 
 
 def test_night_without_light_has_zero_contrast_and_a_note():
@@ -125,9 +141,18 @@ def test_night_without_light_has_zero_contrast_and_a_note():
 def test_plate_contrast_is_eq4_under_equal_illuminance():
     """Sun only at 45 deg onto a vertical plate: its irradiance equals the horizontal illuminance E_v."""
     rho, rho_bg, e_v = 0.5, 0.2, 70000.0
-    res = render_eo(plate(reflectance=rho), range_m=200.0, quality=Quality("t", 2, 2), diffuse_fraction=0.0,
-                    ground_reflectance=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0, background=rho_bg,
-                    illuminance_lx=e_v, **EO)
+    res = render_eo(
+        plate(reflectance=rho),
+        range_m=200.0,
+        quality=Quality("t", 2, 2),
+        diffuse_fraction=0.0,
+        ground_reflectance=0.0,
+        sun_azimuth_deg=0.0,
+        sun_elevation_deg=45.0,
+        background=rho_bg,
+        illuminance_lx=e_v,
+        **EO,
+    )
     assert res.values["target_radiance"] == pytest.approx(rho * e_v / math.pi, rel=1e-5)
     assert res.values["background_radiance"] == pytest.approx(rho_bg * e_v / math.pi, rel=1e-12)
     assert res.values["contrast"] == pytest.approx((rho - rho_bg) / (rho + rho_bg), rel=1e-5)
@@ -174,6 +199,7 @@ def test_rendered_contrast_limited_range_matches_core(hazy_plate):
 def test_same_image_at_10_m_and_20_km_after_range_normalisation(drone):
     """The drone scaled by 2000 at 20 km subtends the same angles as the drone at 10 m: same figures."""
     import dataclasses
+
     big = [dataclasses.replace(p, mesh=p.mesh.copy().apply_scale(2000.0)) for p in drone.parts]
     sensor = dict(hfov_deg=40.0, n_h=640, n_v=480)
     near = render_eo(drone, range_m=10.0, quality=Quality("t", 2, 4), **sensor)
@@ -186,8 +212,15 @@ def test_same_image_at_10_m_and_20_km_after_range_normalisation(drone):
 def test_plate_at_10_m_and_20_km_float32_precision():
     """The same 1 m plate at 10 m (100 px) and at 20 km (0.05 px): area x R^2 and contrast agree."""
     sensor = dict(hfov_deg=57.29577951308232, n_h=1000, n_v=1000)  # IFOV = 1 mrad
-    kw = dict(quality=Quality("t", 4, 8), diffuse_fraction=0.0, ground_reflectance=0.0, sun_azimuth_deg=0.0,
-              sun_elevation_deg=45.0, background=0.2, **sensor)
+    kw = dict(
+        quality=Quality("t", 4, 8),
+        diffuse_fraction=0.0,
+        ground_reflectance=0.0,
+        sun_azimuth_deg=0.0,
+        sun_elevation_deg=45.0,
+        background=0.2,
+        **sensor,
+    )
     near = render_eo(plate(), range_m=10.0, **kw)
     far = render_eo(plate(), range_m=20000.0, **kw)
     assert near.values["pixels_on_target"] == pytest.approx(1e4, rel=2e-3)
@@ -217,6 +250,7 @@ def test_single_pixel_and_subpixel_targets_are_stable(offset):
 
 def test_edge_on_plate_and_zero_width_quad():
     import trimesh
+
     from csuas.drone_models import Part
     from csuas.render.imaging.targets import grey_material
 
@@ -225,10 +259,14 @@ def test_edge_on_plate_and_zero_width_quad():
     exact = 0.01 * 1.0 / ((r - 0.5) * IFOV) ** 2  # pinhole: the near end face (0.5 m closer) bounds the silhouette
     assert res.values["pixels_on_target"] == pytest.approx(exact, abs=4 * res.stderr["pixels_on_target"] + 1e-3 * exact)
     assert res.values["pixels_across_dcrit"] == pytest.approx(0.01 / ((r - 0.5) * IFOV), rel=0.01)
-    quad = trimesh.Trimesh(vertices=[[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]],
-                           faces=[[0, 1, 2], [0, 2, 3]], process=False)
-    res0 = render_eo([Part("quad", "body", quad, grey_material())], range_m=r, azimuth_deg=90.0,
-                     quality=Quality("t", 2, 2), **EO)
+    quad = trimesh.Trimesh(
+        vertices=[[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]],
+        faces=[[0, 1, 2], [0, 2, 3]],
+        process=False,
+    )
+    res0 = render_eo(
+        [Part("quad", "body", quad, grey_material())], range_m=r, azimuth_deg=90.0, quality=Quality("t", 2, 2), **EO
+    )
     assert res0.values["pixels_on_target"] == 0.0
     assert res0.values["pixels_across_dcrit"] == 0.0
     assert res0.values["contrast"] == 0.0

@@ -40,8 +40,12 @@ def test_a_loop_over_azimuths_into_one_folder_keeps_every_render(capsys, tmp_pat
     out = _render(capsys, "eo", "default", "--range-m", "100", "--azimuth-deg", "0", "90", "--out", str(tmp_path))
     assert [(r["azimuth_deg"], r["elevation_deg"]) for r in out["results"]] == [(0.0, 0.0), (90.0, 0.0)]
     files = sorted(p.name for p in tmp_path.iterdir())
-    assert files == ["default_eo_eo_r100m_az0_el0_draft.exr", "default_eo_eo_r100m_az0_el0_draft.png",
-                     "default_eo_eo_r100m_az90_el0_draft.exr", "default_eo_eo_r100m_az90_el0_draft.png"]
+    assert files == [
+        "default_eo_eo_r100m_az0_el0_draft.exr",
+        "default_eo_eo_r100m_az0_el0_draft.png",
+        "default_eo_eo_r100m_az90_el0_draft.exr",
+        "default_eo_eo_r100m_az90_el0_draft.png",
+    ]
 
 
 def test_renders_whose_names_would_coincide_are_refused_before_work(capsys, tmp_path):
@@ -50,8 +54,7 @@ def test_renders_whose_names_would_coincide_are_refused_before_work(capsys, tmp_
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("mode, channels", [("eo", {"R", "G", "B", "A"}), ("tir", {"L", "T", "A"}),
-                                            ("lidar", {"Y"})])
+@pytest.mark.parametrize("mode, channels", [("eo", {"R", "G", "B", "A"}), ("tir", {"L", "T", "A"}), ("lidar", {"Y"})])
 def test_every_mode_writes_the_same_metadata_and_lists_all_its_channels(capsys, tmp_path, mode, channels):
     out = _render(capsys, mode, "default", "--range-m", "150", "--out", str(tmp_path))
     exr = next(f for f in out["results"][0]["files"] if f.endswith(".exr"))
@@ -84,8 +87,7 @@ def test_night_looks_like_night_unless_auto_exposure_is_asked(capsys, tmp_path):
     scenario.write_text('name = "night"\n[environment]\npreset = "night"\n[sensors.eo]\nmodality = "eo"\n')
 
     def mean_png(*extra):
-        out = _render(capsys, "eo", str(scenario), "--range-m", "100", "--out", str(tmp_path / str(len(extra))),
-                      *extra)
+        out = _render(capsys, "eo", str(scenario), "--range-m", "100", "--out", str(tmp_path / str(len(extra))), *extra)
         png = next(f for f in out["results"][0]["files"] if f.endswith(".png"))
         return float(matplotlib.image.imread(png)[..., :3].mean())
 

@@ -1,13 +1,16 @@
-"""Accuracy against samples per pixel, quality presets, bounded launches and the window benchmark (docs/validation.md, docs/performance.md)."""
+"""Accuracy against samples per pixel, quality presets, bounded launches and the window benchmark.
+
+References: docs/validation.md, docs/performance.md.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.base.errors import ParameterError
 from csuas.render.imaging import QUALITY_PRESETS, Quality, accuracy_sweep, render_eo, resolve_quality
 from csuas.render.imaging.bench import bench_window_vs_full_frame
 
@@ -28,8 +31,12 @@ def test_accuracy_sweep_error_falls_with_samples_and_stays_within_stderr():
     r, az, el = 400.0, 30.0, 20.0
     ifov = np.radians(10.0) / 1920
     exact = projected_metrics(drone.mesh(), az, el)["projected_area_m2"] / (r * ifov) ** 2
-    rows = accuracy_sweep(lambda q: render_eo(drone, range_m=r, azimuth_deg=az, elevation_deg=el, quality=q),
-                          n_sides=(1, 2, 4, 8), reference=exact, n_batches=4)
+    rows = accuracy_sweep(
+        lambda q: render_eo(drone, range_m=r, azimuth_deg=az, elevation_deg=el, quality=q),
+        n_sides=(1, 2, 4, 8),
+        reference=exact,
+        n_batches=4,
+    )
     assert [row["spp"] for row in rows] == [4, 16, 64, 256]
     for row in rows:
         assert abs(row["error"]) <= 4 * row["stderr"] + 1e-3 * exact

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import tir_mrtd_range
-from csuas.base.errors import ParameterError
 from csuas.render.imaging import Quality, render_tir
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import default_mrtd
@@ -37,9 +37,17 @@ def oracle_rows():
 @pytest.mark.parametrize("row", oracle_rows(), ids=lambda r: f"{r['band']}-{r['surroundings_k']}")
 def test_graybody_plate_delta_t_matches_band_planck_oracle(row):
     surroundings = None if row["surroundings_k"] == "none" else float(row["surroundings_k"])
-    res = render_tir(plate(emissivity=0.68, temperature_k=288.15), range_m=100.0, band=row["band"],
-                     t_bg_k=298.15, emissivity_bg=0.77, surroundings_k=surroundings,
-                     linear_reference=(0.68, 288.15), quality=Q, **TIR)
+    res = render_tir(
+        plate(emissivity=0.68, temperature_k=288.15),
+        range_m=100.0,
+        band=row["band"],
+        t_bg_k=298.15,
+        emissivity_bg=0.77,
+        surroundings_k=surroundings,
+        linear_reference=(0.68, 288.15),
+        quality=Q,
+        **TIR,
+    )
     dt, se = res.values["delta_t_k"], res.stderr["delta_t_k"]
     assert dt < 0  # the plate is colder than the background
     assert abs(dt) == pytest.approx(float(row["delta_t_abs_k"]), abs=0.006 + 4 * se)
@@ -48,7 +56,9 @@ def test_graybody_plate_delta_t_matches_band_planck_oracle(row):
     # The paper's linear Delta T (Eq. 26) beside it: 0.68 * 288.15 - 0.77 * 298.15.
     assert res.values["delta_t_linear_k"] == pytest.approx(0.68 * 288.15 - 0.77 * 298.15, rel=1e-12)
     assert res.values["delta_t_linear_k"] == pytest.approx(-33.6335, abs=1e-4)
-    assert abs(res.values["delta_t_linear_k"]) > 2 * abs(dt)  # the linear rule overstates it (docs/conventions.md point 2)
+    assert abs(res.values["delta_t_linear_k"]) > 2 * abs(
+        dt
+    )  # the linear rule overstates it (docs/conventions.md point 2)
 
 
 def test_plate_delta_t_same_at_10_m_and_20_km():
@@ -60,21 +70,23 @@ def test_plate_delta_t_same_at_10_m_and_20_km():
     tolerance = 4 * far.stderr["pixels_on_target"] + 1e-3 * 0.0025
     assert far.values["pixels_on_target"] == pytest.approx(0.0025, abs=tolerance)
     se_far = far.stderr["pixels_on_target"] * 20000.0**2
-    assert near.values["pixels_on_target"] * 10.0**2 == pytest.approx(far.values["pixels_on_target"] * 20000.0**2,
-                                                                        abs=4 * se_far + 2e-3 * 1e6)
+    assert near.values["pixels_on_target"] * 10.0**2 == pytest.approx(
+        far.values["pixels_on_target"] * 20000.0**2, abs=4 * se_far + 2e-3 * 1e6
+    )
 
 
 def test_path_transmittance_and_radiance():
     """Apparent Delta T after 5 km at 1 dB/km with air at 293.15 K, against the closed form inline."""
     sigma, r, t_air = 1.0, 5000.0, 293.15
-    res = render_tir(plate(), range_m=r, band="lwir", extinction_db_km=sigma, air_temperature_k=t_air,
-                     quality=Q, **TIR)
+    res = render_tir(plate(), range_m=r, band="lwir", extinction_db_km=sigma, air_temperature_k=t_air, quality=Q, **TIR)
     tau = 10 ** (-sigma * r / 1000 / 10)
     l_air = float(band_radiance(t_air, "lwir"))
     l_t = 0.68 * float(band_radiance(288.15, "lwir"))
     l_b = 0.77 * float(band_radiance(298.15, "lwir"))
-    expected = float(radiance_temperature(l_t * tau + l_air * (1 - tau), "lwir")
-                     - radiance_temperature(l_b * tau + l_air * (1 - tau), "lwir"))
+    expected = float(
+        radiance_temperature(l_t * tau + l_air * (1 - tau), "lwir")
+        - radiance_temperature(l_b * tau + l_air * (1 - tau), "lwir")
+    )
     assert res.values["delta_t_k"] == pytest.approx(expected, abs=1e-4)
     assert res.values["delta_t_inherent_k"] == pytest.approx(-15.33, abs=0.006)
     assert [t["name"] for t in res.terms] == ["extinction_db_km", "transmittance", "path_radiance"]
@@ -85,12 +97,28 @@ def test_mrtd_range_matches_core_with_oracle_delta_t():
     """Range where the rendered Delta T meets the MRTD at f = lp n R / d_crit, against core with exact inputs."""
     width = 0.3
     target = plate(width_m=width, height_m=width)
-    res = render_tir(target, range_m=200.0, band="lwir", extinction_db_km=1.0, air_temperature_k=293.15,
-                     quality=Quality("t", 4, 8), **TIR)
+    res = render_tir(
+        target,
+        range_m=200.0,
+        band="lwir",
+        extinction_db_km=1.0,
+        air_temperature_k=293.15,
+        quality=Quality("t", 4, 8),
+        **TIR,
+    )
     t_bg_app = float(radiance_temperature(0.77 * band_radiance(298.15, "lwir"), "lwir"))
-    expected = tir_mrtd_range(mrtd=default_mrtd(IFOV, "lwir"), d_crit_m=width, lp_task=1.0, n_ttpf=1.0,
-                              delta_t0_k=-15.334, extinction_db_km=1.0, convention="physical",
-                              t_bg_app_k=t_bg_app, air_temperature_k=293.15, band="lwir")
+    expected = tir_mrtd_range(
+        mrtd=default_mrtd(IFOV, "lwir"),
+        d_crit_m=width,
+        lp_task=1.0,
+        n_ttpf=1.0,
+        delta_t0_k=-15.334,
+        extinction_db_km=1.0,
+        convention="physical",
+        t_bg_app_k=t_bg_app,
+        air_temperature_k=293.15,
+        band="lwir",
+    )
     assert res.values["d_crit_rendered_m"] == pytest.approx(width, rel=0.005)
     assert res.values["mrtd_range_m"] == pytest.approx(float(expected.range_m), rel=0.005)
     assert res.stderr["mrtd_range_m"] < 0.01 * res.values["mrtd_range_m"]
@@ -100,8 +128,16 @@ def test_mrtd_range_matches_core_with_oracle_delta_t():
 
 def test_drone_lwir_and_mwir_are_finite_and_bounded():
     for band in ("lwir", "mwir"):
-        res = render_tir("dji_mini_4_pro", range_m=150.0, band=band, surroundings_k=293.15, azimuth_deg=30.0,
-                         elevation_deg=15.0, quality=Quality("t", 2, 4), **TIR)
+        res = render_tir(
+            "dji_mini_4_pro",
+            range_m=150.0,
+            band=band,
+            surroundings_k=293.15,
+            azimuth_deg=30.0,
+            elevation_deg=15.0,
+            quality=Quality("t", 2, 4),
+            **TIR,
+        )
         assert all(np.isfinite(v) for v in res.values.values() if isinstance(v, float) and v != float("inf"))
         # Every part is at 288.15 K reflecting 293.15 K surroundings: the radiance temperature lies in between.
         t_target = res.values["background_temperature_apparent_k"] + res.values["delta_t_inherent_k"]

@@ -30,23 +30,39 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 def _passing(_knob):
     x = np.linspace(1.0, 10.0, 20)
-    fig = curves("test_curve", "1/x", x_label="x", y_label="y", lines=[("1/x", x, 1 / x)],
-                 points=[("samples", x[::5], 1 / x[::5], 0.01 * np.ones(4))])
-    return Section(outcomes=[Outcome("synthetic.sqrt2", math.sqrt(2.0), 1.41421, 1e-5, "-", error_estimate=1e-6)],
-                   figures=[fig])
+    fig = curves(
+        "test_curve",
+        "1/x",
+        x_label="x",
+        y_label="y",
+        lines=[("1/x", x, 1 / x)],
+        points=[("samples", x[::5], 1 / x[::5], 0.01 * np.ones(4))],
+    )
+    return Section(
+        outcomes=[Outcome("synthetic.sqrt2", math.sqrt(2.0), 1.41421, 1e-5, "-", error_estimate=1e-6)], figures=[fig]
+    )
 
 
 def _known(_knob):
-    return Section(outcomes=[Outcome("synthetic.known", 20.0, 21.07, 0.05, "dB",
-                                     known_deviation="rounded in the paper")])
+    return Section(
+        outcomes=[Outcome("synthetic.known", 20.0, 21.07, 0.05, "dB", known_deviation="rounded in the paper")]
+    )
 
 
 def _raises(_knob):
     raise RuntimeError("boom: the simulator is broken")
 
 
-PASSING = CheckSpec("synthetic.pass", "passing figure with a plot", "links", "sqrt(2) vs 1.41421", "1e-5", _passing,
-                    "digits", {"quick": 6, "full": 9})
+PASSING = CheckSpec(
+    "synthetic.pass",
+    "passing figure with a plot",
+    "links",
+    "sqrt(2) vs 1.41421",
+    "1e-5",
+    _passing,
+    "digits",
+    {"quick": 6, "full": 9},
+)
 KNOWN = CheckSpec("synthetic.known", "known deviation", "conventions", "20 vs 21.07 dB", "0.05 dB", _known)
 RAISES = CheckSpec("synthetic.raises", "a check that raises", "rcs", "nothing", "none", _raises)
 FAST_REAL = [DEFAULT_SPECS[0], next(s for s in CONVENTION_SPECS if s.name == "conv.6")]
@@ -99,7 +115,7 @@ def test_html_is_self_contained_with_embedded_pngs(good_report):
     parser.feed(text)
     images = [v for tag, k, v in parser.refs if tag == "img"]
     assert images, "no embedded image"
-    for tag, key, value in parser.refs:
+    for _tag, key, value in parser.refs:
         if key == "href":
             assert value.startswith("#"), f"external link {value!r}"
         else:
@@ -177,7 +193,7 @@ def test_cli_report_with_a_perturbed_baseline_exits_1_and_names_it(good_report, 
     result = json.loads(captured.out)
     assert code == 1 and result["exit_code"] == 1
     assert [r["name"] for r in result["baseline"]["regressions"]] == ["synthetic.sqrt2"]
-    assert "REGRESSION synthetic.sqrt2" in captured.err and "synthetic.pass" in captured.err   # progress lines
+    assert "REGRESSION synthetic.sqrt2" in captured.err and "synthetic.pass" in captured.err  # progress lines
     assert all(SPEC8_KEYS <= set(c) for c in result["checks"])
     # the unperturbed baseline passes
     code = cli.main(["report", "--out", str(tmp_path / "again"), "--baseline", str(out / "report.json")])
@@ -213,8 +229,16 @@ def test_registry_declares_every_check():
 
 
 def _check(name, expected, measured, tolerance, **extra):
-    return {"name": name, "expected": expected, "measured": measured, "tolerance": tolerance, "ok": True,
-            "known_deviation": None, "unit": "dB", **extra}
+    return {
+        "name": name,
+        "expected": expected,
+        "measured": measured,
+        "tolerance": tolerance,
+        "ok": True,
+        "known_deviation": None,
+        "unit": "dB",
+        **extra,
+    }
 
 
 def test_a_figure_moving_toward_its_reference_is_an_improvement_not_a_regression():
@@ -232,13 +256,30 @@ def test_new_missing_and_improved_checks_are_named_in_console_html_and_markdown(
     from csuas.commands.report import render_text
     from csuas.validation.report.html import render_html, render_markdown
 
-    baseline = {"file": "old.json", "quality": "quick", "compared": 3, "regressions": [],
-                "improvements": [{"name": "err", "what": "measured moved by -1 dB", "old": 1.0, "new": 3e-6,
-                                  "tolerance": 0.01}],
-                "new_checks": ["fresh"], "missing_checks": ["gone"]}
-    report = {"quality": "quick", "generated_utc": "now", "machine": "m", "version": "v", "time_s": 1.0,
-              "summary": {"total": 0, "ok": 0, "known_deviation": 0, "limitation": 0, "failed": 0},
-              "checks": [], "sections": [], "baseline": baseline, "exit_code": 0, "files": {}}
+    baseline = {
+        "file": "old.json",
+        "quality": "quick",
+        "compared": 3,
+        "regressions": [],
+        "improvements": [
+            {"name": "err", "what": "measured moved by -1 dB", "old": 1.0, "new": 3e-6, "tolerance": 0.01}
+        ],
+        "new_checks": ["fresh"],
+        "missing_checks": ["gone"],
+    }
+    report = {
+        "quality": "quick",
+        "generated_utc": "now",
+        "machine": "m",
+        "version": "v",
+        "time_s": 1.0,
+        "summary": {"total": 0, "ok": 0, "known_deviation": 0, "limitation": 0, "failed": 0},
+        "checks": [],
+        "sections": [],
+        "baseline": baseline,
+        "exit_code": 0,
+        "files": {},
+    }
     for text in (render_text(report), render_html(report, []), render_markdown(report)):
         assert "fresh" in text and "gone" in text and "improvement" in text and "err" in text
 
@@ -276,8 +317,11 @@ def test_an_interrupted_report_leaves_no_old_report_json_beside_new_figures(tmp_
         return Section(figures=[Figure("new_plot", "new", b"png")])
 
     with pytest.raises(KeyboardInterrupt):
-        run_report("quick", tmp_path, specs=[CheckSpec("a", "a", "rcs", "x", "y", plot),
-                                             CheckSpec("b", "b", "rcs", "x", "y", interrupted)])
+        run_report(
+            "quick",
+            tmp_path,
+            specs=[CheckSpec("a", "a", "rcs", "x", "y", plot), CheckSpec("b", "b", "rcs", "x", "y", interrupted)],
+        )
     assert not (tmp_path / "report.json").exists()
     report = run_report("quick", tmp_path, specs=[CheckSpec("a", "a", "rcs", "x", "y", plot)])
     assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == ["new_plot.png"]
@@ -290,7 +334,7 @@ def test_the_fitted_contrast_crossing_error_covers_the_true_error():
 
     rng = np.random.default_rng(7)
     ranges = np.array([40.0, 80.0, 120.0, 160.0, 200.0, 260.0])
-    c0, beta, c_min = 0.09, 9.78e-3, 0.05                        # beta per metre: fog of 400 m visibility
+    c0, beta, c_min = 0.09, 9.78e-3, 0.05  # beta per metre: fog of 400 m visibility
     truth = math.log(c0 / c_min) / beta
     clean = c0 * np.exp(-beta * ranges)
     stderr = 0.004 * np.ones_like(ranges)
@@ -301,4 +345,4 @@ def test_the_fitted_contrast_crossing_error_covers_the_true_error():
         sigmas.append(se)
     errors, sigmas = np.array(errors), np.array(sigmas)
     assert np.mean(np.abs(errors) <= 3 * sigmas) >= 0.99
-    assert 0.7 < np.std(errors) / np.median(sigmas) < 1.3      # the estimate is neither loose nor tight
+    assert 0.7 < np.std(errors) / np.median(sigmas) < 1.3  # the estimate is neither loose nor tight

@@ -21,10 +21,14 @@ def _plots(_knob):
 
     x = np.linspace(1.0, 10.0, 50)
     rgb = np.zeros((16, 16, 3))
-    rgb[4:12, 4:12, 0] = 1.0                          # a red square
-    return Section(outcomes=[Outcome("browser.figure", 1.0, 1.0, 0.1)],
-                   figures=[curves("browser_curve", "a plot", x_label="x", y_label="y", lines=[("x^2", x, x * x)]),
-                            image("browser_image", "an image", rgb)])
+    rgb[4:12, 4:12, 0] = 1.0  # a red square
+    return Section(
+        outcomes=[Outcome("browser.figure", 1.0, 1.0, 0.1)],
+        figures=[
+            curves("browser_curve", "a plot", x_label="x", y_label="y", lines=[("x^2", x, x * x)]),
+            image("browser_image", "an image", rgb),
+        ],
+    )
 
 
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium installed")
@@ -33,10 +37,23 @@ def test_report_html_renders_in_headless_chromium(tmp_path):
     specs = [spec] + [s for s in CONVENTION_SPECS if s.name in ("conv.6", "conv.7")]
     runner.run_report("quick", tmp_path / "r", specs=specs)
     shot = tmp_path / "shot.png"
-    subprocess.run([BROWSER, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                    "--disable-component-update", "--no-first-run", f"--screenshot={shot}", "--window-size=1400,3000",
-                    (tmp_path / "r" / "report.html").resolve().as_uri()],
-                   check=True, capture_output=True, timeout=120)
+    subprocess.run(
+        [
+            BROWSER,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--no-first-run",
+            f"--screenshot={shot}",
+            "--window-size=1400,3000",
+            (tmp_path / "r" / "report.html").resolve().as_uri(),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
     from matplotlib import image as mpimg
 
     pixels = mpimg.imread(shot)[..., :3]
@@ -44,5 +61,5 @@ def test_report_html_renders_in_headless_chromium(tmp_path):
     assert pixels.std() > 0.05, "blank page"
     red = (pixels[..., 0] > 0.9) & (pixels[..., 1] < 0.1) & (pixels[..., 2] < 0.1)
     assert red.sum() > 1000, "the embedded image is not displayed"
-    blue_line = (pixels[..., 2] > 0.6) & (pixels[..., 0] < 0.3)        # matplotlib's C0 curve and the links
+    blue_line = (pixels[..., 2] > 0.6) & (pixels[..., 0] < 0.3)  # matplotlib's C0 curve and the links
     assert blue_line.sum() > 200, "the embedded plot is not displayed"

@@ -27,8 +27,11 @@ def test_quick_report_end_to_end(tmp_path, capsys):
     code = cli.main(["report", "--quick", "--out", str(out), "--json"])
     captured = capsys.readouterr()
     result = json.loads(captured.out)
-    failed = [(c["name"], c["details"].get("error"), c["expected"], c["measured"], c["tolerance"])
-              for c in result["checks"] if c["verdict"] == "FAIL"]
+    failed = [
+        (c["name"], c["details"].get("error"), c["expected"], c["measured"], c["tolerance"])
+        for c in result["checks"]
+        if c["verdict"] == "FAIL"
+    ]
     assert failed == [] and code == 0 and result["exit_code"] == 0
     # progress: one line per registered check on standard error
     assert all(f"] {spec.name} ..." in captured.err for spec in all_specs())
@@ -40,9 +43,14 @@ def test_quick_report_end_to_end(tmp_path, capsys):
         assert c["ok"] or c["known_deviation"] or c["limitation"], c["name"]
         assert c["tolerance_source"], c["name"]
     # no tolerance of a passing check in linear units is wider than 20 % of what it judges
-    wide = [(c["name"], c["expected"], c["tolerance"]) for c in data["checks"]
-            if c["verdict"] == "ok" and not c["unit"].startswith("dB") and c["expected"]
-            and c["tolerance"] > 0.2 * abs(c["expected"])]
+    wide = [
+        (c["name"], c["expected"], c["tolerance"])
+        for c in data["checks"]
+        if c["verdict"] == "ok"
+        and not c["unit"].startswith("dB")
+        and c["expected"]
+        and c["tolerance"] > 0.2 * abs(c["expected"])
+    ]
     assert wide == []
     # the 3GPP drone RCS and the lidar albedo are limits of csuas's models, not deviations of the paper
     verdicts = {c["name"]: c["verdict"] for c in data["checks"]}
@@ -53,11 +61,20 @@ def test_quick_report_end_to_end(tmp_path, capsys):
         for repr_text in ("None", "{'", "np.float64(", "= -<"):
             assert repr_text not in text, (name, repr_text)
     names = {c["name"] for c in data["checks"]}
-    for expected in ("T47.eta_tl", "conv.2.delta_t.lwir.simulated", "links.rf.free_space.max_error_db",
-                     "links.radar.free_space.max_error_db", "rcs.canonical.trihedral_square.dbsm",
-                     "rcs.dji_mini_4_pro.mean_dbsm.table8", "lidar.oracle.plate_normal.lcs_m2",
-                     "T8.sigma_lidar_m2.dji_mini_4_pro.raytraced", "T8.d_crit_m.dji_mini_4_pro",
-                     "imaging.johnson_range_m", "conv.1.eo_contrast_range.simulated", "worked.eo.baseline_m"):
+    for expected in (
+        "T47.eta_tl",
+        "conv.2.delta_t.lwir.simulated",
+        "links.rf.free_space.max_error_db",
+        "links.radar.free_space.max_error_db",
+        "rcs.canonical.trihedral_square.dbsm",
+        "rcs.dji_mini_4_pro.mean_dbsm.table8",
+        "lidar.oracle.plate_normal.lcs_m2",
+        "T8.sigma_lidar_m2.dji_mini_4_pro.raytraced",
+        "T8.d_crit_m.dji_mini_4_pro",
+        "imaging.johnson_range_m",
+        "conv.1.eo_contrast_range.simulated",
+        "worked.eo.baseline_m",
+    ):
         assert expected in names
     sections = {s["name"]: s for s in data["sections"]}
     assert all(s["error"] is None for s in sections.values())

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from csuas.core import itu
 from csuas.base.errors import ScenarioError
+from csuas.core import itu
 from csuas.ranges import evaluate
 from csuas.scenario import load_scenario, parse_scenario
 
@@ -23,48 +23,59 @@ def test_embedded_default_has_every_modality_at_table_defaults():
     assert sc.effects == frozenset()
 
 
-@pytest.mark.parametrize("section, expected", [
-    ({"rain": "moderate"}, {"rain_rate_mm_h": 6.0}),
-    ({"rain_rate_mm_h": "heavy"}, {"rain_rate_mm_h": 30.0}),
-    ({"rain": 12.5}, {"rain_rate_mm_h": 12.5}),
-    ({"fog": "dense"}, {"fog_visibility_m": 100.0, "lwc_g_m3": 0.5}),
-    ({"fog": "light", "lwc_g_m3": 0.1}, {"fog_visibility_m": 800.0, "lwc_g_m3": 0.1}),
-    ({"wind": "strong_breeze"}, {"wind_speed_m_s": 12.3}),
-    ({"illumination": "night"}, {"illuminance_lx": 0.01}),
-    ({"noise": "city"}, {"noise_level_db": 70.0}),
-    ({"preset": "rain_heavy"}, {"rain_rate_mm_h": 30.0}),
-])
+@pytest.mark.parametrize(
+    "section, expected",
+    [
+        ({"rain": "moderate"}, {"rain_rate_mm_h": 6.0}),
+        ({"rain_rate_mm_h": "heavy"}, {"rain_rate_mm_h": 30.0}),
+        ({"rain": 12.5}, {"rain_rate_mm_h": 12.5}),
+        ({"fog": "dense"}, {"fog_visibility_m": 100.0, "lwc_g_m3": 0.5}),
+        ({"fog": "light", "lwc_g_m3": 0.1}, {"fog_visibility_m": 800.0, "lwc_g_m3": 0.1}),
+        ({"wind": "strong_breeze"}, {"wind_speed_m_s": 12.3}),
+        ({"illumination": "night"}, {"illuminance_lx": 0.01}),
+        ({"noise": "city"}, {"noise_level_db": 70.0}),
+        ({"preset": "rain_heavy"}, {"rain_rate_mm_h": 30.0}),
+    ],
+)
 def test_environment_classes_and_numbers(section, expected):
     env = _scenario(environment=section).environment
     assert {k: env[k] for k in expected} == expected
 
 
 def test_presets_and_overrides():
-    sc = parse_scenario({"target": {"preset": "black_hornet_3", "sl_db": 60},
-                         "sensors": {"r": {"modality": "radar", "preset": "netrad"},
-                                     "e": {"modality": "eo", "preset": "mx_10", "task": "identification",
-                                           "p_desired": 0.95}}})
+    sc = parse_scenario(
+        {
+            "target": {"preset": "black_hornet_3", "sl_db": 60},
+            "sensors": {
+                "r": {"modality": "radar", "preset": "netrad"},
+                "e": {"modality": "eo", "preset": "mx_10", "task": "identification", "p_desired": 0.95},
+            },
+        }
+    )
     assert sc.target["d_crit_m"] == 0.025 and sc.target["sl_db"] == 60.0
     assert sc.sensors["r"].params["frequency_ghz"] == 2.4 and sc.sensors["r"].params["p_tx_w"] == 0.199
     assert sc.sensors["e"].params["lp_task"] == 8.0 and sc.sensors["e"].params["n_ttpf"] == 2.0
 
 
-@pytest.mark.parametrize("data, fragment", [
-    ({"target": {"dcrit": 0.1}}, "target.dcrit"),
-    ({"target": {"d_crit_m": "big"}}, "target.d_crit_m = 'big'"),
-    ({"target": {"d_crit_m": -1.0}}, "target.d_crit_m = -1.0"),
-    ({"target": {"d_crit_m": True}}, "target.d_crit_m = True"),
-    ({"environment": {"rain": "torrential"}}, "slight, moderate, heavy"),
-    ({"convention": "exact"}, "paper or physical"),
-    ({"colour": 1}, "a known key"),
-    ({"sensors": {"x": {"modality": "sonar"}}}, "sensors.x.modality = 'sonar'"),
-    ({"sensors": {"x": {"modality": "eo", "n_h": 1920.5}}}, "a whole number"),
-    ({"sensors": {"x": {"modality": "eo", "task": "find"}}}, "detection, recognition, identification"),
-    ({"sensors": {"x": {"modality": "radar", "frequency_ghz": 24.0, "wavelength_m": 0.0125}}}, "not both"),
-    ({"sensors": {"x": {"modality": "radar", "model": "range_equation"}}}, "p_rx_min_w"),
-    ({"sensors": {"x": {"modality": "eo", "preset": "hubble"}}}, "sensors.x.preset = 'hubble'"),
-    ({"sensors": {}}, "at least one"),
-])
+@pytest.mark.parametrize(
+    "data, fragment",
+    [
+        ({"target": {"dcrit": 0.1}}, "target.dcrit"),
+        ({"target": {"d_crit_m": "big"}}, "target.d_crit_m = 'big'"),
+        ({"target": {"d_crit_m": -1.0}}, "target.d_crit_m = -1.0"),
+        ({"target": {"d_crit_m": True}}, "target.d_crit_m = True"),
+        ({"environment": {"rain": "torrential"}}, "slight, moderate, heavy"),
+        ({"convention": "exact"}, "paper or physical"),
+        ({"colour": 1}, "a known key"),
+        ({"sensors": {"x": {"modality": "sonar"}}}, "sensors.x.modality = 'sonar'"),
+        ({"sensors": {"x": {"modality": "eo", "n_h": 1920.5}}}, "a whole number"),
+        ({"sensors": {"x": {"modality": "eo", "task": "find"}}}, "detection, recognition, identification"),
+        ({"sensors": {"x": {"modality": "radar", "frequency_ghz": 24.0, "wavelength_m": 0.0125}}}, "not both"),
+        ({"sensors": {"x": {"modality": "radar", "model": "range_equation"}}}, "p_rx_min_w"),
+        ({"sensors": {"x": {"modality": "eo", "preset": "hubble"}}}, "sensors.x.preset = 'hubble'"),
+        ({"sensors": {}}, "at least one"),
+    ],
+)
 def test_bad_input_names_key_value_and_what_is_allowed(data, fragment):
     data = {"sensors": {"eo": {"modality": "eo"}}, **data}
     with pytest.raises(ScenarioError) as err:
@@ -109,8 +120,11 @@ def test_disabled_effects_contribute_nothing_and_cost_nothing(monkeypatch):
 
 
 def test_rain_adds_its_term_where_it_acts():
-    results = evaluate(parse_scenario({"environment": {"rain": "heavy"},
-                                       "sensors": {"rf": {"modality": "rf"}, "eo": {"modality": "eo"}}}))
+    results = evaluate(
+        parse_scenario(
+            {"environment": {"rain": "heavy"}, "sensors": {"rf": {"modality": "rf"}, "eo": {"modality": "eo"}}}
+        )
+    )
     assert results["rf"].term("gamma_rain_db_km").value > 0
     assert "gamma_rain_db_km" not in {t.name for t in results["eo"].terms}  # the paper's EO model has no rain term
 
@@ -143,16 +157,17 @@ def test_paper_lidar_eta_follows_declared_visibility():
 
 
 def test_table_9_contrast_classes():
-    sc = parse_scenario({"target": {"c_eo": "low_contrast_clutter"},
-                         "sensors": {"e": {"modality": "eo", "c_min": "general"}}})
+    sc = parse_scenario(
+        {"target": {"c_eo": "low_contrast_clutter"}, "sensors": {"e": {"modality": "eo", "c_min": "general"}}}
+    )
     assert sc.target["c_eo"] == 0.2 and sc.sensors["e"].params["c_min"] == 0.01
 
 
 def test_altitude_adds_the_horizontal_range_of_eq_13():
     from csuas.ranges import horizontal_range_m
 
-    assert horizontal_range_m(500.0, 300.0) == pytest.approx(400.0)   # 3-4-5 triangle
-    assert np.isnan(horizontal_range_m(100.0, 120.0))                 # higher than the range: never within range
+    assert horizontal_range_m(500.0, 300.0) == pytest.approx(400.0)  # 3-4-5 triangle
+    assert np.isnan(horizontal_range_m(100.0, 120.0))  # higher than the range: never within range
     sc = parse_scenario({"target": {"altitude_m": 120.0}, "sensors": {"e": {"modality": "eo"}}})
     result = evaluate(sc)["e"]
     slant = float(result.range_m)

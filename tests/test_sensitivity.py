@@ -48,9 +48,11 @@ def test_scenario_one_at_a_time_matches_section_4_9_for_eo():
     from csuas.ranges import scenario_one_at_a_time
     from csuas.scenario import load_scenario
 
-    baseline, bars = scenario_one_at_a_time(load_scenario("default"), "eo",
-                                            {"sensor.hfov_deg": (1.0, 20.0), "target.d_crit_m": (0.081, 0.121),
-                                             "sensor.p_desired": (0.30, 0.80)})
+    baseline, bars = scenario_one_at_a_time(
+        load_scenario("default"),
+        "eo",
+        {"sensor.hfov_deg": (1.0, 20.0), "target.d_crit_m": (0.081, 0.121), "sensor.p_desired": (0.30, 0.80)},
+    )
     assert baseline == pytest.approx(555.5, abs=0.05)
     by_name = {b.parameter: b for b in bars}
     assert by_name["sensor.hfov_deg"].range_at_low_m == pytest.approx(5555.4, abs=0.05)

@@ -1,4 +1,7 @@
-"""Benchmarks of the analytic core (docs/performance.md): evaluations per second and exact solves vs the paper's loops."""
+"""Benchmarks of the analytic core: evaluations per second and exact solves vs the paper's loops.
+
+Targets: docs/performance.md.
+"""
 
 from __future__ import annotations
 
@@ -21,24 +24,63 @@ def _timed(fn, repeat=3):
 
 
 def _scenarios(n, rng):
-    u = lambda lo, hi: rng.uniform(lo, hi, n)  # noqa: E731 - local shorthand
+    u = lambda lo, hi: rng.uniform(lo, hi, n)
     return {
-        "eo": lambda: eo.eo_range(d_crit_m=u(0.02, 0.5), hfov_deg=u(1, 40), n_h=1920.0, lp_task=1.0, n_ttpf=u(0.5, 2),
-                                  c_eo=u(0.1, 1), c_min=0.05, wavelength_nm=550.0, visibility_km=u(0.2, 60)),
-        "tir_johnson": lambda: tir.tir_johnson_range(d_crit_m=u(0.02, 0.5), hfov_deg=u(1, 40), n_h=1280.0,
-                                                     lp_task=1.0, n_ttpf=u(0.5, 2)),
-        "acoustic": lambda: acoustic.acoustic_range(sl_db=u(50, 90), snr_req_db=10.0, noise_level_db=u(25, 60),
-                                                    g_array_db=20.0, wind_speed_m_s=u(0, 12)),
-        "rf": lambda: rf.rf_range(p_tx_w=u(0.01, 1), g_tx_dbi=8.0, g_rx_db=14.0, frequency_ghz=u(1, 6), s_rx_dbm=-100.0,
-                                  rain_rate_mm_h=u(0, 30), lwc_g_m3=u(0, 0.5)),
-        "rf_physical": lambda: rf.rf_range(p_tx_w=u(0.01, 1), g_tx_dbi=8.0, g_rx_db=14.0, frequency_ghz=u(1, 6),
-                                           s_rx_dbm=-100.0, rain_rate_mm_h=u(0, 30), lwc_g_m3=u(0, 0.5),
-                                           convention="physical"),
-        "radar": lambda: radar.radar_range(p_tx_w=u(1, 1000), g_tx_db=25.0, g_rx_db=25.0, wavelength_m=u(0.008, 0.05),
-                                           sigma_m2=u(0.001, 0.1), n_pulses=10.0, integration="coherent",
-                                           l_hardware_db=10.0, l_processing_db=3.0),
-        "lidar": lambda: lidar.lidar_range(p_tx_w=u(0.1, 10), p_rx_min_w=1e-10, sigma_lidar_m2=u(0.001, 0.1),
-                                           aperture_mm=3.0, wavelength_nm=1550.0, eta_tl=0.681),
+        "eo": lambda: eo.eo_range(
+            d_crit_m=u(0.02, 0.5),
+            hfov_deg=u(1, 40),
+            n_h=1920.0,
+            lp_task=1.0,
+            n_ttpf=u(0.5, 2),
+            c_eo=u(0.1, 1),
+            c_min=0.05,
+            wavelength_nm=550.0,
+            visibility_km=u(0.2, 60),
+        ),
+        "tir_johnson": lambda: tir.tir_johnson_range(
+            d_crit_m=u(0.02, 0.5), hfov_deg=u(1, 40), n_h=1280.0, lp_task=1.0, n_ttpf=u(0.5, 2)
+        ),
+        "acoustic": lambda: acoustic.acoustic_range(
+            sl_db=u(50, 90), snr_req_db=10.0, noise_level_db=u(25, 60), g_array_db=20.0, wind_speed_m_s=u(0, 12)
+        ),
+        "rf": lambda: rf.rf_range(
+            p_tx_w=u(0.01, 1),
+            g_tx_dbi=8.0,
+            g_rx_db=14.0,
+            frequency_ghz=u(1, 6),
+            s_rx_dbm=-100.0,
+            rain_rate_mm_h=u(0, 30),
+            lwc_g_m3=u(0, 0.5),
+        ),
+        "rf_physical": lambda: rf.rf_range(
+            p_tx_w=u(0.01, 1),
+            g_tx_dbi=8.0,
+            g_rx_db=14.0,
+            frequency_ghz=u(1, 6),
+            s_rx_dbm=-100.0,
+            rain_rate_mm_h=u(0, 30),
+            lwc_g_m3=u(0, 0.5),
+            convention="physical",
+        ),
+        "radar": lambda: radar.radar_range(
+            p_tx_w=u(1, 1000),
+            g_tx_db=25.0,
+            g_rx_db=25.0,
+            wavelength_m=u(0.008, 0.05),
+            sigma_m2=u(0.001, 0.1),
+            n_pulses=10.0,
+            integration="coherent",
+            l_hardware_db=10.0,
+            l_processing_db=3.0,
+        ),
+        "lidar": lambda: lidar.lidar_range(
+            p_tx_w=u(0.1, 10),
+            p_rx_min_w=1e-10,
+            sigma_lidar_m2=u(0.001, 0.1),
+            aperture_mm=3.0,
+            wavelength_nm=1550.0,
+            eta_tl=0.681,
+        ),
     }
 
 
@@ -75,20 +117,41 @@ def bench_iterative(n: int = 2000, seed: int = 1) -> list[dict]:
     start = time.perf_counter()
     loop = [eo_step_reduction(r_j[i], c0[i], 0.05, sigma[i], step_m=1.0) for i in range(m)]
     t_loop = (time.perf_counter() - start) / m * n
-    rows.append({"procedure": "eo_contrast_limit (Section 4.3.3)", "scenarios": n, "exact_time_s": t_exact,
-                 "loop_time_s": t_loop, "speedup": t_loop / t_exact,
-                 "loop_max_error_m": float(np.max(np.abs(np.asarray(loop) - exact[:m]))), "loop_step_m": 1.0})
+    rows.append(
+        {
+            "procedure": "eo_contrast_limit (Section 4.3.3)",
+            "scenarios": n,
+            "exact_time_s": t_exact,
+            "loop_time_s": t_loop,
+            "speedup": t_loop / t_exact,
+            "loop_max_error_m": float(np.max(np.abs(np.asarray(loop) - exact[:m]))),
+            "loop_step_m": 1.0,
+        }
+    )
     # TIR MRTD with attenuation (Section 4.4.3), paper convention.
     mrtd = ParametricMrtd(0.05, 5e-4, 1.0, 10e-6, 10e-6)
     dt0 = rng.uniform(0.05, 2.0, n)
     sig = rng.uniform(0.2, 20.0, n)
-    t_exact, res = _timed(lambda: tir.tir_mrtd_range(mrtd=mrtd, d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0,
-                                                     delta_t0_k=dt0, extinction_db_km=sig).range_m)
+    t_exact, res = _timed(
+        lambda: (
+            tir.tir_mrtd_range(
+                mrtd=mrtd, d_crit_m=0.101, lp_task=1.0, n_ttpf=1.0, delta_t0_k=dt0, extinction_db_km=sig
+            ).range_m
+        )
+    )
     m = min(n, 10)
     start = time.perf_counter()
     loop = [tir_step_reduction(mrtd, 0.101, 1.0, 1.0, dt0[i], sig[i], step_m=0.01) for i in range(m)]
     t_loop = (time.perf_counter() - start) / m * n
-    rows.append({"procedure": "tir_mrtd_attenuation (Section 4.4.3)", "scenarios": n, "exact_time_s": t_exact,
-                 "loop_time_s": t_loop, "speedup": t_loop / t_exact,
-                 "loop_max_error_m": float(np.max(np.abs(np.asarray(loop) - res[:m]))), "loop_step_m": 0.01})
+    rows.append(
+        {
+            "procedure": "tir_mrtd_attenuation (Section 4.4.3)",
+            "scenarios": n,
+            "exact_time_s": t_exact,
+            "loop_time_s": t_loop,
+            "speedup": t_loop / t_exact,
+            "loop_max_error_m": float(np.max(np.abs(np.asarray(loop) - res[:m]))),
+            "loop_step_m": 0.01,
+        }
+    )
     return rows

@@ -23,8 +23,9 @@ def eo_step_reduction(r_johnson_m: float, c0: float, c_min: float, sigma_db_km: 
     return max(r, 0.0)
 
 
-def tir_step_reduction(mrtd, d_crit_m: float, lp_task: float, n_ttpf: float, delta_t0_k: float,
-                       sigma_db_km: float, step_m: float = 0.01) -> float:
+def tir_step_reduction(
+    mrtd, d_crit_m: float, lp_task: float, n_ttpf: float, delta_t0_k: float, sigma_db_km: float, step_m: float = 0.01
+) -> float:
     """TIR MRTD range by the procedure of Section 4.4.3 (paper convention, Eq. 31).
 
     Start from the unattenuated MRTD range (Eq. 29) as R_hyp; attenuate Delta T
@@ -34,6 +35,7 @@ def tir_step_reduction(mrtd, d_crit_m: float, lp_task: float, n_ttpf: float, del
     other reading of step 5, can fall into a two-cycle: the map decreases
     with R and its slope may exceed 1 in magnitude.)
     """
+
     def r_mrtd(r_hyp):
         delta_t = abs(delta_t0_k) * math.exp(-sigma_db_km * r_hyp / 1000.0)
         return d_crit_m * float(mrtd.max_frequency(delta_t)) / (lp_task * n_ttpf)

@@ -1,4 +1,4 @@
-"""``csuas defaults list|check``: the paper's parameters, and every derivable default recomputed (docs/command-line.md)."""
+"""``csuas defaults list|check|presets``: parameters, derivable defaults recomputed, presets (docs/command-line.md)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,14 @@ from csuas.defaults import load_parameters, load_presets
 
 def add_arguments(parser):
     """Declare the options of ``csuas defaults``."""
-    parser.add_argument("action", choices=("list", "check", "presets"),
-                        help="list the parameters, check derived defaults, or list every preset with the values it sets")
-    parser.add_argument("--core-only", action="store_true",
-                        help="check: skip the checks that need a simulation (drone mesh, RCS, LCS)")
+    parser.add_argument(
+        "action",
+        choices=("list", "check", "presets"),
+        help="list the parameters, check derived defaults, or list every preset with the values it sets",
+    )
+    parser.add_argument(
+        "--core-only", action="store_true", help="check: skip the checks that need a simulation (drone mesh, RCS, LCS)"
+    )
 
 
 def list_parameters() -> list[dict]:
@@ -18,8 +22,13 @@ def list_parameters() -> list[dict]:
     entries = []
     for section, params in load_parameters().items():
         for name, spec in params.items():
-            entry = {"name": f"{section}.{name}", "value": spec.get("value"), "unit": spec["unit"],
-                     "source": spec["source"], "description": spec["description"]}
+            entry = {
+                "name": f"{section}.{name}",
+                "value": spec.get("value"),
+                "unit": spec["unit"],
+                "source": spec["source"],
+                "description": spec["description"],
+            }
             if "choices" in spec:
                 entry["choices"] = spec["choices"]
             else:
@@ -36,9 +45,16 @@ def list_presets() -> list[dict]:
         for modality, presets in groups:
             for name, preset in presets.items():
                 values = {k: v for k, v in preset.items() if k not in ("description", "source")}
-                entries.append({"kind": kind, "modality": modality, "name": name,
-                                "description": preset.get("description", ""), "source": preset.get("source", ""),
-                                "sets": values})
+                entries.append(
+                    {
+                        "kind": kind,
+                        "modality": modality,
+                        "name": name,
+                        "description": preset.get("description", ""),
+                        "source": preset.get("source", ""),
+                        "sets": values,
+                    }
+                )
     return entries
 
 
@@ -51,12 +67,15 @@ def run(args) -> dict:
     from csuas.validation.defaults_checks import all_checks
 
     checks = [c.as_dict() for c in all_checks(include_simulation=not args.core_only)]
-    summary = {"total": len(checks), "ok": sum(c["ok"] for c in checks),
-               "known_deviation": sum((not c["ok"]) and c["known_deviation"] is not None for c in checks),
-               "limitation": sum((not c["ok"]) and c["known_deviation"] is None and c["limitation"] is not None
-                                 for c in checks),
-               "failed": sum((not c["ok"]) and c["known_deviation"] is None and c["limitation"] is None
-                             for c in checks)}
+    summary = {
+        "total": len(checks),
+        "ok": sum(c["ok"] for c in checks),
+        "known_deviation": sum((not c["ok"]) and c["known_deviation"] is not None for c in checks),
+        "limitation": sum(
+            (not c["ok"]) and c["known_deviation"] is None and c["limitation"] is not None for c in checks
+        ),
+        "failed": sum((not c["ok"]) and c["known_deviation"] is None and c["limitation"] is None for c in checks),
+    }
     return {"checks": checks, "summary": summary, "exit_code": 1 if summary["failed"] else 0}
 
 
@@ -66,8 +85,9 @@ def render_text(result: dict) -> str:
         lines = []
         for p in result["parameters"]:
             valid = ("one of " + ", ".join(p["choices"])) if "choices" in p else f"{p['min']:g} .. {p['max']:g}"
-            lines.append(f"{p['name']:<34} {str(p['value']):>10} {p['unit']:<8} [{valid}]  {p['description']} "
-                         f"({p['source']})")
+            lines.append(
+                f"{p['name']:<34} {str(p['value']):>10} {p['unit']:<8} [{valid}]  {p['description']} ({p['source']})"
+            )
         return "\n".join(lines)
     if "presets" in result:
         lines = []
@@ -79,10 +99,14 @@ def render_text(result: dict) -> str:
     lines = []
     for c in result["checks"]:
         verdict = "ok" if c["ok"] else ("known" if c["known_deviation"] else ("limit" if c["limitation"] else "FAIL"))
-        lines.append(f"{verdict:<6} {c['name']:<40} paper {c['paper']:<12.6g} computed {c['computed']:<12.6g} {c['unit']}")
+        lines.append(
+            f"{verdict:<6} {c['name']:<40} paper {c['paper']:<12.6g} computed {c['computed']:<12.6g} {c['unit']}"
+        )
         if not c["ok"] and (c["known_deviation"] or c["limitation"]):
             lines.append(f"       -> {c['known_deviation'] or c['limitation']}")
     s = result["summary"]
-    lines.append(f"{s['ok']}/{s['total']} ok, {s['known_deviation']} known deviations of the paper, "
-                 f"{s['limitation']} limits of csuas's models, {s['failed']} failed")
+    lines.append(
+        f"{s['ok']}/{s['total']} ok, {s['known_deviation']} known deviations of the paper, "
+        f"{s['limitation']} limits of csuas's models, {s['failed']} failed"
+    )
     return "\n".join(lines)

@@ -17,21 +17,42 @@ from csuas.drone_models.sphere_average import QUALITY_PRESETS, sphere_average
 
 def add_arguments(parser) -> None:
     """Options of ``csuas drone``."""
-    parser.add_argument("preset", help="drone preset (" + ", ".join(list_presets()) + ") or a mesh file in metres "
-                        "(any format trimesh reads; --propellers does not apply)")
-    parser.add_argument("--azimuth-deg", type=float, default=90.0,
-                        help="view azimuth from +x (nose) toward +y (left) [deg], default 90 (side view)")
-    parser.add_argument("--elevation-deg", type=float, default=0.0,
-                        help="view elevation from the horizontal [deg], +90 = seen from above; default 0")
-    parser.add_argument("--propellers", choices=PROPELLER_STYLES, default="disc",
-                        help="propellers as swept discs (default), blades, or none")
-    parser.add_argument("--quality", choices=tuple(QUALITY_PRESETS) + ("none",), default="standard",
-                        help="sphere-average sample preset, or none to skip it (default standard)")
-    parser.add_argument("--k-lcs", type=float, default=K_LCS_DEFAULT,
-                        help="LCS scaling factor k_LCS of Eq. 9 (default 0.1)")
+    parser.add_argument(
+        "preset",
+        help="drone preset (" + ", ".join(list_presets()) + ") or a mesh file in metres "
+        "(any format trimesh reads; --propellers does not apply)",
+    )
+    parser.add_argument(
+        "--azimuth-deg",
+        type=float,
+        default=90.0,
+        help="view azimuth from +x (nose) toward +y (left) [deg], default 90 (side view)",
+    )
+    parser.add_argument(
+        "--elevation-deg",
+        type=float,
+        default=0.0,
+        help="view elevation from the horizontal [deg], +90 = seen from above; default 0",
+    )
+    parser.add_argument(
+        "--propellers",
+        choices=PROPELLER_STYLES,
+        default="disc",
+        help="propellers as swept discs (default), blades, or none",
+    )
+    parser.add_argument(
+        "--quality",
+        choices=tuple(QUALITY_PRESETS) + ("none",),
+        default="standard",
+        help="sphere-average sample preset, or none to skip it (default standard)",
+    )
+    parser.add_argument(
+        "--k-lcs", type=float, default=K_LCS_DEFAULT, help="LCS scaling factor k_LCS of Eq. 9 (default 0.1)"
+    )
     parser.add_argument("--t-illum", type=float, default=1.0, help="illumination factor T_illum of Eq. 8 (default 1)")
-    parser.add_argument("--export", metavar="FILE",
-                        help="write the mesh (" + ", ".join(EXPORT_FORMATS) + ", by suffix)")
+    parser.add_argument(
+        "--export", metavar="FILE", help="write the mesh (" + ", ".join(EXPORT_FORMATS) + ", by suffix)"
+    )
 
 
 def run(args) -> dict:
@@ -56,9 +77,13 @@ def run(args) -> dict:
         "bbox_m": (b[1] - b[0]).tolist(),
         "bbox_min_m": b[0].tolist(),
         "bbox_max_m": b[1].tolist(),
-        "view": {"azimuth_deg": args.azimuth_deg, "elevation_deg": args.elevation_deg,
-                 "direction": view["direction"].tolist(), "h_axis": view["h_axis"].tolist(),
-                 "v_axis": view["v_axis"].tolist()},
+        "view": {
+            "azimuth_deg": args.azimuth_deg,
+            "elevation_deg": args.elevation_deg,
+            "direction": view["direction"].tolist(),
+            "h_axis": view["h_axis"].tolist(),
+            "v_axis": view["v_axis"].tolist(),
+        },
         "d_x_proj_m": view["d_x_proj_m"],
         "d_y_proj_m": view["d_y_proj_m"],
         "d_crit_m": {"min": view["d_crit_min_m"], "geometric_mean": view["d_crit_geometric_mean_m"]},
@@ -66,21 +91,29 @@ def run(args) -> dict:
         "sphere_equivalent_radius_m": view["sphere_equivalent_radius_m"],
         "lcs_m2": {"view": lcs_view, "k_lcs": args.k_lcs, "t_illum": args.t_illum},
         "emissivity": drone.emissivity("lwir"),
-        "mesh": {"n_parts": len(drone.parts), "n_faces": int(sum(len(p.mesh.faces) for p in drone.parts)),
-                 "parts_watertight": all(p.mesh.is_watertight for p in drone.parts),
-                 "watertight": model.watertight, "n_shells": model.n_shells,
-                 "n_degenerate_faces": model.n_degenerate_faces},
-        "parts": [{"name": p.name, "kind": p.kind, "material": p.material.name, "area_m2": float(p.mesh.area)}
-                  for p in drone.parts],
+        "mesh": {
+            "n_parts": len(drone.parts),
+            "n_faces": int(sum(len(p.mesh.faces) for p in drone.parts)),
+            "parts_watertight": all(p.mesh.is_watertight for p in drone.parts),
+            "watertight": model.watertight,
+            "n_shells": model.n_shells,
+            "n_degenerate_faces": model.n_degenerate_faces,
+        },
+        "parts": [
+            {"name": p.name, "kind": p.kind, "material": p.material.name, "area_m2": float(p.mesh.area)}
+            for p in drone.parts
+        ],
         "spec": drone.spec,
     }
     if args.quality != "none":
         avg = sphere_average(model, quality=args.quality)
         result["sphere_average"] = avg
-        result["lcs_m2"]["sphere_average"] = float(lcs_estimate(avg["projected_area_m2"]["mean"], args.k_lcs,
-                                                                args.t_illum))
-        result["lcs_m2"]["sphere_average_stderr"] = float(lcs_estimate(avg["projected_area_m2"]["stderr"],
-                                                                       args.k_lcs, args.t_illum))
+        result["lcs_m2"]["sphere_average"] = float(
+            lcs_estimate(avg["projected_area_m2"]["mean"], args.k_lcs, args.t_illum)
+        )
+        result["lcs_m2"]["sphere_average_stderr"] = float(
+            lcs_estimate(avg["projected_area_m2"]["stderr"], args.k_lcs, args.t_illum)
+        )
     if args.export:
         result["export"] = str(export_drone(drone, args.export))
     result["warnings"] = [str(w.message) for w in caught if issubclass(w.category, NonWatertightWarning)]
@@ -115,8 +148,10 @@ def render_text(result: dict) -> str:
             f"root {1e3 * avg['d_crit_geometric_mean_m']['mean']:.1f} mm",
         ]
     e = result["emissivity"]
-    lines.append(f"  LWIR emissivity       {e['area_weighted']:.3f} area-weighted (paper 0.68 = unweighted mean of "
-                 "its component list)")
+    lines.append(
+        f"  LWIR emissivity       {e['area_weighted']:.3f} area-weighted (paper 0.68 = unweighted mean of "
+        "its component list)"
+    )
     lines += [f"  warning: {w}" for w in result.get("warnings", [])]
     if "export" in result:
         lines.append(f"  exported              {result['export']}")

@@ -8,14 +8,23 @@ import numpy as np
 def add_arguments(parser):
     """Declare the options of ``csuas pathloss``."""
     parser.add_argument("--frequency-ghz", type=float, required=True, help="carrier frequency [GHz], 0.1-100")
-    parser.add_argument("--distance-m", type=float, nargs="+", required=True,
-                        help="horizontal distance(s) drone -> sensor [m]; all solved in one Sionna call")
+    parser.add_argument(
+        "--distance-m",
+        type=float,
+        nargs="+",
+        required=True,
+        help="horizontal distance(s) drone -> sensor [m]; all solved in one Sionna call",
+    )
     parser.add_argument("--tx-height-m", type=float, default=10.0, help="height of the drone's transmitter [m]")
     parser.add_argument("--rx-height-m", type=float, default=10.0, help="height of the RF sensor [m]")
-    parser.add_argument("--ground", default="none",
-                        help="ITU-R P.2040 material of a flat ground (concrete, medium_dry_ground, ...) or none")
-    parser.add_argument("--budget", default="standard",
-                        help="sample budget: draft, standard, reference or sionna_default")
+    parser.add_argument(
+        "--ground",
+        default="none",
+        help="ITU-R P.2040 material of a flat ground (concrete, medium_dry_ground, ...) or none",
+    )
+    parser.add_argument(
+        "--budget", default="standard", help="sample budget: draft, standard, reference or sionna_default"
+    )
     parser.add_argument("--samples", type=int, default=None, help="rays per source (overrides the budget)")
     parser.add_argument("--max-depth", type=int, default=None, help="maximum interactions (overrides the budget)")
 
@@ -33,8 +42,16 @@ def run(args) -> dict:
     from csuas.render.links.two_ray import complex_permittivity, two_ray_path_gain_db
 
     ground = None if str(args.ground).lower() == "none" else args.ground
-    result = rf_path_gain(args.frequency_ghz, args.distance_m, args.tx_height_m, args.rx_height_m, ground=ground,
-                          budget=args.budget, samples=args.samples, max_depth=args.max_depth)
+    result = rf_path_gain(
+        args.frequency_ghz,
+        args.distance_m,
+        args.tx_height_m,
+        args.rx_height_m,
+        ground=ground,
+        budget=args.budget,
+        samples=args.samples,
+        max_depth=args.max_depth,
+    )
     d = np.asarray(args.distance_m, dtype=float)
     slant = result.extra["slant_range_m"]
     out = {
@@ -56,10 +73,12 @@ def run(args) -> dict:
         "variant": result.variant,
     }
     if ground is not None:
-        eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"],
-                                   args.frequency_ghz)
-        out["two_ray_db"] = _listed(two_ray_path_gain_db(args.frequency_ghz, d, args.tx_height_m,
-                                                         args.rx_height_m, eta))
+        eta = complex_permittivity(
+            result.extra["relative_permittivity"], result.extra["conductivity_s_m"], args.frequency_ghz
+        )
+        out["two_ray_db"] = _listed(
+            two_ray_path_gain_db(args.frequency_ghz, d, args.tx_height_m, args.rx_height_m, eta)
+        )
         out["relative_permittivity"] = result.extra["relative_permittivity"]
         out["conductivity_s_m"] = result.extra["conductivity_s_m"]
     return out
@@ -67,17 +86,23 @@ def run(args) -> dict:
 
 def render_text(result: dict) -> str:
     """Table of path gain against Friis (and two-ray) per distance."""
-    as_list = (lambda v: v if isinstance(v, list) else [v])
+    as_list = lambda v: v if isinstance(v, list) else [v]
     ground = result["ground"] or "free space"
-    lines = [f"path gain at {result['frequency_ghz']:g} GHz, drone {result['tx_height_m']:g} m -> sensor "
-             f"{result['rx_height_m']:g} m, {ground}; Sionna RT {result['budget']} budget "
-             f"({result['samples']} rays, depth {result['max_depth']}) on {result['variant']}, "
-             f"{result['time_total_s'] * 1e3:.1f} ms"]
+    lines = [
+        f"path gain at {result['frequency_ghz']:g} GHz, drone {result['tx_height_m']:g} m -> sensor "
+        f"{result['rx_height_m']:g} m, {ground}; Sionna RT {result['budget']} budget "
+        f"({result['samples']} rays, depth {result['max_depth']}) on {result['variant']}, "
+        f"{result['time_total_s'] * 1e3:.1f} ms"
+    ]
     header = f"  {'distance [m]':>12} {'Sionna [dB]':>12} {'Friis [dB]':>11}"
     header += f" {'two-ray [dB]':>13}" if "two_ray_db" in result else ""
     lines.append(header)
-    rows = zip(as_list(result["distance_m"]), as_list(result["path_gain_db"]), as_list(result["friis_db"]),
-               as_list(result.get("two_ray_db", [None] * len(as_list(result["distance_m"])))))
+    rows = zip(
+        as_list(result["distance_m"]),
+        as_list(result["path_gain_db"]),
+        as_list(result["friis_db"]),
+        as_list(result.get("two_ray_db", [None] * len(as_list(result["distance_m"])))),
+    )
     for d, gain, friis, two_ray in rows:
         line = f"  {d:>12g} {gain:>12.3f} {friis:>11.3f}"
         lines.append(line + (f" {two_ray:>13.3f}" if two_ray is not None else ""))

@@ -20,7 +20,7 @@ from csuas.scenario import load_scenario, provenance
 #: Effects a scenario may declare that no range model of the paper reads, with the reason.
 IGNORED_EFFECTS = {
     "night": "no range model of the paper reads illuminance_lx (Table 11): the EO model (Eqs. 18, 21) "
-             "has no light-level term, so night changes no range",
+    "has no light-level term, so night changes no range",
 }
 #: Why Table 39's default radar reaches only tens of metres (shown for radars at the default preset).
 DEFAULT_RADAR_NOTE = (
@@ -28,19 +28,39 @@ DEFAULT_RADAR_NOTE = (
     "13 dB (10 dB hardware + 3 dB processing, a factor 10^(-13/40) = 0.47 on the range): 47 m on the "
     "default 0.01 m^2 target (100 m without the losses, 56 m with neither losses nor integration). The "
     "paper's Section 4.9.3 radar, preset paper_section_4_9 (100 W, 35 dB, 50 MHz, no losses, no "
-    "integration), gives 445.3 m.")
+    "integration), gives 445.3 m."
+)
 
 
 #: Radar parameters whose change makes DEFAULT_RADAR_NOTE's figures wrong.
-RADAR_BUDGET_KEYS = {"p_tx_w", "g_tx_db", "g_rx_db", "wavelength_m", "frequency_ghz", "snr_min_db", "noise_figure_db",
-                     "bandwidth_mhz", "n_pulses", "integration", "l_hardware_db", "l_processing_db", "model"}
+RADAR_BUDGET_KEYS = {
+    "p_tx_w",
+    "g_tx_db",
+    "g_rx_db",
+    "wavelength_m",
+    "frequency_ghz",
+    "snr_min_db",
+    "noise_figure_db",
+    "bandwidth_mhz",
+    "n_pulses",
+    "integration",
+    "l_hardware_db",
+    "l_processing_db",
+    "model",
+}
 
 
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
-    parser.add_argument("scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet)")
-    parser.add_argument("--convention", choices=("paper", "physical"), default=None,
-                        help="override the scenario's convention (docs/conventions.md)")
+    parser.add_argument(
+        "scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet)"
+    )
+    parser.add_argument(
+        "--convention",
+        choices=("paper", "physical"),
+        default=None,
+        help="override the scenario's convention (docs/conventions.md)",
+    )
 
 
 def _scalar(value):
@@ -69,19 +89,26 @@ def run(args) -> dict:
         entry["inputs"] = provenance(spec.modality, spec.params, spec.origin)
         if spec.modality == "radar" and spec.params.get("frequency_ghz") is not None:
             entry["inputs"]["wavelength_m"] = {
-                "value": radar_wavelength_m(spec.params, convention), "unit": "m",
-                "source": "derived from frequency_ghz (c = 3e8 m/s in the paper convention, Section 4.9.3)"}
+                "value": radar_wavelength_m(spec.params, convention),
+                "unit": "m",
+                "source": "derived from frequency_ghz (c = 3e8 m/s in the paper convention, Section 4.9.3)",
+            }
         at_table_39 = spec.preset == "default" and not spec.explicit & RADAR_BUDGET_KEYS
         entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and at_table_39 else []
         sensors[name] = entry
     effects = sorted(scenario.effects)
-    return {"scenario": scenario.name, "convention": convention, "target": scenario.target_preset,
-            "environment": scenario.environment_preset, "effects": effects,
-            "ignored_effects": {e: IGNORED_EFFECTS[e] for e in effects if e in IGNORED_EFFECTS},
-            "warnings": list(scenario.warnings),
-            "target_inputs": provenance("target", scenario.target, scenario.origin["target"]),
-            "environment_inputs": provenance("environment", scenario.environment, scenario.origin["environment"]),
-            "sensors": sensors}
+    return {
+        "scenario": scenario.name,
+        "convention": convention,
+        "target": scenario.target_preset,
+        "environment": scenario.environment_preset,
+        "effects": effects,
+        "ignored_effects": {e: IGNORED_EFFECTS[e] for e in effects if e in IGNORED_EFFECTS},
+        "warnings": list(scenario.warnings),
+        "target_inputs": provenance("target", scenario.target, scenario.origin["target"]),
+        "environment_inputs": provenance("environment", scenario.environment, scenario.origin["environment"]),
+        "sensors": sensors,
+    }
 
 
 def _metres(value) -> str:
@@ -100,23 +127,34 @@ def _value(value) -> str:
 
 def render_text(result: dict) -> str:
     """The ranges, then each sensor's applied terms and the inputs not at their defaults."""
-    lines = [f"scenario {result['scenario']} ({result['convention']} convention), target {result['target']}, "
-             f"environment {result['environment']}, effects: {', '.join(result['effects']) or 'none'}"]
+    lines = [
+        f"scenario {result['scenario']} ({result['convention']} convention), target {result['target']}, "
+        f"environment {result['environment']}, effects: {', '.join(result['effects']) or 'none'}"
+    ]
     lines += [f"  note: {effect} changes nothing: {why}" for effect, why in result["ignored_effects"].items()]
     for name, s in result["sensors"].items():
-        horizontal = (f", horizontal {_metres(s['horizontal_range_m'])}" if "horizontal_range_m" in s else "")
+        horizontal = f", horizontal {_metres(s['horizontal_range_m'])}" if "horizontal_range_m" in s else ""
         lines.append(f"  {name:<12} {s['modality']:<9} {_metres(s['range_m']):>14}{horizontal}   {s['model']}")
         if s.get("reason"):
             lines.append(f"      why: {s['reason']}")
-        lines += [f"      term  {k:<26} {_value(t['value']):>14} {t['unit']:<6} {t['source']}"
-                  for k, t in s["terms"].items()]
-        lines += [f"      input {k:<26} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
-                  for k, i in s["inputs"].items() if not i["source"].startswith("default")]
+        lines += [
+            f"      term  {k:<26} {_value(t['value']):>14} {t['unit']:<6} {t['source']}" for k, t in s["terms"].items()
+        ]
+        lines += [
+            f"      input {k:<26} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
+            for k, i in s["inputs"].items()
+            if not i["source"].startswith("default")
+        ]
         lines += [f"      note: {n}" for n in s["notes"]]
-    given = {**{f"target.{k}": v for k, v in result["target_inputs"].items()},
-             **{f"environment.{k}": v for k, v in result["environment_inputs"].items()}}
-    shown = [f"  input {k:<32} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
-             for k, i in given.items() if not i["source"].startswith("default")]
+    given = {
+        **{f"target.{k}": v for k, v in result["target_inputs"].items()},
+        **{f"environment.{k}": v for k, v in result["environment_inputs"].items()},
+    }
+    shown = [
+        f"  input {k:<32} {_value(i['value']):>14} {i['unit']:<6} {i['source']}"
+        for k, i in given.items()
+        if not i["source"].startswith("default")
+    ]
     if shown:
         lines.append("  target and environment inputs not at their defaults (all of them: --json):")
         lines += shown

@@ -1,4 +1,7 @@
-"""``csuas rcs MESH_OR_PRESET --frequency-ghz F``: radar cross-section by SBR-PO (docs/simulation.md, docs/command-line.md)."""
+"""``csuas rcs MESH_OR_PRESET --frequency-ghz F``: radar cross-section by SBR-PO.
+
+Method: docs/simulation.md; JSON keys: docs/command-line.md.
+"""
 
 from __future__ import annotations
 
@@ -15,40 +18,91 @@ QUALITIES = ("draft", "standard", "reference")
 
 def add_arguments(parser) -> None:
     """Options of ``csuas rcs``."""
-    parser.add_argument("mesh_or_preset", metavar="MESH_OR_PRESET",
-                        help="mesh file trimesh reads (metres) or a drone preset name (e.g. dji_mini_4_pro)")
+    parser.add_argument(
+        "mesh_or_preset",
+        metavar="MESH_OR_PRESET",
+        help="mesh file trimesh reads (metres) or a drone preset name (e.g. dji_mini_4_pro)",
+    )
     parser.add_argument("--frequency-ghz", type=float, required=True, help="radar frequency [GHz]")
-    parser.add_argument("--azimuth-deg", type=float, default=0.0,
-                        help="direction target -> radar, azimuth from +x toward +y [deg] (default 0)")
-    parser.add_argument("--elevation-deg", type=float, default=0.0,
-                        help="direction target -> radar, elevation from the xy-plane [deg] (default 0)")
-    parser.add_argument("--observe-azimuth-deg", type=float, default=None,
-                        help="bistatic: direction target -> receiver, azimuth [deg] (default: monostatic)")
-    parser.add_argument("--observe-elevation-deg", type=float, default=None,
-                        help="bistatic: direction target -> receiver, elevation [deg] (default: monostatic)")
-    parser.add_argument("--material", default=None,
-                        help="one material for all faces: pec, an ITU name (itu_concrete, ...) or a drone material "
-                             "(plastic, carbon_fibre, ...); default: a preset's part materials, PEC for a mesh file")
-    parser.add_argument("--shell-thickness-mm", type=float, default=None,
-                        help="dielectric materials are thin shells of this wall thickness [mm] (0: half-spaces); "
-                             "default: 2 mm for a preset's plastic parts, half-spaces otherwise")
-    parser.add_argument("--quality", choices=QUALITIES, default="standard",
-                        help="preset of rays per wavelength / bounces: draft 4/3, standard 10/5, reference 20/8")
-    parser.add_argument("--rays-per-wavelength", type=float, default=None,
-                        help="tube density N >= 1 (tube spacing lambda/N); overrides --quality")
+    parser.add_argument(
+        "--azimuth-deg",
+        type=float,
+        default=0.0,
+        help="direction target -> radar, azimuth from +x toward +y [deg] (default 0)",
+    )
+    parser.add_argument(
+        "--elevation-deg",
+        type=float,
+        default=0.0,
+        help="direction target -> radar, elevation from the xy-plane [deg] (default 0)",
+    )
+    parser.add_argument(
+        "--observe-azimuth-deg",
+        type=float,
+        default=None,
+        help="bistatic: direction target -> receiver, azimuth [deg] (default: monostatic)",
+    )
+    parser.add_argument(
+        "--observe-elevation-deg",
+        type=float,
+        default=None,
+        help="bistatic: direction target -> receiver, elevation [deg] (default: monostatic)",
+    )
+    parser.add_argument(
+        "--material",
+        default=None,
+        help="one material for all faces: pec, an ITU name (itu_concrete, ...) or a drone material "
+        "(plastic, carbon_fibre, ...); default: a preset's part materials, PEC for a mesh file",
+    )
+    parser.add_argument(
+        "--shell-thickness-mm",
+        type=float,
+        default=None,
+        help="dielectric materials are thin shells of this wall thickness [mm] (0: half-spaces); "
+        "default: 2 mm for a preset's plastic parts, half-spaces otherwise",
+    )
+    parser.add_argument(
+        "--quality",
+        choices=QUALITIES,
+        default="standard",
+        help="preset of rays per wavelength / bounces: draft 4/3, standard 10/5, reference 20/8",
+    )
+    parser.add_argument(
+        "--rays-per-wavelength",
+        type=float,
+        default=None,
+        help="tube density N >= 1 (tube spacing lambda/N); overrides --quality",
+    )
     parser.add_argument("--max-bounces", type=int, default=None, help="maximum reflections per tube (>= 1)")
-    parser.add_argument("--polarisation", choices=("VV", "HH", "HV", "VH"), default="VV",
-                        help="polarisation of rcs_m2 (receive, transmit); all four are reported")
-    parser.add_argument("--no-error-estimate", action="store_true",
-                        help="skip the half-density run that estimates the discretisation error (saves ~20 %%)")
-    parser.add_argument("--sphere-average", action="store_true",
-                        help="also the sphere-averaged RCS of Eq. 6 (cos-weighted, 36 x 12 aspects; "
-                             "cost grows with f^2, use --quality draft above ~20 GHz on a CPU)")
-    parser.add_argument("--max-tubes", type=float, default=1e9,
-                        help="refuse work estimated above this many tubes in all (default 1e9, a few minutes "
-                             "on 2 CPU cores)")
-    parser.add_argument("--plot", metavar="PNG", default=None,
-                        help="write a polar plot of RCS vs azimuth (2 deg steps) at the given elevation")
+    parser.add_argument(
+        "--polarisation",
+        choices=("VV", "HH", "HV", "VH"),
+        default="VV",
+        help="polarisation of rcs_m2 (receive, transmit); all four are reported",
+    )
+    parser.add_argument(
+        "--no-error-estimate",
+        action="store_true",
+        help="skip the half-density run that estimates the discretisation error (saves ~20 %%)",
+    )
+    parser.add_argument(
+        "--sphere-average",
+        action="store_true",
+        help="also the sphere-averaged RCS of Eq. 6 (cos-weighted, 36 x 12 aspects; "
+        "cost grows with f^2, use --quality draft above ~20 GHz on a CPU)",
+    )
+    parser.add_argument(
+        "--max-tubes",
+        type=float,
+        default=1e9,
+        help="refuse work estimated above this many tubes in all (default 1e9, a few minutes on 2 CPU cores)",
+    )
+    parser.add_argument(
+        "--plot",
+        metavar="PNG",
+        default=None,
+        help="write a polar plot of RCS vs azimuth (2 deg steps) at the given elevation",
+    )
 
 
 def run(args) -> dict:
@@ -61,10 +115,18 @@ def run(args) -> dict:
     shell = None if args.shell_thickness_mm is None else args.shell_thickness_mm / 1000.0
     engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
     cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
-    res = compute_rcs(engine, args.frequency_ghz, args.azimuth_deg, args.elevation_deg, quality=args.quality,
-                      rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces,
-                      error_estimate=not args.no_error_estimate, observe_azimuth_deg=args.observe_azimuth_deg,
-                      observe_elevation_deg=args.observe_elevation_deg)
+    res = compute_rcs(
+        engine,
+        args.frequency_ghz,
+        args.azimuth_deg,
+        args.elevation_deg,
+        quality=args.quality,
+        rays_per_wavelength=args.rays_per_wavelength,
+        max_bounces=args.max_bounces,
+        error_estimate=not args.no_error_estimate,
+        observe_azimuth_deg=args.observe_azimuth_deg,
+        observe_elevation_deg=args.observe_elevation_deg,
+    )
     bistatic = args.observe_azimuth_deg is not None
     pol = args.polarisation
     sigma = float(res.rcs_m2(pol).ravel()[0])
@@ -94,35 +156,59 @@ def run(args) -> dict:
         "rays": res.tubes,
         "rays_per_wavelength": res.rays_per_wavelength,
         "max_bounces": res.max_bounces,
-        "bounces": {"exits_by_bounce": res.exits_by_bounce.tolist(),
-                    "max_reached": int(np.flatnonzero(res.exits_by_bounce)[-1]) if res.exits_by_bounce.any() else 0},
+        "bounces": {
+            "exits_by_bounce": res.exits_by_bounce.tolist(),
+            "max_reached": int(np.flatnonzero(res.exits_by_bounce)[-1]) if res.exits_by_bounce.any() else 0,
+        },
         "ray_casts": res.ray_casts,
         "rays_x_bounces_per_s": res.rays_x_bounces_per_s,
         "materials": res.materials,
         "shell_thickness_m": {m.name: m.thickness_m for m in target.materials},
-        "mesh": {"faces": int(len(target.faces)), "dropped_degenerate_faces": target.dropped_faces,
-                 "bounding_radius_m": target.bounding_radius_m},
+        "mesh": {
+            "faces": int(len(target.faces)),
+            "dropped_degenerate_faces": target.dropped_faces,
+            "bounding_radius_m": target.bounding_radius_m,
+        },
         "variant": res.variant,
         "method": "SBR-PO (Ling, Chou & Lee 1989) with per-tube footprint sinc factors (Bhalla & Ling 1995)",
     }
     if args.sphere_average:
         from csuas.render.rcs.sweep import sphere_average
 
-        avg = sphere_average(engine, args.frequency_ghz, n_azimuth=36, n_elevation=12, polarisation=pol,
-                             quality=args.quality,
-                             rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces)
-        out["sphere_average"] = {k: (v.tolist()[0] if isinstance(v, np.ndarray) and v.size == 1 else v)
-                                 for k, v in avg.items()}
+        avg = sphere_average(
+            engine,
+            args.frequency_ghz,
+            n_azimuth=36,
+            n_elevation=12,
+            polarisation=pol,
+            quality=args.quality,
+            rays_per_wavelength=args.rays_per_wavelength,
+            max_bounces=args.max_bounces,
+        )
+        out["sphere_average"] = {
+            k: (v.tolist()[0] if isinstance(v, np.ndarray) and v.size == 1 else v) for k, v in avg.items()
+        }
     if args.plot:
         from csuas.render.rcs.sweep import aspect_sweep, plot_polar
 
         azimuth = np.arange(0.0, 360.0, 2.0)
-        cut = aspect_sweep(engine, args.frequency_ghz, azimuth, args.elevation_deg, quality=args.quality,
-                           rays_per_wavelength=args.rays_per_wavelength, max_bounces=args.max_bounces,
-                           error_estimate=False)
-        plot_polar(azimuth, {p: v[0] for p, v in cut["rcs_dbsm"].items()}, args.plot,
-                   title=f"{args.mesh_or_preset}: RCS [dBsm] at {args.frequency_ghz:g} GHz, "
-                         f"elevation {args.elevation_deg:g} deg")
+        cut = aspect_sweep(
+            engine,
+            args.frequency_ghz,
+            azimuth,
+            args.elevation_deg,
+            quality=args.quality,
+            rays_per_wavelength=args.rays_per_wavelength,
+            max_bounces=args.max_bounces,
+            error_estimate=False,
+        )
+        plot_polar(
+            azimuth,
+            {p: v[0] for p, v in cut["rcs_dbsm"].items()},
+            args.plot,
+            title=f"{args.mesh_or_preset}: RCS [dBsm] at {args.frequency_ghz:g} GHz, "
+            f"elevation {args.elevation_deg:g} deg",
+        )
         out["plot"] = args.plot
     out["time_s"] = time.perf_counter() - start
     out["sbr_time_s"] = res.time_s
@@ -147,8 +233,7 @@ def _validate(args) -> None:
     for option, value in (("azimuth_deg", args.azimuth_deg), ("observe_azimuth_deg", args.observe_azimuth_deg)):
         if value is not None and not (-360.0 <= value <= 360.0):
             errors.append(ParameterError(option, value, "-360 to 360 [deg]"))
-    for option, value in (("elevation_deg", args.elevation_deg),
-                          ("observe_elevation_deg", args.observe_elevation_deg)):
+    for option, value in (("elevation_deg", args.elevation_deg), ("observe_elevation_deg", args.observe_elevation_deg)):
         if value is not None and not (-90.0 <= value <= 90.0):
             errors.append(ParameterError(option, value, "-90 to 90 [deg]"))
     if args.shell_thickness_mm is not None and not (0.0 < args.shell_thickness_mm < 1000.0):
@@ -166,16 +251,25 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
     runs = 1.0 if args.no_error_estimate else 1.25  # the error estimate adds a half-density run
     aspects = 1 + (36 * 12 if args.sphere_average else 0) + (180 if args.plot else 0)
     tubes = per_aspect * runs * aspects
-    cost = {"tubes": tubes, "tubes_per_aspect": per_aspect, "aspects": aspects,
-            "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces)}
+    cost = {
+        "tubes": tubes,
+        "tubes_per_aspect": per_aspect,
+        "aspects": aspects,
+        "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces),
+    }
     if tubes > args.max_tubes:
-        raise ParameterError("max_tubes", args.max_tubes,
-                             f"at least the estimated {tubes:.3g} tubes (about {cost['seconds_2_cpu_cores'] / 60:.0f} "
-                             f"min on 2 CPU cores) for this target, frequency and --rays-per-wavelength "
-                             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density")
+        raise ParameterError(
+            "max_tubes",
+            args.max_tubes,
+            f"at least the estimated {tubes:.3g} tubes (about {cost['seconds_2_cpu_cores'] / 60:.0f} "
+            f"min on 2 CPU cores) for this target, frequency and --rays-per-wavelength "
+            f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
+        )
     if cost["seconds_2_cpu_cores"] > 10.0:
-        print(f"csuas rcs: about {tubes:.3g} tubes, roughly {cost['seconds_2_cpu_cores']:.0f} s on 2 CPU cores",
-              file=sys.stderr)
+        print(
+            f"csuas rcs: about {tubes:.3g} tubes, roughly {cost['seconds_2_cpu_cores']:.0f} s on 2 CPU cores",
+            file=sys.stderr,
+        )
     return cost
 
 
@@ -183,18 +277,26 @@ def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bound
     """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity."""
     warnings = []
     if sigma_m2 <= 0.0:
-        warnings.append("no tube returned any field toward the receiver: the RCS is below what this tube grid "
-                        "resolves, not zero; raise --rays-per-wavelength")
+        warnings.append(
+            "no tube returned any field toward the receiver: the RCS is below what this tube grid "
+            "resolves, not zero; raise --rays-per-wavelength"
+        )
     if tubes < MIN_TUBES:
-        warnings.append(f"only {tubes} tubes cover the target: the grid is too coarse for a meaningful figure "
-                        f"or error estimate; raise --rays-per-wavelength")
+        warnings.append(
+            f"only {tubes} tubes cover the target: the grid is too coarse for a meaningful figure "
+            f"or error estimate; raise --rays-per-wavelength"
+        )
     ka = 2.0 * math.pi * frequency_ghz * 1e9 / 299_792_458.0 * bounding_radius_m
     if ka < KA_VALIDITY:
-        warnings.append(f"ka = {ka:.3g} < {KA_VALIDITY:g}: SBR-PO has no edge diffraction or creeping waves, "
-                        f"so below ka of about 5 the figure is indicative only")
+        warnings.append(
+            f"ka = {ka:.3g} < {KA_VALIDITY:g}: SBR-PO has no edge diffraction or creeping waves, "
+            f"so below ka of about 5 the figure is indicative only"
+        )
     if error_db is not None and not (math.isfinite(error_db) and error_db <= UNRELIABLE_ERROR_DB):
-        warnings.append(f"the error estimate ({error_db:.3g} dB) failed: the half-density run resolves the target "
-                        f"too poorly; error_db is withheld")
+        warnings.append(
+            f"the error estimate ({error_db:.3g} dB) failed: the half-density run resolves the target "
+            f"too poorly; error_db is withheld"
+        )
     return warnings
 
 
@@ -205,24 +307,34 @@ def _dbsm(sigma_m2: float):
 
 def render_text(result: dict) -> str:
     """Human-readable summary of ``csuas rcs``."""
-    where = "" if result["geometry"] == "monostatic" else (
-        f", receiver at azimuth {result['observe_azimuth_deg']:g} deg, "
-        f"elevation {result['observe_elevation_deg']:g} deg")
-    lines = [f"{result['geometry'].capitalize()} RCS of {result['target']} at {result['frequency_ghz']:g} GHz, "
-             f"azimuth {result['azimuth_deg']:g} deg, elevation {result['elevation_deg']:g} deg{where} "
-             f"({result['polarisation']}):",
-             f"  {result['rcs_m2']:.4g} m^2"
-             + ("" if result["rcs_dbsm"] is None else f" = {result['rcs_dbsm']:.2f} dBsm")
-             + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
-             "  " + "  ".join(f"{p} {'-' if v is None else f'{v:.2f}'}"
-                              for p, v in result["rcs_dbsm_by_polarisation"].items()) + " dBsm",
-             f"  {result['rays']} tubes at {result['rays_per_wavelength']:g} per wavelength, "
-             f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
-             f"(a first launch includes kernel compilation), {result['time_s']:.2f} s"]
+    where = (
+        ""
+        if result["geometry"] == "monostatic"
+        else (
+            f", receiver at azimuth {result['observe_azimuth_deg']:g} deg, "
+            f"elevation {result['observe_elevation_deg']:g} deg"
+        )
+    )
+    lines = [
+        f"{result['geometry'].capitalize()} RCS of {result['target']} at {result['frequency_ghz']:g} GHz, "
+        f"azimuth {result['azimuth_deg']:g} deg, elevation {result['elevation_deg']:g} deg{where} "
+        f"({result['polarisation']}):",
+        f"  {result['rcs_m2']:.4g} m^2"
+        + ("" if result["rcs_dbsm"] is None else f" = {result['rcs_dbsm']:.2f} dBsm")
+        + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
+        "  "
+        + "  ".join(f"{p} {'-' if v is None else f'{v:.2f}'}" for p, v in result["rcs_dbsm_by_polarisation"].items())
+        + " dBsm",
+        f"  {result['rays']} tubes at {result['rays_per_wavelength']:g} per wavelength, "
+        f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
+        f"(a first launch includes kernel compilation), {result['time_s']:.2f} s",
+    ]
     if "sphere_average" in result:
         avg = result["sphere_average"]
-        lines.append(f"  sphere average (Eq. 6): {avg['mean_m2']:.4g} m^2 = {avg['mean_dbsm']:.2f} dBsm "
-                     f"(quadrature error {100 * avg['quadrature_error_rel']:.1f} %)")
+        lines.append(
+            f"  sphere average (Eq. 6): {avg['mean_m2']:.4g} m^2 = {avg['mean_dbsm']:.2f} dBsm "
+            f"(quadrature error {100 * avg['quadrature_error_rel']:.1f} %)"
+        )
     if "plot" in result:
         lines.append(f"  polar plot: {result['plot']}")
     lines.extend(f"  warning: {w}" for w in result["warnings"])

@@ -1,4 +1,6 @@
-"""``csuas render eo|tir SCENARIO --range-m R...``: synthetic images and their figures (docs/simulation.md, docs/command-line.md).
+"""``csuas render eo|tir|lidar SCENARIO --range-m R...``: synthetic images and their figures.
+
+Method: docs/simulation.md; JSON keys: docs/command-line.md.
 
 Modality dispatch: :data:`MODES` maps a mode name to ``"module:function"``
 of a render mode (contract in :mod:`csuas.render.imaging.modes`), imported
@@ -28,20 +30,42 @@ def add_arguments(parser) -> None:
     parser.add_argument("mode", choices=tuple(MODES), help="what to render: " + ", ".join(MODES))
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario TOML file or embedded scenario name")
     parser.add_argument("--range-m", type=float, nargs="+", required=True, metavar="R", help="slant ranges [m]")
-    parser.add_argument("--quality", choices=QUALITIES, default="standard",
-                        help="eo/tir: samples per pixel draft 32, standard 128, reference 2048; lidar: ray grid "
-                             "draft 48^2x4, standard 128^2x8, reference 384^2x16 (default standard)")
-    parser.add_argument("--azimuth-deg", type=float, nargs="+", default=[0.0], metavar="AZ",
-                        help="directions target -> sensor, azimuth from +x toward +y [deg] (default 0); every "
-                             "range is rendered at every azimuth and elevation")
-    parser.add_argument("--elevation-deg", type=float, nargs="+", default=[0.0], metavar="EL",
-                        help="directions target -> sensor, elevation from the xy-plane [deg] (default 0)")
-    parser.add_argument("--auto-exposure", action="store_true",
-                        help="eo previews: brightest pixel white (default: a camera set for clear daylight, "
-                             "so night looks dark)")
+    parser.add_argument(
+        "--quality",
+        choices=QUALITIES,
+        default="standard",
+        help="eo/tir: samples per pixel draft 32, standard 128, reference 2048; lidar: ray grid "
+        "draft 48^2x4, standard 128^2x8, reference 384^2x16 (default standard)",
+    )
+    parser.add_argument(
+        "--azimuth-deg",
+        type=float,
+        nargs="+",
+        default=[0.0],
+        metavar="AZ",
+        help="directions target -> sensor, azimuth from +x toward +y [deg] (default 0); every "
+        "range is rendered at every azimuth and elevation",
+    )
+    parser.add_argument(
+        "--elevation-deg",
+        type=float,
+        nargs="+",
+        default=[0.0],
+        metavar="EL",
+        help="directions target -> sensor, elevation from the xy-plane [deg] (default 0)",
+    )
+    parser.add_argument(
+        "--auto-exposure",
+        action="store_true",
+        help="eo previews: brightest pixel white (default: a camera set for clear daylight, so night looks dark)",
+    )
     parser.add_argument("--sensor", default=None, help="sensor name in the scenario (default: the first of the mode)")
-    parser.add_argument("--atmosphere", choices=("auto", "on", "off"), default="auto",
-                        help="path transmittance and airlight/path radiance: auto = only with haze or fog")
+    parser.add_argument(
+        "--atmosphere",
+        choices=("auto", "on", "off"),
+        default="auto",
+        help="path transmittance and airlight/path radiance: auto = only with haze or fog",
+    )
     parser.add_argument("--seed", type=int, default=0, help="random seed (deterministic results)")
     parser.add_argument("--out", metavar="DIR", default=None, help="write EXR and PNG per range into DIR")
     parser.add_argument("--quiet", action="store_true", help="no progress on standard error")
@@ -60,10 +84,11 @@ def run(args) -> dict:
     from csuas.scenario import load_scenario
 
     start = time.perf_counter()
-    errors = [ParameterError("range_m", r, "finite and > 0 [m]") for r in args.range_m
-              if not (0 < r < float("inf"))]
-    for option, values, low, high in (("azimuth_deg", args.azimuth_deg, -360.0, 360.0),
-                                      ("elevation_deg", args.elevation_deg, -90.0, 90.0)):
+    errors = [ParameterError("range_m", r, "finite and > 0 [m]") for r in args.range_m if not (0 < r < float("inf"))]
+    for option, values, low, high in (
+        ("azimuth_deg", args.azimuth_deg, -360.0, 360.0),
+        ("elevation_deg", args.elevation_deg, -90.0, 90.0),
+    ):
         errors += [ParameterError(option, v, f"{low:g} to {high:g} [deg]") for v in values if not (low <= v <= high)]
     if not (0 <= args.seed < 2**32):
         errors.append(ParameterError("seed", args.seed, "an integer from 0 to 2^32 - 1"))
@@ -77,12 +102,27 @@ def run(args) -> dict:
     options = {"exposure": "auto" if args.auto_exposure else "scene"} if args.mode == "eo" else {}
     results = []
     for azimuth, elevation in directions:
-        rows = mode(scenario, ranges_m=list(args.range_m), quality=args.quality, azimuth_deg=azimuth,
-                    elevation_deg=elevation, out_dir=args.out, seed=args.seed, sensor=args.sensor,
-                    atmosphere=args.atmosphere, progress=None if args.quiet else sys.stderr, **options)
+        rows = mode(
+            scenario,
+            ranges_m=list(args.range_m),
+            quality=args.quality,
+            azimuth_deg=azimuth,
+            elevation_deg=elevation,
+            out_dir=args.out,
+            seed=args.seed,
+            sensor=args.sensor,
+            atmosphere=args.atmosphere,
+            progress=None if args.quiet else sys.stderr,
+            **options,
+        )
         results += [{**row, "azimuth_deg": azimuth, "elevation_deg": elevation} for row in rows]
-    return {"mode": args.mode, "scenario": scenario.name, "quality": args.quality, "results": results,
-            "time_s": time.perf_counter() - start}
+    return {
+        "mode": args.mode,
+        "scenario": scenario.name,
+        "quality": args.quality,
+        "results": results,
+        "time_s": time.perf_counter() - start,
+    }
 
 
 def _refuse_colliding_names(ranges_m, directions) -> None:
@@ -92,13 +132,21 @@ def _refuse_colliding_names(ranges_m, directions) -> None:
     labels = [coordinates_label(r, az, el) for r in ranges_m for az, el in directions]
     repeated = sorted({label for label in labels if labels.count(label) > 1})
     if repeated:
-        raise ParameterError("range_m/azimuth_deg/elevation_deg", ", ".join(repeated),
-                             "distinct coordinates (to 6 significant digits): each render has its own files")
+        raise ParameterError(
+            "range_m/azimuth_deg/elevation_deg",
+            ", ".join(repeated),
+            "distinct coordinates (to 6 significant digits): each render has its own files",
+        )
 
 
 #: Headline figures of the text output (name, label, unit), shown when a mode's rows carry them.
-HEADLINE = (("pixels_on_target", "pixels on target", "px"), ("pixels_across_dcrit", "across d_crit", "px"),
-            ("contrast", "contrast", ""), ("delta_t_k", "Delta T", "K"), ("lcs_m2", "LCS", "m^2"))
+HEADLINE = (
+    ("pixels_on_target", "pixels on target", "px"),
+    ("pixels_across_dcrit", "across d_crit", "px"),
+    ("contrast", "contrast", ""),
+    ("delta_t_k", "Delta T", "K"),
+    ("lcs_m2", "LCS", "m^2"),
+)
 
 
 def render_text(result: dict) -> str:
@@ -113,8 +161,10 @@ def render_text(result: dict) -> str:
             err = se.get(key) if isinstance(se, dict) else (se if key == "lcs_m2" else None)
             text = f"{label} {row[key]:.4g}" + (f" ± {err:.2g}" if err is not None else "")
             parts.append(text + (f" {unit}" if unit else ""))
-        lines.append(f"  R = {row['range_m']:g} m, azimuth {row['azimuth_deg']:g} deg, elevation "
-                     f"{row['elevation_deg']:g} deg: " + ", ".join(parts) + f" ({row['time_s']:.1f} s)")
+        lines.append(
+            f"  R = {row['range_m']:g} m, azimuth {row['azimuth_deg']:g} deg, elevation "
+            f"{row['elevation_deg']:g} deg: " + ", ".join(parts) + f" ({row['time_s']:.1f} s)"
+        )
         lines.extend(f"    file: {f}" for f in row.get("files", []))
         lines.extend(f"    note: {n}" for n in row.get("notes", []))
     return "\n".join(lines)

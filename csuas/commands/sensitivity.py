@@ -4,25 +4,41 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from csuas.base.errors import ParameterError
 from csuas.core.sensitivity import one_at_a_time, platform_comparison
 from csuas.defaults import default_values, load_presets, load_sensitivity
-from csuas.base.errors import ParameterError
 
 ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
 
 
 def add_arguments(parser):
     """Declare the options of ``csuas sensitivity``."""
-    parser.add_argument("--analysis", choices=ANALYSES + ("platforms", "all"), default="all",
-                        help="which analysis of Section 4.9 (default: all)")
+    parser.add_argument(
+        "--analysis",
+        choices=ANALYSES + ("platforms", "all"),
+        default="all",
+        help="which analysis of Section 4.9 (default: all)",
+    )
     parser.add_argument("--out", default=None, help="folder for the tornado plots (PNG); none written without it")
-    parser.add_argument("--scenario", default=None,
-                        help="analyse a sensor of this scenario instead of Section 4.9's models (needs --sensor, --vary)")
+    parser.add_argument(
+        "--scenario",
+        default=None,
+        help="analyse a sensor of this scenario instead of Section 4.9's models (needs --sensor, --vary)",
+    )
     parser.add_argument("--sensor", default=None, help="with --scenario: the sensor's key in the scenario")
-    parser.add_argument("--vary", nargs="+", default=[], metavar="KEY=LOW:HIGH",
-                        help="with --scenario: e.g. target.d_crit_m=0.08:0.12 sensor.hfov_deg=1:20 environment.rain_rate_mm_h=0:30")
-    parser.add_argument("--convention", choices=("paper", "physical"), default=None,
-                        help="with --scenario: override the scenario's convention")
+    parser.add_argument(
+        "--vary",
+        nargs="+",
+        default=[],
+        metavar="KEY=LOW:HIGH",
+        help="with --scenario: e.g. target.d_crit_m=0.08:0.12 sensor.hfov_deg=1:20 environment.rain_rate_mm_h=0:30",
+    )
+    parser.add_argument(
+        "--convention",
+        choices=("paper", "physical"),
+        default=None,
+        help="with --scenario: override the scenario's convention",
+    )
 
 
 def _defaults(analysis: str) -> dict:
@@ -42,8 +58,10 @@ def platforms() -> dict:
     radar = {k: v for k, v in _defaults("radar").items() if k != "sigma_radar_m2"}
     acoustic = {k: v for k, v in _defaults("acoustic_calm").items() if k != "sl_db"}
     computed = platform_comparison(targets, eo, acoustic, radar)
-    return {name: {"computed_m": ranges, "paper_m": load_sensitivity()["platforms"][name]["paper"]}
-            for name, ranges in computed.items()}
+    return {
+        name: {"computed_m": ranges, "paper_m": load_sensitivity()["platforms"][name]["paper"]}
+        for name, ranges in computed.items()
+    }
 
 
 def _parse_variations(items) -> dict:
@@ -72,12 +90,18 @@ def _scenario_analysis(args) -> dict:
         sensor = next(iter(scenario.sensors))
     baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
     title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
-    entry = {"title": title, "source": "one-at-a-time, Section 4.9 method", "baseline_m": baseline,
-             "bars": [b.as_dict() for b in bars]}
+    entry = {
+        "title": title,
+        "source": "one-at-a-time, Section 4.9 method",
+        "baseline_m": baseline,
+        "bars": [b.as_dict() for b in bars],
+    }
     if args.out:
         from csuas.base.plots import tornado_plot
 
-        entry["plot"] = str(tornado_plot(Path(args.out) / f"tornado_{scenario.name}_{sensor}.png", title, baseline, bars))
+        entry["plot"] = str(
+            tornado_plot(Path(args.out) / f"tornado_{scenario.name}_{sensor}.png", title, baseline, bars)
+        )
     return {"analyses": {f"{scenario.name}.{sensor}": entry}}
 
 
@@ -90,15 +114,19 @@ def run(args) -> dict:
     for name in chosen:
         spec = load_sensitivity()[name]
         baseline, bars = one_at_a_time(spec["model"], spec["parameters"], spec.get("fixed"))
-        entry = {"title": spec["title"], "source": spec["source"], "baseline_m": baseline,
-                 "paper_baseline_m": spec["baseline_m"], "bars": [b.as_dict() for b in bars],
-                 "paper_quoted": spec.get("paper", {})}
+        entry = {
+            "title": spec["title"],
+            "source": spec["source"],
+            "baseline_m": baseline,
+            "paper_baseline_m": spec["baseline_m"],
+            "bars": [b.as_dict() for b in bars],
+            "paper_quoted": spec.get("paper", {}),
+        }
         if args.out:
             from csuas.base.plots import tornado_plot
 
             path = Path(args.out) / f"tornado_{name}.png"
-            tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars,
-                         log_scale=name != "radar")
+            tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars, log_scale=name != "radar")
             entry["plot"] = str(path)
         result["analyses"][name] = entry
     if args.analysis in ("platforms", "all"):
@@ -109,15 +137,19 @@ def run(args) -> dict:
 def render_text(result: dict) -> str:
     """Tornado tables and the platform comparison."""
     lines = []
-    for name, a in result["analyses"].items():
+    for a in result["analyses"].values():
         paper = f" (paper {a['paper_baseline_m']} m)" if "paper_baseline_m" in a else ""
         lines.append(f"{a['title']} ({a['source']}): baseline {a['baseline_m']:.1f} m{paper}")
         for b in a["bars"]:
-            lines.append(f"  {b['parameter']:<22} {b['low']:>9g} -> {b['range_at_low_m']:>9.1f} m   "
-                         f"{b['high']:>9g} -> {b['range_at_high_m']:>9.1f} m   span {b['span_m']:.1f} m")
+            lines.append(
+                f"  {b['parameter']:<22} {b['low']:>9g} -> {b['range_at_low_m']:>9.1f} m   "
+                f"{b['high']:>9g} -> {b['range_at_high_m']:>9.1f} m   span {b['span_m']:.1f} m"
+            )
         if "plot" in a:
             lines.append(f"  plot: {a['plot']}")
     for name, p in result.get("platforms", {}).items():
-        lines.append(f"Table 52 {name}: " + ", ".join(
-            f"{k} {v:.1f} m (paper {p['paper_m'][k]})" for k, v in p["computed_m"].items()))
+        lines.append(
+            f"Table 52 {name}: "
+            + ", ".join(f"{k} {v:.1f} m (paper {p['paper_m'][k]})" for k, v in p["computed_m"].items())
+        )
     return "\n".join(lines)

@@ -16,8 +16,16 @@ from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.scene import target_parts
 
 
-def bench_window_vs_full_frame(target="dji_mini_4_pro", *, range_m: float = 1000.0, hfov_deg: float = 10.0,
-                               n_h: int = 1920, n_v: int = 1080, quality="draft", seed: int = 0) -> dict:
+def bench_window_vs_full_frame(
+    target="dji_mini_4_pro",
+    *,
+    range_m: float = 1000.0,
+    hfov_deg: float = 10.0,
+    n_h: int = 1920,
+    n_v: int = 1080,
+    quality="draft",
+    seed: int = 0,
+) -> dict:
     """Time and pixels-on-target of the window and of the full frame.
 
     Returns
@@ -37,10 +45,18 @@ def bench_window_vs_full_frame(target="dji_mini_4_pro", *, range_m: float = 1000
     pw, pf = window.values["pixels_on_target"], full.values["pixels_on_target"]
     sw, sf = window.stderr["pixels_on_target"], full.stderr["pixels_on_target"]
     combined = math.hypot(sw, sf)
-    return {"range_m": range_m, "sensor_px": [n_h, n_v], "samples_per_pixel": q.spp,
-            "window_px": window.window.n_pixels, "full_frame_px": full.window.n_pixels,
-            "window_time_s": window.time_s, "full_frame_time_s": full.time_s,
-            "time_ratio": window.time_s / full.time_s,
-            "pixels_on_target_window": pw, "pixels_on_target_window_stderr": sw,
-            "pixels_on_target_full_frame": pf, "pixels_on_target_full_frame_stderr": sf,
-            "difference_sigma": abs(pw - pf) / combined if combined > 0 else (0.0 if pw == pf else math.inf)}
+    return {
+        "range_m": range_m,
+        "sensor_px": [n_h, n_v],
+        "samples_per_pixel": q.spp,
+        "window_px": window.window.n_pixels,
+        "full_frame_px": full.window.n_pixels,
+        "window_time_s": window.time_s,
+        "full_frame_time_s": full.time_s,
+        "time_ratio": window.time_s / full.time_s,
+        "pixels_on_target_window": pw,
+        "pixels_on_target_window_stderr": sw,
+        "pixels_on_target_full_frame": pf,
+        "pixels_on_target_full_frame_stderr": sf,
+        "difference_sigma": abs(pw - pf) / combined if combined > 0 else (0.0 if pw == pf else math.inf),
+    }

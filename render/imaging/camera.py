@@ -43,7 +43,7 @@ class SensorGeometry:
     n_v: int
 
     @classmethod
-    def from_fov(cls, hfov_deg: float, n_h: int, n_v: int) -> "SensorGeometry":
+    def from_fov(cls, hfov_deg: float, n_h: int, n_v: int) -> SensorGeometry:
         """Sensor with IFOV = HFOV / N_H (Eq. 15)."""
         if not (math.isfinite(hfov_deg) and 0.0 < hfov_deg < 180.0):
             raise ParameterError("hfov_deg", hfov_deg, "0 < x < 180")

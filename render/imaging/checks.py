@@ -28,27 +28,62 @@ DEFAULT_PRESET = "dji_mini_4_pro"
 
 
 def _extra(result, key: str, **more) -> dict:
-    return {"stderr": result.stderr.get(key, 0.0), "time_s": result.time_s, "quality": result.quality.name,
-            "samples": result.samples, **more}
+    return {
+        "stderr": result.stderr.get(key, 0.0),
+        "time_s": result.time_s,
+        "quality": result.quality.name,
+        "samples": result.samples,
+        **more,
+    }
 
 
 def _thermal_checks(q, seed) -> list:
     out = []
     for band in ("lwir", "mwir"):
-        res = render_tir(plate(emissivity=0.68, temperature_k=288.15), range_m=100.0, band=band, t_bg_k=298.15,
-                         emissivity_bg=0.77, surroundings_k=None, linear_reference=(0.68, 288.15), quality=q, seed=seed)
-        oracle = float(radiance_temperature(0.77 * band_radiance(298.15, band), band)
-                       - radiance_temperature(0.68 * band_radiance(288.15, band), band))
-        out.append(Check(f"render.tir.delta_t.graybody_plate.{band}", oracle, -res.values["delta_t_k"], "K",
-                         "docs/validation.md thermal IR radiometry (band Planck, no reflected surroundings)",
-                         f"Mitsuba area emitters eps L_band(T) on a 1 m plate, {band.upper()} radiance temperatures",
-                         abs_tol=0.01, extra=_extra(res, "delta_t_k")))
+        res = render_tir(
+            plate(emissivity=0.68, temperature_k=288.15),
+            range_m=100.0,
+            band=band,
+            t_bg_k=298.15,
+            emissivity_bg=0.77,
+            surroundings_k=None,
+            linear_reference=(0.68, 288.15),
+            quality=q,
+            seed=seed,
+        )
+        oracle = float(
+            radiance_temperature(0.77 * band_radiance(298.15, band), band)
+            - radiance_temperature(0.68 * band_radiance(288.15, band), band)
+        )
+        out.append(
+            Check(
+                f"render.tir.delta_t.graybody_plate.{band}",
+                oracle,
+                -res.values["delta_t_k"],
+                "K",
+                "docs/validation.md thermal IR radiometry (band Planck, no reflected surroundings)",
+                f"Mitsuba area emitters eps L_band(T) on a 1 m plate, {band.upper()} radiance temperatures",
+                abs_tol=0.01,
+                extra=_extra(res, "delta_t_k"),
+            )
+        )
         linear = -float(delta_t_linear(0.68, 288.15, 0.77, 298.15))
-        out.append(Check(f"Eq26.delta_t_linear_vs_rendered.{band}", linear, -res.values["delta_t_k"], "K",
-                         "Eq. 26 with Table 27 defaults", "rendered band-radiometric apparent Delta T", rel_tol=0.05,
-                         known_deviation=("Eq. 26 multiplies emissivity by temperature; band-integrated Planck radiance "
-                                          "turned into radiance temperatures gives less than half (docs/conventions.md point 2)."),
-                         extra=_extra(res, "delta_t_k")))
+        out.append(
+            Check(
+                f"Eq26.delta_t_linear_vs_rendered.{band}",
+                linear,
+                -res.values["delta_t_k"],
+                "K",
+                "Eq. 26 with Table 27 defaults",
+                "rendered band-radiometric apparent Delta T",
+                rel_tol=0.05,
+                known_deviation=(
+                    "Eq. 26 multiplies emissivity by temperature; band-integrated Planck radiance "
+                    "turned into radiance temperatures gives less than half (docs/conventions.md point 2)."
+                ),
+                extra=_extra(res, "delta_t_k"),
+            )
+        )
     return out
 
 
@@ -63,39 +98,96 @@ def _eo_checks(q, seed) -> list:
     res = render_eo(drone, range_m=r, azimuth_deg=az, elevation_deg=el, quality=q, seed=seed)
     exact = projected_metrics(drone.mesh(), az, el)
     pot = exact["projected_area_m2"] / (r * ifov) ** 2
-    out.append(Check(f"render.eo.pixels_on_target.{DEFAULT_PRESET}.500m", pot, res.values["pixels_on_target"], "px",
-                     "exact silhouette (drone_models, polygon union)", "Mitsuba window render, fractional coverage",
-                     abs_tol=4 * res.stderr["pixels_on_target"], extra=_extra(res, "pixels_on_target")))
+    out.append(
+        Check(
+            f"render.eo.pixels_on_target.{DEFAULT_PRESET}.500m",
+            pot,
+            res.values["pixels_on_target"],
+            "px",
+            "exact silhouette (drone_models, polygon union)",
+            "Mitsuba window render, fractional coverage",
+            abs_tol=4 * res.stderr["pixels_on_target"],
+            extra=_extra(res, "pixels_on_target"),
+        )
+    )
     d_crit = projected_metrics(drone.mesh(), 0.0, 0.0)["d_crit_min_m"]
     r_j = float(johnson_range_m(d_crit, ifov, 1.0, 1.0))
     res = render_eo(drone, range_m=r_j, quality=q, seed=seed)
-    out.append(Check(f"Eq18.johnson_range.rendered_dcrit.{DEFAULT_PRESET}", r_j, res.values["johnson_range_rendered_m"],
-                     "m", "Eq. 18 with the mesh's d_crit (Eq. 1), detection, P = 0.5",
-                     "range where the rendered d_crit spans 2 lp n_TTPF pixels", rel_tol=0.02,
-                     extra=_extra(res, "johnson_range_rendered_m")))
-    out.append(Check(f"T8.c_eo.rendered.{DEFAULT_PRESET}.horizon_sky", 0.5, abs(res.values["contrast"]), "-",
-                     "Table 8 / Table 24 (C0)", "rendered Eq. 3 contrast against the horizon sky, sun behind the sensor",
-                     rel_tol=0.2, extra=_extra(res, "contrast", signed_contrast=res.values["contrast"]),
-                     known_deviation=("Table 24's C0 = 0.5 stands for complex backgrounds (vegetation, buildings); "
-                                      "against a clear horizon sky a grey-and-black drone renders at a much lower "
-                                      "contrast that depends on sun and sky (csuas.render.imaging.eo defaults).")))
+    out.append(
+        Check(
+            f"Eq18.johnson_range.rendered_dcrit.{DEFAULT_PRESET}",
+            r_j,
+            res.values["johnson_range_rendered_m"],
+            "m",
+            "Eq. 18 with the mesh's d_crit (Eq. 1), detection, P = 0.5",
+            "range where the rendered d_crit spans 2 lp n_TTPF pixels",
+            rel_tol=0.02,
+            extra=_extra(res, "johnson_range_rendered_m"),
+        )
+    )
+    out.append(
+        Check(
+            f"T8.c_eo.rendered.{DEFAULT_PRESET}.horizon_sky",
+            0.5,
+            abs(res.values["contrast"]),
+            "-",
+            "Table 8 / Table 24 (C0)",
+            "rendered Eq. 3 contrast against the horizon sky, sun behind the sensor",
+            rel_tol=0.2,
+            extra=_extra(res, "contrast", signed_contrast=res.values["contrast"]),
+            known_deviation=(
+                "Table 24's C0 = 0.5 stands for complex backgrounds (vegetation, buildings); "
+                "against a clear horizon sky a grey-and-black drone renders at a much lower "
+                "contrast that depends on sun and sky (csuas.render.imaging.eo defaults)."
+            ),
+        )
+    )
     rho, rho_bg = 0.5, 0.2
-    res = render_eo(plate(reflectance=rho), range_m=200.0, quality=q, seed=seed, diffuse_fraction=0.0,
-                    ground_reflectance=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0, background=rho_bg)
-    out.append(Check("Eq4.contrast.lambertian_plate", (rho - rho_bg) / (rho + rho_bg), res.values["contrast"], "-",
-                     "Eq. 4 (same illuminance on target and background)", "rendered Eq. 3 contrast of a sunlit plate",
-                     rel_tol=1e-4, extra=_extra(res, "contrast")))
-    near, far = (render_eo(plate(reflectance=0.05), range_m=rr, quality=q, seed=seed, visibility_km=5.0)
-                 for rr in (1000.0, 3000.0))
+    res = render_eo(
+        plate(reflectance=rho),
+        range_m=200.0,
+        quality=q,
+        seed=seed,
+        diffuse_fraction=0.0,
+        ground_reflectance=0.0,
+        sun_azimuth_deg=0.0,
+        sun_elevation_deg=45.0,
+        background=rho_bg,
+    )
+    out.append(
+        Check(
+            "Eq4.contrast.lambertian_plate",
+            (rho - rho_bg) / (rho + rho_bg),
+            res.values["contrast"],
+            "-",
+            "Eq. 4 (same illuminance on target and background)",
+            "rendered Eq. 3 contrast of a sunlit plate",
+            rel_tol=1e-4,
+            extra=_extra(res, "contrast"),
+        )
+    )
+    near, far = (
+        render_eo(plate(reflectance=0.05), range_m=rr, quality=q, seed=seed, visibility_km=5.0)
+        for rr in (1000.0, 3000.0)
+    )
     c1, c2 = abs(near.values["contrast_weber"]), abs(far.values["contrast_weber"])
     beta = math.log(c1 / c2) / 2.0
     rendered = 1000.0 + 1000.0 * math.log(c1 / 0.05) / beta
-    expected = float(contrast_limited_range_m(abs(near.values["contrast_weber_inherent"]), 0.05,
-                                              math.log(50.0) / 5.0, "physical"))
-    out.append(Check("Eq21.contrast_limited_range.rendered", expected, rendered, "m",
-                     "Eq. 21 (physical convention) with the rendered C0, V = 5 km, c_min = 0.05",
-                     "range where the rendered Koschmieder contrast (1 and 3 km) falls to c_min", rel_tol=0.02,
-                     extra={"time_s": near.time_s + far.time_s, "quality": q.name}))
+    expected = float(
+        contrast_limited_range_m(abs(near.values["contrast_weber_inherent"]), 0.05, math.log(50.0) / 5.0, "physical")
+    )
+    out.append(
+        Check(
+            "Eq21.contrast_limited_range.rendered",
+            expected,
+            rendered,
+            "m",
+            "Eq. 21 (physical convention) with the rendered C0, V = 5 km, c_min = 0.05",
+            "range where the rendered Koschmieder contrast (1 and 3 km) falls to c_min",
+            rel_tol=0.02,
+            extra={"time_s": near.time_s + far.time_s, "quality": q.name},
+        )
+    )
     return out
 
 
@@ -107,14 +199,24 @@ MEDIUM_QUALITY = Quality("medium_check", 6, 8)
 def _medium_check(seed) -> Check:
     t0 = time.perf_counter()
     q = MEDIUM_QUALITY
-    m = medium_vs_analytic_airlight(plate(width_m=0.3, height_m=0.3, reflectance=0.05), range_m=300.0,
-                                    visibility_km=0.5, quality=q, seed=seed)
-    return Check("render.eo.fog_medium_vs_koschmieder_airlight", m["analytic_radiance"], m["medium_radiance"],
-                 "cd m^-2", "Koschmieder L0 tau + L_h (1 - tau), V = 0.5 km, 300 m",
-                 "volumetric path tracing of a conservative homogeneous medium lit by the horizon sky",
-                 abs_tol=4 * math.hypot(m["medium_stderr"], m["analytic_stderr"]),
-                 extra={"stderr": m["medium_stderr"], "time_s": time.perf_counter() - t0, "quality": q.name,
-                        "transmittance": m["transmittance"]})
+    m = medium_vs_analytic_airlight(
+        plate(width_m=0.3, height_m=0.3, reflectance=0.05), range_m=300.0, visibility_km=0.5, quality=q, seed=seed
+    )
+    return Check(
+        "render.eo.fog_medium_vs_koschmieder_airlight",
+        m["analytic_radiance"],
+        m["medium_radiance"],
+        "cd m^-2",
+        "Koschmieder L0 tau + L_h (1 - tau), V = 0.5 km, 300 m",
+        "volumetric path tracing of a conservative homogeneous medium lit by the horizon sky",
+        abs_tol=4 * math.hypot(m["medium_stderr"], m["analytic_stderr"]),
+        extra={
+            "stderr": m["medium_stderr"],
+            "time_s": time.perf_counter() - t0,
+            "quality": q.name,
+            "transmittance": m["transmittance"],
+        },
+    )
 
 
 def imaging_checks(quality: str = "draft", seed: int = 0) -> list:

@@ -28,9 +28,9 @@ import time
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.eo import contrast_limited_range_m
 from csuas.drone_models.geometry import direction_vector
-from csuas.base.errors import ParameterError
 from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path
@@ -45,8 +45,9 @@ LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
 DEFAULT_DIFFUSE_FRACTION = 0.15
 
 
-def sun_and_sky(illuminance_lx: float, diffuse_fraction: float, sun_elevation_deg: float,
-                ground_reflectance: float) -> dict:
+def sun_and_sky(
+    illuminance_lx: float, diffuse_fraction: float, sun_elevation_deg: float, ground_reflectance: float
+) -> dict:
     """Split a horizontal illuminance into sun, sky and ground (module docstring).
 
     Returns
@@ -55,16 +56,21 @@ def sun_and_sky(illuminance_lx: float, diffuse_fraction: float, sun_elevation_de
         ``sun_irradiance_lx`` (normal to the rays), ``sky_radiance``,
         ``ground_radiance`` [cd m^-2].
     """
-    checks = (("illuminance_lx", illuminance_lx, 0.0, 2e5), ("diffuse_fraction", diffuse_fraction, 0.0, 1.0),
-              ("ground_reflectance", ground_reflectance, 0.0, 1.0))
+    checks = (
+        ("illuminance_lx", illuminance_lx, 0.0, 2e5),
+        ("diffuse_fraction", diffuse_fraction, 0.0, 1.0),
+        ("ground_reflectance", ground_reflectance, 0.0, 1.0),
+    )
     for name, value, lo, hi in checks:
         if not (math.isfinite(value) and lo <= value <= hi):
             raise ParameterError(name, value, f"{lo:g} <= x <= {hi:g}")
     if not (0.0 < sun_elevation_deg <= 90.0):
         raise ParameterError("sun_elevation_deg", sun_elevation_deg, "0 < x <= 90 (sun above the horizon)")
-    return {"sun_irradiance_lx": (1.0 - diffuse_fraction) * illuminance_lx / math.sin(math.radians(sun_elevation_deg)),
-            "sky_radiance": diffuse_fraction * illuminance_lx / math.pi,
-            "ground_radiance": ground_reflectance * illuminance_lx / math.pi}
+    return {
+        "sun_irradiance_lx": (1.0 - diffuse_fraction) * illuminance_lx / math.sin(math.radians(sun_elevation_deg)),
+        "sky_radiance": diffuse_fraction * illuminance_lx / math.pi,
+        "ground_radiance": ground_reflectance * illuminance_lx / math.pi,
+    }
 
 
 def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
@@ -81,11 +87,34 @@ def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
     m.values["contrast_limited_range_m"] = float(contrast_limited_range_m(c0, c_min, beta, "physical"))
 
 
-def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg=0.0, elevation_deg=0.0,
-              illuminance_lx=70000.0, diffuse_fraction=DEFAULT_DIFFUSE_FRACTION, sun_azimuth_deg=None,
-              sun_elevation_deg=45.0, ground_reflectance=0.2, background="sky", visibility_km=None,
-              wavelength_nm=550.0, quality="standard", seed=0, target_offset_px=(0.0, 0.0), max_depth=3,
-              lp_task=1.0, n_ttpf=1.0, c_min=0.05, full_frame=False, progress=None, variant=None) -> ImagingResult:
+def render_eo(
+    target,
+    *,
+    range_m,
+    hfov_deg=10.0,
+    n_h=1920,
+    n_v=1080,
+    azimuth_deg=0.0,
+    elevation_deg=0.0,
+    illuminance_lx=70000.0,
+    diffuse_fraction=DEFAULT_DIFFUSE_FRACTION,
+    sun_azimuth_deg=None,
+    sun_elevation_deg=45.0,
+    ground_reflectance=0.2,
+    background="sky",
+    visibility_km=None,
+    wavelength_nm=550.0,
+    quality="standard",
+    seed=0,
+    target_offset_px=(0.0, 0.0),
+    max_depth=3,
+    lp_task=1.0,
+    n_ttpf=1.0,
+    c_min=0.05,
+    full_frame=False,
+    progress=None,
+    variant=None,
+) -> ImagingResult:
     """Render the target in the visible band and measure its figures.
 
     Parameters
@@ -140,8 +169,16 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
     t0 = time.perf_counter()
     q = resolve_quality(quality)
     r, sensor, normalised, window, target_px, bounds = prepare(
-        target, range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg, target_offset_px=target_offset_px, full=full_frame)
+        target,
+        range_m=range_m,
+        hfov_deg=hfov_deg,
+        n_h=n_h,
+        n_v=n_v,
+        azimuth_deg=azimuth_deg,
+        elevation_deg=elevation_deg,
+        target_offset_px=target_offset_px,
+        full=full_frame,
+    )
     light = sun_and_sky(illuminance_lx, diffuse_fraction, sun_elevation_deg, ground_reflectance)
     if isinstance(background, str):
         if background != "sky":
@@ -154,14 +191,30 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
     sun_az = azimuth_deg if sun_azimuth_deg is None else sun_azimuth_deg
     use_variant("ad_rgb", variant)
     to_sun = normalised.to_render(direction_vector(sun_az, sun_elevation_deg))
-    scene = build_eo_scene(normalised, sun_direction_render=to_sun,
-                           sun_irradiance=light["sun_irradiance_lx"], sky_radiance=light["sky_radiance"],
-                           ground_radiance=light["ground_radiance"], up_render=normalised.to_render([0.0, 0.0, 1.0]))
+    scene = build_eo_scene(
+        normalised,
+        sun_direction_render=to_sun,
+        sun_irradiance=light["sun_irradiance_lx"],
+        sky_radiance=light["sky_radiance"],
+        ground_radiance=light["ground_radiance"],
+        up_render=normalised.to_render([0.0, 0.0, 1.0]),
+    )
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render eo {r:g} m", progress)
-    tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
-                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds,
-                         progress=progress)
+    tally = trace_window(
+        scene,
+        path_integrator(max_depth),
+        sensor,
+        window,
+        target_px,
+        r / normalised.radius_m,
+        n_side=q.n_side,
+        n_batches=q.n_batches,
+        seed=seed,
+        channels=3,
+        bounds=bounds,
+        progress=progress,
+    )
     path = eo_path(r, visibility_km, wavelength_nm, light["sky_radiance"])
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
@@ -175,8 +228,29 @@ def render_eo(target, *, range_m, hfov_deg=10.0, n_h=1920, n_v=1080, azimuth_deg
         notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
     if tally.nonfinite_samples:
         notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
-    m.values.update(sun_irradiance_lx=light["sun_irradiance_lx"], sky_radiance=light["sky_radiance"],
-                    ground_radiance=light["ground_radiance"])
-    return ImagingResult("eo", "visible", r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
-                         m.values, m.stderr, m.image, m.coverage, "cd m^-2", ("R", "G", "B"), list(path.terms), q,
-                         tally.samples, tally.n_side ** 2 * tally.n_batches, time.perf_counter() - t0, notes)
+    m.values.update(
+        sun_irradiance_lx=light["sun_irradiance_lx"],
+        sky_radiance=light["sky_radiance"],
+        ground_radiance=light["ground_radiance"],
+    )
+    return ImagingResult(
+        "eo",
+        "visible",
+        r,
+        float(azimuth_deg),
+        float(elevation_deg),
+        sensor.ifov_rad,
+        window,
+        m.values,
+        m.stderr,
+        m.image,
+        m.coverage,
+        "cd m^-2",
+        ("R", "G", "B"),
+        list(path.terms),
+        q,
+        tally.samples,
+        tally.n_side**2 * tally.n_batches,
+        time.perf_counter() - t0,
+        notes,
+    )

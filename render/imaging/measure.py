@@ -65,23 +65,34 @@ def _figures(coverage, radiance, extent, background, weights, path: PathEffect, 
         ex, ey = float(extent[1] - extent[0]), float(extent[3] - extent[2])
     else:
         ex = ey = 0.0
-    out.update(pixels_across_x=ex, pixels_across_y=ey, pixels_across_dcrit=min(ex, ey),
-               pixels_across_dcrit_geometric_mean=float(np.sqrt(ex * ey)))
+    out.update(
+        pixels_across_x=ex,
+        pixels_across_y=ey,
+        pixels_across_dcrit=min(ex, ey),
+        pixels_across_dcrit_geometric_mean=float(np.sqrt(ex * ey)),
+    )
     l_t = float(scalar.sum()) / covered if covered > 0 else l_bg
     lt_app, lb_app = float(path.apply(l_t)), float(path.apply(l_bg))
     image = path.apply(radiance + (1.0 - coverage)[None] * np.asarray(background, dtype=float)[:, None, None])
     pixel = np.tensordot(weights, image, axes=1)
     peak = float(pixel.flat[np.argmax(np.abs(pixel - lb_app))])
     total = lt_app + lb_app
-    out.update(target_radiance=l_t, background_radiance=l_bg, target_radiance_apparent=lt_app,
-               background_radiance_apparent=lb_app,
-               contrast=(lt_app - lb_app) / total if total > 0 else 0.0,
-               contrast_weber=(lt_app - lb_app) / lb_app if lb_app > 0 else float("inf"),
-               contrast_peak_pixel=(peak - lb_app) / (peak + lb_app) if peak + lb_app > 0 else 0.0)
+    out.update(
+        target_radiance=l_t,
+        background_radiance=l_bg,
+        target_radiance_apparent=lt_app,
+        background_radiance_apparent=lb_app,
+        contrast=(lt_app - lb_app) / total if total > 0 else 0.0,
+        contrast_weber=(lt_app - lb_app) / lb_app if lb_app > 0 else float("inf"),
+        contrast_peak_pixel=(peak - lb_app) / (peak + lb_app) if peak + lb_app > 0 else 0.0,
+    )
     if to_temperature is not None:
         t_bg = float(to_temperature(lb_app))
-        out.update(delta_t_k=float(to_temperature(lt_app)) - t_bg,
-                   delta_t_peak_pixel_k=float(to_temperature(peak)) - t_bg, background_temperature_apparent_k=t_bg)
+        out.update(
+            delta_t_k=float(to_temperature(lt_app)) - t_bg,
+            delta_t_peak_pixel_k=float(to_temperature(peak)) - t_bg,
+            background_temperature_apparent_k=t_bg,
+        )
     return out, image
 
 
@@ -89,8 +100,14 @@ def _extent_of(extent_batches):
     with np.errstate(all="ignore"):
         if np.all(np.isnan(extent_batches[:, 0])):
             return np.full(4, np.nan)
-        return np.array([np.nanmin(extent_batches[:, 0]), np.nanmax(extent_batches[:, 1]),
-                         np.nanmin(extent_batches[:, 2]), np.nanmax(extent_batches[:, 3])])
+        return np.array(
+            [
+                np.nanmin(extent_batches[:, 0]),
+                np.nanmax(extent_batches[:, 1]),
+                np.nanmin(extent_batches[:, 2]),
+                np.nanmax(extent_batches[:, 3]),
+            ]
+        )
 
 
 def measure_window(tally, background, path: PathEffect, weights=(1.0,), to_temperature=None) -> Measurement:
@@ -112,15 +129,23 @@ def measure_window(tally, background, path: PathEffect, weights=(1.0,), to_tempe
     weights = np.asarray(weights, dtype=float)
     background = np.broadcast_to(np.asarray(background, dtype=float), (tally.radiance.shape[1],))
     cov_sum, rad_sum = tally.coverage.sum(0), tally.radiance.sum(0)
-    values, image = _figures(cov_sum / k, rad_sum / k, _extent_of(tally.extent), background, weights, path,
-                             to_temperature)
+    values, image = _figures(
+        cov_sum / k, rad_sum / k, _extent_of(tally.extent), background, weights, path, to_temperature
+    )
     stderr = {name: 0.0 for name in values}
     if k > 1:
         loo = []
         for b in range(k):
             keep = np.arange(k) != b
-            fig, _ = _figures((cov_sum - tally.coverage[b]) / (k - 1), (rad_sum - tally.radiance[b]) / (k - 1),
-                              _extent_of(tally.extent[keep]), background, weights, path, to_temperature)
+            fig, _ = _figures(
+                (cov_sum - tally.coverage[b]) / (k - 1),
+                (rad_sum - tally.radiance[b]) / (k - 1),
+                _extent_of(tally.extent[keep]),
+                background,
+                weights,
+                path,
+                to_temperature,
+            )
             loo.append(fig)
         for name in values:
             theta = np.array([f[name] for f in loo], dtype=float)

@@ -45,10 +45,22 @@ def _scene(normalised, horizon_radiance: float, medium=None, medium_radius: floa
     return mi.load_dict(scene)
 
 
-def medium_vs_analytic_airlight(target, *, range_m: float, visibility_km: float, horizon_radiance: float = 3342.0,
-                                wavelength_nm: float = 550.0, hfov_deg: float = 10.0, n_h: int = 1920,
-                                n_v: int = 1080, azimuth_deg: float = 0.0, elevation_deg: float = 0.0,
-                                quality="standard", max_depth: int = 4096, seed: int = 0) -> dict:
+def medium_vs_analytic_airlight(
+    target,
+    *,
+    range_m: float,
+    visibility_km: float,
+    horizon_radiance: float = 3342.0,
+    wavelength_nm: float = 550.0,
+    hfov_deg: float = 10.0,
+    n_h: int = 1920,
+    n_v: int = 1080,
+    azimuth_deg: float = 0.0,
+    elevation_deg: float = 0.0,
+    quality="standard",
+    max_depth: int = 4096,
+    seed: int = 0,
+) -> dict:
     """Apparent target luminance through a fog medium, against the analytic Koschmieder airlight.
 
     Parameters
@@ -79,8 +91,16 @@ def medium_vs_analytic_airlight(target, *, range_m: float, visibility_km: float,
 
     q = resolve_quality(quality)
     r, sensor, normalised, window, target_px, bounds = prepare(
-        target, range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg, target_offset_px=(0.0, 0.0), full=False)
+        target,
+        range_m=range_m,
+        hfov_deg=hfov_deg,
+        n_h=n_h,
+        n_v=n_v,
+        azimuth_deg=azimuth_deg,
+        elevation_deg=elevation_deg,
+        target_offset_px=(0.0, 0.0),
+        full=False,
+    )
     use_variant("ad_rgb")
     distance = r / normalised.radius_m
     beta = float(kruse_extinction_per_km(wavelength_nm, visibility_km))
@@ -92,8 +112,9 @@ def medium_vs_analytic_airlight(target, *, range_m: float, visibility_km: float,
     geometry = _scene(normalised, horizon_radiance)
     vacuum = trace_window(geometry, path_integrator(3), sensor, window, target_px, distance, **common)
     inherent = measure_window(vacuum, background, NO_PATH, LUMINANCE_WEIGHTS)
-    analytic = measure_window(vacuum, background, eo_path(r, visibility_km, wavelength_nm, horizon_radiance),
-                              LUMINANCE_WEIGHTS)
+    analytic = measure_window(
+        vacuum, background, eo_path(r, visibility_km, wavelength_nm, horizon_radiance), LUMINANCE_WEIGHTS
+    )
     t_vacuum = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -101,8 +122,9 @@ def medium_vs_analytic_airlight(target, *, range_m: float, visibility_km: float,
     fog = mi.load_dict({"type": "homogeneous", "sigma_t": sigma_t, "albedo": 1.0})
     scene = _scene(normalised, horizon_radiance, fog, medium_radius=1.5 * distance)
     integrator = mi.load_dict({"type": "volpath", "max_depth": int(max_depth)})
-    foggy = trace_window(scene, integrator, sensor, window, target_px, distance, medium=fog, geometry=geometry,
-                         **common)
+    foggy = trace_window(
+        scene, integrator, sensor, window, target_px, distance, medium=fog, geometry=geometry, **common
+    )
     # The medium render already contains the path: measure it without analytic path effects.
     medium = measure_window(foggy, background, NO_PATH, LUMINANCE_WEIGHTS)
     t_medium = time.perf_counter() - t0
@@ -111,8 +133,16 @@ def medium_vs_analytic_airlight(target, *, range_m: float, visibility_km: float,
     l_an = analytic.values["target_radiance_apparent"]
     se_an = analytic.stderr["target_radiance_apparent"]
     combined = float(np.hypot(se, se_an))
-    return {"range_m": r, "extinction_per_km": beta, "transmittance": tau,
-            "inherent_radiance": inherent.values["target_radiance"], "analytic_radiance": l_an,
-            "analytic_stderr": se_an, "medium_radiance": l_med, "medium_stderr": se,
-            "difference_sigma": abs(l_med - l_an) / combined if combined > 0 else 0.0,
-            "time_vacuum_s": t_vacuum, "time_medium_s": t_medium}
+    return {
+        "range_m": r,
+        "extinction_per_km": beta,
+        "transmittance": tau,
+        "inherent_radiance": inherent.values["target_radiance"],
+        "analytic_radiance": l_an,
+        "analytic_stderr": se_an,
+        "medium_radiance": l_med,
+        "medium_stderr": se,
+        "difference_sigma": abs(l_med - l_an) / combined if combined > 0 else 0.0,
+        "time_vacuum_s": t_vacuum,
+        "time_medium_s": t_medium,
+    }

@@ -54,15 +54,42 @@ def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: s
     from csuas.render.files import file_stem
     from csuas.render.imaging.output import write_images
 
-    stem = file_stem(scenario.name, spec.name, result.modality, result.range_m, result.azimuth_deg,
-                     result.elevation_deg, quality, seed)
-    meta = {"target": scenario.target_preset, "scenario": scenario.name, "sensor": spec.name, "quality": quality,
-            "seed": seed, "frame_width_px": spec.params["n_h"], "frame_height_px": spec.params["n_v"]}
+    stem = file_stem(
+        scenario.name,
+        spec.name,
+        result.modality,
+        result.range_m,
+        result.azimuth_deg,
+        result.elevation_deg,
+        quality,
+        seed,
+    )
+    meta = {
+        "target": scenario.target_preset,
+        "scenario": scenario.name,
+        "sensor": spec.name,
+        "quality": quality,
+        "seed": seed,
+        "frame_width_px": spec.params["n_h"],
+        "frame_height_px": spec.params["n_v"],
+    }
     return write_images(result, Path(out_dir), stem, meta, exposure=exposure)
 
 
-def eo_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elevation_deg=0.0, out_dir=None, seed=0,
-                sensor=None, atmosphere="auto", progress=None, exposure="scene") -> list:
+def eo_scenario(
+    scenario,
+    *,
+    ranges_m,
+    quality="standard",
+    azimuth_deg=0.0,
+    elevation_deg=0.0,
+    out_dir=None,
+    seed=0,
+    sensor=None,
+    atmosphere="auto",
+    progress=None,
+    exposure="scene",
+) -> list:
     """Render the scenario's EO sensor at each range (mode ``eo``)."""
     from csuas.render.imaging.eo import render_eo
 
@@ -71,18 +98,43 @@ def eo_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elev
     visibility = scenario.optical_visibility_km if _atmosphere_on(scenario, atmosphere) else None
     out = []
     for r in ranges_m:
-        res = render_eo(scenario.target_preset, range_m=r, hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"],
-                        azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, illuminance_lx=env["illuminance_lx"],
-                        visibility_km=visibility, wavelength_nm=p["wavelength_nm"], quality=quality, seed=seed,
-                        lp_task=p["lp_task"], n_ttpf=p["n_ttpf"], c_min=p["c_min"], progress=progress)
+        res = render_eo(
+            scenario.target_preset,
+            range_m=r,
+            hfov_deg=p["hfov_deg"],
+            n_h=p["n_h"],
+            n_v=p["n_v"],
+            azimuth_deg=azimuth_deg,
+            elevation_deg=elevation_deg,
+            illuminance_lx=env["illuminance_lx"],
+            visibility_km=visibility,
+            wavelength_nm=p["wavelength_nm"],
+            quality=quality,
+            seed=seed,
+            lp_task=p["lp_task"],
+            n_ttpf=p["n_ttpf"],
+            c_min=p["c_min"],
+            progress=progress,
+        )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed, exposure))
         out.append(row)
     return out
 
 
-def tir_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, elevation_deg=0.0, out_dir=None, seed=0,
-                 sensor=None, atmosphere="auto", progress=None) -> list:
+def tir_scenario(
+    scenario,
+    *,
+    ranges_m,
+    quality="standard",
+    azimuth_deg=0.0,
+    elevation_deg=0.0,
+    out_dir=None,
+    seed=0,
+    sensor=None,
+    atmosphere="auto",
+    progress=None,
+) -> list:
     """Render the scenario's thermal sensor at each range (mode ``tir``)."""
     from csuas.ranges import mrtd_curve
     from csuas.render.imaging.tir import render_tir
@@ -92,13 +144,28 @@ def tir_scenario(scenario, *, ranges_m, quality="standard", azimuth_deg=0.0, ele
     extinction = p["extinction_db_km"] if _atmosphere_on(scenario, atmosphere) else None
     out = []
     for r in ranges_m:
-        res = render_tir(scenario.target_preset, range_m=r, hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"],
-                         band=p["band"], azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, t_bg_k=env["t_bg_k"],
-                         emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"],
-                         extinction_db_km=extinction, air_temperature_k=env["temperature_k"], mrtd=mrtd_curve(p),
-                         lp_task=p["lp_task"], n_ttpf=p["n_ttpf"],
-                         linear_reference=(target["emissivity_suas"], target["t_suas_k"]), quality=quality, seed=seed,
-                         progress=progress)
+        res = render_tir(
+            scenario.target_preset,
+            range_m=r,
+            hfov_deg=p["hfov_deg"],
+            n_h=p["n_h"],
+            n_v=p["n_v"],
+            band=p["band"],
+            azimuth_deg=azimuth_deg,
+            elevation_deg=elevation_deg,
+            t_bg_k=env["t_bg_k"],
+            emissivity_bg=env["emissivity_bg"],
+            surroundings_k=env["temperature_k"],
+            extinction_db_km=extinction,
+            air_temperature_k=env["temperature_k"],
+            mrtd=mrtd_curve(p),
+            lp_task=p["lp_task"],
+            n_ttpf=p["n_ttpf"],
+            linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
+            quality=quality,
+            seed=seed,
+            progress=progress,
+        )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed))
         out.append(row)

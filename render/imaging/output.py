@@ -40,6 +40,7 @@ def _channels(result) -> dict:
     channels = {name: np.ascontiguousarray(result.image[i], dtype=np.float32) for i, name in enumerate(result.channels)}
     if result.modality == "tir":
         from csuas.core.radiometry import radiance_temperature
+
         channels["T"] = np.ascontiguousarray(radiance_temperature(result.image[0], result.band), dtype=np.float32)
     channels["A"] = np.ascontiguousarray(result.coverage, dtype=np.float32)
     return channels
@@ -50,21 +51,38 @@ def _header(result, meta: dict, channel_names) -> dict:
 
     w = result.window
     rows, columns = result.coverage.shape
-    values = {**meta, "modality": result.modality, "band": result.band, "units": result.units,
-              "channels": ",".join(channel_names), "range_m": float(result.range_m),
-              "azimuth_deg": float(result.azimuth_deg), "elevation_deg": float(result.elevation_deg),
-              "ifov_rad": float(result.ifov_rad)}
+    values = {
+        **meta,
+        "modality": result.modality,
+        "band": result.band,
+        "units": result.units,
+        "channels": ",".join(channel_names),
+        "range_m": float(result.range_m),
+        "azimuth_deg": float(result.azimuth_deg),
+        "elevation_deg": float(result.elevation_deg),
+        "ifov_rad": float(result.ifov_rad),
+    }
     missing = [k for k in METADATA_KEYS if k not in values]
     if missing:
         raise ValueError(f"EXR metadata lacks {missing}")
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-              "dataWindow": (np.array([w.x0, w.y0], np.int32), np.array([w.x0 + columns - 1, w.y0 + rows - 1], np.int32)),
-              "displayWindow": (np.array([0, 0], np.int32),
-                                np.array([int(meta["frame_width_px"]) - 1, int(meta["frame_height_px"]) - 1], np.int32)),
-              "csuas_window_x0": int(w.x0), "csuas_window_y0": int(w.y0),
-              "csuas_samples_per_pixel": int(result.samples_per_pixel)}
-    header.update({f"csuas_{k}": (v if isinstance(v, (int, float)) and not isinstance(v, bool) else str(v))
-                   for k, v in values.items()})
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        "dataWindow": (np.array([w.x0, w.y0], np.int32), np.array([w.x0 + columns - 1, w.y0 + rows - 1], np.int32)),
+        "displayWindow": (
+            np.array([0, 0], np.int32),
+            np.array([int(meta["frame_width_px"]) - 1, int(meta["frame_height_px"]) - 1], np.int32),
+        ),
+        "csuas_window_x0": int(w.x0),
+        "csuas_window_y0": int(w.y0),
+        "csuas_samples_per_pixel": int(result.samples_per_pixel),
+    }
+    header.update(
+        {
+            f"csuas_{k}": (v if isinstance(v, (int, float)) and not isinstance(v, bool) else str(v))
+            for k, v in values.items()
+        }
+    )
     return header
 
 
@@ -110,6 +128,7 @@ def preview_rgb(result, exposure: str = "auto") -> np.ndarray:
     from matplotlib import colormaps
 
     from csuas.core.radiometry import radiance_temperature
+
     temp = radiance_temperature(result.image[0], result.band)
     lo, hi = float(temp.min()), float(temp.max())
     if hi - lo < 1e-6:
@@ -122,9 +141,13 @@ def write_png(result, path, exposure: str = "scene") -> Path:
     if result.modality == "tir":
         from csuas.core.radiometry import radiance_temperature
 
-        return write_colour_map(path, radiance_temperature(result.image[0], result.band),
-                                "radiance temperature [K]", "inferno",
-                                f"thermal {result.band}, R = {result.range_m:g} m")
+        return write_colour_map(
+            path,
+            radiance_temperature(result.image[0], result.band),
+            "radiance temperature [K]",
+            "inferno",
+            f"thermal {result.band}, R = {result.range_m:g} m",
+        )
     from matplotlib import image as mpimg
 
     with atomic_path(path) as tmp:
@@ -135,5 +158,4 @@ def write_png(result, path, exposure: str = "scene") -> Path:
 def write_images(result, out_dir, stem: str, meta: dict, exposure: str = "scene") -> list:
     """EXR and PNG of ``result`` under ``out_dir`` as ``<stem>.exr`` and ``<stem>.png``."""
     out = Path(out_dir)
-    return [str(write_exr(result, out / f"{stem}.exr", meta)),
-            str(write_png(result, out / f"{stem}.png", exposure))]
+    return [str(write_exr(result, out / f"{stem}.exr", meta)), str(write_png(result, out / f"{stem}.png", exposure))]

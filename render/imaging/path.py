@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.radiometry import band_radiance
-from csuas.base.errors import ParameterError
 
 
 @dataclass(frozen=True)
@@ -77,10 +77,16 @@ def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, h
         return NO_PATH
     beta = float(kruse_extinction_per_km(wavelength_nm, visibility_km))
     tau = float(transmittance(beta, range_m, "physical"))
-    terms = ({"name": "extinction_per_km", "value": beta, "unit": "1/km", "source": "Kruse/Kim Eqs. 19-20 (physical)"},
-             {"name": "transmittance", "value": tau, "unit": "-", "source": "Beer-Lambert exp(-beta R)"},
-             {"name": "airlight", "value": horizon_radiance * (1.0 - tau), "unit": "cd/m^2",
-              "source": "Koschmieder L_h (1 - tau)"})
+    terms = (
+        {"name": "extinction_per_km", "value": beta, "unit": "1/km", "source": "Kruse/Kim Eqs. 19-20 (physical)"},
+        {"name": "transmittance", "value": tau, "unit": "-", "source": "Beer-Lambert exp(-beta R)"},
+        {
+            "name": "airlight",
+            "value": horizon_radiance * (1.0 - tau),
+            "unit": "cd/m^2",
+            "source": "Koschmieder L_h (1 - tau)",
+        },
+    )
     return PathEffect(tau, horizon_radiance * (1.0 - tau), terms)
 
 
@@ -103,8 +109,14 @@ def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: 
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
     tau = float(10.0 ** (-extinction_db_km * range_m / 1000.0 / 10.0))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
-    terms = ({"name": "extinction_db_km", "value": float(extinction_db_km), "unit": "dB/km", "source": "Table 27"},
-             {"name": "transmittance", "value": tau, "unit": "-", "source": "10^(-sigma R/10)"},
-             {"name": "path_radiance", "value": l_path, "unit": "W m^-2 sr^-1",
-              "source": "air at T_air emitting (1 - tau) L_band(T_air)"})
+    terms = (
+        {"name": "extinction_db_km", "value": float(extinction_db_km), "unit": "dB/km", "source": "Table 27"},
+        {"name": "transmittance", "value": tau, "unit": "-", "source": "10^(-sigma R/10)"},
+        {
+            "name": "path_radiance",
+            "value": l_path,
+            "unit": "W m^-2 sr^-1",
+            "source": "air at T_air emitting (1 - tau) L_band(T_air)",
+        },
+    )
     return PathEffect(tau, l_path, terms)

@@ -106,6 +106,14 @@ def accuracy_sweep(render, n_sides, reference: float, metric: str = "pixels_on_t
         result = render(q)
         elapsed = time.perf_counter() - t0
         value = result.values[metric]
-        rows.append({"spp": q.spp, "value": value, "stderr": result.stderr[metric], "error": value - reference,
-                     "relative_error": (value - reference) / reference if reference else None, "time_s": elapsed})
+        rows.append(
+            {
+                "spp": q.spp,
+                "value": value,
+                "stderr": result.stderr[metric],
+                "error": value - reference,
+                "relative_error": (value - reference) / reference if reference else None,
+                "time_s": elapsed,
+            }
+        )
     return rows

@@ -68,10 +68,24 @@ class ImagingResult:
     def summary(self) -> dict:
         """JSON-ready figures (docs/command-line.md keys ``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``,
         ``contrast``, ``stderr``, ``time_s``; thermal adds ``delta_t_k``)."""
-        out = {"range_m": self.range_m, "modality": self.modality, "band": self.band,
-               "azimuth_deg": self.azimuth_deg, "elevation_deg": self.elevation_deg, "ifov_rad": self.ifov_rad}
+        out = {
+            "range_m": self.range_m,
+            "modality": self.modality,
+            "band": self.band,
+            "azimuth_deg": self.azimuth_deg,
+            "elevation_deg": self.elevation_deg,
+            "ifov_rad": self.ifov_rad,
+        }
         out.update(self.values)
-        out.update(stderr=dict(self.stderr), time_s=self.time_s, samples=self.samples,
-                   samples_per_pixel=self.samples_per_pixel, quality=self.quality.name, window_px=self.window.as_dict(),
-                   terms=list(self.terms), units=self.units, notes=list(self.notes))
+        out.update(
+            stderr=dict(self.stderr),
+            time_s=self.time_s,
+            samples=self.samples,
+            samples_per_pixel=self.samples_per_pixel,
+            quality=self.quality.name,
+            window_px=self.window.as_dict(),
+            terms=list(self.terms),
+            units=self.units,
+            notes=list(self.notes),
+        )
         return out

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csuas.drone_models.geometry import direction_vector, view_basis
 from csuas.base.errors import ParameterError
+from csuas.drone_models.geometry import direction_vector, view_basis
 
 
 @dataclass
@@ -80,6 +80,7 @@ def target_parts(target) -> list:
     """
     if isinstance(target, str):
         from csuas.drone_models import build_drone
+
         target = build_drone(target)
     parts = list(getattr(target, "parts", target))
     if not parts:
@@ -107,8 +108,15 @@ def normalise_target(target, azimuth_deg: float, elevation_deg: float) -> Normal
     radius = max(float(np.linalg.norm(np.asarray(p.mesh.vertices, dtype=float), axis=1).max()) for p in parts)
     if not np.isfinite(radius) or radius <= 0.0:
         raise ParameterError("target", "mesh", "finite vertices not all at the origin")
-    out = [RenderPart(p.name, (np.asarray(p.mesh.vertices, dtype=float) @ rotation.T) / radius,
-                      np.asarray(p.mesh.faces, dtype=np.int64), p.material) for p in parts]
+    out = [
+        RenderPart(
+            p.name,
+            (np.asarray(p.mesh.vertices, dtype=float) @ rotation.T) / radius,
+            np.asarray(p.mesh.faces, dtype=np.int64),
+            p.material,
+        )
+        for p in parts
+    ]
     return NormalisedTarget(out, radius, rotation)
 
 
@@ -122,8 +130,14 @@ def mitsuba_mesh(part: RenderPart, bsdf, emitter=None, exterior=None):
         props["emitter"] = emitter
     if exterior is not None:
         props["exterior"] = exterior
-    mesh = mi.Mesh(part.name, len(part.vertices), len(part.faces), props=props,
-                   has_vertex_normals=False, has_vertex_texcoords=False)
+    mesh = mi.Mesh(
+        part.name,
+        len(part.vertices),
+        len(part.faces),
+        props=props,
+        has_vertex_normals=False,
+        has_vertex_texcoords=False,
+    )
     params = mi.traverse(mesh)
     params["vertex_positions"] = mi.Float(part.vertices.astype(np.float32).ravel())
     params["faces"] = mi.UInt32(part.faces.astype(np.uint32).ravel())
@@ -135,8 +149,9 @@ def diffuse_rgb(material):
     """Lambertian Mitsuba BSDF of a material's linear-sRGB albedo ``reflectance_rgb``."""
     import mitsuba as mi
 
-    return mi.load_dict({"type": "diffuse",
-                         "reflectance": {"type": "rgb", "value": [float(c) for c in material.reflectance_rgb]}})
+    return mi.load_dict(
+        {"type": "diffuse", "reflectance": {"type": "rgb", "value": [float(c) for c in material.reflectance_rgb]}}
+    )
 
 
 def _frame_with_up(up) -> np.ndarray:
@@ -160,12 +175,22 @@ def _sky_ground_envmap(sky_radiance: float, ground_radiance: float, up_render, r
     theta = (np.arange(rows) + 0.5) / rows * np.pi  # polar angle from local +Y of each row
     value = np.where(theta < np.pi / 2, sky_radiance, ground_radiance).astype(np.float32)
     image = np.repeat(value[:, None, None], 8, axis=1).repeat(3, axis=2)
-    return {"type": "envmap", "bitmap": mi.Bitmap(np.ascontiguousarray(image)),
-            "to_world": mi.ScalarTransform4f(_frame_with_up(up_render).tolist())}
+    return {
+        "type": "envmap",
+        "bitmap": mi.Bitmap(np.ascontiguousarray(image)),
+        "to_world": mi.ScalarTransform4f(_frame_with_up(up_render).tolist()),
+    }
 
 
-def build_eo_scene(target: NormalisedTarget, *, sun_direction_render, sun_irradiance: float,
-                   sky_radiance: float, ground_radiance: float, up_render):
+def build_eo_scene(
+    target: NormalisedTarget,
+    *,
+    sun_direction_render,
+    sun_irradiance: float,
+    sky_radiance: float,
+    ground_radiance: float,
+    up_render,
+):
     """Mitsuba scene (``*_ad_rgb``) for visible-band rendering.
 
     Parameters
@@ -188,8 +213,11 @@ def build_eo_scene(target: NormalisedTarget, *, sun_direction_render, sun_irradi
         scene[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material))
     if sun_irradiance > 0:
         to_sun = np.asarray(sun_direction_render, dtype=float)
-        scene["sun"] = {"type": "directional", "direction": (-to_sun / np.linalg.norm(to_sun)).tolist(),
-                        "irradiance": {"type": "rgb", "value": float(sun_irradiance)}}
+        scene["sun"] = {
+            "type": "directional",
+            "direction": (-to_sun / np.linalg.norm(to_sun)).tolist(),
+            "irradiance": {"type": "rgb", "value": float(sun_irradiance)},
+        }
     if sky_radiance > 0 or ground_radiance > 0:
         scene["environment"] = _sky_ground_envmap(sky_radiance, ground_radiance, up_render)
     return mi.load_dict(scene)

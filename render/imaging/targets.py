@@ -6,8 +6,8 @@ import dataclasses
 
 import trimesh
 
-from csuas.drone_models import Part, get_material
 from csuas.base.errors import ParameterError
+from csuas.drone_models import Part, get_material
 
 
 def grey_material(reflectance: float = 0.5, emissivity: float = 0.68, temperature_k: float = 288.15):
@@ -15,9 +15,15 @@ def grey_material(reflectance: float = 0.5, emissivity: float = 0.68, temperatur
     for name, value in (("reflectance", reflectance), ("emissivity", emissivity)):
         if not 0.0 <= value <= 1.0:
             raise ParameterError(name, value, "0 <= x <= 1")
-    return dataclasses.replace(get_material("paint"), name="grey", reflectance_rgb=(reflectance,) * 3,
-                               reflectance_550nm=reflectance, emissivity_lwir=emissivity, emissivity_mwir=emissivity,
-                               temperature_k=temperature_k)
+    return dataclasses.replace(
+        get_material("paint"),
+        name="grey",
+        reflectance_rgb=(reflectance,) * 3,
+        reflectance_550nm=reflectance,
+        emissivity_lwir=emissivity,
+        emissivity_mwir=emissivity,
+        temperature_k=temperature_k,
+    )
 
 
 def plate(width_m: float = 1.0, height_m: float = 1.0, thickness_m: float = 0.01, **material) -> list:

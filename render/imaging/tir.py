@@ -1,4 +1,6 @@
-"""Thermal-infrared rendering: band radiance, apparent Delta T and the MRTD range (docs/simulation.md, paper 2.3.2, 4.4).
+"""Thermal-infrared rendering: band radiance, apparent Delta T and the MRTD range.
+
+Method: docs/simulation.md; the paper's Sections 2.3.2 and 4.4.
 
 Each part of the target is a graybody of band emissivity eps (the material's
 ``emissivity_lwir`` or ``emissivity_mwir``) at its ``temperature_k``: it
@@ -26,10 +28,10 @@ import time
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.mrtd import ParametricMrtd
 from csuas.core.radiometry import BANDS_UM, band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear, tir_mrtd_range
-from csuas.base.errors import ParameterError
 from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, tir_path
@@ -39,12 +41,18 @@ from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_
 from csuas.render.imaging.trace import trace_window
 
 
-def default_mrtd(ifov_rad: float, band: str = "lwir", netd_mk: float = 50.0, f_number: float = 1.0,
-                 pitch_um: float = 10.0) -> ParametricMrtd:
+def default_mrtd(
+    ifov_rad: float, band: str = "lwir", netd_mk: float = 50.0, f_number: float = 1.0, pitch_um: float = 10.0
+) -> ParametricMrtd:
     """The documented parametric MRTD of :mod:`csuas.core.mrtd` for a sensor (band-centre wavelength)."""
     low, high = BANDS_UM[band]
-    return ParametricMrtd(netd_k=netd_mk / 1000.0, ifov_rad=ifov_rad, f_number=f_number, pitch_m=pitch_um * 1e-6,
-                          wavelength_m=0.5 * (low + high) * 1e-6)
+    return ParametricMrtd(
+        netd_k=netd_mk / 1000.0,
+        ifov_rad=ifov_rad,
+        f_number=f_number,
+        pitch_m=pitch_um * 1e-6,
+        wavelength_m=0.5 * (low + high) * 1e-6,
+    )
 
 
 def area_weighted_graybody(target, band: str) -> tuple[float, float]:
@@ -56,11 +64,33 @@ def area_weighted_graybody(target, band: str) -> tuple[float, float]:
     return float(np.sum(area * eps) / area.sum()), float(np.sum(area * temp) / area.sum())
 
 
-def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir", azimuth_deg=0.0,
-               elevation_deg=0.0, t_bg_k=298.15, emissivity_bg=0.77, surroundings_k=None, extinction_db_km=None,
-               air_temperature_k=293.15, mrtd=None, lp_task=1.0, n_ttpf=1.0, linear_reference=None,
-               quality="standard", seed=0, target_offset_px=(0.0, 0.0), max_depth=3, full_frame=False,
-               progress=None, variant=None) -> ImagingResult:
+def render_tir(
+    target,
+    *,
+    range_m,
+    hfov_deg=36.67,
+    n_h=1280,
+    n_v=720,
+    band="lwir",
+    azimuth_deg=0.0,
+    elevation_deg=0.0,
+    t_bg_k=298.15,
+    emissivity_bg=0.77,
+    surroundings_k=None,
+    extinction_db_km=None,
+    air_temperature_k=293.15,
+    mrtd=None,
+    lp_task=1.0,
+    n_ttpf=1.0,
+    linear_reference=None,
+    quality="standard",
+    seed=0,
+    target_offset_px=(0.0, 0.0),
+    max_depth=3,
+    full_frame=False,
+    progress=None,
+    variant=None,
+) -> ImagingResult:
     """Render the target in a thermal band and measure apparent Delta T and the MRTD range.
 
     Parameters
@@ -103,17 +133,36 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
             raise ParameterError(name, value, "0 <= x <= 1")
     q = resolve_quality(quality)
     r, sensor, normalised, window, target_px, bounds = prepare(
-        target, range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg, target_offset_px=target_offset_px, full=full_frame)
+        target,
+        range_m=range_m,
+        hfov_deg=hfov_deg,
+        n_h=n_h,
+        n_v=n_v,
+        azimuth_deg=azimuth_deg,
+        elevation_deg=elevation_deg,
+        target_offset_px=target_offset_px,
+        full=full_frame,
+    )
     l_surr = 0.0 if surroundings_k is None else float(band_radiance(surroundings_k, band))
     l_bg = emissivity_bg * float(band_radiance(t_bg_k, band)) + (1.0 - emissivity_bg) * l_surr
     use_variant("ad_mono", variant)
     scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render tir {r:g} m", progress)
-    tally = trace_window(scene, path_integrator(max_depth), sensor, window, target_px, r / normalised.radius_m,
-                         n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=1, bounds=bounds,
-                         progress=progress)
+    tally = trace_window(
+        scene,
+        path_integrator(max_depth),
+        sensor,
+        window,
+        target_px,
+        r / normalised.radius_m,
+        n_side=q.n_side,
+        n_batches=q.n_batches,
+        seed=seed,
+        channels=1,
+        bounds=bounds,
+        progress=progress,
+    )
     path = tir_path(r, extinction_db_km, air_temperature_k, band)
 
     def to_temperature(radiance):
@@ -138,15 +187,27 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
             return float("inf")
         if d <= 0 or dt == 0:
             return 0.0
-        res = tir_mrtd_range(mrtd=curve, d_crit_m=d, lp_task=lp_task, n_ttpf=n_ttpf, delta_t0_k=dt,
-                             extinction_db_km=sigma, convention="physical", t_bg_app_k=t_bg_app,
-                             air_temperature_k=air_temperature_k, band=band)
+        res = tir_mrtd_range(
+            mrtd=curve,
+            d_crit_m=d,
+            lp_task=lp_task,
+            n_ttpf=n_ttpf,
+            delta_t0_k=dt,
+            extinction_db_km=sigma,
+            convention="physical",
+            t_bg_app_k=t_bg_app,
+            air_temperature_k=air_temperature_k,
+            band=band,
+        )
         return float(np.asarray(res.range_m))
 
     r_mrtd = mrtd_range(dt0, d_crit)
     values["mrtd_range_m"] = r_mrtd
-    stderr["mrtd_range_m"] = float(np.hypot(mrtd_range(dt0 + np.copysign(dt0_se, dt0), d_crit) - r_mrtd,
-                                            mrtd_range(dt0, d_crit + d_crit_se) - r_mrtd))
+    stderr["mrtd_range_m"] = float(
+        np.hypot(
+            mrtd_range(dt0 + np.copysign(dt0_se, dt0), d_crit) - r_mrtd, mrtd_range(dt0, d_crit + d_crit_se) - r_mrtd
+        )
+    )
     if d_crit > 0 and lp_task * n_ttpf > 0:
         freq = lp_task * n_ttpf * r / d_crit
         values["target_frequency_cy_rad"] = freq
@@ -159,6 +220,24 @@ def render_tir(target, *, range_m, hfov_deg=36.67, n_h=1280, n_v=720, band="lwir
         notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
     if tally.nonfinite_samples:
         notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
-    return ImagingResult("tir", band, r, float(azimuth_deg), float(elevation_deg), sensor.ifov_rad, window,
-                         values, stderr, m.image, m.coverage, "W m^-2 sr^-1", ("L",), list(path.terms), q,
-                         tally.samples, tally.n_side ** 2 * tally.n_batches, time.perf_counter() - t0, notes)
+    return ImagingResult(
+        "tir",
+        band,
+        r,
+        float(azimuth_deg),
+        float(elevation_deg),
+        sensor.ifov_rad,
+        window,
+        values,
+        stderr,
+        m.image,
+        m.coverage,
+        "W m^-2 sr^-1",
+        ("L",),
+        list(path.terms),
+        q,
+        tally.samples,
+        tally.n_side**2 * tally.n_batches,
+        time.perf_counter() - t0,
+        notes,
+    )

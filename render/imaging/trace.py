@@ -67,10 +67,25 @@ class WindowTally:
         return self.coverage.shape[0]
 
 
-def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, target_px, camera_distance: float, *,
-                 n_side: int, n_batches: int, seed: int = 0, channels: int = 3, max_launch: int = MAX_LAUNCH,
-                 bounds=None, min_box_pixels: int = MIN_BOX_PIXELS, medium=None, geometry=None,
-                 progress=None) -> WindowTally:
+def trace_window(
+    scene,
+    integrator,
+    sensor: SensorGeometry,
+    window: Window,
+    target_px,
+    camera_distance: float,
+    *,
+    n_side: int,
+    n_batches: int,
+    seed: int = 0,
+    channels: int = 3,
+    max_launch: int = MAX_LAUNCH,
+    bounds=None,
+    min_box_pixels: int = MIN_BOX_PIXELS,
+    medium=None,
+    geometry=None,
+    progress=None,
+) -> WindowTally:
     """Trace ``n_batches`` x ``n_side**2`` jittered samples in every pixel of ``window``.
 
     Parameters
@@ -182,15 +197,32 @@ def trace_window(scene, integrator, sensor: SensorGeometry, window: Window, targ
         step = 2.0 / n_side * (1.0 if bounds is None else min(1.0, bounds[1] - bounds[0]))
         points = anchors[found].reshape(-1, 2)
         side_of = np.tile(np.arange(4), int(found.sum()))
-        extent[found] = refine_extremes(geometry, sensor, target_px, camera_distance, points, side_of,
-                                        step).reshape(-1, 4)
+        extent[found] = refine_extremes(geometry, sensor, target_px, camera_distance, points, side_of, step).reshape(
+            -1, 4
+        )
     shape = (window.height, window.width)
-    return WindowTally(coverage.reshape(n_batches, *shape), radiance.reshape(n_batches, channels, *shape),
-                       extent, n_batches * active.size * n2, time.perf_counter() - t0, n_side, nonfinite)
+    return WindowTally(
+        coverage.reshape(n_batches, *shape),
+        radiance.reshape(n_batches, channels, *shape),
+        extent,
+        n_batches * active.size * n2,
+        time.perf_counter() - t0,
+        n_side,
+        nonfinite,
+    )
 
 
-def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: float, points, sides, step: float,
-                    grid: int = 24, iterations: int = 3) -> np.ndarray:
+def refine_extremes(
+    scene,
+    sensor: SensorGeometry,
+    target_px,
+    camera_distance: float,
+    points,
+    sides,
+    step: float,
+    grid: int = 24,
+    iterations: int = 3,
+) -> np.ndarray:
     """Push extreme hits of the silhouette outward by local grid searches.
 
     The extreme hit of random samples falls short of the silhouette's true
@@ -226,15 +258,16 @@ def refine_extremes(scene, sensor: SensorGeometry, target_px, camera_distance: f
     rows = np.arange(m)
     g = step
     for _ in range(iterations):
-        along = best[rows, axis][:, None] + sign[:, None] * g * u[None, :]      # (m, grid)
-        across = best[rows, 1 - axis][:, None] + g * (4.0 * u[None, :] - 2.0)   # (m, grid)
+        along = best[rows, axis][:, None] + sign[:, None] * g * u[None, :]  # (m, grid)
+        across = best[rows, 1 - axis][:, None] + g * (4.0 * u[None, :] - 2.0)  # (m, grid)
         a = np.repeat(along, grid, axis=1)
         c = np.tile(across, (1, grid))
         pts = np.where((axis == 0)[:, None, None], np.stack([a, c], axis=1), np.stack([c, a], axis=1))  # (m, 2, n)
         d = ray_directions(pts[:, 0].ravel(), pts[:, 1].ravel(), sensor, target_px).astype(np.float32)
-        hit = np.array(scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(),
-                       dtype=bool).reshape(m, -1)
-        coord = pts[rows, axis]                                                   # (m, n)
+        hit = np.array(
+            scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(), dtype=bool
+        ).reshape(m, -1)
+        coord = pts[rows, axis]  # (m, n)
         score = np.where(hit, sign[:, None] * coord, -np.inf)
         k = np.argmax(score, axis=1)
         improved = hit.any(axis=1)

@@ -22,5 +22,15 @@ from csuas.render.lidar.runner import render_lidar
 from csuas.render.lidar.sphere_average import drone_lcs_versus_rule, mean_lidar_cross_section
 from csuas.render.lidar.target import LidarTarget, material_reflectance
 
-__all__ = ["LidarTarget", "LcsResult", "QUALITY_PRESETS", "drone_lcs_versus_rule", "lidar_cross_section",
-           "material_reflectance", "mean_lidar_cross_section", "path_traced_lcs", "render_lidar", "trace_lcs"]
+__all__ = [
+    "LidarTarget",
+    "LcsResult",
+    "QUALITY_PRESETS",
+    "drone_lcs_versus_rule",
+    "lidar_cross_section",
+    "material_reflectance",
+    "mean_lidar_cross_section",
+    "path_traced_lcs",
+    "render_lidar",
+    "trace_lcs",
+]

@@ -19,8 +19,7 @@ from csuas.render.lidar.cross_section import QUALITY_PRESETS, lidar_cross_sectio
 from csuas.render.lidar.target import LidarTarget
 
 #: The reference problem: icosphere subdivisions, radius [m], albedo, azimuth and elevation [deg].
-REFERENCE_PROBLEM = {"subdivisions": 4, "radius_m": 0.1, "reflectance": 0.5, "azimuth_deg": 20.0,
-                     "elevation_deg": 30.0}
+REFERENCE_PROBLEM = {"subdivisions": 4, "radius_m": 0.1, "reflectance": 0.5, "azimuth_deg": 20.0, "elevation_deg": 30.0}
 
 #: Grid sizes of the default sweep (cells per side).
 DEFAULT_GRIDS = (8, 16, 32, 64, 128, 256)
@@ -30,7 +29,7 @@ def convex_polyhedron_lcs(mesh, reflectance: float, direction) -> float:
     """Exact single-bounce LCS of a convex Lambertian polyhedron [m^2]: ``4 rho sum A_f max(0, cos)^2``."""
     d = np.asarray(direction, dtype=float)
     cosines = np.clip(np.asarray(mesh.face_normals) @ (d / np.linalg.norm(d)), 0.0, None)
-    return float(4.0 * reflectance * np.sum(np.asarray(mesh.area_faces) * cosines ** 2))
+    return float(4.0 * reflectance * np.sum(np.asarray(mesh.area_faces) * cosines**2))
 
 
 def reference_problem() -> tuple:
@@ -45,10 +44,17 @@ def reference_problem() -> tuple:
 
 
 def _row(result, exact: float) -> dict:
-    return {"grid": result.grid, "replicates": result.replicates, "rays": result.rays,
-            "lcs_m2": result.lcs_m2, "stderr_m2": result.stderr_m2, "exact_m2": exact,
-            "error_rel": (result.lcs_m2 - exact) / exact, "stderr_rel": result.stderr_m2 / exact,
-            "time_s": result.time_s}
+    return {
+        "grid": result.grid,
+        "replicates": result.replicates,
+        "rays": result.rays,
+        "lcs_m2": result.lcs_m2,
+        "stderr_m2": result.stderr_m2,
+        "exact_m2": exact,
+        "error_rel": (result.lcs_m2 - exact) / exact,
+        "stderr_rel": result.stderr_m2 / exact,
+        "time_s": result.time_s,
+    }
 
 
 def accuracy_vs_time(grids=DEFAULT_GRIDS, replicates: int = 8, seed: int = 0) -> list:
@@ -70,8 +76,22 @@ def accuracy_vs_time(grids=DEFAULT_GRIDS, replicates: int = 8, seed: int = 0) ->
         the closed form), ``stderr_rel``, ``time_s``.
     """
     target, exact, p = reference_problem()
-    return [_row(lidar_cross_section(target, p["azimuth_deg"], p["elevation_deg"], math.inf, "standard",
-                                     grid=int(g), replicates=replicates, seed=seed), exact) for g in grids]
+    return [
+        _row(
+            lidar_cross_section(
+                target,
+                p["azimuth_deg"],
+                p["elevation_deg"],
+                math.inf,
+                "standard",
+                grid=int(g),
+                replicates=replicates,
+                seed=seed,
+            ),
+            exact,
+        )
+        for g in grids
+    ]
 
 
 def preset_accuracy(seed: int = 0) -> list:

@@ -69,8 +69,10 @@ def bench(preset: str = "dji_mini_4_pro") -> dict:
     az, el = BENCH_VIEW
     lidar_cross_section(target, az, el, quality="draft")  # warm-up: kernel compilation
     raw = _raw_throughput(target, RAW_RAYS)
-    big = min((lidar_cross_section(target, az, el, quality="standard", grid=512, replicates=8) for _ in range(3)),
-              key=lambda r: r.time_s)
+    big = min(
+        (lidar_cross_section(target, az, el, quality="standard", grid=512, replicates=8) for _ in range(3)),
+        key=lambda r: r.time_s,
+    )
     single = {}
     for name in QUALITY_PRESETS:
         r = lidar_cross_section(target, az, el, quality=name)
@@ -78,14 +80,28 @@ def bench(preset: str = "dji_mini_4_pro") -> dict:
     averaged = {}
     for name in ("draft", "standard"):
         r = mean_lidar_cross_section(target, name)
-        averaged[name] = {"time_s": r["time_s"], "rays": r["rays"], "n_directions": r["n_directions"],
-                          "lcs_m2": r["lcs_m2"]["mean"], "stderr_rel": r["lcs_m2"]["stderr"] / r["lcs_m2"]["mean"]}
+        averaged[name] = {
+            "time_s": r["time_s"],
+            "rays": r["rays"],
+            "n_directions": r["n_directions"],
+            "lcs_m2": r["lcs_m2"]["mean"],
+            "stderr_rel": r["lcs_m2"]["stderr"] / r["lcs_m2"]["mean"],
+        }
     path_traced_lcs(target, az, el, max_depth=8, quality="draft")  # warm-up
     multi = path_traced_lcs(target, az, el, max_depth=8, quality="draft")
-    return {"variant": mi.variant(), "target": preset,
-            "ray_intersect_rays_per_s": raw, "lcs_pipeline_rays_per_s": big.rays / big.time_s,
-            "pipeline_efficiency": (big.rays / big.time_s) / raw,
-            "single_direction": single, "sphere_average": averaged,
-            "multibounce": {"time_s": multi["time_s"], "lcs_m2": multi["lcs_m2"],
-                            "stderr_rel": multi["stderr_m2"] / multi["lcs_m2"], "max_depth": multi["max_depth"],
-                            "single_bounce_lcs_m2": single["standard"]["lcs_m2"]}}
+    return {
+        "variant": mi.variant(),
+        "target": preset,
+        "ray_intersect_rays_per_s": raw,
+        "lcs_pipeline_rays_per_s": big.rays / big.time_s,
+        "pipeline_efficiency": (big.rays / big.time_s) / raw,
+        "single_direction": single,
+        "sphere_average": averaged,
+        "multibounce": {
+            "time_s": multi["time_s"],
+            "lcs_m2": multi["lcs_m2"],
+            "stderr_rel": multi["stderr_m2"] / multi["lcs_m2"],
+            "max_depth": multi["max_depth"],
+            "single_bounce_lcs_m2": single["standard"]["lcs_m2"],
+        },
+    }

@@ -20,18 +20,22 @@ DEFAULT_PRESET = "dji_mini_4_pro"
 
 
 def _explanation(r: dict) -> str:
-    albedos = ", ".join(f"{name} {m['reflectance']:.2f} ({100 * m['area_fraction']:.0f} % of the surface)"
-                        for name, m in sorted(r["materials"].items(), key=lambda kv: -kv[1]["area_fraction"]))
+    albedos = ", ".join(
+        f"{name} {m['reflectance']:.2f} ({100 * m['area_fraction']:.0f} % of the surface)"
+        for name, m in sorted(r["materials"].items(), key=lambda kv: -kv[1]["area_fraction"])
+    )
     return (
         f"The simulated mean LCS {r['lcs_m2']['mean']:.4f} m^2 is {r['lcs_m2']['mean'] / SIGMA_LIDAR_PAPER_M2:.1f}x "
         f"the paper's value. Eq. 9 with k_LCS = {K_LCS_PAPER} describes a dark target: a Lambertian sphere obeys "
         f"<sigma> = (8/3) rho <A_p>, so k_LCS = 0.1 means an albedo of {r['reflectance_for_rule']:.4f}. "
-        f"The mesh's albedos at 1550 nm are {albedos}; area-weighted {r['area_weighted_reflectance']:.2f}. The measured <sigma>/<A_p> "
+        f"The mesh's albedos at 1550 nm are {albedos}; area-weighted {r['area_weighted_reflectance']:.2f}. "
+        f"The measured <sigma>/<A_p> "
         f"is {r['k_lcs_measured']['mean']:.3f} +- {r['k_lcs_measured']['stderr']:.3f}. The mesh's mean projected area "
         f"is {r['projected_area_m2']['mean']:.4f} m^2 against the 0.06 m^2 the paper's figure implies. Treating the "
         "parts as Lambertian overstates the back-scatter of bare metal away from normal incidence (it is mostly "
         "specular) and single bounce ignores inter-reflections, which Mitsuba path tracing with 8 bounces "
-        "(csuas.render.lidar.path) puts at about +1 % of the orientation mean for this mesh.")
+        "(csuas.render.lidar.path) puts at about +1 % of the orientation mean for this mesh."
+    )
 
 
 def default_checks(quality: str = "draft", seed: int = 0) -> list:
@@ -44,20 +48,42 @@ def default_checks(quality: str = "draft", seed: int = 0) -> list:
     seed : int
     """
     r = drone_lcs_versus_rule(DEFAULT_PRESET, quality, seed=seed)
-    extra = {"stderr_m2": r["lcs_m2"]["stderr"], "time_s": r["time_s"], "n_directions": r["n_directions"],
-             "rays": r["rays"], "quality": r["quality"], "method_code": r["method"],
-             "projected_area_mean_m2": r["projected_area_m2"]["mean"],
-             "area_weighted_reflectance": r["area_weighted_reflectance"], "wavelength_nm": r["wavelength_nm"]}
+    extra = {
+        "stderr_m2": r["lcs_m2"]["stderr"],
+        "time_s": r["time_s"],
+        "n_directions": r["n_directions"],
+        "rays": r["rays"],
+        "quality": r["quality"],
+        "method_code": r["method"],
+        "projected_area_mean_m2": r["projected_area_m2"]["mean"],
+        "area_weighted_reflectance": r["area_weighted_reflectance"],
+        "wavelength_nm": r["wavelength_nm"],
+    }
     deviation = _explanation(r)
     return [
-        Check(name=f"T8.sigma_lidar_m2.{DEFAULT_PRESET}.raytraced", paper=SIGMA_LIDAR_PAPER_M2,
-              computed=r["lcs_m2"]["mean"], unit="m^2", source="Table 8, Eqs. 7 and 9 (k_LCS = 0.1 [48])",
-              method=(f"sphere average (Eq. 7, {r['n_directions']} directions) of the monostatic LCS 4 pi I / E of "
-                      f"the {DEFAULT_PRESET} mesh, Lambertian parts at 1550 nm, single-bounce Mitsuba 3 ray tracing"),
-              rel_tol=0.5, limitation=deviation, extra=extra),
-        Check(name=f"Eq9.k_lcs.{DEFAULT_PRESET}.raytraced", paper=K_LCS_PAPER, computed=r["k_lcs_measured"]["mean"],
-              unit="1", source="Eq. 9 (Titterton [48])",
-              method="ray-traced mean LCS over the exact mean projected area of the same directions",
-              rel_tol=0.5, limitation=deviation,
-              extra={**extra, "stderr": r["k_lcs_measured"]["stderr"]}),
+        Check(
+            name=f"T8.sigma_lidar_m2.{DEFAULT_PRESET}.raytraced",
+            paper=SIGMA_LIDAR_PAPER_M2,
+            computed=r["lcs_m2"]["mean"],
+            unit="m^2",
+            source="Table 8, Eqs. 7 and 9 (k_LCS = 0.1 [48])",
+            method=(
+                f"sphere average (Eq. 7, {r['n_directions']} directions) of the monostatic LCS 4 pi I / E of "
+                f"the {DEFAULT_PRESET} mesh, Lambertian parts at 1550 nm, single-bounce Mitsuba 3 ray tracing"
+            ),
+            rel_tol=0.5,
+            limitation=deviation,
+            extra=extra,
+        ),
+        Check(
+            name=f"Eq9.k_lcs.{DEFAULT_PRESET}.raytraced",
+            paper=K_LCS_PAPER,
+            computed=r["k_lcs_measured"]["mean"],
+            unit="1",
+            source="Eq. 9 (Titterton [48])",
+            method="ray-traced mean LCS over the exact mean projected area of the same directions",
+            rel_tol=0.5,
+            limitation=deviation,
+            extra={**extra, "stderr": r["k_lcs_measured"]["stderr"]},
+        ),
     ]

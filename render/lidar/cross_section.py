@@ -62,8 +62,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
 from csuas.base.errors import ParameterError
+from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
 
 #: Single-direction accuracy presets: name -> (grid cells per side, replicates).
 QUALITY_PRESETS = {"draft": (48, 4), "standard": (128, 8), "reference": (384, 16)}
@@ -126,12 +126,20 @@ class LcsResult:
 
     def as_dict(self) -> dict:
         """JSON-ready summary (no image)."""
-        return {"lcs_m2": self.lcs_m2, "stderr": self.stderr_m2,
-                "projected_area_traced_m2": self.projected_area_m2,
-                "projected_area_traced_stderr_m2": self.projected_area_stderr_m2,
-                "range_m": self.range_m, "direction": [float(x) for x in self.direction],
-                "grid": self.grid, "replicates": self.replicates, "rays": self.rays,
-                "quality": self.quality, "time_s": self.time_s, "method": "single_bounce"}
+        return {
+            "lcs_m2": self.lcs_m2,
+            "stderr": self.stderr_m2,
+            "projected_area_traced_m2": self.projected_area_m2,
+            "projected_area_traced_stderr_m2": self.projected_area_stderr_m2,
+            "range_m": self.range_m,
+            "direction": [float(x) for x in self.direction],
+            "grid": self.grid,
+            "replicates": self.replicates,
+            "rays": self.rays,
+            "quality": self.quality,
+            "time_s": self.time_s,
+            "method": "single_bounce",
+        }
 
 
 def resolve_quality(quality: str, grid=None, replicates=None, presets: dict = QUALITY_PRESETS) -> tuple:
@@ -163,8 +171,11 @@ def check_range(range_m, bounding_radius_m: float) -> float:
         raise ParameterError("range_m", range_m, "a number > 0 m") from None
     limit = MIN_RANGE_FACTOR * bounding_radius_m
     if math.isnan(r) or r <= limit:
-        raise ParameterError("range_m", range_m, f"x > {limit:.4g} m ({MIN_RANGE_FACTOR} x the target's "
-                                                 f"bounding radius), or inf for a plane wave")
+        raise ParameterError(
+            "range_m",
+            range_m,
+            f"x > {limit:.4g} m ({MIN_RANGE_FACTOR} x the target's bounding radius), or inf for a plane wave",
+        )
     return r
 
 
@@ -183,8 +194,9 @@ class _Window:
     n_v: int
 
 
-def sampling_windows(vertices: np.ndarray, radius: float, d: np.ndarray, az, range_m: float, grid: int,
-             beam_radius_m: float | None) -> list:
+def sampling_windows(
+    vertices: np.ndarray, radius: float, d: np.ndarray, az, range_m: float, grid: int, beam_radius_m: float | None
+) -> list:
     """Sampling windows, one per direction, on the plane through the target centre normal to it.
 
     Each window is the bounding box of the vertices' perspective projection
@@ -227,8 +239,10 @@ def _intersect(scene, origins: np.ndarray, directions: np.ndarray) -> tuple:
     import drjit as dr
     import mitsuba as mi
 
-    ray = mi.Ray3f(mi.Point3f(np.ascontiguousarray(origins.T, dtype=np.float32)),
-                   mi.Vector3f(np.ascontiguousarray(directions.T, dtype=np.float32)))
+    ray = mi.Ray3f(
+        mi.Point3f(np.ascontiguousarray(origins.T, dtype=np.float32)),
+        mi.Vector3f(np.ascontiguousarray(directions.T, dtype=np.float32)),
+    )
     si = scene.ray_intersect(ray)
     hit = si.is_valid()
     bsdf = si.bsdf(ray)
@@ -236,13 +250,24 @@ def _intersect(scene, origins: np.ndarray, directions: np.ndarray) -> tuple:
     value = dr.select(hit, value, 0.0)
     distance = dr.select(hit, si.t, 0.0)
     dr.eval(value, distance, hit)
-    return (np.asarray(value, dtype=np.float64).ravel(), np.asarray(distance, dtype=np.float64),
-            np.asarray(hit, dtype=bool))
+    return (
+        np.asarray(value, dtype=np.float64).ravel(),
+        np.asarray(distance, dtype=np.float64),
+        np.asarray(hit, dtype=bool),
+    )
 
 
-def trace_lcs(target, directions, azimuth_deg=None, range_m: float = math.inf, grid: int = 128,
-              replicates: int = 8, seed: int = 0, beam_radius_m: float | None = None,
-              keep_images: bool = False) -> dict:
+def trace_lcs(
+    target,
+    directions,
+    azimuth_deg=None,
+    range_m: float = math.inf,
+    grid: int = 128,
+    replicates: int = 8,
+    seed: int = 0,
+    beam_radius_m: float | None = None,
+    keep_images: bool = False,
+) -> dict:
     """LCS and traced projected area of ``target`` for many directions and jitter replicates.
 
     Parameters
@@ -341,10 +366,18 @@ def _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, lcs
     return int(bounds[-1])
 
 
-def lidar_cross_section(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0,
-                        range_m: float = math.inf, quality: str = "standard", grid: int | None = None,
-                        replicates: int | None = None, seed: int = 0, beam_radius_m: float | None = None,
-                        keep_image: bool = False) -> LcsResult:
+def lidar_cross_section(
+    target,
+    azimuth_deg: float = 0.0,
+    elevation_deg: float = 0.0,
+    range_m: float = math.inf,
+    quality: str = "standard",
+    grid: int | None = None,
+    replicates: int | None = None,
+    seed: int = 0,
+    beam_radius_m: float | None = None,
+    keep_image: bool = False,
+) -> LcsResult:
     """Monostatic LCS of ``target`` seen from one direction, with its standard error and time.
 
     Parameters
@@ -384,8 +417,17 @@ def lidar_cross_section(target, azimuth_deg: float = 0.0, elevation_deg: float =
     w = out["windows"][0]
     elapsed = time.perf_counter() - start
     return LcsResult(
-        lcs_m2=float(values.mean()), stderr_m2=float(values.std(ddof=1) / math.sqrt(r)),
-        projected_area_m2=float(areas.mean()), projected_area_stderr_m2=float(areas.std(ddof=1) / math.sqrt(r)),
-        range_m=rng_m, direction=d, grid=g, replicates=r, rays=out["rays"], quality=name, time_s=elapsed,
+        lcs_m2=float(values.mean()),
+        stderr_m2=float(values.std(ddof=1) / math.sqrt(r)),
+        projected_area_m2=float(areas.mean()),
+        projected_area_stderr_m2=float(areas.std(ddof=1) / math.sqrt(r)),
+        range_m=rng_m,
+        direction=d,
+        grid=g,
+        replicates=r,
+        rays=out["rays"],
+        quality=name,
+        time_s=elapsed,
         window_m=(w.u0, w.u0 + w.n_u * w.du, w.w0, w.w0 + w.n_v * w.dw),
-        image_m2=out["images"][0] if keep_image else None)
+        image_m2=out["images"][0] if keep_image else None,
+    )

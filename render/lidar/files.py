@@ -64,7 +64,11 @@ def write_lcs_map(out_dir, stem: str, image: np.ndarray, metadata: dict) -> list
     """Write ``<stem>.exr`` and ``<stem>.png`` into ``out_dir`` (created); return both paths."""
     directory = Path(out_dir)
     directory.mkdir(parents=True, exist_ok=True)
-    title = (f"lidar {metadata.get('band', '')}, R = {metadata.get('range_m', 0):g} m: "
-             f"LCS {metadata.get('lcs_m2', float('nan')):.3g} m^2")
-    return [write_exr(directory / f"{stem}.exr", image, metadata),
-            write_png_preview(directory / f"{stem}.png", image, title)]
+    title = (
+        f"lidar {metadata.get('band', '')}, R = {metadata.get('range_m', 0):g} m: "
+        f"LCS {metadata.get('lcs_m2', float('nan')):.3g} m^2"
+    )
+    return [
+        write_exr(directory / f"{stem}.exr", image, metadata),
+        write_png_preview(directory / f"{stem}.png", image, title),
+    ]

@@ -32,12 +32,27 @@ from csuas.render.lidar.target import LidarTarget
 FLOAT32_FLOOR = 2e-5
 
 
-def _row(name: str, expected: float, measured: float, stderr: float, time_s: float, known_deviation=None,
-         extra_tolerance: float = 0.0) -> dict:
+def _row(
+    name: str,
+    expected: float,
+    measured: float,
+    stderr: float,
+    time_s: float,
+    known_deviation=None,
+    extra_tolerance: float = 0.0,
+) -> dict:
     tolerance = 5.0 * stderr + (FLOAT32_FLOOR + extra_tolerance) * abs(expected)
-    return {"name": name, "expected": expected, "measured": measured, "stderr": stderr, "tolerance": tolerance,
-            "ok": bool(abs(measured - expected) <= tolerance), "known_deviation": known_deviation,
-            "time_s": time_s, "unit": "m^2"}
+    return {
+        "name": name,
+        "expected": expected,
+        "measured": measured,
+        "stderr": stderr,
+        "tolerance": tolerance,
+        "ok": bool(abs(measured - expected) <= tolerance),
+        "known_deviation": known_deviation,
+        "time_s": time_s,
+        "unit": "m^2",
+    }
 
 
 def near_range_sphere_factor(radius_m: float, range_m: float) -> float:
@@ -80,27 +95,64 @@ def oracle_comparisons(quality: str = "draft", seed: int = 0) -> list:
     smooth = 8.0 / 3.0 * rho * math.pi * a * a
     faceted = convex_polyhedron_lcs(mesh, rho, direction_vector(az, el))
     rows.append(_row("lidar.sphere.faceted_closed_form", faceted, r.lcs_m2, r.stderr_m2, r.time_s))
-    rows.append(_row("lidar.sphere.smooth_8_3_rho_pi_a2", smooth, r.lcs_m2, r.stderr_m2, r.time_s,
-                     known_deviation=f"icosphere of {len(mesh.faces)} facets: its exact LCS is "
-                                     f"{100 * (faceted / smooth - 1):+.2f} % off the smooth sphere",
-                     extra_tolerance=abs(faceted / smooth - 1.0)))
+    rows.append(
+        _row(
+            "lidar.sphere.smooth_8_3_rho_pi_a2",
+            smooth,
+            r.lcs_m2,
+            r.stderr_m2,
+            r.time_s,
+            known_deviation=f"icosphere of {len(mesh.faces)} facets: its exact LCS is "
+            f"{100 * (faceted / smooth - 1):+.2f} % off the smooth sphere",
+            extra_tolerance=abs(faceted / smooth - 1.0),
+        )
+    )
     coarse = trimesh.creation.icosphere(subdivisions=3, radius=a)
     avg = mean_lidar_cross_section(LidarTarget.from_mesh(coarse, rho), quality, seed=seed)
-    rows.append(_row("lidar.sphere.average_2_3_rho_S", 2.0 / 3.0 * rho * coarse.area, avg["lcs_m2"]["mean"],
-                     avg["lcs_m2"]["stderr"], avg["time_s"], extra_tolerance=1e-4))
+    rows.append(
+        _row(
+            "lidar.sphere.average_2_3_rho_S",
+            2.0 / 3.0 * rho * coarse.area,
+            avg["lcs_m2"]["mean"],
+            avg["lcs_m2"]["stderr"],
+            avg["time_s"],
+            extra_tolerance=1e-4,
+        )
+    )
     far = lidar_cross_section(sphere, az, el, 2.0e4, quality, seed=seed)
-    rows.append(_row("lidar.sphere.point_source_20km_equals_plane_wave", r.lcs_m2, far.lcs_m2,
-                     math.hypot(far.stderr_m2, r.stderr_m2), far.time_s))
+    rows.append(
+        _row(
+            "lidar.sphere.point_source_20km_equals_plane_wave",
+            r.lcs_m2,
+            far.lcs_m2,
+            math.hypot(far.stderr_m2, r.stderr_m2),
+            far.time_s,
+        )
+    )
     start = time.perf_counter()
     near = lidar_cross_section(sphere, az, el, 10.0, quality, seed=seed)
     factor = near_range_sphere_factor(a, 10.0)
-    rows.append(_row("lidar.sphere.point_source_10m_near_range_integral", faceted * factor, near.lcs_m2,
-                     near.stderr_m2, time.perf_counter() - start, extra_tolerance=1e-3,
-                     known_deviation="closed form for the smooth sphere scaled to the facets (+-0.1 % allowed)"))
+    rows.append(
+        _row(
+            "lidar.sphere.point_source_10m_near_range_integral",
+            faceted * factor,
+            near.lcs_m2,
+            near.stderr_m2,
+            time.perf_counter() - start,
+            extra_tolerance=1e-3,
+            known_deviation="closed form for the smooth sphere scaled to the facets (+-0.1 % allowed)",
+        )
+    )
     rho_p, area = 0.3, 0.2 * 0.1
-    plate = LidarTarget.from_mesh(trimesh.Trimesh(np.array([[-0.1, -0.05, 0], [0.1, -0.05, 0], [0.1, 0.05, 0],
-                                                            [-0.1, 0.05, 0]]), [[0, 1, 2], [0, 2, 3]],
-                                                  process=False), rho_p, name="plate")
+    plate = LidarTarget.from_mesh(
+        trimesh.Trimesh(
+            np.array([[-0.1, -0.05, 0], [0.1, -0.05, 0], [0.1, 0.05, 0], [-0.1, 0.05, 0]]),
+            [[0, 1, 2], [0, 2, 3]],
+            process=False,
+        ),
+        rho_p,
+        name="plate",
+    )
     for theta in (0.0, 60.0):
         p = lidar_cross_section(plate, 15.0, 90.0 - theta, quality=quality, seed=seed)
         expected = 4.0 * rho_p * area * math.cos(math.radians(theta)) ** 2

@@ -23,14 +23,22 @@ import time
 
 import numpy as np
 
-from csuas.drone_models.geometry import direction_vector, validate_angles
 from csuas.base.errors import ParameterError
+from csuas.drone_models.geometry import direction_vector, validate_angles
 from csuas.render.lidar.cross_section import ORIGIN_PLANE_FACTOR, resolve_quality, sampling_windows
 
 
-def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0, max_depth: int = 8,
-                    quality: str = "standard", grid: int | None = None, replicates: int | None = None,
-                    spp: int = 4, seed: int = 0) -> dict:
+def path_traced_lcs(
+    target,
+    azimuth_deg: float = 0.0,
+    elevation_deg: float = 0.0,
+    max_depth: int = 8,
+    quality: str = "standard",
+    grid: int | None = None,
+    replicates: int | None = None,
+    spp: int = 4,
+    seed: int = 0,
+) -> dict:
     """Far-field LCS with up to ``max_depth - 1`` bounces, its standard error and time.
 
     Parameters
@@ -57,8 +65,11 @@ def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0
     """
     az, el = validate_angles(azimuth_deg, elevation_deg)
     g, r, name = resolve_quality(quality, grid, replicates)
-    depth_ok = isinstance(max_depth, (int, np.integer)) and not isinstance(max_depth, bool) \
+    depth_ok = (
+        isinstance(max_depth, (int, np.integer))
+        and not isinstance(max_depth, bool)
         and (max_depth == -1 or max_depth >= 2)
+    )
     if not depth_ok:
         raise ParameterError("max_depth", max_depth, "integer >= 2, or -1 (unlimited)")
     if not isinstance(spp, (int, np.integer)) or isinstance(spp, bool) or spp < 1:
@@ -68,26 +79,53 @@ def path_traced_lcs(target, azimuth_deg: float = 0.0, elevation_deg: float = 0.0
 
     start = time.perf_counter()
     d = direction_vector(az, el)
-    w = sampling_windows(target.vertices, target.bounding_radius_m, d[None, :], np.atleast_1d(az), math.inf, g,
-                         None)[0]
+    w = sampling_windows(target.vertices, target.bounding_radius_m, d[None, :], np.atleast_1d(az), math.inf, g, None)[0]
     half_u, half_v = 0.5 * w.n_u * w.du, 0.5 * w.n_v * w.dw
     centre = (w.u0 + half_u) * w.h + (w.w0 + half_v) * w.v
     origin = centre + ORIGIN_PLANE_FACTOR * target.bounding_radius_m * d
-    to_world = mi.ScalarTransform4f().look_at(origin=origin.tolist(), target=(origin - d).tolist(), up=w.v.tolist()) \
-        @ mi.ScalarTransform4f().scale([half_u, half_v * w.n_u / w.n_v, 1.0])  # the film's y spans +-1/aspect
-    scene = mi.load_dict({
-        "type": "scene", **shapes,
-        "sensor": {"type": "orthographic", "to_world": to_world,
-                   "film": {"type": "hdrfilm", "width": w.n_u, "height": w.n_v, "rfilter": {"type": "box"},
-                            "pixel_format": "luminance"},
-                   "sampler": {"type": "independent", "sample_count": int(spp)}},
-        "emitter": {"type": "directional", "direction": (-d).tolist(),
-                    "irradiance": {"type": "spectrum", "value": 1.0}},
-        "integrator": {"type": "path", "max_depth": int(max_depth), "hide_emitters": True}})
+    to_world = mi.ScalarTransform4f().look_at(
+        origin=origin.tolist(), target=(origin - d).tolist(), up=w.v.tolist()
+    ) @ mi.ScalarTransform4f().scale([half_u, half_v * w.n_u / w.n_v, 1.0])  # the film's y spans +-1/aspect
+    scene = mi.load_dict(
+        {
+            "type": "scene",
+            **shapes,
+            "sensor": {
+                "type": "orthographic",
+                "to_world": to_world,
+                "film": {
+                    "type": "hdrfilm",
+                    "width": w.n_u,
+                    "height": w.n_v,
+                    "rfilter": {"type": "box"},
+                    "pixel_format": "luminance",
+                },
+                "sampler": {"type": "independent", "sample_count": int(spp)},
+            },
+            "emitter": {
+                "type": "directional",
+                "direction": (-d).tolist(),
+                "irradiance": {"type": "spectrum", "value": 1.0},
+            },
+            "integrator": {"type": "path", "max_depth": int(max_depth), "hide_emitters": True},
+        }
+    )
     pixel_area = (2.0 * half_u) * (2.0 * half_v) / (w.n_u * w.n_v)
-    values = 4.0 * math.pi * pixel_area * np.array(
-        [float(np.sum(np.asarray(mi.render(scene, seed=seed + k), dtype=float))) for k in range(r)])
-    return {"lcs_m2": float(values.mean()), "stderr_m2": float(values.std(ddof=1) / math.sqrt(r)),
-            "max_depth": int(max_depth), "grid": g, "replicates": r, "spp": int(spp), "quality": name,
-            "samples": int(r * spp * w.n_u * w.n_v), "time_s": time.perf_counter() - start,
-            "method": "path_tracing"}
+    values = (
+        4.0
+        * math.pi
+        * pixel_area
+        * np.array([float(np.sum(np.asarray(mi.render(scene, seed=seed + k), dtype=float))) for k in range(r)])
+    )
+    return {
+        "lcs_m2": float(values.mean()),
+        "stderr_m2": float(values.std(ddof=1) / math.sqrt(r)),
+        "max_depth": int(max_depth),
+        "grid": g,
+        "replicates": r,
+        "spp": int(spp),
+        "quality": name,
+        "samples": int(r * spp * w.n_u * w.n_v),
+        "time_s": time.perf_counter() - start,
+        "method": "path_tracing",
+    }

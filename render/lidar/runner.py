@@ -25,8 +25,8 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.files import file_stem
+from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.lidar.files import write_lcs_map
 from csuas.render.lidar.sphere_average import K_LCS_PAPER
 from csuas.render.lidar.target import LidarTarget
@@ -101,9 +101,18 @@ def _check_ranges(ranges_m) -> np.ndarray:
     return values
 
 
-def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: float = 0.0,
-                 elevation_deg: float = 0.0, out_dir=None, sensor: str | None = None, seed: int = 0,
-                 atmosphere: str = "auto", progress=None) -> list:
+def render_lidar(
+    scenario,
+    ranges_m,
+    quality: str = "standard",
+    azimuth_deg: float = 0.0,
+    elevation_deg: float = 0.0,
+    out_dir=None,
+    sensor: str | None = None,
+    seed: int = 0,
+    atmosphere: str = "auto",
+    progress=None,
+) -> list:
     """Lidar cross-section of the scenario's drone at each range, with errors, times and files.
 
     Parameters
@@ -156,8 +165,10 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
     if not any(getattr(s, "modality", None) == "lidar" for s in (getattr(scenario, "sensors", {}) or {}).values()):
         notes.append("no lidar sensor in the scenario: Table 45 defaults (1550 nm, 3 mm aperture)")
     if atmosphere == "on":
-        notes.append("atmosphere not applied: the LCS is a target property; path transmission belongs to the "
-                     "lidar range equation (Eqs. 100-104)")
+        notes.append(
+            "atmosphere not applied: the LCS is a target property; path transmission belongs to the "
+            "lidar range equation (Eqs. 100-104)"
+        )
     preset = getattr(scenario, "target_preset", None)
     drone = build_drone(preset)
     target = LidarTarget.from_drone(drone, params["wavelength_nm"])
@@ -166,35 +177,69 @@ def render_lidar(scenario, ranges_m, quality: str = "standard", azimuth_deg: flo
     results = []
     for index, range_m in enumerate(ranges):
         start = time.perf_counter()
-        far = lidar_cross_section(target, azimuth_deg, elevation_deg, math.inf, quality, seed=seed,
-                                  keep_image=out_dir is not None)
+        far = lidar_cross_section(
+            target, azimuth_deg, elevation_deg, math.inf, quality, seed=seed, keep_image=out_dir is not None
+        )
         diameter = beam_diameter_m(range_m, params["wavelength_nm"], params["aperture_mm"])
-        near = lidar_cross_section(target, azimuth_deg, elevation_deg, range_m, quality, seed=seed + 1,
-                                   beam_radius_m=0.5 * diameter)
+        near = lidar_cross_section(
+            target, azimuth_deg, elevation_deg, range_m, quality, seed=seed + 1, beam_radius_m=0.5 * diameter
+        )
         fraction = illuminated_fraction(view, target.centre_m, 0.5 * diameter)
         files = []
         if out_dir is not None:
             pixel = (far.window_m[1] - far.window_m[0]) / far.image_m2.shape[1]
             stem = file_stem(scenario.name, sensor_name, "lidar", range_m, azimuth_deg, elevation_deg, quality, seed)
             rows, columns = far.image_m2.shape
-            files = write_lcs_map(out_dir, stem, far.image_m2, {
-                "modality": "lidar", "target": drone.name, "scenario": scenario.name, "sensor": sensor_name,
-                "band": f"{params['wavelength_nm']:g} nm", "units": "m^2 per pixel", "channels": "Y",
-                "quality": str(far.quality), "seed": seed, "frame_width_px": columns, "frame_height_px": rows,
-                "range_m": float(range_m), "azimuth_deg": float(azimuth_deg),
-                "elevation_deg": float(elevation_deg), "ifov_rad": pixel / range_m,
-                "quantity": "lidar cross-section per pixel (far field)", "pixel_size_m": pixel,
-                "lcs_m2": far.lcs_m2, "stderr_m2": far.stderr_m2})
-        results.append({
-            "range_m": float(range_m), "lcs_m2": far.lcs_m2, "stderr": far.stderr_m2,
-            "time_s": time.perf_counter() - start, "files": files,
-            "projected_area_m2": area, "k_lcs_measured": far.lcs_m2 / area if area > 0.0 else 0.0,
-            "k_lcs_paper": K_LCS_PAPER, "lcs_rule_m2": K_LCS_PAPER * area,
-            "beam_diameter_m": diameter, "illuminated_fraction": fraction,
-            "lcs_illuminated_m2": near.lcs_m2, "lcs_illuminated_stderr": near.stderr_m2,
-            "rays": far.rays + near.rays, "quality": far.quality, "method": "single_bounce",
-            "wavelength_nm": float(params["wavelength_nm"]), "azimuth_deg": float(azimuth_deg),
-            "elevation_deg": float(elevation_deg), "notes": list(notes)})
+            files = write_lcs_map(
+                out_dir,
+                stem,
+                far.image_m2,
+                {
+                    "modality": "lidar",
+                    "target": drone.name,
+                    "scenario": scenario.name,
+                    "sensor": sensor_name,
+                    "band": f"{params['wavelength_nm']:g} nm",
+                    "units": "m^2 per pixel",
+                    "channels": "Y",
+                    "quality": str(far.quality),
+                    "seed": seed,
+                    "frame_width_px": columns,
+                    "frame_height_px": rows,
+                    "range_m": float(range_m),
+                    "azimuth_deg": float(azimuth_deg),
+                    "elevation_deg": float(elevation_deg),
+                    "ifov_rad": pixel / range_m,
+                    "quantity": "lidar cross-section per pixel (far field)",
+                    "pixel_size_m": pixel,
+                    "lcs_m2": far.lcs_m2,
+                    "stderr_m2": far.stderr_m2,
+                },
+            )
+        results.append(
+            {
+                "range_m": float(range_m),
+                "lcs_m2": far.lcs_m2,
+                "stderr": far.stderr_m2,
+                "time_s": time.perf_counter() - start,
+                "files": files,
+                "projected_area_m2": area,
+                "k_lcs_measured": far.lcs_m2 / area if area > 0.0 else 0.0,
+                "k_lcs_paper": K_LCS_PAPER,
+                "lcs_rule_m2": K_LCS_PAPER * area,
+                "beam_diameter_m": diameter,
+                "illuminated_fraction": fraction,
+                "lcs_illuminated_m2": near.lcs_m2,
+                "lcs_illuminated_stderr": near.stderr_m2,
+                "rays": far.rays + near.rays,
+                "quality": far.quality,
+                "method": "single_bounce",
+                "wavelength_nm": float(params["wavelength_nm"]),
+                "azimuth_deg": float(azimuth_deg),
+                "elevation_deg": float(elevation_deg),
+                "notes": list(notes),
+            }
+        )
         message = f"lidar {range_m:g} m: LCS {far.lcs_m2:.4g} m^2 ({time.perf_counter() - start:.2f} s)"
         if callable(progress):
             progress(index + 1, len(ranges), message)

@@ -26,9 +26,9 @@ import time
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
-from csuas.base.errors import ParameterError
 from csuas.render.lidar.cross_section import trace_lcs
 from csuas.render.lidar.target import LidarTarget
 
@@ -43,16 +43,22 @@ def _resolve(quality, replicates, directions_per_replicate, grid) -> tuple:
     if quality not in SPHERE_QUALITY_PRESETS:
         raise ParameterError("quality", quality, ", ".join(SPHERE_QUALITY_PRESETS))
     r0, m0, g0 = SPHERE_QUALITY_PRESETS[quality]
-    values = {"replicates": r0 if replicates is None else replicates,
-              "directions_per_replicate": m0 if directions_per_replicate is None else directions_per_replicate,
-              "grid": g0 if grid is None else grid}
+    values = {
+        "replicates": r0 if replicates is None else replicates,
+        "directions_per_replicate": m0 if directions_per_replicate is None else directions_per_replicate,
+        "grid": g0 if grid is None else grid,
+    }
     minimum = {"replicates": 2, "directions_per_replicate": 1, "grid": 1}
     for key, value in values.items():
         if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < minimum[key]:
             raise ParameterError(key, value, f"integer >= {minimum[key]}")
     custom = any(v is not None for v in (replicates, directions_per_replicate, grid))
-    return (int(values["replicates"]), int(values["directions_per_replicate"]), int(values["grid"]),
-            "custom" if custom else quality)
+    return (
+        int(values["replicates"]),
+        int(values["directions_per_replicate"]),
+        int(values["grid"]),
+        "custom" if custom else quality,
+    )
 
 
 def sphere_directions(replicates: int, directions_per_replicate: int, seed: int = 0) -> np.ndarray:
@@ -61,9 +67,15 @@ def sphere_directions(replicates: int, directions_per_replicate: int, seed: int 
     return np.einsum("rij,nj->rni", rotations, fibonacci_sphere(directions_per_replicate))
 
 
-def mean_lidar_cross_section(target: LidarTarget, quality: str = "standard", replicates: int | None = None,
-                             directions_per_replicate: int | None = None, grid: int | None = None,
-                             seed: int = 0, exact_area_mesh=None) -> dict:
+def mean_lidar_cross_section(
+    target: LidarTarget,
+    quality: str = "standard",
+    replicates: int | None = None,
+    directions_per_replicate: int | None = None,
+    grid: int | None = None,
+    seed: int = 0,
+    exact_area_mesh=None,
+) -> dict:
     """Sphere-averaged LCS (Eq. 7) with its standard error and time.
 
     Parameters
@@ -102,31 +114,51 @@ def mean_lidar_cross_section(target: LidarTarget, quality: str = "standard", rep
     lcs = traced["lcs_m2"][:, 0].reshape(r, m)
     area_traced = traced["area_m2"][:, 0].reshape(r, m)
     if exact_area_mesh is not None:
-        model = exact_area_mesh if isinstance(exact_area_mesh, SilhouetteModel) \
+        model = (
+            exact_area_mesh
+            if isinstance(exact_area_mesh, SilhouetteModel)
             else SilhouetteModel.from_mesh(exact_area_mesh, warn=False)
+        )
         area = metrics_for_directions(model, directions)["projected_area_m2"].reshape(r, m)
     else:
         area = area_traced
     ratio = lcs.mean(axis=1) / area.mean(axis=1)
-    out = {"lcs_m2": _summary(lcs), "projected_area_m2": _summary(area),
-           "projected_area_traced_m2": _summary(area_traced),
-           "k_lcs_measured": {"mean": float(lcs.mean() / area.mean()),
-                              "stderr": float(ratio.std(ddof=1) / math.sqrt(r))},
-           "n_directions": r * m, "rays": traced["rays"], "replicates": r, "directions_per_replicate": m,
-           "grid": g, "quality": name, "seed": int(seed), "method": "single_bounce",
-           "time_s": time.perf_counter() - start}
+    out = {
+        "lcs_m2": _summary(lcs),
+        "projected_area_m2": _summary(area),
+        "projected_area_traced_m2": _summary(area_traced),
+        "k_lcs_measured": {"mean": float(lcs.mean() / area.mean()), "stderr": float(ratio.std(ddof=1) / math.sqrt(r))},
+        "n_directions": r * m,
+        "rays": traced["rays"],
+        "replicates": r,
+        "directions_per_replicate": m,
+        "grid": g,
+        "quality": name,
+        "seed": int(seed),
+        "method": "single_bounce",
+        "time_s": time.perf_counter() - start,
+    }
     return out
 
 
 def _summary(values: np.ndarray) -> dict:
     per_replicate = values.mean(axis=1)
-    return {"mean": float(per_replicate.mean()),
-            "stderr": float(per_replicate.std(ddof=1) / math.sqrt(len(per_replicate))),
-            "min": float(values.min()), "max": float(values.max())}
+    return {
+        "mean": float(per_replicate.mean()),
+        "stderr": float(per_replicate.std(ddof=1) / math.sqrt(len(per_replicate))),
+        "min": float(values.min()),
+        "max": float(values.max()),
+    }
 
 
-def drone_lcs_versus_rule(drone, quality: str = "standard", wavelength_nm: float = 1550.0,
-                          k_lcs: float = K_LCS_PAPER, seed: int = 0, **overrides) -> dict:
+def drone_lcs_versus_rule(
+    drone,
+    quality: str = "standard",
+    wavelength_nm: float = 1550.0,
+    k_lcs: float = K_LCS_PAPER,
+    seed: int = 0,
+    **overrides,
+) -> dict:
     """Mean LCS of a drone (Eq. 7) beside the rule ``k_LCS * <A_p>`` (Eq. 9).
 
     Parameters
@@ -168,9 +200,15 @@ def drone_lcs_versus_rule(drone, quality: str = "standard", wavelength_nm: float
     for part, part_area, rho in zip(drone.parts, areas, albedo):
         entry = materials.setdefault(part.material.name, {"reflectance": float(rho), "area_fraction": 0.0})
         entry["area_fraction"] += float(part_area / areas.sum())
-    out.update(drone=drone.name, wavelength_nm=float(wavelength_nm), k_lcs=float(k_lcs), lcs_rule_m2=rule,
-               ratio_to_rule=out["lcs_m2"]["mean"] / rule,
-               ratio_to_rule_stderr=out["k_lcs_measured"]["stderr"] / k_lcs,
-               area_weighted_reflectance=float(np.sum(areas * albedo) / np.sum(areas)), materials=materials,
-               reflectance_for_rule=3.0 * k_lcs / 8.0)
+    out.update(
+        drone=drone.name,
+        wavelength_nm=float(wavelength_nm),
+        k_lcs=float(k_lcs),
+        lcs_rule_m2=rule,
+        ratio_to_rule=out["lcs_m2"]["mean"] / rule,
+        ratio_to_rule_stderr=out["k_lcs_measured"]["stderr"] / k_lcs,
+        area_weighted_reflectance=float(np.sum(areas * albedo) / np.sum(areas)),
+        materials=materials,
+        reflectance_for_rule=3.0 * k_lcs / 8.0,
+    )
     return out

@@ -115,7 +115,7 @@ class LidarTarget:
     _shapes: tuple = field(default=None, repr=False)
 
     @classmethod
-    def from_mesh(cls, mesh, reflectance: float, name: str = "mesh", wavelength_nm: float = 1550.0) -> "LidarTarget":
+    def from_mesh(cls, mesh, reflectance: float, name: str = "mesh", wavelength_nm: float = 1550.0) -> LidarTarget:
         """One-material target from a ``trimesh.Trimesh`` (or a list of them), metres.
 
         Parameters
@@ -129,23 +129,25 @@ class LidarTarget:
         return cls._build(name, [(f"{name}_{i}", m, rho) for i, m in enumerate(meshes)], wavelength_nm)
 
     @classmethod
-    def from_drone(cls, drone, wavelength_nm: float = 1550.0) -> "LidarTarget":
+    def from_drone(cls, drone, wavelength_nm: float = 1550.0) -> LidarTarget:
         """Target from a :class:`csuas.drone_models.Drone`, each part with its material's albedo."""
         items = [(p.name, p.mesh, material_reflectance(p.material, wavelength_nm)) for p in drone.parts]
         return cls._build(drone.name, items, wavelength_nm)
 
     @classmethod
-    def _build(cls, name: str, items: list, wavelength_nm: float) -> "LidarTarget":
+    def _build(cls, name: str, items: list, wavelength_nm: float) -> LidarTarget:
         parts = []
         for part_name, mesh, rho in items:
             vertices = np.asarray(getattr(mesh, "vertices", None), dtype=float)
             faces = np.asarray(getattr(mesh, "faces", None), dtype=np.int64)
             if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
-                raise ParameterError(f"mesh.{part_name}", type(mesh).__name__,
-                                     "a triangle mesh (vertices (n, 3), faces (m, 3))")
+                raise ParameterError(
+                    f"mesh.{part_name}", type(mesh).__name__, "a triangle mesh (vertices (n, 3), faces (m, 3))"
+                )
             if len(faces) == 0 or not np.all(np.isfinite(vertices)):
-                raise ParameterError(f"mesh.{part_name}", f"{len(faces)} faces",
-                                     "at least one triangle with finite vertices")
+                raise ParameterError(
+                    f"mesh.{part_name}", f"{len(faces)} faces", "at least one triangle with finite vertices"
+                )
             parts.append(LidarPart(part_name, vertices, faces, rho))
         if not parts:
             raise ParameterError("mesh", "no parts", "at least one mesh")
@@ -156,8 +158,9 @@ class LidarTarget:
         radius = float(np.max(np.linalg.norm(all_vertices - centre, axis=1)))
         if not radius > 0.0:
             raise ParameterError("mesh", "all vertices coincide", "a mesh of non-zero extent")
-        return cls(name=name, parts=parts, centre_m=centre, bounding_radius_m=radius,
-                   wavelength_nm=float(wavelength_nm))
+        return cls(
+            name=name, parts=parts, centre_m=centre, bounding_radius_m=radius, wavelength_nm=float(wavelength_nm)
+        )
 
     @property
     def vertices(self) -> np.ndarray:
@@ -180,8 +183,17 @@ class LidarTarget:
             params["vertex_positions"] = mi.Float(np.ascontiguousarray(part.vertices, dtype=np.float32).ravel())
             params["faces"] = mi.UInt32(np.ascontiguousarray(part.faces, dtype=np.uint32).ravel())
             params.update()
-            mesh.set_bsdf(mi.load_dict({"type": "twosided", "material": {
-                "type": "diffuse", "reflectance": {"type": "spectrum", "value": float(part.reflectance)}}}))
+            mesh.set_bsdf(
+                mi.load_dict(
+                    {
+                        "type": "twosided",
+                        "material": {
+                            "type": "diffuse",
+                            "reflectance": {"type": "spectrum", "value": float(part.reflectance)},
+                        },
+                    }
+                )
+            )
             shapes[f"part_{i}"] = mesh
         self._shapes = (mi.variant(), shapes, mi.load_dict({"type": "scene", **shapes}))
         return shapes

@@ -46,9 +46,16 @@ def closed_form_db(link, frequency_ghz, distance_m, height_a_m, height_b_m, grou
     return 20 * np.log10(np.abs(paths.sum(-1)))
 
 
-def accuracy_vs_time(link="rf", frequency_ghz=2.4, distance_m=(10.0, 100.0, 1000.0, 10000.0),
-                     height_a_m=30.0, height_b_m=2.0, ground="medium_dry_ground", budgets=DEFAULT_BUDGETS,
-                     repeats=2):
+def accuracy_vs_time(
+    link="rf",
+    frequency_ghz=2.4,
+    distance_m=(10.0, 100.0, 1000.0, 10000.0),
+    height_a_m=30.0,
+    height_b_m=2.0,
+    ground="medium_dry_ground",
+    budgets=DEFAULT_BUDGETS,
+    repeats=2,
+):
     """Rows of (budget, time, error) for one link scene.
 
     Parameters
@@ -79,18 +86,25 @@ def accuracy_vs_time(link="rf", frequency_ghz=2.4, distance_m=(10.0, 100.0, 1000
             if link == "rf":
                 result = rf_path_gain(frequency_ghz, distance_m, height_a_m, height_b_m, ground=ground, budget=budget)
             else:
-                result = radar_link_gain(frequency_ghz, distance_m, height_a_m, height_b_m, ground=ground,
-                                         budget=budget)
+                result = radar_link_gain(
+                    frequency_ghz, distance_m, height_a_m, height_b_m, ground=ground, budget=budget
+                )
             times.append(result.time_s)
         eta = None
         if ground is not None:
-            eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"],
-                                       frequency_ghz)
+            eta = complex_permittivity(
+                result.extra["relative_permittivity"], result.extra["conductivity_s_m"], frequency_ghz
+            )
         expected = closed_form_db(link, frequency_ghz, distance_m, height_a_m, height_b_m, eta)
-        rows.append({
-            "budget": budget.name, "samples": result.budget.samples, "max_depth": result.budget.max_depth,
-            "time_s": min(times[1:]), "cold_time_s": times[0],
-            "max_error_db": float(np.max(np.abs(result.path_gain_db - expected))),
-            "paths_found": int(result.n_paths.min()),
-        })
+        rows.append(
+            {
+                "budget": budget.name,
+                "samples": result.budget.samples,
+                "max_depth": result.budget.max_depth,
+                "time_s": min(times[1:]),
+                "cold_time_s": times[0],
+                "max_error_db": float(np.max(np.abs(result.path_gain_db - expected))),
+                "paths_found": int(result.n_paths.min()),
+            }
+        )
     return rows

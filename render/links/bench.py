@@ -64,11 +64,18 @@ def bench_links(repeats: int = 3, budget: str = "draft") -> dict:
     """
     scenes = {}
     for name, (link, f_ghz, distances, h_a, h_b, ground) in SCENES.items():
-        depth = PRESETS[budget].max_depth if ground is not None else 0      # as the links run the presets
+        depth = PRESETS[budget].max_depth if ground is not None else 0  # as the links run the presets
         floor_budget = LinkBudget("sionna_floor", FLOOR_SAMPLES, depth)
-        chosen, default, floor = accuracy_vs_time(link, f_ghz, distances, h_a, h_b, ground,
-                                                  budgets=(PRESETS[budget], SIONNA_DEFAULT, floor_budget),
-                                                  repeats=repeats)
+        chosen, default, floor = accuracy_vs_time(
+            link,
+            f_ghz,
+            distances,
+            h_a,
+            h_b,
+            ground,
+            budgets=(PRESETS[budget], SIONNA_DEFAULT, floor_budget),
+            repeats=repeats,
+        )
         scenes[name] = {
             "chosen": chosen,
             "sionna_default": default,

@@ -58,12 +58,12 @@ def coherent_coefficients(paths, frequency_ghz, tx_positions, rx_positions, sens
     n_rx, n_tx, n_paths = a.shape
     if n_paths == 0:
         return a, np.zeros(a.shape)
-    vertices = np.asarray(paths.vertices.numpy(), np.float64)          # (depth, rx, tx, paths, 3)
-    kinds = np.asarray(paths.interactions.numpy())                     # (depth, rx, tx, paths)
+    vertices = np.asarray(paths.vertices.numpy(), np.float64)  # (depth, rx, tx, paths, 3)
+    kinds = np.asarray(paths.interactions.numpy())  # (depth, rx, tx, paths)
     if sensing_positions is not None:
         sensing = kinds == InteractionType.SENSING
         if np.any(sensing):
-            index = np.asarray(paths.primitives.numpy())               # scattering-point index
+            index = np.asarray(paths.primitives.numpy())  # scattering-point index
             exact = np.asarray(sensing_positions, np.float64)[np.clip(index, 0, len(sensing_positions) - 1)]
             vertices = np.where(sensing[..., None], exact, vertices)
     tx = np.asarray(tx_positions, np.float64)[None, :, None, :]

@@ -52,9 +52,9 @@ def sionna_rcs_callable(rcs_function, constant_sigma=None):
 
     if constant_sigma is not None:
         sigma32 = float(np.float32(constant_sigma))
-        return lambda k_i, k_s, seed: dr.full(mi.Float, sigma32, dr.width(k_i))  # noqa: ARG005
+        return lambda k_i, k_s, seed: dr.full(mi.Float, sigma32, dr.width(k_i))
 
-    def rcs(k_i, k_s, seed):  # noqa: ARG001 - deterministic cross-section
+    def rcs(k_i, k_s, seed):
         if dr.width(k_i) == 0:
             return mi.Float()
         ki = np.stack([np.asarray(c.numpy(), float) for c in (k_i.x, k_i.y, k_i.z)], -1)
@@ -67,9 +67,20 @@ def sionna_rcs_callable(rcs_function, constant_sigma=None):
     return rcs
 
 
-def radar_link_gain(frequency_ghz, range_m, radar_height_m=5.0, target_height_m=5.0, rcs=None,
-                    azimuth_deg=0.0, ground=None, budget="standard", samples=None, max_depth=None,
-                    target_size_m=DEFAULT_TARGET_SIZE_M, seed=1) -> LinkResult:
+def radar_link_gain(
+    frequency_ghz,
+    range_m,
+    radar_height_m=5.0,
+    target_height_m=5.0,
+    rcs=None,
+    azimuth_deg=0.0,
+    ground=None,
+    budget="standard",
+    samples=None,
+    max_depth=None,
+    target_size_m=DEFAULT_TARGET_SIZE_M,
+    seed=1,
+) -> LinkResult:
     """Two-way gain [dB] of a monostatic radar link to the drone, by Sionna RT.
 
     Parameters
@@ -113,28 +124,41 @@ def radar_link_gain(frequency_ghz, range_m, radar_height_m=5.0, target_height_m=
     if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size <= 0):
         raise ParameterError("target_size_m", target_size_m, "three sizes > 0 m")
     if over_ground and h_target <= size[2] / 2:
-        raise ParameterError("target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)")
+        raise ParameterError(
+            "target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)"
+        )
     rcs_function = as_rcs_function(rcs)
     constant_sigma = None if callable(rcs) else float(rcs_function(0.0, 0.0))
     chosen = resolve_budget(budget, samples, max_depth)
     if not over_ground and chosen.name in PRESETS:
-        chosen = LinkBudget(chosen.name, chosen.samples, 0)   # nothing to hit: direct legs only
+        chosen = LinkBudget(chosen.name, chosen.samples, 0)  # nothing to hit: direct legs only
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
 
-    load_sionna_rt()                       # the first call imports Sionna: not part of the link's time
+    load_sionna_rt()  # the first call imports Sionna: not part of the link's time
     start = time.perf_counter()
     target_pos = np.array([0.0, 0.0, h_target])
-    link = link_scene(frequency_ghz, ground, float(r.max()), "V",
-                      TargetSpec(tuple(float(v) for v in size), tuple(float(v) for v in target_pos)))
+    link = link_scene(
+        frequency_ghz,
+        ground,
+        float(r.max()),
+        "V",
+        TargetSpec(tuple(float(v) for v in size), tuple(float(v) for v in target_pos)),
+    )
     link.rcs.function = sionna_rcs_callable(rcs_function, constant_sigma)
     az = np.radians(float(azimuth_deg))
     radar_pos = np.column_stack([r * np.cos(az), r * np.sin(az), np.full_like(r, h_radar)])
     link.place(radar_pos, radar_pos)
-    paths = rcs_solver()(link.scene, max_depth=2 * chosen.max_depth + 1, samples_per_sp=chosen.samples,
-                         buffer_size_per_sp=max(64, 16 * len(r)), refraction=False, seed=int(seed))
+    paths = rcs_solver()(
+        link.scene,
+        max_depth=2 * chosen.max_depth + 1,
+        samples_per_sp=chosen.samples,
+        buffer_size_per_sp=max(64, 16 * len(r)),
+        refraction=False,
+        seed=int(seed),
+    )
     coefficients, _ = coherent_coefficients(paths, frequency_ghz, radar_pos, radar_pos, target_pos[None, :])
     index = np.arange(len(r))
-    coefficients = coefficients[index, index, :]                  # each radar's own echo
+    coefficients = coefficients[index, index, :]  # each radar's own echo
     elapsed = time.perf_counter() - start
     with np.errstate(divide="ignore"):
         gain_db = 10.0 * np.log10(np.abs(coefficients.sum(-1)) ** 2)
@@ -144,5 +168,6 @@ def radar_link_gain(frequency_ghz, range_m, radar_height_m=5.0, target_height_m=
     extra = {"slant_range_m": slant, "sigma_direct_m2": np.asarray(rcs_function(*direct_aspect), float)}
     if eps_sigma is not None:
         extra.update(relative_permittivity=eps_sigma[0], conductivity_s_m=eps_sigma[1])
-    return LinkResult(gain_db, coefficients, np.count_nonzero(coefficients, axis=-1), elapsed, chosen,
-                      active_variant(), extra)
+    return LinkResult(
+        gain_db, coefficients, np.count_nonzero(coefficients, axis=-1), elapsed, chosen, active_variant(), extra
+    )

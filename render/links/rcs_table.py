@@ -45,14 +45,20 @@ class RCSTable:
         az = np.asarray(azimuth_deg, dtype=float)
         el = np.asarray(elevation_deg, dtype=float)
         sigma = np.asarray(sigma_m2, dtype=float)
-        if az.ndim != 1 or az.size < 1 or not np.all(np.isfinite(az)) or np.any(np.diff(az) <= 0) \
-                or az[-1] - az[0] > 360.0 + 1e-9:
+        if (
+            az.ndim != 1
+            or az.size < 1
+            or not np.all(np.isfinite(az))
+            or np.any(np.diff(az) <= 0)
+            or az[-1] - az[0] > 360.0 + 1e-9
+        ):
             raise ParameterError("azimuth_deg", azimuth_deg, "a strictly increasing 1-D array spanning <= 360 deg")
         if el.ndim != 1 or el.size < 1 or np.any(np.diff(el) <= 0) or el[0] < -90.0 or el[-1] > 90.0:
             raise ParameterError("elevation_deg", elevation_deg, "a strictly increasing 1-D array in [-90, 90] deg")
         if sigma.shape != (az.size, el.size) or not np.all(np.isfinite(sigma)) or np.any(sigma < 0):
-            raise ParameterError("sigma_m2", f"array of shape {sigma.shape}",
-                                 f"finite values >= 0 of shape ({az.size}, {el.size})")
+            raise ParameterError(
+                "sigma_m2", f"array of shape {sigma.shape}", f"finite values >= 0 of shape ({az.size}, {el.size})"
+            )
         step = np.diff(az).min() if az.size > 1 else 360.0
         self.periodic = az.size > 1 and az[-1] - az[0] + step >= 360.0 - 1e-6
         if self.periodic and az[-1] - az[0] < 360.0 - 1e-9:
@@ -79,8 +85,7 @@ class RCSTable:
         s = self.sigma_m2
         i1 = np.minimum(i + 1, s.shape[0] - 1)
         j1 = np.minimum(j + 1, s.shape[1] - 1)
-        return ((1 - wi) * (1 - wj) * s[i, j] + wi * (1 - wj) * s[i1, j]
-                + (1 - wi) * wj * s[i, j1] + wi * wj * s[i1, j1])
+        return (1 - wi) * (1 - wj) * s[i, j] + wi * (1 - wj) * s[i1, j] + (1 - wi) * wj * s[i, j1] + wi * wj * s[i1, j1]
 
 
 def as_rcs_function(rcs):
@@ -98,8 +103,9 @@ def as_rcs_function(rcs):
     try:
         value = float(rcs)
     except (TypeError, ValueError):
-        raise ParameterError("rcs", rcs, "sigma >= 0 [m^2], an RCSTable or a callable f(azimuth_deg, elevation_deg)") \
-            from None
+        raise ParameterError(
+            "rcs", rcs, "sigma >= 0 [m^2], an RCSTable or a callable f(azimuth_deg, elevation_deg)"
+        ) from None
     if not (np.isfinite(value) and value >= 0):
         raise ParameterError("rcs", rcs, "sigma >= 0 [m^2], an RCSTable or a callable f(azimuth_deg, elevation_deg)")
     return lambda azimuth_deg, elevation_deg: np.full(np.broadcast(azimuth_deg, elevation_deg).shape, value)

@@ -83,8 +83,18 @@ def check_height(name: str, value, over_ground: bool) -> float:
     return h
 
 
-def rf_path_gain(frequency_ghz, distance_m, tx_height_m=10.0, rx_height_m=10.0, ground=None,
-                 budget="standard", samples=None, max_depth=None, polarization="V", seed=1) -> LinkResult:
+def rf_path_gain(
+    frequency_ghz,
+    distance_m,
+    tx_height_m=10.0,
+    rx_height_m=10.0,
+    ground=None,
+    budget="standard",
+    samples=None,
+    max_depth=None,
+    polarization="V",
+    seed=1,
+) -> LinkResult:
     """Path gain [dB] from the drone's transmitter to the RF sensor, by Sionna RT.
 
     Parameters
@@ -123,16 +133,22 @@ def rf_path_gain(frequency_ghz, distance_m, tx_height_m=10.0, rx_height_m=10.0, 
     chosen = resolve_budget(budget, samples, max_depth)
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
     if not over_ground and chosen.name in PRESETS:
-        chosen = LinkBudget(chosen.name, chosen.samples, 0)   # nothing to hit: line of sight only
+        chosen = LinkBudget(chosen.name, chosen.samples, 0)  # nothing to hit: line of sight only
 
-    load_sionna_rt()                       # the first call imports Sionna: not part of the link's time
+    load_sionna_rt()  # the first call imports Sionna: not part of the link's time
     start = time.perf_counter()
     link = link_scene(frequency_ghz, ground, float(d.max()), polarization)
     tx_pos = np.array([[0.0, 0.0, h_tx]])
     rx_pos = np.column_stack([d, np.zeros_like(d), np.full_like(d, h_rx)])
     link.place(tx_pos, rx_pos)
-    paths = path_solver()(link.scene, max_depth=chosen.max_depth, samples_per_src=chosen.samples,
-                          max_num_paths_per_src=max(64, 8 * len(d)), refraction=False, seed=int(seed))
+    paths = path_solver()(
+        link.scene,
+        max_depth=chosen.max_depth,
+        samples_per_src=chosen.samples,
+        max_num_paths_per_src=max(64, 8 * len(d)),
+        refraction=False,
+        seed=int(seed),
+    )
     coefficients, _ = coherent_coefficients(paths, frequency_ghz, tx_pos, rx_pos)
     coefficients = coefficients[:, 0, :]
     elapsed = time.perf_counter() - start
@@ -142,5 +158,6 @@ def rf_path_gain(frequency_ghz, distance_m, tx_height_m=10.0, rx_height_m=10.0, 
     extra = {"slant_range_m": np.hypot(d, h_tx - h_rx)}
     if eps_sigma is not None:
         extra.update(relative_permittivity=eps_sigma[0], conductivity_s_m=eps_sigma[1])
-    return LinkResult(gain_db, coefficients, np.count_nonzero(coefficients, axis=-1), elapsed, chosen,
-                      active_variant(), extra)
+    return LinkResult(
+        gain_db, coefficients, np.count_nonzero(coefficients, axis=-1), elapsed, chosen, active_variant(), extra
+    )

@@ -33,12 +33,12 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
-from csuas.core.units import C_LIGHT
 from csuas.base.errors import ParameterError
+from csuas.core.units import C_LIGHT
 from csuas.render.links.sionna_backend import load_sionna_rt
 from csuas.render.links.two_ray import complex_permittivity
 
@@ -149,8 +149,9 @@ def graded_ground_mesh(extent_m: float) -> tuple[np.ndarray, np.ndarray]:
 def _mitsuba_mesh(name: str, vertices: np.ndarray, faces: np.ndarray):
     import mitsuba as mi
 
-    mesh = mi.Mesh(name, vertex_count=len(vertices), face_count=len(faces),
-                   has_vertex_normals=False, has_vertex_texcoords=False)
+    mesh = mi.Mesh(
+        name, vertex_count=len(vertices), face_count=len(faces), has_vertex_normals=False, has_vertex_texcoords=False
+    )
     params = mi.traverse(mesh)
     params["vertex_positions"] = mi.Float(vertices.astype(np.float32).ravel())
     params["faces"] = mi.UInt32(faces.ravel())
@@ -158,8 +159,7 @@ def _mitsuba_mesh(name: str, vertices: np.ndarray, faces: np.ndarray):
     return mesh
 
 
-def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V",
-                objects=()):
+def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V", objects=()):
     """An empty Sionna scene, or one with the graded ground of an ITU material.
 
     Parameters
@@ -190,8 +190,9 @@ def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polar
         thickness = half_space_thickness_m(*ground_properties(ground, frequency_ghz), frequency_ghz)
         vertices, faces = graded_ground_mesh(ground_extent_m(extent_m))
         material = rt.ITURadioMaterial(name=f"ground-{ground}", itu_type=ground, thickness=thickness)
-        added.append(rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground",
-                                    radio_material=material))
+        added.append(
+            rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground", radio_material=material)
+        )
     added += list(objects)
     if added:
         scene.edit(add=added)
@@ -262,10 +263,10 @@ class LinkScene:
         for kind, positions, cls in (("tx", tx_positions, rt.Transmitter), ("rx", rx_positions, rt.Receiver)):
             devices = self._devices[kind]
             positions = [[float(v) for v in p] for p in np.asarray(positions, float)]
-            surplus = devices[len(positions):]
+            surplus = devices[len(positions) :]
             if surplus:
                 self.scene.remove([d.name for d in surplus])
-                del devices[len(positions):]
+                del devices[len(positions) :]
             for device, p in zip(devices, positions):
                 device.position = p
             for i in range(len(devices), len(positions)):
@@ -279,8 +280,9 @@ def _scene_key(frequency_ghz, ground, extent_m, polarization, target):
     return float(frequency_ghz), ground, mesh, polarization, target
 
 
-def link_scene(frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V",
-               target: TargetSpec | None = None) -> LinkScene:
+def link_scene(
+    frequency_ghz: float, ground: str | None, extent_m: float, polarization: str = "V", target: TargetSpec | None = None
+) -> LinkScene:
     """The scene of :func:`build_scene` (plus a sensing target), built once and then reused.
 
     Parameters
@@ -313,8 +315,16 @@ def link_scene(frequency_ghz: float, ground: str | None, extent_m: float, polari
         slot = RcsSlot()
         model = ScatteringModel([0.0, 0.0, 0.0], rcs=slot, cpm=ConstantCPM())
         length, width, height = (float(v) for v in target.size_m)
-        objects.append(SensingTarget(name="drone", scattering_model=model, length=length, width=width,
-                                     height=height, position=[float(v) for v in target.position_m]))
+        objects.append(
+            SensingTarget(
+                name="drone",
+                scattering_model=model,
+                length=length,
+                width=width,
+                height=height,
+                position=[float(v) for v in target.position_m],
+            )
+        )
     cached = LinkScene(build_scene(frequency_ghz, ground, extent_m, polarization, objects), slot)
     _scene_cache[key] = cached
     while len(_scene_cache) > SCENE_CACHE_SIZE:
@@ -334,7 +344,7 @@ def clear_scene_cache() -> None:
 SOLVER_LOOP_MODE = "evaluated"
 
 
-@lru_cache(maxsize=None)
+@cache
 def path_solver():
     """The process's ``sionna.rt.PathSolver`` (it holds no per-call state), on ``SOLVER_LOOP_MODE``."""
     solver = load_sionna_rt().PathSolver()
@@ -342,7 +352,7 @@ def path_solver():
     return solver
 
 
-@lru_cache(maxsize=None)
+@cache
 def rcs_solver():
     """The process's ``sionna.rt.rcs.RCSSolver`` (it holds no per-call state), on ``SOLVER_LOOP_MODE``."""
     load_sionna_rt()

@@ -56,17 +56,20 @@ def load_sionna_rt():
     global _loaded_variant
     if _loaded_variant is not None:
         import mitsuba as mi
+
         if mi.variant() != _loaded_variant:
             mi.set_variant(_loaded_variant)
         return sys.modules["sionna.rt"]
     requested = _requested_variant()
     if "sionna.rt" in sys.modules:
         import mitsuba as mi
+
         current = mi.variant()
         if current is None or SIONNA_FAMILY not in current or (requested and requested != current):
             raise BackendError(
                 f"sionna.rt was imported outside csuas on variant {current!r}; "
-                "import it through csuas.render.links.sionna_backend.load_sionna_rt() first")
+                "import it through csuas.render.links.sionna_backend.load_sionna_rt() first"
+            )
         _loaded_variant = current
         return sys.modules["sionna.rt"]
     variant = use_variant(SIONNA_FAMILY, variant=requested)

@@ -44,7 +44,9 @@ def complex_permittivity(relative_permittivity, conductivity_s_m, frequency_ghz)
     numpy.ndarray of complex
     """
     omega = 2.0 * np.pi * np.asarray(frequency_ghz, dtype=float) * 1e9
-    return np.asarray(relative_permittivity, dtype=float) - 1j * np.asarray(conductivity_s_m, float) / (omega * EPSILON_0)
+    return np.asarray(relative_permittivity, dtype=float) - 1j * np.asarray(conductivity_s_m, float) / (
+        omega * EPSILON_0
+    )
 
 
 def fresnel_coefficients(cos_incidence, eta):
@@ -104,7 +106,7 @@ def _leg(start, end, eta, bounce):
     k_dep = path / length[..., None]
     if not bounce:
         return k_dep, k_dep, length, lambda e: e
-    k_arr = k_dep * np.array([1.0, 1.0, -1.0])            # after the bounce, going up
+    k_arr = k_dep * np.array([1.0, 1.0, -1.0])  # after the bounce, going up
     r_te, r_tm = fresnel_coefficients(k_arr[..., 2], eta)
     s = np.cross(k_dep, np.array([0.0, 0.0, 1.0]))
     s_norm = np.linalg.norm(s, axis=-1, keepdims=True)
@@ -112,8 +114,8 @@ def _leg(start, end, eta, bounce):
     p_dep, p_arr = np.cross(s, k_dep), np.cross(s, k_arr)
 
     def reflect(e):
-        return ((r_te * np.sum(e * s, -1))[..., None] * s
-                + (r_tm * np.sum(e * p_dep, -1))[..., None] * p_arr)
+        return (r_te * np.sum(e * s, -1))[..., None] * s + (r_tm * np.sum(e * p_dep, -1))[..., None] * p_arr
+
     return k_dep, k_arr, length, reflect
 
 
@@ -193,8 +195,9 @@ def radar_four_paths(frequency_ghz, radar_position_m, target_position_m, sigma_m
             k1, k1_arr, l1, transport1 = _leg(radar, target, eta, bounce_in)
             e_target = transport1(_polarization_vector(k1, polarization))
             k2, k2_arr, l2, transport2 = _leg(target, radar, eta, bounce_out)
-            e_scattered = (np.sum(e_target * _theta_hat(k1_arr), -1)[..., None] * _theta_hat(k2)
-                           + np.sum(e_target * _phi_hat(k1_arr), -1)[..., None] * _phi_hat(k2))
+            e_scattered = np.sum(e_target * _theta_hat(k1_arr), -1)[..., None] * _theta_hat(k2) + np.sum(
+                e_target * _phi_hat(k1_arr), -1
+            )[..., None] * _phi_hat(k2)
             received = np.sum(transport2(e_scattered) * _polarization_vector(-k2_arr, polarization), -1)
             paths.append(amplitude * received * np.exp(-2j * np.pi * (l1 + l2) / wavelength) / (l1 * l2))
     return np.stack(paths, axis=-1)

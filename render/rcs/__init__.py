@@ -23,7 +23,24 @@ from .materials import RadioMaterial, resolve_material
 from .solver import QUALITY_PRESETS, RcsResult, compute_rcs
 from .sweep import PAPER_BANDS_GHZ, aspect_sweep, band_sweep, plot_polar, rcs_table, sphere_average
 
-__all__ = ["TargetMesh", "direction_vector", "load_target", "polarisation_basis", "prepare_mesh",
-           "RadioMaterial", "resolve_material", "QUALITY_PRESETS", "RcsResult", "compute_rcs",
-           "PAPER_BANDS_GHZ", "aspect_sweep", "band_sweep", "plot_polar", "rcs_table", "sphere_average",
-           "convergence_curve", "density_for_accuracy", "preset_errors"]
+__all__ = [
+    "TargetMesh",
+    "direction_vector",
+    "load_target",
+    "polarisation_basis",
+    "prepare_mesh",
+    "RadioMaterial",
+    "resolve_material",
+    "QUALITY_PRESETS",
+    "RcsResult",
+    "compute_rcs",
+    "PAPER_BANDS_GHZ",
+    "aspect_sweep",
+    "band_sweep",
+    "plot_polar",
+    "rcs_table",
+    "sphere_average",
+    "convergence_curve",
+    "density_for_accuracy",
+    "preset_errors",
+]

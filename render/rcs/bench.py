@@ -39,13 +39,16 @@ def _raw_throughput(engine: SbrEngine, n_rays: int, repeats: int) -> dict:
     e2 = np.cross(d, e1)
     o = -1.01 * radius * d + u.reshape(-1, 1) * e1 + v.reshape(-1, 1) * e2
     o = o.astype(np.float32)
-    ray = mi.Ray3f(mi.Point3f(mi.Float(o[:, 0]), mi.Float(o[:, 1]), mi.Float(o[:, 2])),
-                   mi.Vector3f(*[float(x) for x in d]))
+    ray = mi.Ray3f(
+        mi.Point3f(mi.Float(o[:, 0]), mi.Float(o[:, 1]), mi.Float(o[:, 2])), mi.Vector3f(*[float(x) for x in d])
+    )
     out = {}
-    for name, fn in (("ray_intersect", engine.scene.ray_intersect),
-                     ("ray_intersect_preliminary", engine.scene.ray_intersect_preliminary)):
+    for name, fn in (
+        ("ray_intersect", engine.scene.ray_intersect),
+        ("ray_intersect_preliminary", engine.scene.ray_intersect_preliminary),
+    ):
         times = []
-        for _ in range(repeats + 1):                      # first call compiles
+        for _ in range(repeats + 1):  # first call compiles
             start = time.perf_counter()
             res = fn(ray)
             if name == "ray_intersect":
@@ -58,8 +61,15 @@ def _raw_throughput(engine: SbrEngine, n_rays: int, repeats: int) -> dict:
     return out
 
 
-def bench_sbr(target="dji_mini_4_pro", frequency_ghz: float = 24.0, rays_per_wavelength: float = 10.0,
-              max_bounces: int = 5, n_aspects: int = 16, raw_rays: int = 1 << 20, repeats: int = 3) -> dict:
+def bench_sbr(
+    target="dji_mini_4_pro",
+    frequency_ghz: float = 24.0,
+    rays_per_wavelength: float = 10.0,
+    max_bounces: int = 5,
+    n_aspects: int = 16,
+    raw_rays: int = 1 << 20,
+    repeats: int = 3,
+) -> dict:
     """SBR rays x bounces per second against Mitsuba's raw intersection throughput.
 
     Parameters
@@ -94,13 +104,23 @@ def bench_sbr(target="dji_mini_4_pro", frequency_ghz: float = 24.0, rays_per_wav
             best = res
     raw = _raw_throughput(engine, int(raw_rays), int(repeats))
     sbr = best.ray_casts / best.time_s
-    return {"variant": engine.variant, "target": str(target), "frequency_ghz": frequency_ghz,
-            "rays_per_wavelength": rays_per_wavelength, "max_bounces": max_bounces, "aspects": int(n_aspects),
-            "tubes": int(best.tubes.sum()), "ray_casts": int(best.ray_casts), "sbr_time_s": best.time_s,
-            "sbr_rays_x_bounces_per_s": sbr, "sbr_tubes_per_s": float(best.tubes.sum()) / best.time_s,
-            "sbr_trace_fraction": best.trace_time_s / best.time_s, **raw,
-            "ratio_sbr_to_ray_intersect": sbr / raw["ray_intersect_rays_per_s"],
-            "ratio_sbr_to_preliminary": sbr / raw["ray_intersect_preliminary_rays_per_s"]}
+    return {
+        "variant": engine.variant,
+        "target": str(target),
+        "frequency_ghz": frequency_ghz,
+        "rays_per_wavelength": rays_per_wavelength,
+        "max_bounces": max_bounces,
+        "aspects": int(n_aspects),
+        "tubes": int(best.tubes.sum()),
+        "ray_casts": int(best.ray_casts),
+        "sbr_time_s": best.time_s,
+        "sbr_rays_x_bounces_per_s": sbr,
+        "sbr_tubes_per_s": float(best.tubes.sum()) / best.time_s,
+        "sbr_trace_fraction": best.trace_time_s / best.time_s,
+        **raw,
+        "ratio_sbr_to_ray_intersect": sbr / raw["ray_intersect_rays_per_s"],
+        "ratio_sbr_to_preliminary": sbr / raw["ray_intersect_preliminary_rays_per_s"],
+    }
 
 
 def bench_memory(n_tubes: float = 1e8, batch_size: int | None = None) -> dict:
@@ -118,13 +138,19 @@ def bench_memory(n_tubes: float = 1e8, batch_size: int | None = None) -> dict:
     """
     from . import canonical
 
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2 ** 20
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
     engine = SbrEngine(load_target(canonical.plate(1.0)), batch_size=batch_size)
     wavelength = 299_792_458.0 / 10e9
     n = float(np.sqrt(n_tubes)) * wavelength / 1.0
     res = engine.trace(Jobs.build(0.0, 90.0, 10.0, n), 1)
-    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2 ** 20
-    return {"tubes": int(res.tubes.sum()), "batch_size": engine.batch_size, "time_s": res.time_s,
-            "tubes_per_s": float(res.tubes.sum()) / res.time_s, "peak_rss_gib": after,
-            "peak_rss_before_gib": before, "rcs_dbsm": float(10 * np.log10(res.sigma_m2[0, 0, 0, 0])),
-            "exact_dbsm": float(10 * np.log10(4 * np.pi / wavelength ** 2))}
+    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+    return {
+        "tubes": int(res.tubes.sum()),
+        "batch_size": engine.batch_size,
+        "time_s": res.time_s,
+        "tubes_per_s": float(res.tubes.sum()) / res.time_s,
+        "peak_rss_gib": after,
+        "peak_rss_before_gib": before,
+        "rcs_dbsm": float(10 * np.log10(res.sigma_m2[0, 0, 0, 0])),
+        "exact_dbsm": float(10 * np.log10(4 * np.pi / wavelength**2)),
+    }

@@ -59,8 +59,15 @@ def trihedral(a_m: float, kind: str = "square"):
         from csuas.base.errors import ParameterError
 
         raise ParameterError("kind", kind, "'square' or 'triangular'")
-    v = [[0, 0, 0], [a, 0, 0], [a, a, 0], [0, a, 0],       # z = 0
-         [0, 0, a], [0, a, a], [a, 0, a]]                   # (0,a,a) on x=0, (a,0,a) on y=0
+    v = [
+        [0, 0, 0],
+        [a, 0, 0],
+        [a, a, 0],
+        [0, a, 0],  # z = 0
+        [0, 0, a],
+        [0, a, a],
+        [a, 0, a],
+    ]  # (0,a,a) on x=0, (a,0,a) on y=0
     return _mesh(v, [[0, 1, 2], [0, 2, 3], [0, 3, 5], [0, 5, 4], [0, 4, 6], [0, 6, 1]])
 
 

@@ -33,25 +33,42 @@ from csuas.base.checks import Check
 from csuas.core.units import C_LIGHT
 
 #: Coarse settings of the default checks (documented in the module docstring).
-CHECK_SETTINGS = {"preset": "dji_mini_4_pro", "frequency_ghz": C_LIGHT / 0.0125 / 1e9,
-                  "rays_per_wavelength": 3.0, "max_bounces": 3, "n_azimuth": 24, "n_elevation": 8}
+CHECK_SETTINGS = {
+    "preset": "dji_mini_4_pro",
+    "frequency_ghz": C_LIGHT / 0.0125 / 1e9,
+    "rays_per_wavelength": 3.0,
+    "max_bounces": 3,
+    "n_azimuth": 24,
+    "n_elevation": 8,
+}
 
 TABLE8_SIGMA_M2 = 0.01
 TR38901_SMALL_UAV_MEAN_DBSM = -12.81
 TR38901_SMALL_UAV_SPREAD_DB = 3.74
 
-_WHY_LOW = ("SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD), "
-            "creeping waves, rotor blades, cables or surface roughness, which fill the nulls of measured drones; ")
-_WHY_HIGH = ("the model's metal parts (battery can, motors, landing legs) are smooth specular reflectors, and "
-             "2 mm plastic shells pass most of the power to them; ")
+_WHY_LOW = (
+    "SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD), "
+    "creeping waves, rotor blades, cables or surface roughness, which fill the nulls of measured drones; "
+)
+_WHY_HIGH = (
+    "the model's metal parts (battery can, motors, landing legs) are smooth specular reflectors, and "
+    "2 mm plastic shells pass most of the power to them; "
+)
 
 
 @functools.lru_cache(maxsize=4)
 def _drone_average(preset: str, frequency_ghz: float, n: float, bounces: int, n_az: int, n_el: int) -> dict:
     from .sweep import sphere_average
 
-    return sphere_average(preset, frequency_ghz, n_azimuth=n_az, n_elevation=n_el, polarisation="mean",
-                          rays_per_wavelength=n, max_bounces=bounces)
+    return sphere_average(
+        preset,
+        frequency_ghz,
+        n_azimuth=n_az,
+        n_elevation=n_el,
+        polarisation="mean",
+        rays_per_wavelength=n,
+        max_bounces=bounces,
+    )
 
 
 def default_checks(settings: dict | None = None) -> list[Check]:
@@ -68,28 +85,52 @@ def default_checks(settings: dict | None = None) -> list[Check]:
     list of csuas.base.checks.Check
     """
     s = {**CHECK_SETTINGS, **(settings or {})}
-    avg = _drone_average(s["preset"], float(s["frequency_ghz"]), float(s["rays_per_wavelength"]),
-                         int(s["max_bounces"]), int(s["n_azimuth"]), int(s["n_elevation"]))
+    avg = _drone_average(
+        s["preset"],
+        float(s["frequency_ghz"]),
+        float(s["rays_per_wavelength"]),
+        int(s["max_bounces"]),
+        int(s["n_azimuth"]),
+        int(s["n_elevation"]),
+    )
     mean_dbsm = float(avg["mean_dbsm"][0])
     mean_of_db = float(avg["mean_of_dbsm"][0])
-    extra = {"frequency_ghz": float(s["frequency_ghz"]), "rays_per_wavelength": float(s["rays_per_wavelength"]),
-             "max_bounces": int(s["max_bounces"]), "n_aspects": int(avg["n_aspects"]),
-             "quadrature_error_rel": float(avg["quadrature_error_rel"][0]), "rays": int(avg["rays"]),
-             "time_s": float(avg["time_s"]), "mean_m2": float(avg["mean_m2"][0]),
-             "std_of_dbsm": float(avg["std_of_dbsm"][0]),
-             "within_paper_class1_range_0.001_0.1_m2": bool(0.001 <= avg["mean_m2"][0] <= 0.1)}
-    method = (f"SBR-PO RCS of the {s['preset']} mesh with its part materials at {s['frequency_ghz']:.2f} GHz, "
-              f"mean of VV and HH, {int(s['n_azimuth'])} x {int(s['n_elevation'])} Gauss-Legendre aspects")
+    extra = {
+        "frequency_ghz": float(s["frequency_ghz"]),
+        "rays_per_wavelength": float(s["rays_per_wavelength"]),
+        "max_bounces": int(s["max_bounces"]),
+        "n_aspects": int(avg["n_aspects"]),
+        "quadrature_error_rel": float(avg["quadrature_error_rel"][0]),
+        "rays": int(avg["rays"]),
+        "time_s": float(avg["time_s"]),
+        "mean_m2": float(avg["mean_m2"][0]),
+        "std_of_dbsm": float(avg["std_of_dbsm"][0]),
+        "within_paper_class1_range_0.001_0.1_m2": bool(0.001 <= avg["mean_m2"][0] <= 0.1),
+    }
+    method = (
+        f"SBR-PO RCS of the {s['preset']} mesh with its part materials at {s['frequency_ghz']:.2f} GHz, "
+        f"mean of VV and HH, {int(s['n_azimuth'])} x {int(s['n_elevation'])} Gauss-Legendre aspects"
+    )
     table8 = Check(
-        name=f"rcs.{s['preset']}.mean_dbsm.table8", paper=float(10 * np.log10(TABLE8_SIGMA_M2)), computed=mean_dbsm,
-        unit="dBsm", source="Table 8 (sigma_radar = 0.01 m^2), Eq. 6", method=method + "; Eq. 6 linear mean",
-        abs_tol=3.0, extra=extra)
+        name=f"rcs.{s['preset']}.mean_dbsm.table8",
+        paper=float(10 * np.log10(TABLE8_SIGMA_M2)),
+        computed=mean_dbsm,
+        unit="dBsm",
+        source="Table 8 (sigma_radar = 0.01 m^2), Eq. 6",
+        method=method + "; Eq. 6 linear mean",
+        abs_tol=3.0,
+        extra=extra,
+    )
     tr38901 = Check(
-        name=f"rcs.{s['preset']}.mean_of_dbsm.3gpp_tr38901", paper=TR38901_SMALL_UAV_MEAN_DBSM,
-        computed=mean_of_db, unit="dBsm",
+        name=f"rcs.{s['preset']}.mean_of_dbsm.3gpp_tr38901",
+        paper=TR38901_SMALL_UAV_MEAN_DBSM,
+        computed=mean_of_db,
+        unit="dBsm",
         source="3GPP TR 38.901 v19 Table 7.9.2.1-1, small UAV: log-normal, mean -12.81 dBsm, spread 3.74 dB",
-        method=method + "; mean over the sphere of 10 log10(sigma)", abs_tol=TR38901_SMALL_UAV_SPREAD_DB,
-        extra=extra)
+        method=method + "; mean over the sphere of 10 log10(sigma)",
+        abs_tol=TR38901_SMALL_UAV_SPREAD_DB,
+        extra=extra,
+    )
     out = []
     for check, reference in ((table8, "Table 8's 0.01 m^2"), (tr38901, "the 3GPP small-UAV mean")):
         if not check.ok:
@@ -97,8 +138,10 @@ def default_checks(settings: dict | None = None) -> list[Check]:
             why = (_WHY_LOW if low else _WHY_HIGH) + (
                 "3GPP's small-UAV figure is a log-normal fit to measured UAVs of 0.3 x 0.4 x 0.2 m (metal-rich "
                 "airframes), and the mean of dBsm values weighs the model's deep nulls heavily, while the linear "
-                "Eq. 6 mean is dominated by the flashes; " if "3gpp" in check.name else
-                "Table 8 states a generic class-1 value (the paper's Section 4.9 spans 0.001-0.1 m^2); ")
+                "Eq. 6 mean is dominated by the flashes; "
+                if "3gpp" in check.name
+                else "Table 8 states a generic class-1 value (the paper's Section 4.9 spans 0.001-0.1 m^2); "
+            )
             why += f"computed {'below' if low else 'above'} {reference} by {abs(check.computed - check.paper):.1f} dB."
             # 3GPP's figure measures real drones: missing it is a limit of the faceted SBR-PO model (no edge
             # diffraction, idealised materials); Table 8's generic value is the paper's own choice.

@@ -35,8 +35,8 @@ import time
 
 import numpy as np
 
-from csuas.core.units import C_LIGHT
 from csuas.base.errors import ParameterError
+from csuas.core.units import C_LIGHT
 
 from . import canonical
 from .engine import Jobs, SbrEngine
@@ -50,13 +50,20 @@ ERROR_COEFFICIENT_DB = 1.1
 #: PO value), 4 random grid offsets each, and the time of the 28 solves [s]; measured with
 #: ``preset_errors()`` on 2 CPU cores (llvm_ad_mono). The largest errors are the plate (draft, standard)
 #: and the cylinder (reference).
-PRESET_MEASURED_ERROR_DB = {"draft": {"mean": 0.18, "max": 0.67, "time_s": 0.18},
-                            "standard": {"mean": 0.077, "max": 0.45, "time_s": 0.26},
-                            "reference": {"mean": 0.050, "max": 0.17, "time_s": 0.55}}
+PRESET_MEASURED_ERROR_DB = {
+    "draft": {"mean": 0.18, "max": 0.67, "time_s": 0.18},
+    "standard": {"mean": 0.077, "max": 0.45, "time_s": 0.26},
+    "reference": {"mean": 0.050, "max": 0.17, "time_s": 0.55},
+}
 
 
-def density_for_accuracy(error_db: float, perimeter_m: float, area_m2: float, frequency_ghz: float,
-                         coefficient_db: float = ERROR_COEFFICIENT_DB) -> float:
+def density_for_accuracy(
+    error_db: float,
+    perimeter_m: float,
+    area_m2: float,
+    frequency_ghz: float,
+    coefficient_db: float = ERROR_COEFFICIENT_DB,
+) -> float:
     """Rays per wavelength needed for a requested RCS error, by the error model (1).
 
     Parameters
@@ -76,8 +83,13 @@ def density_for_accuracy(error_db: float, perimeter_m: float, area_m2: float, fr
     float
         ``N`` [rays per wavelength], at least 1.
     """
-    for name, value in (("error_db", error_db), ("perimeter_m", perimeter_m), ("area_m2", area_m2),
-                        ("frequency_ghz", frequency_ghz), ("coefficient_db", coefficient_db)):
+    for name, value in (
+        ("error_db", error_db),
+        ("perimeter_m", perimeter_m),
+        ("area_m2", area_m2),
+        ("frequency_ghz", frequency_ghz),
+        ("coefficient_db", coefficient_db),
+    ):
         if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value > 0):
             raise ParameterError(name, value, "a finite number > 0")
     wavelength = C_LIGHT / (frequency_ghz * 1e9)
@@ -102,8 +114,14 @@ def silhouette_perimeter_area(target, azimuth_deg: float, elevation_deg: float) 
     return float(shape.length), float(shape.area)
 
 
-def convergence_curve(densities=(1, 2, 4, 8, 16, 32), *, trials: int = 64, seed: int = 1,
-                      orientation: str = "aligned", max_bounces: int = 1) -> list[dict]:
+def convergence_curve(
+    densities=(1, 2, 4, 8, 16, 32),
+    *,
+    trials: int = 64,
+    seed: int = 1,
+    orientation: str = "aligned",
+    max_bounces: int = 1,
+) -> list[dict]:
     """Error against tube density and time, on the square-plate oracle at normal incidence.
 
     A 0.1 m PEC plate at 10 GHz (exact 4 pi A^2 / lambda^2 = +1.46 dBsm) is
@@ -135,14 +153,14 @@ def convergence_curve(densities=(1, 2, 4, 8, 16, 32), *, trials: int = 64, seed:
     rng = np.random.default_rng(seed)
     a, f = 0.1, 10.0
     lam = C_LIGHT / (f * 1e9)
-    exact = 4 * math.pi * (a * a) ** 2 / lam ** 2
+    exact = 4 * math.pi * (a * a) ** 2 / lam**2
     p_over_a = 4 * a / (a * a)
     az = rng.uniform(0.0, 90.0, int(trials)) if orientation == "random" else np.zeros(int(trials))
     el = np.full(int(trials), 90.0)
     mesh = canonical.plate(a)
     shifts = rng.uniform(0.0, 1.0, (int(trials), 2))
     engine = SbrEngine(load_target(mesh))
-    engine.trace(Jobs.build(az[:1], el[:1], f, 1.0), max_bounces)            # compile the kernels once
+    engine.trace(Jobs.build(az[:1], el[:1], f, 1.0), max_bounces)  # compile the kernels once
     out = []
     for n in densities:
         start = time.perf_counter()
@@ -150,11 +168,18 @@ def convergence_curve(densities=(1, 2, 4, 8, 16, 32), *, trials: int = 64, seed:
         elapsed = time.perf_counter() - start
         sigma = res.sigma_m2[:, 0, 0, 0]
         err = np.abs(10 * np.log10(np.maximum(sigma, 1e-300) / exact))
-        out.append({"case": f"plate_0.1m_10GHz_normal_{orientation}", "rays_per_wavelength": float(n),
-                    "mean_abs_error_db": float(err.mean()), "max_abs_error_db": float(err.max()),
-                    "model_error_db": ERROR_COEFFICIENT_DB * p_over_a * lam / n,
-                    "tubes": float(res.tubes.mean()), "time_s": elapsed / len(az),
-                    "rays_x_bounces_per_s": res.ray_casts / elapsed})
+        out.append(
+            {
+                "case": f"plate_0.1m_10GHz_normal_{orientation}",
+                "rays_per_wavelength": float(n),
+                "mean_abs_error_db": float(err.mean()),
+                "max_abs_error_db": float(err.max()),
+                "model_error_db": ERROR_COEFFICIENT_DB * p_over_a * lam / n,
+                "tubes": float(res.tubes.mean()),
+                "time_s": elapsed / len(az),
+                "rays_x_bounces_per_s": res.ray_casts / elapsed,
+            }
+        )
     return out
 
 
@@ -166,15 +191,20 @@ def canonical_cases(frequency_ghz: float = 10.0) -> list[tuple]:
     ka = 50.0
     radius = ka / k
     x = 2 * ka
-    po_sphere = math.pi * radius ** 2 * abs((np.exp(-1j * x) * (1 + 1j * x) - 1) / x) ** 2
+    po_sphere = math.pi * radius**2 * abs((np.exp(-1j * x) * (1 + 1j * x) - 1) / x) ** 2
     return [
-        ("plate", canonical.plate(0.1), 0.0, 90.0, 4 * math.pi * 0.01 ** 2 / lam ** 2),
-        ("disk", canonical.disk(0.1), 0.0, 90.0, 4 * math.pi ** 3 * 0.1 ** 4 / lam ** 2),
-        ("dihedral", canonical.dihedral(0.1, 0.15), 0.0, 0.0, 8 * math.pi * 0.1 ** 2 * 0.15 ** 2 / lam ** 2),
-        ("trihedral_square", canonical.trihedral(0.1, "square"), 45.0, axis_el, 12 * math.pi * 0.1 ** 4 / lam ** 2),
-        ("trihedral_triangular", canonical.trihedral(0.1, "triangular"), 45.0, axis_el,
-         4 * math.pi * 0.1 ** 4 / (3 * lam ** 2)),
-        ("cylinder", canonical.cylinder(0.05, 0.3), 30.0, 0.0, 2 * math.pi * 0.05 * 0.3 ** 2 / lam),
+        ("plate", canonical.plate(0.1), 0.0, 90.0, 4 * math.pi * 0.01**2 / lam**2),
+        ("disk", canonical.disk(0.1), 0.0, 90.0, 4 * math.pi**3 * 0.1**4 / lam**2),
+        ("dihedral", canonical.dihedral(0.1, 0.15), 0.0, 0.0, 8 * math.pi * 0.1**2 * 0.15**2 / lam**2),
+        ("trihedral_square", canonical.trihedral(0.1, "square"), 45.0, axis_el, 12 * math.pi * 0.1**4 / lam**2),
+        (
+            "trihedral_triangular",
+            canonical.trihedral(0.1, "triangular"),
+            45.0,
+            axis_el,
+            4 * math.pi * 0.1**4 / (3 * lam**2),
+        ),
+        ("cylinder", canonical.cylinder(0.05, 0.3), 30.0, 0.0, 2 * math.pi * 0.05 * 0.3**2 / lam),
         ("sphere_ka50_po", canonical.sphere(radius, 6), 17.0, 23.0, po_sphere),
     ]
 
@@ -210,14 +240,27 @@ def preset_errors(presets=None, frequency_ghz: float = 10.0, trials: int = 4, se
         per_case, worst, elapsed = {}, 0.0, 0.0
         for name, _mesh, az, el, exact in cases:
             start = time.perf_counter()
-            res = engines[name].trace(Jobs.build(np.full(len(shifts), az), np.full(len(shifts), el), frequency_ghz,
-                                                 q["rays_per_wavelength"], grid_shift=shifts), q["max_bounces"])
+            res = engines[name].trace(
+                Jobs.build(
+                    np.full(len(shifts), az),
+                    np.full(len(shifts), el),
+                    frequency_ghz,
+                    q["rays_per_wavelength"],
+                    grid_shift=shifts,
+                ),
+                q["max_bounces"],
+            )
             elapsed += time.perf_counter() - start
             sigma = 0.5 * (res.sigma_m2[:, 0, 0, 0] + res.sigma_m2[:, 0, 1, 1])
             err = np.abs(10 * np.log10(np.maximum(sigma, 1e-300) / exact))
             per_case[name] = float(err.mean())
             worst = max(worst, float(err.max()))
-        out[preset] = {"rays_per_wavelength": q["rays_per_wavelength"], "max_bounces": q["max_bounces"],
-                       "mean_abs_error_db": float(np.mean(list(per_case.values()))), "max_abs_error_db": worst,
-                       "time_s": elapsed, "cases": per_case}
+        out[preset] = {
+            "rays_per_wavelength": q["rays_per_wavelength"],
+            "max_bounces": q["max_bounces"],
+            "mean_abs_error_db": float(np.mean(list(per_case.values()))),
+            "max_abs_error_db": worst,
+            "time_s": elapsed,
+            "cases": per_case,
+        }
     return out

@@ -57,8 +57,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csuas.core.units import C_LIGHT
 from csuas.base.errors import ParameterError
+from csuas.core.units import C_LIGHT
 
 from .geometry import TargetMesh, direction_vector, polarisation_basis
 
@@ -106,22 +106,33 @@ class Jobs:
     grid_shift: np.ndarray
 
     @classmethod
-    def build(cls, incident_az_deg, incident_el_deg, frequency_ghz, rays_per_wavelength,
-              observe_az_deg=None, observe_el_deg=None, grid_shift=DEFAULT_GRID_SHIFT) -> "Jobs":
+    def build(
+        cls,
+        incident_az_deg,
+        incident_el_deg,
+        frequency_ghz,
+        rays_per_wavelength,
+        observe_az_deg=None,
+        observe_el_deg=None,
+        grid_shift=DEFAULT_GRID_SHIFT,
+    ) -> Jobs:
         """Broadcast incidence angles, frequency and density to J jobs.
 
         ``observe_*`` of shape (J, M) or (M,) (same receivers for every job);
         ``None`` means monostatic.
         """
-        az, el, f, n = (np.atleast_1d(np.asarray(x, dtype=float)) for x in
-                        (incident_az_deg, incident_el_deg, frequency_ghz, rays_per_wavelength))
+        az, el, f, n = (
+            np.atleast_1d(np.asarray(x, dtype=float))
+            for x in (incident_az_deg, incident_el_deg, frequency_ghz, rays_per_wavelength)
+        )
         az, el, f, n = np.broadcast_arrays(az, el, f, n)
         az, el, f, n = (np.ravel(x).copy() for x in (az, el, f, n))
         if observe_az_deg is None:
             oaz, oel = az[:, None].copy(), el[:, None].copy()
         else:
-            oaz, oel = np.broadcast_arrays(np.atleast_1d(np.asarray(observe_az_deg, float)),
-                                           np.atleast_1d(np.asarray(observe_el_deg, float)))
+            oaz, oel = np.broadcast_arrays(
+                np.atleast_1d(np.asarray(observe_az_deg, float)), np.atleast_1d(np.asarray(observe_el_deg, float))
+            )
             oaz = np.broadcast_to(oaz if oaz.ndim == 2 else oaz[None, :], (len(az), oaz.shape[-1])).copy()
             oel = np.broadcast_to(oel if oel.ndim == 2 else oel[None, :], (len(az), oel.shape[-1])).copy()
         shift = np.broadcast_to(np.asarray(grid_shift, float), (len(az), 2)).copy()
@@ -131,9 +142,12 @@ class Jobs:
 
     def validate(self) -> None:
         """Raise :class:`ParameterError` for non-finite angles, f <= 0 or N < 1."""
-        for name, values in (("azimuth_deg", self.incident_az_deg), ("elevation_deg", self.incident_el_deg),
-                             ("observe_azimuth_deg", self.observe_az_deg),
-                             ("observe_elevation_deg", self.observe_el_deg)):
+        for name, values in (
+            ("azimuth_deg", self.incident_az_deg),
+            ("elevation_deg", self.incident_el_deg),
+            ("observe_azimuth_deg", self.observe_az_deg),
+            ("observe_elevation_deg", self.observe_el_deg),
+        ):
             if not np.isfinite(values).all():
                 raise ParameterError(name, values[~np.isfinite(values)][0], "finite angle [deg]")
         for name, values in (("elevation_deg", self.incident_el_deg), ("observe_elevation_deg", self.observe_el_deg)):
@@ -218,8 +232,9 @@ class SbrEngine:
         if int(batch_size) < 1:
             raise ParameterError("batch_size", batch_size, "integer >= 1")
         self.batch_size = int(batch_size)
-        mesh = mi.Mesh("rcs_target", len(target.vertices), len(target.faces),
-                       has_vertex_normals=False, has_vertex_texcoords=False)
+        mesh = mi.Mesh(
+            "rcs_target", len(target.vertices), len(target.faces), has_vertex_normals=False, has_vertex_texcoords=False
+        )
         params = mi.traverse(mesh)
         params["vertex_positions"] = mi.Float(np.asarray(target.vertices, np.float32).ravel())
         params["faces"] = mi.UInt32(np.asarray(target.faces, np.uint32).ravel())
@@ -240,8 +255,8 @@ class SbrEngine:
         pol_v, pol_h = polarisation_basis(jobs.incident_az_deg, jobs.incident_el_deg)
         wavelength = C_LIGHT / (jobs.frequency_ghz * 1e9)
         spacing = wavelength / jobs.rays_per_wavelength
-        e1, e2 = pol_h, pol_v                       # grid axes, both perpendicular to d_in
-        pu, pv = self._hull @ e1.T, self._hull @ e2.T    # (H, J)
+        e1, e2 = pol_h, pol_v  # grid axes, both perpendicular to d_in
+        pu, pv = self._hull @ e1.T, self._hull @ e2.T  # (H, J)
         counts, first = [], []
         for p in (pu, pv):
             lo, hi = p.min(axis=0), p.max(axis=0)
@@ -252,10 +267,13 @@ class SbrEngine:
         u0 = first[0] + (jobs.grid_shift[:, 0] % 1.0) * spacing
         v0 = first[1] + (jobs.grid_shift[:, 1] % 1.0) * spacing
         tubes = nu * nv
-        if (tubes >= 2 ** 32).any():
-            raise ParameterError("rays_per_wavelength", float(jobs.rays_per_wavelength.max()),
-                                 "a density giving fewer than 2^32 tubes per aspect and frequency")
-        s = direction_vector(jobs.observe_az_deg, jobs.observe_el_deg)           # (J, M, 3)
+        if (tubes >= 2**32).any():
+            raise ParameterError(
+                "rays_per_wavelength",
+                float(jobs.rays_per_wavelength.max()),
+                "a density giving fewer than 2^32 tubes per aspect and frequency",
+            )
+        s = direction_vector(jobs.observe_az_deg, jobs.observe_el_deg)  # (J, M, 3)
         s_theta, s_phi = polarisation_basis(jobs.observe_az_deg, jobs.observe_el_deg)
         # Complex permittivity of each (material, job): index material * J + job.
         n_jobs, mats = len(jobs), self.target.materials
@@ -268,9 +286,25 @@ class SbrEngine:
             else:
                 eps[i] = [m.complex_permittivity(f) for f in jobs.frequency_ghz]
                 thick[i] = m.thickness_m or 0.0
-        return dict(k=2 * np.pi / wavelength, d=spacing, nu=nu, tubes=tubes, u0=u0, v0=v0,
-                    kin=-d_in, e1=e1, e2=e2, pol_v=pol_v, pol_h=pol_h, s=s, s_theta=s_theta, s_phi=s_phi,
-                    eps=eps.ravel(), pec=pec.ravel(), thick=thick.ravel())
+        return dict(
+            k=2 * np.pi / wavelength,
+            d=spacing,
+            nu=nu,
+            tubes=tubes,
+            u0=u0,
+            v0=v0,
+            kin=-d_in,
+            e1=e1,
+            e2=e2,
+            pol_v=pol_v,
+            pol_h=pol_h,
+            s=s,
+            s_theta=s_theta,
+            s_phi=s_phi,
+            eps=eps.ravel(),
+            pec=pec.ravel(),
+            thick=thick.ravel(),
+        )
 
     def _upload(self, tab):
         mi = self.mi
@@ -282,17 +316,31 @@ class SbrEngine:
         def f32(a):
             return mi.Float(np.asarray(a, np.float32).ravel())
 
-        return dict(k=f32(tab["k"]), d=f32(tab["d"]), nu=mi.UInt32(np.asarray(tab["nu"], np.uint32)),
-                    u0=f32(tab["u0"]), v0=f32(tab["v0"]), kin=vec(tab["kin"]), e1=vec(tab["e1"]),
-                    e2=vec(tab["e2"]), pol_v=vec(tab["pol_v"]), pol_h=vec(tab["pol_h"]), s=vec(tab["s"]),
-                    s_theta=vec(tab["s_theta"]), s_phi=vec(tab["s_phi"]),
-                    eps_re=f32(tab["eps"].real), eps_im=f32(tab["eps"].imag),
-                    pec=mi.Bool(np.asarray(tab["pec"], bool)), thick=f32(tab["thick"]),
-                    radius=mi.Float([self._radius]))
+        return dict(
+            k=f32(tab["k"]),
+            d=f32(tab["d"]),
+            nu=mi.UInt32(np.asarray(tab["nu"], np.uint32)),
+            u0=f32(tab["u0"]),
+            v0=f32(tab["v0"]),
+            kin=vec(tab["kin"]),
+            e1=vec(tab["e1"]),
+            e2=vec(tab["e2"]),
+            pol_v=vec(tab["pol_v"]),
+            pol_h=vec(tab["pol_h"]),
+            s=vec(tab["s"]),
+            s_theta=vec(tab["s_theta"]),
+            s_phi=vec(tab["s_phi"]),
+            eps_re=f32(tab["eps"].real),
+            eps_im=f32(tab["eps"].imag),
+            pec=mi.Bool(np.asarray(tab["pec"], bool)),
+            thick=f32(tab["thick"]),
+            radius=mi.Float([self._radius]),
+        )
 
     # ------------------------------------------------------------------ launch
-    def trace(self, jobs: Jobs, max_bounces: int = 5, radiate: str = "exit",
-              power_cutoff: float = POWER_CUTOFF) -> TraceResult:
+    def trace(
+        self, jobs: Jobs, max_bounces: int = 5, radiate: str = "exit", power_cutoff: float = POWER_CUTOFF
+    ) -> TraceResult:
         """Trace every job's tubes and return the scattered far-field amplitudes.
 
         Parameters
@@ -343,16 +391,17 @@ class SbrEngine:
             job = np.searchsorted(offsets, g, side="right") - 1
             local = (g - offsets[job]).astype(np.uint32)
             self._trace_batch(dev, job.astype(np.uint32), local, n_obs, max_bounces, radiate, acc, stats)
-        sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)                               # (job, obs, tx, rx, re/im)
-        amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)     # -> (job, obs, rx, tx)
-        return TraceResult(amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start,
-                           stats["trace_s"])
+        sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)  # (job, obs, tx, rx, re/im)
+        amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)  # -> (job, obs, rx, tx)
+        return TraceResult(
+            amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
+        )
 
     def _trace_batch(self, dev, job_np, local_np, n_obs, max_bounces, radiate, acc, stats):
         mi, dr = self.mi, self.dr
         Float, UInt, V3 = mi.Float, mi.UInt32, mi.Vector3f
         job, local = UInt(job_np), UInt(local_np)
-        nu = dr.maximum(dr.gather(UInt, dev["nu"], job), 1)   # >= 1 in every SIMD lane (udiv traps on 0)
+        nu = dr.maximum(dr.gather(UInt, dev["nu"], job), 1)  # >= 1 in every SIMD lane (udiv traps on 0)
         d = dr.gather(Float, dev["d"], job)
         u = dr.gather(Float, dev["u0"], job) + Float(local % nu) * d
         v = dr.gather(Float, dev["v0"], job) + Float(local // nu) * d
@@ -361,11 +410,17 @@ class SbrEngine:
         radius = dr.gather(Float, dev["radius"], UInt(0))
         zero = V3(0.0)
         st = {
-            "job": job, "o": -radius * kin + u * e1 + v * e2, "dir": kin, "a1": d * e1, "a2": d * e2,
+            "job": job,
+            "o": -radius * kin + u * e1 + v * e2,
+            "dir": kin,
+            "a1": d * e1,
+            "a2": d * e2,
             "phase_len": -radius + Float(0.0),
             # complex field amplitudes (real, imaginary) for V and H transmit polarisation
-            "ev_re": dr.gather(V3, dev["pol_v"], job), "ev_im": zero + 0.0,
-            "eh_re": dr.gather(V3, dev["pol_h"], job), "eh_im": zero + 0.0,
+            "ev_re": dr.gather(V3, dev["pol_v"], job),
+            "ev_im": zero + 0.0,
+            "eh_re": dr.gather(V3, dev["pol_h"], job),
+            "eh_im": zero + 0.0,
         }
         dr.eval(st)
 
@@ -378,7 +433,7 @@ class SbrEngine:
         # that need them (see _fetch). None: every tube of ``states[0]`` in order.
         states, contribs, ref = [st], None, None
         for bounce in range(1, max_bounces + 1):
-            dr.sync_thread()                      # launches are asynchronous; time the intersection alone
+            dr.sync_thread()  # launches are asynchronous; time the intersection alone
             t0 = time.perf_counter()
             split = _split_ref(dr, states, ref)
             ray = mi.Ray3f(_fetch(dr, states, split, "o"), _fetch(dr, states, split, "dir"))
@@ -390,10 +445,11 @@ class SbrEngine:
             n_rays, n_hit = dr.width(hit), count(hit)
             stats["casts"] += n_rays
             stats["exits"][bounce - 1] += n_rays - n_hit
-            if contribs is not None and n_hit < n_rays:   # tubes that left after their previous hit radiate there
+            if contribs is not None and n_hit < n_rays:  # tubes that left after their previous hit radiate there
                 out = _split_ref(dr, states, _select(dr, ref, dr.compress(~hit)))
-                self._accumulate(acc, _fetch(dr, states, out, "job"),
-                                 [_fetch(dr, contribs, out, i) for i in range(len(contribs[0]))])
+                self._accumulate(
+                    acc, _fetch(dr, states, out, "job"), [_fetch(dr, contribs, out, i) for i in range(len(contribs[0]))]
+                )
             if n_hit == 0:
                 break
             idx = dr.compress(hit)
@@ -402,7 +458,7 @@ class SbrEngine:
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
             contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs)
-            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)          # (the *_t are empty without shells)
+            dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)  # (the *_t are empty without shells)
             last = bounce == max_bounces
             n_keep, n_through = count(keep), (count(has_t) if self._has_shells else 0)
             # Reflected branches radiate now when every hit radiates, at the last bounce, or when too weak
@@ -411,13 +467,13 @@ class SbrEngine:
                 self._accumulate(acc, st_r["job"], contrib)
             elif n_keep < n_hit:
                 weak = dr.compress(~keep)
-                self._accumulate(acc, dr.gather(UInt, st_r["job"], weak),
-                                 [dr.gather(Float, c, weak) for c in contrib])
+                self._accumulate(acc, dr.gather(UInt, st_r["job"], weak), [dr.gather(Float, c, weak) for c in contrib])
             if last:
                 if n_through:
                     through = dr.compress(has_t)
-                    self._accumulate(acc, dr.gather(UInt, st_t["job"], through),
-                                     [dr.gather(Float, c, through) for c in contrib_t])
+                    self._accumulate(
+                        acc, dr.gather(UInt, st_t["job"], through), [dr.gather(Float, c, through) for c in contrib_t]
+                    )
                 stats["exits"][bounce] += n_keep + n_through
                 break
             stats["exits"][bounce] += n_hit - n_keep
@@ -447,8 +503,8 @@ class SbrEngine:
         p = st["o"] + t * direction
         n = dr.gather(V3, self._face_normal, prim)
         cos_raw = dr.dot(direction, n)
-        n = dr.select(cos_raw > 0, -n, n)                 # normal facing the incoming ray
-        cos_i = dr.maximum(dr.abs(cos_raw), 1e-6)         # cos of incidence angle, >= 0
+        n = dr.select(cos_raw > 0, -n, n)  # normal facing the incoming ray
+        cos_i = dr.maximum(dr.abs(cos_raw), 1e-6)  # cos of incidence angle, >= 0
         phase_len = st["phase_len"] + t
         dir_r = direction + 2.0 * cos_i * n
         k = dr.gather(Float, dev["k"], job)
@@ -471,7 +527,7 @@ class SbrEngine:
         # (phase moved from the front face to the mid-plane), T = (1 - G^2) e^{-j delta} e^{+j k h cos} /
         # (1 - G^2 e^{-2j delta}) (phase relative to free space over h).
         delta = root * (k * thick)
-        decay = dr.exp(delta.imag)                         # |e^{-j delta}| (Im delta <= 0 for a lossy slab)
+        decay = dr.exp(delta.imag)  # |e^{-j delta}| (Im delta <= 0 for a lossy slab)
         s1, c1 = dr.sincos(delta.real)
         e1 = C(decay * c1, -decay * s1)
         e2 = e1 * e1
@@ -507,13 +563,21 @@ class SbrEngine:
             r_re, r_im = split(e_re, e_im, r_perp, r_par, par_r)
             u_re, u_im = split(e_re, e_im, t_perp, t_par, par_i)
             # Reflection: eta*J = n x (k_i x E_i + k_r x E_r), M = (E_i + E_r) x n.
-            refl.append((dr.cross(direction, e_re) + dr.cross(dir_r, r_re),
-                         dr.cross(direction, e_im) + dr.cross(dir_r, r_im), e_re + r_re, e_im + r_im, r_re, r_im))
+            refl.append(
+                (
+                    dr.cross(direction, e_re) + dr.cross(dir_r, r_re),
+                    dr.cross(direction, e_im) + dr.cross(dir_r, r_im),
+                    e_re + r_re,
+                    e_im + r_im,
+                    r_re,
+                    r_im,
+                )
+            )
             # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
             trans.append((dr.cross(direction, u_re), dr.cross(direction, u_im), u_re, u_im, u_re, u_im))
 
         area = dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
-        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction   # footprint edges on the facet
+        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction  # footprint edges on the facet
         f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
         contrib_r, contrib_t = [], []
         sides = ((refl, n, contrib_r), (trans, -n, contrib_t)) if self._has_shells else ((refl, n, contrib_r),)
@@ -526,7 +590,7 @@ class SbrEngine:
             psi = k * (dr.dot(s, p) - phase_len)
             sin_psi, cos_psi = dr.sincos(psi)
             amp = k * foot * (1.0 / (4.0 * math.pi))
-            f_re, f_im = amp * sin_psi, -amp * cos_psi                  # -j k A S e^{j psi} / (4 pi)
+            f_re, f_im = amp * sin_psi, -amp * cos_psi  # -j k A S e^{j psi} / (4 pi)
             for fields, normal, out in sides:
                 tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
                 for x_re, x_im, y_re, y_im, _, _ in fields:
@@ -535,11 +599,18 @@ class SbrEngine:
                     vt_im = dr.dot(x_im, tn) - dr.dot(y_im, pn)
                     vp_re = dr.dot(x_re, pn) + dr.dot(y_re, tn)
                     vp_im = dr.dot(x_im, pn) + dr.dot(y_im, tn)
-                    out += [f_re * vt_re - f_im * vt_im, f_re * vt_im + f_im * vt_re,
-                            f_re * vp_re - f_im * vp_im, f_re * vp_im + f_im * vp_re]
+                    out += [
+                        f_re * vt_re - f_im * vt_im,
+                        f_re * vt_im + f_im * vt_re,
+                        f_re * vp_re - f_im * vp_im,
+                        f_re * vp_im + f_im * vp_re,
+                    ]
+
         def power(fields):
-            return dr.maximum(dr.squared_norm(fields[0][4]) + dr.squared_norm(fields[0][5]),
-                              dr.squared_norm(fields[1][4]) + dr.squared_norm(fields[1][5]))
+            return dr.maximum(
+                dr.squared_norm(fields[0][4]) + dr.squared_norm(fields[0][5]),
+                dr.squared_norm(fields[1][4]) + dr.squared_norm(fields[1][5]),
+            )
 
         keep_r = power(refl) > dev["cutoff"]
         has_t = slab & ~pec & (power(trans) > dev["cutoff"])
@@ -548,14 +619,28 @@ class SbrEngine:
         # it), so that a scaled target at a scaled wavelength traces exactly the same tubes.
         nudge = 2e-5 * dr.gather(Float, dev["radius"], UInt(0))
         st_r = dict(st)
-        st_r.update(o=p + nudge * n, dir=dr.normalize(dir_r), phase_len=phase_len + nudge * cos_i,
-                    a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n, a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
-                    ev_re=refl[0][4], ev_im=refl[0][5], eh_re=refl[1][4], eh_im=refl[1][5])
+        st_r.update(
+            o=p + nudge * n,
+            dir=dr.normalize(dir_r),
+            phase_len=phase_len + nudge * cos_i,
+            a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n,
+            a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
+            ev_re=refl[0][4],
+            ev_im=refl[0][5],
+            eh_re=refl[1][4],
+            eh_im=refl[1][5],
+        )
         if not self._has_shells:
             return contrib_r, st_r, [], {}, mi.Bool(), keep_r
         st_t = dict(st)
-        st_t.update(o=p - nudge * n, phase_len=phase_len + nudge * cos_i,
-                    ev_re=trans[0][4], ev_im=trans[0][5], eh_re=trans[1][4], eh_im=trans[1][5])
+        st_t.update(
+            o=p - nudge * n,
+            phase_len=phase_len + nudge * cos_i,
+            ev_re=trans[0][4],
+            ev_im=trans[0][5],
+            eh_re=trans[1][4],
+            eh_im=trans[1][5],
+        )
         return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
 
     def _accumulate(self, acc, job, parts):
@@ -567,8 +652,8 @@ class SbrEngine:
         dr = self.dr
         if dr.width(job) == 0:
             return
-        dr.eval(job, parts)                         # one kernel for all gathers
-        job_np = np.asarray(job)                    # (host memory on LLVM: no copy)
+        dr.eval(job, parts)  # one kernel for all gathers
+        job_np = np.asarray(job)  # (host memory on LLVM: no copy)
         # Tubes are launched job by job and compaction keeps their order, so jobs come in a few long
         # runs (one per job and branch): sum each run, then add the run sums in order.
         starts = np.flatnonzero(np.r_[True, job_np[1:] != job_np[:-1]])
@@ -596,15 +681,18 @@ def _fetch(dr, sources, ref, key):
     if len(sources) == 1:
         return dr.gather(kind, first, ref)
     in_first, in_second, index_first, index_second = ref
-    return dr.select(in_second, dr.gather(kind, sources[1][key], index_second, in_second),
-                     dr.gather(kind, first, index_first, in_first))
+    return dr.select(
+        in_second,
+        dr.gather(kind, sources[1][key], index_second, in_second),
+        dr.gather(kind, first, index_first, in_first),
+    )
 
 
 def _split_ref(dr, sources, ref):
     """Tube references into two concatenated state dicts as (in first, in second, index in first, in second)."""
     if ref is None or len(sources) == 1:
         return ref
-    width = dr.opaque(type(ref), dr.width(sources[0]["job"]))   # opaque: no recompilation per width
+    width = dr.opaque(type(ref), dr.width(sources[0]["job"]))  # opaque: no recompilation per width
     in_second = ref >= width
     return ~in_second, in_second, ref, ref - width
 

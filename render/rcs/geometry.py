@@ -45,8 +45,7 @@ def polarisation_basis(azimuth_deg, elevation_deg) -> tuple[np.ndarray, np.ndarr
 def direction_angles(direction) -> tuple[np.ndarray, np.ndarray]:
     """(azimuth_deg, elevation_deg) of unit vectors (..., 3)."""
     v = np.asarray(direction, dtype=float)
-    return (np.degrees(np.arctan2(v[..., 1], v[..., 0])),
-            np.degrees(np.arcsin(np.clip(v[..., 2], -1.0, 1.0))))
+    return (np.degrees(np.arctan2(v[..., 1], v[..., 0])), np.degrees(np.arcsin(np.clip(v[..., 2], -1.0, 1.0))))
 
 
 @dataclass
@@ -85,7 +84,7 @@ class TargetMesh:
     @property
     def bounding_radius_m(self) -> float:
         """Radius of the origin-centred sphere enclosing the mesh [m]."""
-        return float(np.sqrt((self.vertices ** 2).sum(axis=1).max()))
+        return float(np.sqrt((self.vertices**2).sum(axis=1).max()))
 
     @property
     def surface_area_m2(self) -> float:
@@ -93,20 +92,35 @@ class TargetMesh:
         tri = self.vertices[self.faces]
         return float(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())
 
-    def with_material(self, material) -> "TargetMesh":
+    def with_material(self, material) -> TargetMesh:
         """A copy whose faces are all of one material."""
-        return TargetMesh(self.name, self.vertices, self.faces, self.face_normals,
-                          np.zeros(len(self.faces), dtype=np.uint32), [resolve_material(material)],
-                          self.dropped_faces, self.centre_m)
+        return TargetMesh(
+            self.name,
+            self.vertices,
+            self.faces,
+            self.face_normals,
+            np.zeros(len(self.faces), dtype=np.uint32),
+            [resolve_material(material)],
+            self.dropped_faces,
+            self.centre_m,
+        )
 
-    def with_shells(self, thickness_m: float | None) -> "TargetMesh":
+    def with_shells(self, thickness_m: float | None) -> TargetMesh:
         """A copy whose dielectric materials are thin shells of ``thickness_m`` [m] (0: half-spaces).
 
         Conductors (PEC, ITU metal, conductivity >= 1 S/m) stay half-spaces.
         """
         mats = [m.with_thickness(thickness_m) if _is_dielectric(m) else m for m in self.materials]
-        return TargetMesh(self.name, self.vertices, self.faces, self.face_normals, self.face_material, mats,
-                          self.dropped_faces, self.centre_m)
+        return TargetMesh(
+            self.name,
+            self.vertices,
+            self.faces,
+            self.face_normals,
+            self.face_material,
+            mats,
+            self.dropped_faces,
+            self.centre_m,
+        )
 
 
 def _is_dielectric(material: RadioMaterial) -> bool:
@@ -147,8 +161,11 @@ def prepare_mesh(vertices, faces, face_material=None, materials=None, name: str 
     mats = [resolve_material(m) for m in (materials if materials is not None else ["pec"])]
     fm = np.zeros(len(f), dtype=np.int64) if face_material is None else np.asarray(face_material, np.int64)
     if fm.shape != (len(f),) or fm.min() < 0 or fm.max() >= len(mats):
-        raise ParameterError("mesh.face_material", f"shape {fm.shape}, range {fm.min()}..{fm.max()}",
-                             f"one index per face in 0..{len(mats) - 1}")
+        raise ParameterError(
+            "mesh.face_material",
+            f"shape {fm.shape}, range {fm.min()}..{fm.max()}",
+            f"one index per face in 0..{len(mats) - 1}",
+        )
     finite_v = np.isfinite(v).all(axis=1)
     used = f[finite_v[f].all(axis=1)]
     if len(used) == 0:
@@ -163,8 +180,16 @@ def prepare_mesh(vertices, faces, face_material=None, materials=None, name: str 
     if not keep.any():
         raise ParameterError("mesh", "all faces have zero area", "at least one triangle of non-zero area")
     normals = cross[keep] / double_area[keep, None]
-    return TargetMesh(name, np.where(np.isfinite(v), v - centre, 0.0), f[keep], normals,
-                      fm[keep].astype(np.uint32), mats, int((~keep).sum()), centre)
+    return TargetMesh(
+        name,
+        np.where(np.isfinite(v), v - centre, 0.0),
+        f[keep],
+        normals,
+        fm[keep].astype(np.uint32),
+        mats,
+        int((~keep).sum()),
+        centre,
+    )
 
 
 def load_target(mesh_or_preset, material=None, shell_thickness_m: float | None = None) -> TargetMesh:
@@ -198,7 +223,7 @@ def load_target(mesh_or_preset, material=None, shell_thickness_m: float | None =
     elif isinstance(mesh_or_preset, (str, Path)) and Path(mesh_or_preset).is_file():
         try:
             loaded = trimesh.load(str(mesh_or_preset), force="mesh")
-        except Exception as exc:  # noqa: BLE001 - trimesh raises many types for bad files
+        except Exception as exc:
             raise ParameterError("mesh", str(mesh_or_preset), f"a mesh file trimesh can read ({exc})") from None
         target = _from_trimesh(loaded, Path(mesh_or_preset).name)
     elif isinstance(mesh_or_preset, str):
@@ -238,6 +263,7 @@ def _from_preset(name: str) -> TargetMesh:
         faces.append(np.asarray(part.mesh.faces, np.int64) + offset)
         face_material.append(np.full(len(part.mesh.faces), index))
         offset += len(part.mesh.vertices)
-    target = prepare_mesh(np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material),
-                          materials, name=name)
+    target = prepare_mesh(
+        np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material), materials, name=name
+    )
     return target.with_shells(DRONE_SHELL_THICKNESS_M)

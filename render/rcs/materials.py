@@ -74,7 +74,7 @@ class RadioMaterial:
     itu_name: str | None = None
     thickness_m: float | None = None
 
-    def with_thickness(self, thickness_m: float | None) -> "RadioMaterial":
+    def with_thickness(self, thickness_m: float | None) -> RadioMaterial:
         """A copy as a shell of ``thickness_m`` [m] (None or 0: half-space); PEC stays PEC."""
         if thickness_m is not None and not (np.isfinite(thickness_m) and thickness_m >= 0):
             raise ParameterError("shell_thickness_m", thickness_m, "x >= 0 m (0 or None: half-space)")
@@ -92,8 +92,11 @@ class RadioMaterial:
             ITU model's validity range.
         """
         if self.is_pec:
-            raise ParameterError(f"material.{self.name}.complex_permittivity", self.name,
-                                 "a dielectric material (PEC has no finite permittivity)")
+            raise ParameterError(
+                f"material.{self.name}.complex_permittivity",
+                self.name,
+                "a dielectric material (PEC has no finite permittivity)",
+            )
         eps = complex(self.relative_permittivity)
         sigma = float(self.conductivity_s_m)
         if self.itu_name is not None:
@@ -121,7 +124,7 @@ def _sionna_itu():
     previous = mi.variant()
     try:
         load_sionna_rt()
-    except BackendError:            # sionna.rt was imported before, outside csuas: use it as it is
+    except BackendError:  # sionna.rt was imported before, outside csuas: use it as it is
         pass
     if previous is not None and mi.variant() != previous:
         use_variant(variant=previous)
@@ -187,15 +190,22 @@ def resolve_material(spec) -> RadioMaterial:
     elif isinstance(spec, complex):
         material = RadioMaterial(f"eps_{spec.real:g}{spec.imag:+g}j", relative_permittivity=spec)
     elif all(hasattr(spec, a) for a in ("relative_permittivity", "conductivity_s_m", "is_pec")):
-        material = RadioMaterial(getattr(spec, "name", "material"), complex(spec.relative_permittivity),
-                                 float(spec.conductivity_s_m), bool(spec.is_pec))
+        material = RadioMaterial(
+            getattr(spec, "name", "material"),
+            complex(spec.relative_permittivity),
+            float(spec.conductivity_s_m),
+            bool(spec.is_pec),
+        )
     else:
-        raise ParameterError("material", spec, "'pec', an ITU or drone material name, a complex permittivity, "
-                                               "or a material object")
+        raise ParameterError(
+            "material", spec, "'pec', an ITU or drone material name, a complex permittivity, or a material object"
+        )
     if material.is_pec or math.isinf(material.conductivity_s_m):
         return RadioMaterial(material.name, is_pec=True)
     if material.relative_permittivity.imag > 0 or material.conductivity_s_m < 0:
-        raise ParameterError(f"material.{material.name}",
-                             (material.relative_permittivity, material.conductivity_s_m),
-                             "Im(eps) <= 0 (e^{+j omega t} convention) and conductivity >= 0 S/m")
+        raise ParameterError(
+            f"material.{material.name}",
+            (material.relative_permittivity, material.conductivity_s_m),
+            "Im(eps) <= 0 (e^{+j omega t} convention) and conductivity >= 0 S/m",
+        )
     return material

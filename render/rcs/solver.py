@@ -188,11 +188,24 @@ def get_engine(target, material=None, batch_size=None, shell_thickness_m=None) -
     return engine
 
 
-def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
-                observe_azimuth_deg=None, observe_elevation_deg=None, material=None,
-                quality: str | None = "standard", rays_per_wavelength=None, max_bounces=None,
-                error_estimate: bool = True, radiate: str = "exit", batch_size: int | None = None,
-                shell_thickness_m: float | None = None, power_cutoff: float = POWER_CUTOFF) -> RcsResult:
+def compute_rcs(
+    target,
+    frequency_ghz,
+    azimuth_deg=0.0,
+    elevation_deg=0.0,
+    *,
+    observe_azimuth_deg=None,
+    observe_elevation_deg=None,
+    material=None,
+    quality: str | None = "standard",
+    rays_per_wavelength=None,
+    max_bounces=None,
+    error_estimate: bool = True,
+    radiate: str = "exit",
+    batch_size: int | None = None,
+    shell_thickness_m: float | None = None,
+    power_cutoff: float = POWER_CUTOFF,
+) -> RcsResult:
     """Radar cross-section of a mesh by SBR-PO for frequencies x aspects.
 
     Parameters
@@ -240,25 +253,33 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
     bad = ~(np.isfinite(freq) & (freq > 0))
     if len(freq) == 0 or bad.any():
         raise ParameterError("frequency_ghz", float(freq[bad][0]) if bad.any() else [], "0 < f < inf GHz")
-    az, el = np.broadcast_arrays(np.atleast_1d(np.asarray(azimuth_deg, float)),
-                                 np.atleast_1d(np.asarray(elevation_deg, float)))
+    az, el = np.broadcast_arrays(
+        np.atleast_1d(np.asarray(azimuth_deg, float)), np.atleast_1d(np.asarray(elevation_deg, float))
+    )
     az, el = az.ravel(), el.ravel()
     n_f, n_a = len(freq), len(az)
     if observe_azimuth_deg is None and observe_elevation_deg is None:
         oaz, oel = az[:, None], el[:, None]
     elif observe_azimuth_deg is None or observe_elevation_deg is None:
-        raise ParameterError("observe_elevation_deg" if observe_elevation_deg is None else "observe_azimuth_deg",
-                             None, "both observe angles, or neither (monostatic)")
+        raise ParameterError(
+            "observe_elevation_deg" if observe_elevation_deg is None else "observe_azimuth_deg",
+            None,
+            "both observe angles, or neither (monostatic)",
+        )
     else:
-        oaz, oel = np.broadcast_arrays(np.atleast_1d(np.asarray(observe_azimuth_deg, float)),
-                                       np.atleast_1d(np.asarray(observe_elevation_deg, float)))
+        oaz, oel = np.broadcast_arrays(
+            np.atleast_1d(np.asarray(observe_azimuth_deg, float)),
+            np.atleast_1d(np.asarray(observe_elevation_deg, float)),
+        )
         oaz = np.broadcast_to(oaz if oaz.ndim == 2 else oaz[None, :], (n_a, oaz.shape[-1]))
         oel = np.broadcast_to(oel if oel.ndim == 2 else oel[None, :], (n_a, oel.shape[-1]))
     engine = get_engine(target, material, batch_size, shell_thickness_m)
     f_job = np.repeat(freq, n_a)
+
     def build(density, shift):
-        return Jobs.build(np.tile(az, n_f), np.tile(el, n_f), f_job, density,
-                          np.tile(oaz, (n_f, 1)), np.tile(oel, (n_f, 1)), shift)
+        return Jobs.build(
+            np.tile(az, n_f), np.tile(el, n_f), f_job, density, np.tile(oaz, (n_f, 1)), np.tile(oel, (n_f, 1)), shift
+        )
 
     main = engine.trace(build(n, DEFAULT_GRID_SHIFT), bounces, radiate, power_cutoff)
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
@@ -269,7 +290,22 @@ def compute_rcs(target, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, *,
         coarse = engine.trace(build(coarse_n, shift), bounces, radiate, power_cutoff)
         error_db = np.abs(to_dbsm(sigma) - to_dbsm(coarse.sigma_m2.reshape(shape)))
         error_time = coarse.time_s
-    return RcsResult(sigma, error_db, freq, az, el, np.asarray(oaz), np.asarray(oel), n, bounces,
-                     int(main.tubes.sum()), int(main.ray_casts), main.exits_by_bounce, main.time_s, error_time,
-                     engine.target.name, [m.name for m in engine.target.materials], engine.variant)
-
+    return RcsResult(
+        sigma,
+        error_db,
+        freq,
+        az,
+        el,
+        np.asarray(oaz),
+        np.asarray(oel),
+        n,
+        bounces,
+        int(main.tubes.sum()),
+        int(main.ray_casts),
+        main.exits_by_bounce,
+        main.time_s,
+        error_time,
+        engine.target.name,
+        [m.name for m in engine.target.materials],
+        engine.variant,
+    )

@@ -27,8 +27,9 @@ from .solver import compute_rcs, get_engine, to_dbsm
 PAPER_BANDS_GHZ = (2.4, 8.0, 12.0, 18.0, 24.0, 35.0)
 
 
-def aspect_sweep(target, frequency_ghz, azimuth_deg, elevation_deg=0.0, *, polarisations=("VV", "HH"),
-                 **kwargs) -> dict:
+def aspect_sweep(
+    target, frequency_ghz, azimuth_deg, elevation_deg=0.0, *, polarisations=("VV", "HH"), **kwargs
+) -> dict:
     """Monostatic RCS along a cut of aspects at one or more frequencies.
 
     Parameters
@@ -50,10 +51,19 @@ def aspect_sweep(target, frequency_ghz, azimuth_deg, elevation_deg=0.0, *, polar
         shape (F, A); ``rays``, ``time_s``.
     """
     result = compute_rcs(target, frequency_ghz, azimuth_deg, elevation_deg, **kwargs)
-    out = {"frequency_ghz": result.frequency_ghz, "azimuth_deg": result.azimuth_deg,
-           "elevation_deg": result.elevation_deg, "rcs_m2": {}, "rcs_dbsm": {}, "error_db": {},
-           "rays": result.tubes, "ray_casts": result.ray_casts, "time_s": result.time_s + result.error_time_s,
-           "rays_per_wavelength": result.rays_per_wavelength, "max_bounces": result.max_bounces}
+    out = {
+        "frequency_ghz": result.frequency_ghz,
+        "azimuth_deg": result.azimuth_deg,
+        "elevation_deg": result.elevation_deg,
+        "rcs_m2": {},
+        "rcs_dbsm": {},
+        "error_db": {},
+        "rays": result.tubes,
+        "ray_casts": result.ray_casts,
+        "time_s": result.time_s + result.error_time_s,
+        "rays_per_wavelength": result.rays_per_wavelength,
+        "max_bounces": result.max_bounces,
+    }
     for pol in polarisations:
         out["rcs_m2"][pol] = result.rcs_m2(pol)[..., 0]
         out["rcs_dbsm"][pol] = result.rcs_dbsm(pol)[..., 0]
@@ -62,8 +72,7 @@ def aspect_sweep(target, frequency_ghz, azimuth_deg, elevation_deg=0.0, *, polar
     return out
 
 
-def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polarisation: str = "VV",
-              **kwargs) -> dict:
+def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polarisation: str = "VV", **kwargs) -> dict:
     """Monostatic RCS on an azimuth x elevation grid, for interpolation by link simulators.
 
     Parameters
@@ -87,13 +96,19 @@ def rcs_table(target, frequency_ghz: float, azimuth_deg, elevation_deg, *, polar
     """
     az = np.atleast_1d(np.asarray(azimuth_deg, float))
     el = np.atleast_1d(np.asarray(elevation_deg, float))
-    grid_az, grid_el = np.meshgrid(az, el, indexing="ij")     # (Na, Ne)
+    grid_az, grid_el = np.meshgrid(az, el, indexing="ij")  # (Na, Ne)
     res = compute_rcs(target, frequency_ghz, grid_az.ravel(), grid_el.ravel(), **kwargs)
     err = res.error_estimate_db(polarisation)
-    return {"frequency_ghz": float(frequency_ghz), "azimuth_deg": az, "elevation_deg": el,
-            "polarisation": polarisation, "rcs_m2": res.rcs_m2(polarisation)[0, :, 0].reshape(grid_az.shape),
-            "error_db": None if err is None else err[0, :, 0].reshape(grid_az.shape),
-            "rays": res.tubes, "time_s": res.time_s + res.error_time_s}
+    return {
+        "frequency_ghz": float(frequency_ghz),
+        "azimuth_deg": az,
+        "elevation_deg": el,
+        "polarisation": polarisation,
+        "rcs_m2": res.rcs_m2(polarisation)[0, :, 0].reshape(grid_az.shape),
+        "error_db": None if err is None else err[0, :, 0].reshape(grid_az.shape),
+        "rays": res.tubes,
+        "time_s": res.time_s + res.error_time_s,
+    }
 
 
 def plot_polar(azimuth_deg, curves_dbsm: dict, path, *, title: str = "", floor_dbsm: float | None = None):
@@ -141,13 +156,14 @@ def _quadrature(n_azimuth: int, n_elevation: int):
     mu, weights = np.polynomial.legendre.leggauss(n_elevation)
     azimuth = np.arange(n_azimuth) * 360.0 / n_azimuth
     elevation = np.degrees(np.arcsin(mu))
-    az, el = np.meshgrid(azimuth, elevation, indexing="ij")          # (n_az, n_el)
+    az, el = np.meshgrid(azimuth, elevation, indexing="ij")  # (n_az, n_el)
     w = np.broadcast_to(weights[None, :] * (2.0 * np.pi / n_azimuth) / (4.0 * np.pi), az.shape)
     return az, el, w
 
 
-def sphere_average(target, frequency_ghz, *, n_azimuth: int = 72, n_elevation: int = 24,
-                   polarisation: str = "VV", **kwargs) -> dict:
+def sphere_average(
+    target, frequency_ghz, *, n_azimuth: int = 72, n_elevation: int = 24, polarisation: str = "VV", **kwargs
+) -> dict:
     """Sphere-averaged monostatic RCS by Eq. 6 (cos-weighted), with its sampling error.
 
     Parameters
@@ -185,29 +201,52 @@ def sphere_average(target, frequency_ghz, *, n_azimuth: int = 72, n_elevation: i
         sigma = 0.5 * (result.rcs_m2("VV") + result.rcs_m2("HH"))[..., 0]
     else:
         sigma = result.rcs_m2(polarisation)[..., 0]
-    sigma = sigma.reshape((-1,) + az.shape)                            # (F, n_az, n_el)
+    sigma = sigma.reshape((-1,) + az.shape)  # (F, n_az, n_el)
     mean = (sigma * w).sum(axis=(1, 2))
     az_h, el_h, w_h = _quadrature(int(n_azimuth) // 2, max(2, int(n_elevation) // 2))
     engine = get_engine(target, kwargs.get("material"), shell_thickness_m=kwargs.get("shell_thickness_m"))
-    coarse = compute_rcs(engine, frequency_ghz, az_h.ravel(), el_h.ravel(),
-                         **{k: v for k, v in kwargs.items() if k not in ("material", "shell_thickness_m")})
-    sig_h = (0.5 * (coarse.rcs_m2("VV") + coarse.rcs_m2("HH")) if str(polarisation).lower() == "mean"
-             else coarse.rcs_m2(polarisation))[..., 0].reshape((-1,) + az_h.shape)
+    coarse = compute_rcs(
+        engine,
+        frequency_ghz,
+        az_h.ravel(),
+        el_h.ravel(),
+        **{k: v for k, v in kwargs.items() if k not in ("material", "shell_thickness_m")},
+    )
+    sig_h = (
+        0.5 * (coarse.rcs_m2("VV") + coarse.rcs_m2("HH"))
+        if str(polarisation).lower() == "mean"
+        else coarse.rcs_m2(polarisation)
+    )[..., 0].reshape((-1,) + az_h.shape)
     mean_h = (sig_h * w_h).sum(axis=(1, 2))
     db = to_dbsm(sigma)
     mean_db = (db * w).sum(axis=(1, 2))
     std_db = np.sqrt(np.maximum(((db - mean_db[:, None, None]) ** 2 * w).sum(axis=(1, 2)), 0.0))
-    return {"frequency_ghz": result.frequency_ghz, "mean_m2": mean, "mean_dbsm": to_dbsm(mean),
-            "mean_of_dbsm": mean_db, "std_of_dbsm": std_db,
-            "median_m2": np.median(sigma.reshape(len(mean), -1), axis=1),
-            "quadrature_error_rel": np.abs(mean - mean_h) / np.maximum(mean, 1e-300),
-            "n_aspects": az.size, "rays": result.tubes + coarse.tubes,
-            "rays_per_wavelength": result.rays_per_wavelength, "max_bounces": result.max_bounces,
-            "time_s": time.perf_counter() - start, "polarisation": polarisation}
+    return {
+        "frequency_ghz": result.frequency_ghz,
+        "mean_m2": mean,
+        "mean_dbsm": to_dbsm(mean),
+        "mean_of_dbsm": mean_db,
+        "std_of_dbsm": std_db,
+        "median_m2": np.median(sigma.reshape(len(mean), -1), axis=1),
+        "quadrature_error_rel": np.abs(mean - mean_h) / np.maximum(mean, 1e-300),
+        "n_aspects": az.size,
+        "rays": result.tubes + coarse.tubes,
+        "rays_per_wavelength": result.rays_per_wavelength,
+        "max_bounces": result.max_bounces,
+        "time_s": time.perf_counter() - start,
+        "polarisation": polarisation,
+    }
 
 
-def band_sweep(target, bands_ghz=PAPER_BANDS_GHZ, *, n_azimuth: int = 36, n_elevation: int = 12,
-               cut_step_deg: float = 2.0, **kwargs) -> list[dict]:
+def band_sweep(
+    target,
+    bands_ghz=PAPER_BANDS_GHZ,
+    *,
+    n_azimuth: int = 36,
+    n_elevation: int = 12,
+    cut_step_deg: float = 2.0,
+    **kwargs,
+) -> list[dict]:
     """The drone's RCS against azimuth and elevation at each band, with its Eq. 6 mean.
 
     Parameters
@@ -242,22 +281,37 @@ def band_sweep(target, bands_ghz=PAPER_BANDS_GHZ, *, n_azimuth: int = 36, n_elev
         start = time.perf_counter()
         azs = aspect_sweep(engine, f, az_cut, 0.0, error_estimate=False, **kwargs)
         els = aspect_sweep(engine, f, 0.0, el_cut, error_estimate=False, **kwargs)
-        avg = sphere_average(engine, f, n_azimuth=n_azimuth, n_elevation=n_elevation, polarisation="mean",
-                             **kwargs)
-        out.append({"frequency_ghz": float(f),
-                    "azimuth_cut": {"azimuth_deg": az_cut, "elevation_deg": 0.0,
-                                    "rcs_dbsm": {p: v[0] for p, v in azs["rcs_dbsm"].items()}},
-                    "elevation_cut": {"azimuth_deg": 0.0, "elevation_deg": el_cut,
-                                      "rcs_dbsm": {p: v[0] for p, v in els["rcs_dbsm"].items()}},
-                    **{k: (v[0] if isinstance(v, np.ndarray) and v.shape == (1,) else v) for k, v in avg.items()
-                       if k != "frequency_ghz"},
-                    "time_s": time.perf_counter() - start})
+        avg = sphere_average(engine, f, n_azimuth=n_azimuth, n_elevation=n_elevation, polarisation="mean", **kwargs)
+        out.append(
+            {
+                "frequency_ghz": float(f),
+                "azimuth_cut": {
+                    "azimuth_deg": az_cut,
+                    "elevation_deg": 0.0,
+                    "rcs_dbsm": {p: v[0] for p, v in azs["rcs_dbsm"].items()},
+                },
+                "elevation_cut": {
+                    "azimuth_deg": 0.0,
+                    "elevation_deg": el_cut,
+                    "rcs_dbsm": {p: v[0] for p, v in els["rcs_dbsm"].items()},
+                },
+                **{
+                    k: (v[0] if isinstance(v, np.ndarray) and v.shape == (1,) else v)
+                    for k, v in avg.items()
+                    if k != "frequency_ghz"
+                },
+                "time_s": time.perf_counter() - start,
+            }
+        )
     return out
 
 
 def plot_band_sweep(sweep: list[dict], path, *, title: str = "") -> object:
     """Polar plot of the azimuth cuts (VV) of :func:`band_sweep`, one curve per band."""
-    curves = {f"{b['frequency_ghz']:g} GHz (mean {b['mean_dbsm']:.1f} dBsm)": b["azimuth_cut"]["rcs_dbsm"]["VV"]
-              for b in sweep}
-    return plot_polar(sweep[0]["azimuth_cut"]["azimuth_deg"], curves, path,
-                      title=title or "RCS [dBsm] vs azimuth, elevation 0, VV")
+    curves = {
+        f"{b['frequency_ghz']:g} GHz (mean {b['mean_dbsm']:.1f} dBsm)": b["azimuth_cut"]["rcs_dbsm"]["VV"]
+        for b in sweep
+    }
+    return plot_polar(
+        sweep[0]["azimuth_cut"]["azimuth_deg"], curves, path, title=title or "RCS [dBsm] vs azimuth, elevation 0, VV"
+    )

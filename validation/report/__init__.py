@@ -1,4 +1,6 @@
-"""``csuas report``: the registry of validation checks, the report files and the baseline comparison (docs/validation.md).
+"""``csuas report``: the registry of validation checks, the report files and the baseline comparison.
+
+References: docs/validation.md.
 
 Modules
 -------

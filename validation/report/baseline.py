@@ -38,10 +38,16 @@ def load_baseline(path) -> dict:
         raise ParameterError("--baseline", str(path), f"a JSON report (it does not parse: {exc})") from None
     if not isinstance(data, dict) or not isinstance(data.get("checks"), list):
         raise ParameterError("--baseline", str(path), "a report.json with a 'checks' list")
-    malformed = [i for i, c in enumerate(data["checks"]) if not (isinstance(c, dict) and isinstance(c.get("name"), str))]
+    malformed = [
+        i for i, c in enumerate(data["checks"]) if not (isinstance(c, dict) and isinstance(c.get("name"), str))
+    ]
     if malformed:
-        raise ParameterError("--baseline", str(path), f"a report.json whose checks are objects with a 'name' "
-                             f"(entries {', '.join(map(str, malformed[:5]))} are not)")
+        raise ParameterError(
+            "--baseline",
+            str(path),
+            f"a report.json whose checks are objects with a 'name' "
+            f"(entries {', '.join(map(str, malformed[:5]))} are not)",
+        )
     return data
 
 
@@ -69,12 +75,20 @@ def compare(new_checks: list, old_checks: list) -> dict:
     for name, o in old.items():
         n = new.get(name)
         if n is None:
-            regressions.append({"name": name, "what": "missing from the new report", "old": None, "new": None,
-                                "tolerance": None})
+            regressions.append(
+                {"name": name, "what": "missing from the new report", "old": None, "new": None, "tolerance": None}
+            )
             continue
         if (o.get("ok") or o.get("known_deviation")) and not (n.get("ok") or n.get("known_deviation")):
-            regressions.append({"name": name, "what": "passed before, fails now", "old": o.get("measured"),
-                                "new": n.get("measured"), "tolerance": n.get("tolerance")})
+            regressions.append(
+                {
+                    "name": name,
+                    "what": "passed before, fails now",
+                    "old": o.get("measured"),
+                    "new": n.get("measured"),
+                    "tolerance": n.get("tolerance"),
+                }
+            )
             continue
         stated = [t for t in (_number(n.get("tolerance")), _number(o.get("tolerance"))) if t is not None]
         tol = max(stated) if stated else None
@@ -83,14 +97,31 @@ def compare(new_checks: list, old_checks: list) -> dict:
             if before is None and after is None:
                 continue
             if before is not None and after is None:
-                regressions.append({"name": name, "what": f"{key} is no longer a finite number", "old": before,
-                                    "new": n.get(key), "tolerance": tol})
+                regressions.append(
+                    {
+                        "name": name,
+                        "what": f"{key} is no longer a finite number",
+                        "old": before,
+                        "new": n.get(key),
+                        "tolerance": tol,
+                    }
+                )
             elif before is not None and tol is not None and abs(after - before) > tol:
-                entry = {"name": name, "what": f"{key} moved by {after - before:+.4g} {n.get('unit', '')}"
-                         f" (tolerance {tol:.4g})", "old": before, "new": after, "tolerance": tol}
+                entry = {
+                    "name": name,
+                    "what": f"{key} moved by {after - before:+.4g} {n.get('unit', '')} (tolerance {tol:.4g})",
+                    "old": before,
+                    "new": after,
+                    "tolerance": tol,
+                }
                 (improvements if key == "measured" and _closer(n, o) else regressions).append(entry)
-    return {"regressions": regressions, "improvements": improvements, "compared": len(old),
-            "new_checks": sorted(set(new) - set(old)), "missing_checks": sorted(set(old) - set(new))}
+    return {
+        "regressions": regressions,
+        "improvements": improvements,
+        "compared": len(old),
+        "new_checks": sorted(set(new) - set(old)),
+        "missing_checks": sorted(set(old) - set(new)),
+    }
 
 
 def _closer(new: dict, old: dict) -> bool:

@@ -23,8 +23,10 @@ from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, from_check, timed
 
 #: Settings of the drone RCS check per report quality (see csuas.render.rcs.checks for the quick ones' accuracy).
-RCS_SETTINGS = {"quick": {"rays_per_wavelength": 3.0, "max_bounces": 3, "n_azimuth": 24, "n_elevation": 8},
-                "full": {"rays_per_wavelength": 6.0, "max_bounces": 5, "n_azimuth": 48, "n_elevation": 16}}
+RCS_SETTINGS = {
+    "quick": {"rays_per_wavelength": 3.0, "max_bounces": 3, "n_azimuth": 24, "n_elevation": 8},
+    "full": {"rays_per_wavelength": 6.0, "max_bounces": 5, "n_azimuth": 48, "n_elevation": 16},
+}
 
 
 def _from_checks(provider, *args, **kwargs) -> list:
@@ -56,7 +58,7 @@ def rcs_defaults(settings: dict) -> Section:
     outcomes = _from_checks(default_checks, settings)
     for o in outcomes:
         rel = o.details.get("quadrature_error_rel")
-        if rel is not None:                              # relative quadrature error -> dB
+        if rel is not None:  # relative quadrature error -> dB
             o.error_estimate = 10.0 * math.log10(1.0 + float(rel))
     return Section(outcomes=outcomes)
 
@@ -79,68 +81,126 @@ def _printed_tolerance(value: float) -> float:
 
 def section_4_9(_knob=None) -> Section:
     """Baselines, quoted tornado bounds (Tables 48-51) and Table 52, with the tornado plots."""
+    from csuas.base.plots import tornado_plot
     from csuas.commands.sensitivity import ANALYSES, platforms
     from csuas.core.sensitivity import one_at_a_time
     from csuas.defaults import load_sensitivity
-    from csuas.base.plots import tornado_plot
 
     section = Section()
     for analysis in ANALYSES:
         spec = load_sensitivity()[analysis]
         (baseline, bars), elapsed = timed(one_at_a_time, spec["model"], spec["parameters"], spec.get("fixed"))
         source = f"{spec['source']}, Section 4.9"
-        section.outcomes.append(Outcome(
-            f"worked.{analysis}.baseline_m", spec["baseline_m"], float(baseline),
-            _printed_tolerance(spec["baseline_m"]), "m", time_s=elapsed, source=source,
-            method=f"{spec['model']} model with the Section 4.9 defaults"))
+        section.outcomes.append(
+            Outcome(
+                f"worked.{analysis}.baseline_m",
+                spec["baseline_m"],
+                float(baseline),
+                _printed_tolerance(spec["baseline_m"]),
+                "m",
+                time_s=elapsed,
+                source=source,
+                method=f"{spec['model']} model with the Section 4.9 defaults",
+            )
+        )
         by_name = {b.parameter: b for b in bars}
         for name, (at_low, at_high) in spec.get("paper", {}).items():
-            for end, printed, computed in (("low", at_low, by_name[name].range_at_low_m),
-                                           ("high", at_high, by_name[name].range_at_high_m)):
-                section.outcomes.append(Outcome(
-                    f"worked.{analysis}.{name}.{end}_m", printed, float(computed), _printed_tolerance(printed), "m",
-                    source=source + " (quoted in the text)",
-                    method=f"one-at-a-time: {name} at its {end} value, the others at their defaults"))
-        section.figures.append(from_writer(
-            f"tornado_{analysis}", spec["title"],
-            lambda path, s=spec, b=baseline, bs=bars, a=analysis: tornado_plot(
-                path, f"{s['title']} ({s['source']})", b, bs, log_scale=a != "radar"),
-            caption=f"One-at-a-time sensitivity, {spec['source']}; dashed: baseline {baseline:.1f} m."))
+            for end, printed, computed in (
+                ("low", at_low, by_name[name].range_at_low_m),
+                ("high", at_high, by_name[name].range_at_high_m),
+            ):
+                section.outcomes.append(
+                    Outcome(
+                        f"worked.{analysis}.{name}.{end}_m",
+                        printed,
+                        float(computed),
+                        _printed_tolerance(printed),
+                        "m",
+                        source=source + " (quoted in the text)",
+                        method=f"one-at-a-time: {name} at its {end} value, the others at their defaults",
+                    )
+                )
+        section.figures.append(
+            from_writer(
+                f"tornado_{analysis}",
+                spec["title"],
+                lambda path, s=spec, b=baseline, bs=bars, a=analysis: tornado_plot(
+                    path, f"{s['title']} ({s['source']})", b, bs, log_scale=a != "radar"
+                ),
+                caption=f"One-at-a-time sensitivity, {spec['source']}; dashed: baseline {baseline:.1f} m.",
+            )
+        )
     table52, elapsed = timed(platforms)
     for platform, row in table52.items():
         for modality, computed in row["computed_m"].items():
             printed = row["paper_m"][modality]
             note = None
             if platform == "black_hornet_3" and modality == "eo":
-                note = ("555.54 m x 0.025/0.101 = 137.50 m; the paper prints 137.4 (it truncates instead of "
-                        "rounding)")
-            section.outcomes.append(Outcome(
-                f"worked.table52.{platform}.{modality}_m", printed, float(computed), _printed_tolerance(printed), "m",
-                known_deviation=note, time_s=elapsed / 6, source="Table 52",
-                method="Section 4.9 models with the platform's d_crit, sigma_radar and SL"))
+                note = "555.54 m x 0.025/0.101 = 137.50 m; the paper prints 137.4 (it truncates instead of rounding)"
+            section.outcomes.append(
+                Outcome(
+                    f"worked.table52.{platform}.{modality}_m",
+                    printed,
+                    float(computed),
+                    _printed_tolerance(printed),
+                    "m",
+                    known_deviation=note,
+                    time_s=elapsed / 6,
+                    source="Table 52",
+                    method="Section 4.9 models with the platform's d_crit, sigma_radar and SL",
+                )
+            )
     return section
 
 
 SPECS = [
-    CheckSpec("defaults.core", "Defaults recomputed by the analytic core", "defaults",
-              "paper's printed default vs independent recomputation (ITU-R P.838-3/P.840, Koschmieder, Kruse, "
-              "Table 31 interpolation, Eqs. 5, 26, 42, 83-85)",
-              "half a unit of the printed last digit; ITU rain 1 % and fog 0.5 % (the paper interpolated the "
-              "recommendations' tables)", core_defaults),
-    CheckSpec("defaults.drone", "Defaults recomputed from the drone meshes", "defaults",
-              "Table 8/52 d_crit, Table 8 sigma_lidar (Eq. 9), Table 27 emissivity vs exact silhouettes of the "
-              "procedural meshes", "d_crit 3 % (DJI) and 10 % (Black Hornet); sigma_lidar and emissivity 10 %",
-              drone_defaults),
-    CheckSpec("defaults.rcs", "Table 8 sigma_radar vs SBR-PO drone average", "defaults",
-              "Table 8 (0.01 m^2) and 3GPP TR 38.901 small UAV vs the Eq. 6 sphere average of the SBR-PO RCS",
-              "3 dB (Table 8's value is a generic class-1 figure); one log-normal spread, 3.74 dB, for 3GPP",
-              lambda settings: rcs_defaults(settings), knob="rays per wavelength, bounces, aspect quadrature",
-              knob_values=RCS_SETTINGS, simulated=True),
-    CheckSpec("defaults.lidar", "Table 8 sigma_lidar vs ray-traced drone LCS", "defaults",
-              "Table 8 (0.006 m^2) and Eq. 9 k_LCS = 0.1 vs the sphere-averaged (Eq. 7) ray-traced LCS",
-              "50 %: k_LCS is an order-of-magnitude rule of thumb", lidar_defaults,
-              knob="sphere-average quality", knob_values={"quick": "draft", "full": "standard"}, simulated=True),
-    CheckSpec("worked.section_4_9", "Section 4.9 worked numbers and Table 52", "worked_numbers",
-              "numbers printed in Section 4.9 vs the same models evaluated by csuas",
-              "half a unit of the printed last digit", section_4_9),
+    CheckSpec(
+        "defaults.core",
+        "Defaults recomputed by the analytic core",
+        "defaults",
+        "paper's printed default vs independent recomputation (ITU-R P.838-3/P.840, Koschmieder, Kruse, "
+        "Table 31 interpolation, Eqs. 5, 26, 42, 83-85)",
+        "half a unit of the printed last digit; ITU rain 1 % and fog 0.5 % (the paper interpolated the "
+        "recommendations' tables)",
+        core_defaults,
+    ),
+    CheckSpec(
+        "defaults.drone",
+        "Defaults recomputed from the drone meshes",
+        "defaults",
+        "Table 8/52 d_crit, Table 8 sigma_lidar (Eq. 9), Table 27 emissivity vs exact silhouettes of the "
+        "procedural meshes",
+        "d_crit 3 % (DJI) and 10 % (Black Hornet); sigma_lidar and emissivity 10 %",
+        drone_defaults,
+    ),
+    CheckSpec(
+        "defaults.rcs",
+        "Table 8 sigma_radar vs SBR-PO drone average",
+        "defaults",
+        "Table 8 (0.01 m^2) and 3GPP TR 38.901 small UAV vs the Eq. 6 sphere average of the SBR-PO RCS",
+        "3 dB (Table 8's value is a generic class-1 figure); one log-normal spread, 3.74 dB, for 3GPP",
+        lambda settings: rcs_defaults(settings),
+        knob="rays per wavelength, bounces, aspect quadrature",
+        knob_values=RCS_SETTINGS,
+        simulated=True,
+    ),
+    CheckSpec(
+        "defaults.lidar",
+        "Table 8 sigma_lidar vs ray-traced drone LCS",
+        "defaults",
+        "Table 8 (0.006 m^2) and Eq. 9 k_LCS = 0.1 vs the sphere-averaged (Eq. 7) ray-traced LCS",
+        "50 %: k_LCS is an order-of-magnitude rule of thumb",
+        lidar_defaults,
+        knob="sphere-average quality",
+        knob_values={"quick": "draft", "full": "standard"},
+        simulated=True,
+    ),
+    CheckSpec(
+        "worked.section_4_9",
+        "Section 4.9 worked numbers and Table 52",
+        "worked_numbers",
+        "numbers printed in Section 4.9 vs the same models evaluated by csuas",
+        "half a unit of the printed last digit",
+        section_4_9,
+    ),
 ]

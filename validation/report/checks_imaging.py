@@ -40,8 +40,19 @@ def _sensor():
 def _render(r, p, quality, seed=0):
     from csuas.render.imaging import render_eo
 
-    return render_eo(PRESET, range_m=float(r), hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"], quality=quality,
-                     lp_task=p["lp_task"], n_ttpf=p["n_ttpf"], c_min=p["c_min"], seed=seed, **VIEW)
+    return render_eo(
+        PRESET,
+        range_m=float(r),
+        hfov_deg=p["hfov_deg"],
+        n_h=p["n_h"],
+        n_v=p["n_v"],
+        quality=quality,
+        lp_task=p["lp_task"],
+        n_ttpf=p["n_ttpf"],
+        c_min=p["c_min"],
+        seed=seed,
+        **VIEW,
+    )
 
 
 def johnson(quality: str) -> Section:
@@ -66,31 +77,62 @@ def johnson(quality: str) -> Section:
         rj_se.append(res.stderr["johnson_range_rendered_m"])
         expected = d_exact / (ifov * r)
         # extents come from jittered sample hits: allow a quarter of a stratum per edge beyond the sampling error
-        s.outcomes.append(Outcome(
-            f"imaging.pixels_across_dcrit.{r:.0f}m", expected, px[-1], 0.25 / n_side + N_SIGMA * se[-1], "px",
-            error_estimate=se[-1], time_s=res.time_s, source="exact silhouette (Eq. 1) / (IFOV R)",
-            method=f"Mitsuba EO render of the {PRESET} mesh, front view, {res.quality.spp} spp"))
+        s.outcomes.append(
+            Outcome(
+                f"imaging.pixels_across_dcrit.{r:.0f}m",
+                expected,
+                px[-1],
+                0.25 / n_side + N_SIGMA * se[-1],
+                "px",
+                error_estimate=se[-1],
+                time_s=res.time_s,
+                source="exact silhouette (Eq. 1) / (IFOV R)",
+                method=f"Mitsuba EO render of the {PRESET} mesh, front view, {res.quality.spp} spp",
+            )
+        )
     px, se, rj, rj_se = map(np.array, (px, se, rj, rj_se))
     weights = 1.0 / np.maximum(rj_se, 1e-6 * rj) ** 2
     r_sim = float(np.sum(weights * rj) / np.sum(weights))
     r_sim_se = float(np.sqrt(1.0 / np.sum(weights)))
     extra_rel = abs(d_exact - sc.target["d_crit_m"]) / sc.target["d_crit_m"]
-    s.outcomes.append(Outcome(
-        "imaging.johnson_range_m", r_johnson, r_sim, r_johnson * (extra_rel + 0.005) + N_SIGMA * r_sim_se,
-        "m", error_estimate=r_sim_se, source="Eq. 18 with Table 8's d_crit (csuas.core.johnson)",
-        method="range x rendered pixels across d_crit / (2 lp n_TTPF), weighted over the rendered ranges",
-        details={"d_crit_mesh_m": d_exact, "d_crit_table8_m": sc.target["d_crit_m"]}))
+    s.outcomes.append(
+        Outcome(
+            "imaging.johnson_range_m",
+            r_johnson,
+            r_sim,
+            r_johnson * (extra_rel + 0.005) + N_SIGMA * r_sim_se,
+            "m",
+            error_estimate=r_sim_se,
+            source="Eq. 18 with Table 8's d_crit (csuas.core.johnson)",
+            method="range x rendered pixels across d_crit / (2 lp n_TTPF), weighted over the rendered ranges",
+            details={"d_crit_mesh_m": d_exact, "d_crit_table8_m": sc.target["d_crit_m"]},
+        )
+    )
     rr = np.linspace(0.2 * r_johnson, 1.6 * r_johnson, 200)
-    s.figures.append(curves(
-        "imaging_pixels_vs_range", "EO: pixels across d_crit vs range (Johnson, Eq. 18)", x_label="slant range [m]",
-        y_label="pixels across d_crit",
-        lines=[(f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m", rr,
-                sc.target["d_crit_m"] / (ifov * rr)),
-               (f"mesh silhouette d_crit {d_exact:.4f} m", rr, d_exact / (ifov * rr))],
-        points=[("rendered (Mitsuba)", ranges, px, N_SIGMA * se)],
-        hlines=[(f"2 lp n_TTPF = {2 * p['lp_task'] * p['n_ttpf']:g} px: Johnson range {r_johnson:.0f} m",
-                 2 * p["lp_task"] * p["n_ttpf"])],
-        caption="Detection at P = 0.5: the range where the target spans 2 lp n_TTPF pixels."))
+    s.figures.append(
+        curves(
+            "imaging_pixels_vs_range",
+            "EO: pixels across d_crit vs range (Johnson, Eq. 18)",
+            x_label="slant range [m]",
+            y_label="pixels across d_crit",
+            lines=[
+                (
+                    f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m",
+                    rr,
+                    sc.target["d_crit_m"] / (ifov * rr),
+                ),
+                (f"mesh silhouette d_crit {d_exact:.4f} m", rr, d_exact / (ifov * rr)),
+            ],
+            points=[("rendered (Mitsuba)", ranges, px, N_SIGMA * se)],
+            hlines=[
+                (
+                    f"2 lp n_TTPF = {2 * p['lp_task'] * p['n_ttpf']:g} px: Johnson range {r_johnson:.0f} m",
+                    2 * p["lp_task"] * p["n_ttpf"],
+                )
+            ],
+            caption="Detection at P = 0.5: the range where the target spans 2 lp n_TTPF pixels.",
+        )
+    )
     return s
 
 
@@ -106,25 +148,41 @@ def pixels_on_target(settings: dict) -> Section:
     for r in (100.0, 300.0, 1000.0):
         res = _render(r, p, settings["quality"], seed=5)
         expected = area / (ifov * r) ** 2
-        s.outcomes.append(Outcome(
-            f"imaging.pixels_on_target.{r:g}m", expected, res.values["pixels_on_target"],
-            N_SIGMA * res.stderr["pixels_on_target"] + 0.01 * expected, "px",
-            error_estimate=res.stderr["pixels_on_target"], time_s=res.time_s,
-            source="exact projected area (polygon union) / (IFOV R)^2",
-            method=f"fractional coverage of the rendered window, {res.quality.spp} spp"))
+        s.outcomes.append(
+            Outcome(
+                f"imaging.pixels_on_target.{r:g}m",
+                expected,
+                res.values["pixels_on_target"],
+                N_SIGMA * res.stderr["pixels_on_target"] + 0.01 * expected,
+                "px",
+                error_estimate=res.stderr["pixels_on_target"],
+                time_s=res.time_s,
+                source="exact projected area (polygon union) / (IFOV R)^2",
+                method=f"fractional coverage of the rendered window, {res.quality.spp} spp",
+            )
+        )
     r = 100.0
-    rows, elapsed = timed(accuracy_sweep, lambda q: _render(r, p, q, seed=7), settings["n_sides"],
-                          area / (ifov * r) ** 2)
+    rows, elapsed = timed(
+        accuracy_sweep, lambda q: _render(r, p, q, seed=7), settings["n_sides"], area / (ifov * r) ** 2
+    )
     for row in rows:
         row["abs_relative_error"] = abs(row["relative_error"])
         row["stderr_rel"] = row["stderr"] / (area / (ifov * r) ** 2)
     from csuas.render.imaging.quality import QUALITY_PRESETS
 
-    s.figures.append(plot_accuracy(
-        "imaging_accuracy_vs_time", f"EO render: pixels on target at {r:g} m vs time", rows, knob="spp",
-        error_key="abs_relative_error", error_label="|relative error| vs exact area", stderr_key="stderr_rel",
-        caption="Labels: samples per pixel (jittered strata x 8 batches).",
-        presets={name: q.n_side**2 * q.n_batches for name, q in QUALITY_PRESETS.items()}))
+    s.figures.append(
+        plot_accuracy(
+            "imaging_accuracy_vs_time",
+            f"EO render: pixels on target at {r:g} m vs time",
+            rows,
+            knob="spp",
+            error_key="abs_relative_error",
+            error_label="|relative error| vs exact area",
+            stderr_key="stderr_rel",
+            caption="Labels: samples per pixel (jittered strata x 8 batches).",
+            presets={name: q.n_side**2 * q.n_batches for name, q in QUALITY_PRESETS.items()},
+        )
+    )
     s.table = rows
     s.notes.append(f"spp sweep {elapsed:.1f} s")
     return s
@@ -139,34 +197,84 @@ def gallery(quality: str) -> Section:
     sc, p, _ = _sensor()
     for r in (30.0, 150.0, 555.0):
         res = _render(r, p, quality, seed=11)
-        s.figures.append(image(f"eo_{r:g}m", f"EO, {r:g} m", preview_rgb(res),
-                               caption=f"{res.window.width} x {res.window.height} px window, "
-                                       f"{res.values['pixels_on_target']:.1f} px on "
-                                       f"target, contrast {res.values['contrast']:.3f}"))
+        s.figures.append(
+            image(
+                f"eo_{r:g}m",
+                f"EO, {r:g} m",
+                preview_rgb(res),
+                caption=f"{res.window.width} x {res.window.height} px window, "
+                f"{res.values['pixels_on_target']:.1f} px on "
+                f"target, contrast {res.values['contrast']:.3f}",
+            )
+        )
     tp, env, t = sc.sensors["tir"].params, sc.environment, sc.target
     for r in (10.0, 30.0, 100.0):
-        res = render_tir(PRESET, range_m=r, hfov_deg=tp["hfov_deg"], n_h=tp["n_h"], n_v=tp["n_v"], band=tp["band"],
-                         t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"],
-                         quality=quality, seed=11, linear_reference=(t["emissivity_suas"], t["t_suas_k"]), **VIEW)
-        s.figures.append(image(f"tir_{r:g}m", f"thermal LWIR, {r:g} m", preview_rgb(res),
-                               caption=f"apparent Delta T {res.values['delta_t_k']:.2f} K (paper's linear "
-                                       f"{res.values['delta_t_linear_k']:.1f} K), {res.values['pixels_on_target']:.1f} "
-                                       "px on target"))
+        res = render_tir(
+            PRESET,
+            range_m=r,
+            hfov_deg=tp["hfov_deg"],
+            n_h=tp["n_h"],
+            n_v=tp["n_v"],
+            band=tp["band"],
+            t_bg_k=env["t_bg_k"],
+            emissivity_bg=env["emissivity_bg"],
+            surroundings_k=env["temperature_k"],
+            quality=quality,
+            seed=11,
+            linear_reference=(t["emissivity_suas"], t["t_suas_k"]),
+            **VIEW,
+        )
+        s.figures.append(
+            image(
+                f"tir_{r:g}m",
+                f"thermal LWIR, {r:g} m",
+                preview_rgb(res),
+                caption=f"apparent Delta T {res.values['delta_t_k']:.2f} K (paper's linear "
+                f"{res.values['delta_t_linear_k']:.1f} K), {res.values['pixels_on_target']:.1f} "
+                "px on target",
+            )
+        )
     return s
 
 
 SPECS = [
-    CheckSpec("imaging.johnson", "Johnson range vs rendered pixels across d_crit", "imaging",
-              "exact silhouette pixels and the analytic Johnson range vs Mitsuba EO renders",
-              f"a quarter stratum per edge (0.25/n_side px) + {N_SIGMA:g} standard errors; the Johnson range "
-              "0.5 % + the mesh's d_crit vs Table 8's", johnson, "render quality (samples per pixel)", QUALITY, True),
-    CheckSpec("imaging.pixels_on_target", "Rendered pixels on target vs exact projected area", "imaging",
-              "exact projected area / (IFOV R)^2 vs rendered fractional coverage",
-              f"{N_SIGMA:g} standard errors + 1 %: the oracle is an orthographic silhouette, the render a pinhole "
-              "camera, whose perspective magnifies the near half of the drone (0.3 m deep: +0.15 % in size, +0.3 % "
-              "in area at 100 m; measured +0.2 % at reference quality)", pixels_on_target,
-              "render quality; spp sweep", {"quick": {"quality": "draft", "n_sides": SPP_SWEEP["quick"]},
-                                            "full": {"quality": "reference", "n_sides": SPP_SWEEP["full"]}}, True),
-    CheckSpec("imaging.gallery", "Rendered drone images, EO and thermal", "imaging", "images only", "none", gallery,
-              "render quality (samples per pixel)", QUALITY, True),
+    CheckSpec(
+        "imaging.johnson",
+        "Johnson range vs rendered pixels across d_crit",
+        "imaging",
+        "exact silhouette pixels and the analytic Johnson range vs Mitsuba EO renders",
+        f"a quarter stratum per edge (0.25/n_side px) + {N_SIGMA:g} standard errors; the Johnson range "
+        "0.5 % + the mesh's d_crit vs Table 8's",
+        johnson,
+        "render quality (samples per pixel)",
+        QUALITY,
+        True,
+    ),
+    CheckSpec(
+        "imaging.pixels_on_target",
+        "Rendered pixels on target vs exact projected area",
+        "imaging",
+        "exact projected area / (IFOV R)^2 vs rendered fractional coverage",
+        f"{N_SIGMA:g} standard errors + 1 %: the oracle is an orthographic silhouette, the render a pinhole "
+        "camera, whose perspective magnifies the near half of the drone (0.3 m deep: +0.15 % in size, +0.3 % "
+        "in area at 100 m; measured +0.2 % at reference quality)",
+        pixels_on_target,
+        "render quality; spp sweep",
+        {
+            "quick": {"quality": "draft", "n_sides": SPP_SWEEP["quick"]},
+            "full": {"quality": "reference", "n_sides": SPP_SWEEP["full"]},
+        },
+        True,
+    ),
+    CheckSpec(
+        "imaging.gallery",
+        "Rendered drone images, EO and thermal",
+        "imaging",
+        "images only",
+        "none",
+        gallery,
+        "render quality (samples per pixel)",
+        QUALITY,
+        True,
+    ),
 ]

@@ -20,8 +20,10 @@ from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
 #: Sample budget of the link checks per report quality.
 BUDGETS = {"quick": "draft", "full": "standard"}
 #: Accuracy-vs-time budgets per report quality (names of csuas.render.links.budget presets or (samples, depth)).
-SWEEPS = {"quick": ((1, 1), (4, 1), "draft", "standard"), "full": ((1, 1), (4, 1), "draft", "standard", "reference",
-                                                                  "sionna_default")}
+SWEEPS = {
+    "quick": ((1, 1), (4, 1), "draft", "standard"),
+    "full": ((1, 1), (4, 1), "draft", "standard", "reference", "sionna_default"),
+}
 #: Largest accepted difference to the closed form [dB]: float32 geometry in Sionna, float64 phases here.
 TOLERANCE_DB = 0.05
 #: Distances of the range curves [m].
@@ -57,22 +59,50 @@ def rf_links(budget: str) -> Section:
     two_ray = closed_form_db("rf", f, d, 30.0, 2.0, eta)
     err_free = float(np.max(np.abs(free.path_gain_db - friis)))
     err_ground = float(np.max(np.abs(ground.path_gain_db - two_ray)))
-    s.outcomes.append(Outcome("links.rf.free_space.max_error_db", 0.0, err_free, TOLERANCE_DB, "dB", time_s=t_free,
-                              source="Friis, Eq. 54 (csuas.core.rf)",
-                              method=f"Sionna RT PathSolver, {len(d)} distances 10 m-10 km, budget {budget}",
-                              details={"distance_m": d, "sionna_db": free.path_gain_db, "friis_db": friis}))
-    s.outcomes.append(Outcome("links.rf.ground.max_error_db", 0.0, err_ground, TOLERANCE_DB, "dB", time_s=t_ground,
-                              source="two-ray model with Fresnel reflection (csuas.render.links.two_ray)",
-                              method=f"Sionna RT PathSolver over {GROUND}, budget {budget}",
-                              details={"distance_m": d, "sionna_db": ground.path_gain_db, "two_ray_db": two_ray}))
+    s.outcomes.append(
+        Outcome(
+            "links.rf.free_space.max_error_db",
+            0.0,
+            err_free,
+            TOLERANCE_DB,
+            "dB",
+            time_s=t_free,
+            source="Friis, Eq. 54 (csuas.core.rf)",
+            method=f"Sionna RT PathSolver, {len(d)} distances 10 m-10 km, budget {budget}",
+            details={"distance_m": d, "sionna_db": free.path_gain_db, "friis_db": friis},
+        )
+    )
+    s.outcomes.append(
+        Outcome(
+            "links.rf.ground.max_error_db",
+            0.0,
+            err_ground,
+            TOLERANCE_DB,
+            "dB",
+            time_s=t_ground,
+            source="two-ray model with Fresnel reflection (csuas.render.links.two_ray)",
+            method=f"Sionna RT PathSolver over {GROUND}, budget {budget}",
+            details={"distance_m": d, "sionna_db": ground.path_gain_db, "two_ray_db": two_ray},
+        )
+    )
     dd = np.geomspace(d[0], d[-1], 400)
-    s.figures.append(curves(
-        "links_rf_range_curve", "RF path gain drone (30 m) -> sensor (2 m), 2.4 GHz", x_label="distance [m]",
-        y_label="path gain [dB]", log_x=True,
-        lines=[("Friis (Eq. 54)", dd, closed_form_db("rf", f, dd, 30.0, 2.0)),
-               (f"two-ray over {GROUND}", dd, closed_form_db("rf", f, dd, 30.0, 2.0, eta))],
-        points=[("Sionna RT, free space", d, free.path_gain_db, None),
-                (f"Sionna RT, {GROUND}", d, ground.path_gain_db, None)]))
+    s.figures.append(
+        curves(
+            "links_rf_range_curve",
+            "RF path gain drone (30 m) -> sensor (2 m), 2.4 GHz",
+            x_label="distance [m]",
+            y_label="path gain [dB]",
+            log_x=True,
+            lines=[
+                ("Friis (Eq. 54)", dd, closed_form_db("rf", f, dd, 30.0, 2.0)),
+                (f"two-ray over {GROUND}", dd, closed_form_db("rf", f, dd, 30.0, 2.0, eta)),
+            ],
+            points=[
+                ("Sionna RT, free space", d, free.path_gain_db, None),
+                (f"Sionna RT, {GROUND}", d, ground.path_gain_db, None),
+            ],
+        )
+    )
     return s
 
 
@@ -89,24 +119,50 @@ def radar_links(budget: str) -> Section:
     ground, t_ground = timed(radar_link_gain, 10.0, d, 5.0, 10.0, ground=GROUND, budget=budget)
     eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], 10.0)
     four = closed_form_db("radar", 10.0, d, 5.0, 10.0, eta)
-    s.outcomes.append(Outcome("links.radar.free_space.max_error_db", 0.0,
-                              float(np.max(np.abs(free.path_gain_db - eq68))), TOLERANCE_DB, "dB", time_s=t_free,
-                              source="radar equation, Eq. 68 (csuas.core.radar)",
-                              method=f"Sionna RT RCSSolver, 23.98 GHz, sigma 0.01 m^2, budget {budget}",
-                              details={"range_m": d, "sionna_db": free.path_gain_db, "eq68_db": eq68}))
-    s.outcomes.append(Outcome("links.radar.ground.max_error_db", 0.0,
-                              float(np.max(np.abs(ground.path_gain_db - four))), TOLERANCE_DB, "dB", time_s=t_ground,
-                              source="four-path model (direct/reflected legs, csuas.render.links.two_ray)",
-                              method=f"Sionna RT RCSSolver over {GROUND}, 10 GHz, budget {budget}",
-                              details={"range_m": d, "sionna_db": ground.path_gain_db, "four_path_db": four}))
+    s.outcomes.append(
+        Outcome(
+            "links.radar.free_space.max_error_db",
+            0.0,
+            float(np.max(np.abs(free.path_gain_db - eq68))),
+            TOLERANCE_DB,
+            "dB",
+            time_s=t_free,
+            source="radar equation, Eq. 68 (csuas.core.radar)",
+            method=f"Sionna RT RCSSolver, 23.98 GHz, sigma 0.01 m^2, budget {budget}",
+            details={"range_m": d, "sionna_db": free.path_gain_db, "eq68_db": eq68},
+        )
+    )
+    s.outcomes.append(
+        Outcome(
+            "links.radar.ground.max_error_db",
+            0.0,
+            float(np.max(np.abs(ground.path_gain_db - four))),
+            TOLERANCE_DB,
+            "dB",
+            time_s=t_ground,
+            source="four-path model (direct/reflected legs, csuas.render.links.two_ray)",
+            method=f"Sionna RT RCSSolver over {GROUND}, 10 GHz, budget {budget}",
+            details={"range_m": d, "sionna_db": ground.path_gain_db, "four_path_db": four},
+        )
+    )
     dd = np.geomspace(d[0], d[-1], 400)
-    s.figures.append(curves(
-        "links_radar_range_curve", "Radar two-way gain, drone 0.01 m^2", x_label="range [m]",
-        y_label="P_rx / (P_tx G_tx G_rx) [dB]", log_x=True,
-        lines=[("Eq. 68, 23.98 GHz", dd, closed_form_db("radar", 23.98, dd, 5.0, 5.0)),
-               (f"four-path, 10 GHz over {GROUND}", dd, closed_form_db("radar", 10.0, dd, 5.0, 10.0, eta))],
-        points=[("Sionna RT, free space", d, free.path_gain_db, None),
-                ("Sionna RT, over ground", d, ground.path_gain_db, None)]))
+    s.figures.append(
+        curves(
+            "links_radar_range_curve",
+            "Radar two-way gain, drone 0.01 m^2",
+            x_label="range [m]",
+            y_label="P_rx / (P_tx G_tx G_rx) [dB]",
+            log_x=True,
+            lines=[
+                ("Eq. 68, 23.98 GHz", dd, closed_form_db("radar", 23.98, dd, 5.0, 5.0)),
+                (f"four-path, 10 GHz over {GROUND}", dd, closed_form_db("radar", 10.0, dd, 5.0, 10.0, eta)),
+            ],
+            points=[
+                ("Sionna RT, free space", d, free.path_gain_db, None),
+                ("Sionna RT, over ground", d, ground.path_gain_db, None),
+            ],
+        )
+    )
     return s
 
 
@@ -130,77 +186,152 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
 
     s = Section()
     f = 23.98
-    table, t_table = timed(rcs_table, "dji_mini_4_pro", f, SBR_AZIMUTHS_DEG, SBR_ELEVATIONS_DEG,
-                           rays_per_wavelength=rays_per_wavelength, max_bounces=3, error_estimate=False)
+    table, t_table = timed(
+        rcs_table,
+        "dji_mini_4_pro",
+        f,
+        SBR_AZIMUTHS_DEG,
+        SBR_ELEVATIONS_DEG,
+        rays_per_wavelength=rays_per_wavelength,
+        max_bounces=3,
+        error_estimate=False,
+    )
     rcs = RCSTable(table["azimuth_deg"], table["elevation_deg"], table["rcs_m2"])
-    s.notes.append(f"SBR-PO table {len(SBR_AZIMUTHS_DEG)} x {len(SBR_ELEVATIONS_DEG)} aspects, "
-                   f"{rays_per_wavelength:g} rays per wavelength: {t_table:.1f} s")
+    s.notes.append(
+        f"SBR-PO table {len(SBR_AZIMUTHS_DEG)} x {len(SBR_ELEVATIONS_DEG)} aspects, "
+        f"{rays_per_wavelength:g} rays per wavelength: {t_table:.1f} s"
+    )
     d = np.array(DISTANCES_M)
     lines, points = [], []
     for aspect in (0.0, 90.0):
         link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, rcs=rcs, azimuth_deg=aspect, budget="draft")
         sigma = float(table["rcs_m2"][SBR_AZIMUTHS_DEG.index(aspect), SBR_ELEVATIONS_DEG.index(0.0)])
         eq68 = closed_form_db("radar", f, d, 5.0, 5.0, sigma_m2=sigma)
-        s.outcomes.append(Outcome(f"links.radar_sbr.azimuth_{aspect:g}.max_error_db", 0.0,
-                                  float(np.max(np.abs(link.path_gain_db - eq68))), TOLERANCE_DB, "dB",
-                                  time_s=t_link, source="radar equation, Eq. 68, with the SBR-PO sigma at that aspect",
-                                  method=f"Sionna RT RCSSolver, drone as sensing target with the SBR-PO table "
-                                         f"(sigma = {sigma:.3g} m^2 at azimuth {aspect:g} deg)",
-                                  details={"range_m": d, "sionna_db": link.path_gain_db, "eq68_db": eq68,
-                                           "sigma_m2": sigma}))
+        s.outcomes.append(
+            Outcome(
+                f"links.radar_sbr.azimuth_{aspect:g}.max_error_db",
+                0.0,
+                float(np.max(np.abs(link.path_gain_db - eq68))),
+                TOLERANCE_DB,
+                "dB",
+                time_s=t_link,
+                source="radar equation, Eq. 68, with the SBR-PO sigma at that aspect",
+                method=f"Sionna RT RCSSolver, drone as sensing target with the SBR-PO table "
+                f"(sigma = {sigma:.3g} m^2 at azimuth {aspect:g} deg)",
+                details={"range_m": d, "sionna_db": link.path_gain_db, "eq68_db": eq68, "sigma_m2": sigma},
+            )
+        )
         lines.append((f"Eq. 68, SBR sigma at {aspect:g} deg ({10 * np.log10(sigma):.1f} dBsm)", d, eq68))
         points.append((f"Sionna RT, azimuth {aspect:g} deg", d, link.path_gain_db, None))
-    s.figures.append(curves("links_radar_sbr_range_curve", f"Radar link to the SBR-PO drone, {f:g} GHz",
-                            x_label="range [m]", y_label="P_rx / (P_tx G_tx G_rx) [dB]", log_x=True,
-                            lines=lines, points=points))
-    s.table += [{"azimuth_deg": a, "elevation_deg": e, "rcs_dbsm": 10 * np.log10(table["rcs_m2"][i, j])}
-                for i, a in enumerate(SBR_AZIMUTHS_DEG) for j, e in enumerate(SBR_ELEVATIONS_DEG)]
+    s.figures.append(
+        curves(
+            "links_radar_sbr_range_curve",
+            f"Radar link to the SBR-PO drone, {f:g} GHz",
+            x_label="range [m]",
+            y_label="P_rx / (P_tx G_tx G_rx) [dB]",
+            log_x=True,
+            lines=lines,
+            points=points,
+        )
+    )
+    s.table += [
+        {"azimuth_deg": a, "elevation_deg": e, "rcs_dbsm": 10 * np.log10(table["rcs_m2"][i, j])}
+        for i, a in enumerate(SBR_AZIMUTHS_DEG)
+        for j, e in enumerate(SBR_ELEVATIONS_DEG)
+    ]
     return s
 
 
 def link_accuracy(budgets) -> Section:
     """Accuracy against time of the RF link over ground and the radar link in free space."""
     from csuas.render.links.accuracy import accuracy_vs_time
-
     from csuas.render.links.budget import PRESETS
 
     s = Section()
     chosen = _budgets(budgets)
-    for link, kwargs in (("rf", {"frequency_ghz": 2.4}),
-                         ("radar", {"frequency_ghz": 10.0, "height_a_m": 5.0, "height_b_m": 10.0})):
+    for link, kwargs in (
+        ("rf", {"frequency_ghz": 2.4}),
+        ("radar", {"frequency_ghz": 10.0, "height_a_m": 5.0, "height_b_m": 10.0}),
+    ):
         rows, elapsed = timed(accuracy_vs_time, link, budgets=chosen, repeats=1, **kwargs)
         for r in rows:
             r["samples_label"] = r["samples"]
-        s.figures.append(plot_accuracy(
-            f"links_{link}_accuracy_vs_time", f"Sionna RT {link} link over {GROUND}: error vs time", rows,
-            knob="samples", error_key="max_error_db", error_label="largest |error| vs closed form [dB]",
-            caption="Warm wall time per solve; labels: rays per source.",
-            presets={name: b.samples for name, b in PRESETS.items()}))
+        s.figures.append(
+            plot_accuracy(
+                f"links_{link}_accuracy_vs_time",
+                f"Sionna RT {link} link over {GROUND}: error vs time",
+                rows,
+                knob="samples",
+                error_key="max_error_db",
+                error_label="largest |error| vs closed form [dB]",
+                caption="Warm wall time per solve; labels: rays per source.",
+                presets={name: b.samples for name, b in PRESETS.items()},
+            )
+        )
         best = [r for r in rows if r["budget"] in ("draft", "standard")]
         for r in best:
-            s.outcomes.append(Outcome(f"links.{link}.accuracy.{r['budget']}.max_error_db", 0.0, r["max_error_db"],
-                                      TOLERANCE_DB, "dB", time_s=r["time_s"],
-                                      source="two-ray / four-path closed form",
-                                      method=f"budget {r['budget']}: {r['samples']} rays, depth {r['max_depth']}",
-                                      details={"cold_time_s": r["cold_time_s"], "paths_found": r["paths_found"]}))
+            s.outcomes.append(
+                Outcome(
+                    f"links.{link}.accuracy.{r['budget']}.max_error_db",
+                    0.0,
+                    r["max_error_db"],
+                    TOLERANCE_DB,
+                    "dB",
+                    time_s=r["time_s"],
+                    source="two-ray / four-path closed form",
+                    method=f"budget {r['budget']}: {r['samples']} rays, depth {r['max_depth']}",
+                    details={"cold_time_s": r["cold_time_s"], "paths_found": r["paths_found"]},
+                )
+            )
         s.table += [{"link": link, **r} for r in rows]
         s.notes.append(f"{link}: accuracy sweep {elapsed:.1f} s")
     return s
 
 
 SPECS = [
-    CheckSpec("links.rf", "Friis and two-ray vs Sionna RT path gain", "links",
-              "closed-form RF path gain vs Sionna RT PathSolver (free space and flat ITU ground)",
-              f"{TOLERANCE_DB} dB: both are exact for these scenes; float32 geometry limits the agreement",
-              rf_links, "Sionna sample budget", BUDGETS, True),
-    CheckSpec("links.radar", "Radar equation and four-path model vs Sionna RT radar link", "links",
-              "Eq. 68 and the four-path ground model vs Sionna RT RCSSolver with the drone as sensing target",
-              f"{TOLERANCE_DB} dB (exact scenes)", radar_links, "Sionna sample budget", BUDGETS, True),
-    CheckSpec("links.radar_sbr", "Radar link with the SBR-PO drone as Sionna sensing target", "links",
-              "Sionna RT radar link whose RCS function interpolates the drone's SBR-PO table vs Eq. 68 with "
-              "the SBR sigma at that aspect", f"{TOLERANCE_DB} dB (table nodes are exact)", radar_sbr_link,
-              "SBR rays per wavelength", SBR_RAYS_PER_WAVELENGTH, True),
-    CheckSpec("links.accuracy", "Sionna RT accuracy vs time over the sample budget", "links",
-              "error against the closed form per sample budget, with its wall time",
-              f"presets draft and standard within {TOLERANCE_DB} dB", link_accuracy, "budgets swept", SWEEPS, True),
+    CheckSpec(
+        "links.rf",
+        "Friis and two-ray vs Sionna RT path gain",
+        "links",
+        "closed-form RF path gain vs Sionna RT PathSolver (free space and flat ITU ground)",
+        f"{TOLERANCE_DB} dB: both are exact for these scenes; float32 geometry limits the agreement",
+        rf_links,
+        "Sionna sample budget",
+        BUDGETS,
+        True,
+    ),
+    CheckSpec(
+        "links.radar",
+        "Radar equation and four-path model vs Sionna RT radar link",
+        "links",
+        "Eq. 68 and the four-path ground model vs Sionna RT RCSSolver with the drone as sensing target",
+        f"{TOLERANCE_DB} dB (exact scenes)",
+        radar_links,
+        "Sionna sample budget",
+        BUDGETS,
+        True,
+    ),
+    CheckSpec(
+        "links.radar_sbr",
+        "Radar link with the SBR-PO drone as Sionna sensing target",
+        "links",
+        "Sionna RT radar link whose RCS function interpolates the drone's SBR-PO table vs Eq. 68 with "
+        "the SBR sigma at that aspect",
+        f"{TOLERANCE_DB} dB (table nodes are exact)",
+        radar_sbr_link,
+        "SBR rays per wavelength",
+        SBR_RAYS_PER_WAVELENGTH,
+        True,
+    ),
+    CheckSpec(
+        "links.accuracy",
+        "Sionna RT accuracy vs time over the sample budget",
+        "links",
+        "error against the closed form per sample budget, with its wall time",
+        f"presets draft and standard within {TOLERANCE_DB} dB",
+        link_accuracy,
+        "budgets swept",
+        SWEEPS,
+        True,
+    ),
 ]

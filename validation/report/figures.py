@@ -33,8 +33,19 @@ def _png(fig) -> bytes:
     return buffer.getvalue()
 
 
-def curves(name: str, title: str, *, x_label: str, y_label: str, lines=(), points=(), hlines=(),
-           log_x: bool = False, log_y: bool = False, caption: str = "") -> Figure:
+def curves(
+    name: str,
+    title: str,
+    *,
+    x_label: str,
+    y_label: str,
+    lines=(),
+    points=(),
+    hlines=(),
+    log_x: bool = False,
+    log_y: bool = False,
+    caption: str = "",
+) -> Figure:
     """Analytic curves and simulated points with error bars.
 
     Parameters
@@ -88,10 +99,20 @@ def _at_least_a_decade(ax, t: np.ndarray) -> float:
     return span
 
 
-def accuracy_vs_time(name: str, title: str, rows, *, knob: str, error_key: str, time_key: str = "time_s",
-                     error_label: str = "error", stderr_key: str | None = None,
-                     stderr_label: str = "standard error (estimate)", caption: str = "",
-                     presets: dict | None = None) -> Figure:
+def accuracy_vs_time(
+    name: str,
+    title: str,
+    rows,
+    *,
+    knob: str,
+    error_key: str,
+    time_key: str = "time_s",
+    error_label: str = "error",
+    stderr_key: str | None = None,
+    stderr_label: str = "standard error (estimate)",
+    caption: str = "",
+    presets: dict | None = None,
+) -> Figure:
     """Accuracy against the knob (left) and against wall time (right), log-log.
 
     Both the measured error and the run's own error estimate are drawn; the quality presets are
@@ -127,8 +148,9 @@ def accuracy_vs_time(name: str, title: str, rows, *, knob: str, error_key: str, 
         right.loglog(t, se, "s--", color="C1", label=stderr_label)
     right.loglog(t, e, "o-", color="C0", label="measured |error|")
     for label, xt, y in zip(k, t, e):
-        right.annotate(f"{label:g}" if numeric else str(label), (xt, y), xytext=(4, 4), textcoords="offset points",
-                       fontsize=8)
+        right.annotate(
+            f"{label:g}" if numeric else str(label), (xt, y), xytext=(4, 4), textcoords="offset points", fontsize=8
+        )
     for preset, value in (presets or {}).items():
         hits = [i for i, v in enumerate(k) if v == value]
         for i in hits:
@@ -138,8 +160,9 @@ def accuracy_vs_time(name: str, title: str, rows, *, knob: str, error_key: str, 
     span = _at_least_a_decade(right, t)
     _plain_log_ticks(right.xaxis)
     if span < 10.0:
-        right.text(0.02, 0.02, f"measured times span only x{span:.2g}", transform=right.transAxes, fontsize=7,
-                   color="0.3")
+        right.text(
+            0.02, 0.02, f"measured times span only x{span:.2g}", transform=right.transAxes, fontsize=7, color="0.3"
+        )
     left.set_xlabel(knob + ("  (red rings: quality presets)" if presets else ""))
     right.set_xlabel("wall time [s]  (labels: " + knob + ")")
     shown = np.concatenate([e, se]) if stderr_key is not None else e

@@ -68,24 +68,32 @@ def knob_text(name, value) -> str:
 
 def _img(figure) -> str:
     data = base64.b64encode(figure.png).decode("ascii")
-    return (f'<figure><img alt="{_e(figure.title)}" src="data:image/png;base64,{data}">'
-            f"<figcaption><b>{_e(figure.title)}</b>. {_e(figure.caption)}</figcaption></figure>")
+    return (
+        f'<figure><img alt="{_e(figure.title)}" src="data:image/png;base64,{data}">'
+        f"<figcaption><b>{_e(figure.title)}</b>. {_e(figure.caption)}</figcaption></figure>"
+    )
 
 
 def _checks_table(checks: list) -> str:
-    rows = ["<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
-            "<th>error est.</th><th>unit</th><th>time [s]</th><th>source / method</th></tr>"]
+    rows = [
+        "<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
+        "<th>error est.</th><th>unit</th><th>time [s]</th><th>source / method</th></tr>"
+    ]
     for c in checks:
         dev = f'<div class="dev">known deviation: {_e(c["known_deviation"])}</div>' if c["known_deviation"] else ""
         if c.get("limitation"):
             dev += f'<div class="dev">limit of csuas\'s model: {_e(c["limitation"])}</div>'
-        why = f'<br><span class="meta">tolerance: {_e(c["tolerance_source"])}</span>' if c.get("tolerance_source") else ""
+        why = (
+            f'<br><span class="meta">tolerance: {_e(c["tolerance_source"])}</span>' if c.get("tolerance_source") else ""
+        )
         err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
-        rows.append(f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
-                    f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
-                    f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
-                    f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
-                    f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span>{why}</td></tr>')
+        rows.append(
+            f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
+            f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
+            f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
+            f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
+            f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span>{why}</td></tr>'
+        )
     rows.append("</table>")
     return "\n".join(rows)
 
@@ -94,12 +102,16 @@ def _side_by_side(table: list) -> str:
     if not table:
         return ""
     if "quantity" in table[0]:
-        rows = ["<table><tr><th>quantity</th><th>unit</th><th>paper</th><th>physical</th><th>simulated</th>"
-                "<th>sim. error</th><th>note</th></tr>"]
+        rows = [
+            "<table><tr><th>quantity</th><th>unit</th><th>paper</th><th>physical</th><th>simulated</th>"
+            "<th>sim. error</th><th>note</th></tr>"
+        ]
         for r in table:
-            rows.append(f'<tr><td>{_e(r["quantity"])}</td><td>{_e(r["unit"])}</td><td class="num">{fmt(r["paper"])}'
-                        f'</td><td class="num">{fmt(r["physical"])}</td><td class="num">{fmt(r["simulated"])}</td>'
-                        f'<td class="num">{fmt(r["simulated_error"], 3)}</td><td>{_e(r["note"])}</td></tr>')
+            rows.append(
+                f'<tr><td>{_e(r["quantity"])}</td><td>{_e(r["unit"])}</td><td class="num">{fmt(r["paper"])}'
+                f'</td><td class="num">{fmt(r["physical"])}</td><td class="num">{fmt(r["simulated"])}</td>'
+                f'<td class="num">{fmt(r["simulated_error"], 3)}</td><td>{_e(r["note"])}</td></tr>'
+            )
     else:
         keys = [k for k in table[0] if not isinstance(table[0][k], (dict, list))]
         rows = ["<table><tr>" + "".join(f"<th>{_e(k)}</th>" for k in keys) + "</tr>"]
@@ -120,38 +132,50 @@ def render_html(report: dict, sections: list) -> str:
         With the figures (PNG bytes) to embed.
     """
     s = report["summary"]
-    out = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>csuas validation report "
-           f"({_e(report['quality'])})</title><style>{_CSS}</style></head><body>",
-           f"<h1>csuas validation report &mdash; {_e(report['quality'])}</h1>",
-           f"<p class='meta'>generated {_e(report['generated_utc'])} on {_e(report['machine'])}; "
-           f"total time {report['time_s']:.1f} s; csuas {_e(report['version'])}</p>",
-           "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations of the paper</th>"
-           "<th>limits of csuas's models</th><th>failed</th><th>exit code</th></tr>",
-           f"<tr><td>{s['total']}</td><td class='ok'>{s['ok']}</td><td class='known'>{s['known_deviation']}</td>"
-           f"<td class='known'>{s.get('limitation', 0)}</td>"
-           f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td>"
-           "</tr></table>"]
+    out = [
+        f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>csuas validation report "
+        f"({_e(report['quality'])})</title><style>{_CSS}</style></head><body>",
+        f"<h1>csuas validation report &mdash; {_e(report['quality'])}</h1>",
+        f"<p class='meta'>generated {_e(report['generated_utc'])} on {_e(report['machine'])}; "
+        f"total time {report['time_s']:.1f} s; csuas {_e(report['version'])}</p>",
+        "<table class='summary'><tr><th>checks</th><th>ok</th><th>known deviations of the paper</th>"
+        "<th>limits of csuas's models</th><th>failed</th><th>exit code</th></tr>",
+        f"<tr><td>{s['total']}</td><td class='ok'>{s['ok']}</td><td class='known'>{s['known_deviation']}</td>"
+        f"<td class='known'>{s.get('limitation', 0)}</td>"
+        f"<td class='{'FAIL' if s['failed'] else 'ok'}'>{s['failed']}</td><td>{report['exit_code']}</td>"
+        "</tr></table>",
+    ]
     baseline = report.get("baseline")
     if baseline:
         regs, better = baseline["regressions"], baseline.get("improvements", [])
-        out.append(f"<h2 id='baseline'>Baseline comparison</h2><p>{_e(baseline['file'])}: {baseline['compared']} "
-                   f"checks compared, <b>{len(regs)} regression(s)</b>, {len(better)} improvement(s), "
-                   f"{len(baseline.get('new_checks', []))} new and {len(baseline.get('missing_checks', []))} "
-                   f"missing check(s).</p>")
+        out.append(
+            f"<h2 id='baseline'>Baseline comparison</h2><p>{_e(baseline['file'])}: {baseline['compared']} "
+            f"checks compared, <b>{len(regs)} regression(s)</b>, {len(better)} improvement(s), "
+            f"{len(baseline.get('new_checks', []))} new and {len(baseline.get('missing_checks', []))} "
+            f"missing check(s).</p>"
+        )
         rows = [("FAIL", "regression", r) for r in regs] + [("ok", "improvement", r) for r in better]
         if rows:
-            out.append("<table><tr><th>kind</th><th>check</th><th>what</th><th>old</th><th>new</th></tr>" + "".join(
-                f"<tr class='{cls}'><td>{kind}</td><td>{_e(r['name'])}</td><td>{_e(r['what'])}</td>"
-                f"<td>{fmt(r['old'])}</td><td>{fmt(r['new'])}</td></tr>" for cls, kind, r in rows) + "</table>")
+            out.append(
+                "<table><tr><th>kind</th><th>check</th><th>what</th><th>old</th><th>new</th></tr>"
+                + "".join(
+                    f"<tr class='{cls}'><td>{kind}</td><td>{_e(r['name'])}</td><td>{_e(r['what'])}</td>"
+                    f"<td>{fmt(r['old'])}</td><td>{fmt(r['new'])}</td></tr>"
+                    for cls, kind, r in rows
+                )
+                + "</table>"
+            )
         for label, key in (("New checks", "new_checks"), ("Missing checks", "missing_checks")):
             if baseline.get(key):
                 out.append(f"<p><b>{label}:</b> {_e(', '.join(baseline[key]))}</p>")
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
         out.append("<h2 id='failed'>Failed checks</h2>" + _checks_table(failed))
-    out.append("<h2>Contents</h2><ul>" + "".join(
-        f"<li><a href='#{g}'>{_e(title)}</a></li>" for g, title in GROUPS.items()) +
-        "<li><a href='#timing'>Time of each check</a></li></ul>")
+    out.append(
+        "<h2>Contents</h2><ul>"
+        + "".join(f"<li><a href='#{g}'>{_e(title)}</a></li>" for g, title in GROUPS.items())
+        + "<li><a href='#timing'>Time of each check</a></li></ul>"
+    )
     by_spec = {}
     for c in report["checks"]:
         by_spec.setdefault(c["check"], []).append(c)
@@ -161,18 +185,21 @@ def render_html(report: dict, sections: list) -> str:
             if spec.group != group:
                 continue
             knob = f"; knob: {_e(knob_text(spec.knob, spec.knob_value(report['quality'])))}"
-            out.append(f"<h3 id='{_e(spec.name)}'>{_e(spec.title)}</h3>"
-                       f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
-                       f"<br>time: {section.time_s:.2f} s</p>")
+            out.append(
+                f"<h3 id='{_e(spec.name)}'>{_e(spec.title)}</h3>"
+                f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
+                f"<br>time: {section.time_s:.2f} s</p>"
+            )
             out.append(_side_by_side(section.table))
             checks = by_spec.get(spec.name, [])
             passing = [c for c in checks if c["verdict"] == "ok"]
-            if len(passing) > COLLAPSE_ABOVE:          # long lists: show what needs attention, fold the rest
+            if len(passing) > COLLAPSE_ABOVE:  # long lists: show what needs attention, fold the rest
                 others = [c for c in checks if c["verdict"] != "ok"]
                 if others:
                     out.append(_checks_table(others))
-                out.append(f"<details><summary>{len(passing)} passing checks</summary>{_checks_table(passing)}"
-                           "</details>")
+                out.append(
+                    f"<details><summary>{len(passing)} passing checks</summary>{_checks_table(passing)}</details>"
+                )
             elif checks:
                 out.append(_checks_table(checks))
             out.extend(_img(f) for f in section.figures)
@@ -180,11 +207,17 @@ def render_html(report: dict, sections: list) -> str:
                 out.append(f"<pre>{_e(section.notes[0] if section.notes else section.error)}</pre>")
             else:
                 out.extend(f"<p class='meta'>{_e(n)}</p>" for n in section.notes)
-    out.append("<h2 id='timing'>Time of each check</h2><table><tr><th>check</th><th>figures</th><th>knob</th>"
-               "<th>time [s]</th></tr>" + "".join(
-                   f"<tr><td><a href='#{_e(x['name'])}'>{_e(x['name'])}</a></td><td>{len(by_spec.get(x['name'], []))}"
-                   f"</td><td>{_e(knob_text(x['knob'], x['knob_value']))}</td><td class='num'>{x['time_s']:.2f}</td>"
-                   f"</tr>" for x in report["sections"]) + "</table>")
+    out.append(
+        "<h2 id='timing'>Time of each check</h2><table><tr><th>check</th><th>figures</th><th>knob</th>"
+        "<th>time [s]</th></tr>"
+        + "".join(
+            f"<tr><td><a href='#{_e(x['name'])}'>{_e(x['name'])}</a></td><td>{len(by_spec.get(x['name'], []))}"
+            f"</td><td>{_e(knob_text(x['knob'], x['knob_value']))}</td><td class='num'>{x['time_s']:.2f}</td>"
+            f"</tr>"
+            for x in report["sections"]
+        )
+        + "</table>"
+    )
     out.append("</body></html>")
     return "\n".join(out)
 
@@ -192,16 +225,24 @@ def render_html(report: dict, sections: list) -> str:
 def render_markdown(report: dict) -> str:
     """Markdown summary: counts, failures, known deviations, convention tables, times."""
     s = report["summary"]
-    lines = [f"# csuas validation report ({report['quality']})", "",
-             f"Generated {report['generated_utc']} on {report['machine']}; total {report['time_s']:.1f} s.", "",
-             f"**{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations of the paper, "
-             f"{s.get('limitation', 0)} limits of csuas's models, {s['failed']} failed** "
-             f"(exit code {report['exit_code']}).", ""]
+    lines = [
+        f"# csuas validation report ({report['quality']})",
+        "",
+        f"Generated {report['generated_utc']} on {report['machine']}; total {report['time_s']:.1f} s.",
+        "",
+        f"**{s['total']} checks: {s['ok']} ok, {s['known_deviation']} known deviations of the paper, "
+        f"{s.get('limitation', 0)} limits of csuas's models, {s['failed']} failed** "
+        f"(exit code {report['exit_code']}).",
+        "",
+    ]
     baseline = report.get("baseline")
     if baseline:
-        lines += [f"Baseline {baseline['file']}: {baseline['compared']} compared, "
-                  f"{len(baseline['regressions'])} regression(s), {len(baseline.get('improvements', []))} "
-                  f"improvement(s).", ""]
+        lines += [
+            f"Baseline {baseline['file']}: {baseline['compared']} compared, "
+            f"{len(baseline['regressions'])} regression(s), {len(baseline.get('improvements', []))} "
+            f"improvement(s).",
+            "",
+        ]
         lines += [f"- REGRESSION {r['name']}: {r['what']}" for r in baseline["regressions"]]
         lines += [f"- improvement {r['name']}: {r['what']}" for r in baseline.get("improvements", [])]
         lines += [f"- new check {name}" for name in baseline.get("new_checks", [])]
@@ -209,28 +250,52 @@ def render_markdown(report: dict) -> str:
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
         lines += ["## Failed", "", "| check | expected | measured | tolerance | note |", "|---|---|---|---|---|"]
-        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {fmt(c['tolerance'], 3)} | "
-                  f"{c['details'].get('error', '')} |" for c in failed] + [""]
+        lines += [
+            f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {fmt(c['tolerance'], 3)} | "
+            f"{c['details'].get('error', '')} |"
+            for c in failed
+        ] + [""]
     known = [c for c in report["checks"] if c["verdict"] == "known"]
     if known:
-        lines += ["## Known deviations of the paper", "", "| check | expected | measured | unit | explanation |",
-                  "|---|---|---|---|---|"]
-        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
-                  f"{c['known_deviation'].replace('|', '/')} |" for c in known] + [""]
+        lines += [
+            "## Known deviations of the paper",
+            "",
+            "| check | expected | measured | unit | explanation |",
+            "|---|---|---|---|---|",
+        ]
+        lines += [
+            f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
+            f"{c['known_deviation'].replace('|', '/')} |"
+            for c in known
+        ] + [""]
     limits = [c for c in report["checks"] if c["verdict"] == "limit"]
     if limits:
-        lines += ["## Limits of csuas's own models", "", "| check | expected | measured | unit | explanation |",
-                  "|---|---|---|---|---|"]
-        lines += [f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
-                  f"{c['limitation'].replace('|', '/')} |" for c in limits] + [""]
-    lines += ["## Convention differences (docs/conventions.md)", "", "| quantity | unit | paper | physical | simulated |",
-              "|---|---|---|---|---|"]
+        lines += [
+            "## Limits of csuas's own models",
+            "",
+            "| check | expected | measured | unit | explanation |",
+            "|---|---|---|---|---|",
+        ]
+        lines += [
+            f"| {c['name']} | {fmt(c['expected'])} | {fmt(c['measured'])} | {c['unit']} | "
+            f"{c['limitation'].replace('|', '/')} |"
+            for c in limits
+        ] + [""]
+    lines += [
+        "## Convention differences (docs/conventions.md)",
+        "",
+        "| quantity | unit | paper | physical | simulated |",
+        "|---|---|---|---|---|",
+    ]
     for sec in report["sections"]:
         if sec["group"] == "conventions":
-            lines += [f"| {r['quantity']} | {r['unit']} | {fmt(r['paper'])} | {fmt(r['physical'])} | "
-                      f"{fmt(r['simulated'])}{' +- ' + fmt(r['simulated_error'], 2) if r['simulated_error'] else ''} |"
-                      for r in sec["table"]]
+            lines += [
+                f"| {r['quantity']} | {r['unit']} | {fmt(r['paper'])} | {fmt(r['physical'])} | "
+                f"{fmt(r['simulated'])}{' +- ' + fmt(r['simulated_error'], 2) if r['simulated_error'] else ''} |"
+                for r in sec["table"]
+            ]
     lines += ["", "## Time of each check", "", "| check | knob | time [s] |", "|---|---|---|"]
-    lines += [f"| {x['name']} | {knob_text(x['knob'], x['knob_value'])} | {x['time_s']:.2f} |"
-              for x in report["sections"]]
+    lines += [
+        f"| {x['name']} | {knob_text(x['knob'], x['knob_value'])} | {x['time_s']:.2f} |" for x in report["sections"]
+    ]
     return "\n".join(lines) + "\n"

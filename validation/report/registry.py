@@ -19,8 +19,8 @@ from __future__ import annotations
 import math
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 #: Report qualities, cheapest first.
 QUALITIES = ("quick", "full")
@@ -178,12 +178,20 @@ def run_spec(spec: CheckSpec, quality: str) -> Section:
         section = spec.run(spec.knob_value(quality))
         if not isinstance(section, Section):
             raise TypeError(f"check {spec.name} returned {type(section).__name__}, not a Section")
-    except Exception as exc:  # noqa: BLE001 - a failing check must not stop the report
+    except Exception as exc:
         text = f"{type(exc).__name__}: {exc}"
         section = Section(error=text, notes=[traceback.format_exc()])
-        section.outcomes.append(Outcome(name=f"{spec.name}.error", expected=math.nan, measured=math.nan,
-                                        tolerance=math.nan, method="the check raised an exception",
-                                        details={"error": text}, ok_override=False))
+        section.outcomes.append(
+            Outcome(
+                name=f"{spec.name}.error",
+                expected=math.nan,
+                measured=math.nan,
+                tolerance=math.nan,
+                method="the check raised an exception",
+                details={"error": text},
+                ok_override=False,
+            )
+        )
     section.time_s = time.perf_counter() - start
     for outcome in section.outcomes:
         if not outcome.time_s:
@@ -208,9 +216,18 @@ def from_check(check, time_s: float = 0.0) -> Outcome:
     error = extra.get("stderr", extra.get("stderr_m2"))
     if "time_s" in extra and not time_s:
         time_s = float(extra["time_s"])
-    return Outcome(name=check.name, expected=check.paper, measured=check.computed, tolerance=tolerance,
-                   unit=check.unit, error_estimate=error, known_deviation=check.known_deviation,
-                   limitation=check.limitation, time_s=time_s,
-                   source=check.source, method=check.method,
-                   details={"rel_tol": check.rel_tol, "abs_tol": check.abs_tol, **extra},
-                   ok_override=None if check.ok == (abs(check.computed - check.paper) <= tolerance) else check.ok)
+    return Outcome(
+        name=check.name,
+        expected=check.paper,
+        measured=check.computed,
+        tolerance=tolerance,
+        unit=check.unit,
+        error_estimate=error,
+        known_deviation=check.known_deviation,
+        limitation=check.limitation,
+        time_s=time_s,
+        source=check.source,
+        method=check.method,
+        details={"rel_tol": check.rel_tol, "abs_tol": check.abs_tol, **extra},
+        ok_override=None if check.ok == (abs(check.computed - check.paper) <= tolerance) else check.ok,
+    )

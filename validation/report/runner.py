@@ -13,8 +13,7 @@ import time
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
-from csuas.base.fileio import (atomic_path, dumps, exclusive_lock, prepare_output_dir, to_jsonable,
-                               write_text_atomic)
+from csuas.base.fileio import atomic_path, dumps, exclusive_lock, prepare_output_dir, to_jsonable, write_text_atomic
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
 from csuas.validation.report.registry import QUALITIES, run_spec
@@ -22,26 +21,52 @@ from csuas.validation.report.registry import QUALITIES, run_spec
 
 def all_specs() -> list:
     """Every registered check, in report order."""
-    from csuas.validation.report import (checks_conventions, checks_defaults, checks_imaging, checks_lidar,
-                                         checks_links, checks_rcs)
+    from csuas.validation.report import (
+        checks_conventions,
+        checks_defaults,
+        checks_imaging,
+        checks_lidar,
+        checks_links,
+        checks_rcs,
+    )
 
-    return (checks_defaults.SPECS + checks_conventions.SPECS + checks_links.SPECS + checks_rcs.SPECS
-            + checks_lidar.SPECS + checks_imaging.SPECS)
+    return (
+        checks_defaults.SPECS
+        + checks_conventions.SPECS
+        + checks_links.SPECS
+        + checks_rcs.SPECS
+        + checks_lidar.SPECS
+        + checks_imaging.SPECS
+    )
 
 
 def check_record(spec, outcome) -> dict:
     """JSON record of one figure: the docs/command-line.md keys first, then unit, error estimate and provenance."""
-    return {"name": outcome.name, "expected": outcome.expected, "measured": outcome.measured,
-            "tolerance": outcome.tolerance, "ok": outcome.ok, "known_deviation": outcome.known_deviation,
-            "time_s": outcome.time_s, "verdict": outcome.verdict, "unit": outcome.unit,
-            "limitation": outcome.limitation, "tolerance_source": outcome.tolerance_source or spec.tolerance_why,
-            "error_estimate": outcome.error_estimate, "check": spec.name, "group": spec.group,
-            "source": outcome.source, "method": outcome.method, "details": outcome.details}
+    return {
+        "name": outcome.name,
+        "expected": outcome.expected,
+        "measured": outcome.measured,
+        "tolerance": outcome.tolerance,
+        "ok": outcome.ok,
+        "known_deviation": outcome.known_deviation,
+        "time_s": outcome.time_s,
+        "verdict": outcome.verdict,
+        "unit": outcome.unit,
+        "limitation": outcome.limitation,
+        "tolerance_source": outcome.tolerance_source or spec.tolerance_why,
+        "error_estimate": outcome.error_estimate,
+        "check": spec.name,
+        "group": spec.group,
+        "source": outcome.source,
+        "method": outcome.method,
+        "details": outcome.details,
+    }
 
 
 def _machine() -> str:
-    return (f"{platform.node() or 'host'} ({platform.machine()}, {os.cpu_count()} CPUs, "
-            f"Python {platform.python_version()})")
+    return (
+        f"{platform.node() or 'host'} ({platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()})"
+    )
 
 
 def _version() -> str:
@@ -49,7 +74,7 @@ def _version() -> str:
         from importlib.metadata import version
 
         return version("csuas")
-    except Exception:  # noqa: BLE001 - metadata absent in a bare checkout
+    except Exception:
         return "unknown"
 
 
@@ -113,45 +138,81 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
             path = out / "figures" / f"{fig.name}.png"
             with atomic_path(path) as tmp:
                 tmp.write_bytes(fig.png)
-            figure_files.append({"name": fig.name, "title": fig.title, "caption": fig.caption,
-                                 "file": str(path.relative_to(out))})
-        section_records.append({"name": spec.name, "title": spec.title, "group": spec.group,
-                                "compares": spec.compares, "tolerance_why": spec.tolerance_why, "knob": spec.knob,
-                                "knob_value": spec.knob_value(quality), "simulated": spec.simulated,
-                                "time_s": section.time_s, "error": section.error, "table": section.table,
-                                "notes": section.notes, "figures": figure_files})
+            figure_files.append(
+                {"name": fig.name, "title": fig.title, "caption": fig.caption, "file": str(path.relative_to(out))}
+            )
+        section_records.append(
+            {
+                "name": spec.name,
+                "title": spec.title,
+                "group": spec.group,
+                "compares": spec.compares,
+                "tolerance_why": spec.tolerance_why,
+                "knob": spec.knob,
+                "knob_value": spec.knob_value(quality),
+                "simulated": spec.simulated,
+                "time_s": section.time_s,
+                "error": section.error,
+                "table": section.table,
+                "notes": section.notes,
+                "figures": figure_files,
+            }
+        )
         if progress is not None:
             verdicts = [r["verdict"] for r in records]
             tally = ", ".join(f"{verdicts.count(v)} {v}" for v in ("ok", "known", "limit", "FAIL") if verdicts.count(v))
-            print(f"        {section.time_s:6.2f} s  {tally or 'table and plots only'}"
-                  + (f"  ERROR {section.error}" if section.error else ""), file=progress, flush=True)
-    summary = {"total": len(checks), "ok": sum(c["verdict"] == "ok" for c in checks),
-               "known_deviation": sum(c["verdict"] == "known" for c in checks),
-               "limitation": sum(c["verdict"] == "limit" for c in checks),
-               "failed": sum(c["verdict"] == "FAIL" for c in checks)}
+            print(
+                f"        {section.time_s:6.2f} s  {tally or 'table and plots only'}"
+                + (f"  ERROR {section.error}" if section.error else ""),
+                file=progress,
+                flush=True,
+            )
+    summary = {
+        "total": len(checks),
+        "ok": sum(c["verdict"] == "ok" for c in checks),
+        "known_deviation": sum(c["verdict"] == "known" for c in checks),
+        "limitation": sum(c["verdict"] == "limit" for c in checks),
+        "failed": sum(c["verdict"] == "FAIL" for c in checks),
+    }
     written = {f["file"] for sec in section_records for f in sec["figures"]}
     for stale in (out / "figures").glob("*.png"):
         if str(stale.relative_to(out)) not in written:
             stale.unlink()
-    report = {"quality": quality, "generated_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(
-                  timespec="seconds"), "machine": _machine(), "version": _version(),
-              "time_s": time.perf_counter() - start, "summary": summary, "checks": to_jsonable(checks),
-              "sections": to_jsonable(section_records), "baseline": None}
+    report = {
+        "quality": quality,
+        "generated_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "machine": _machine(),
+        "version": _version(),
+        "time_s": time.perf_counter() - start,
+        "summary": summary,
+        "checks": to_jsonable(checks),
+        "sections": to_jsonable(section_records),
+        "baseline": None,
+    }
     if old is not None:
-        report["baseline"] = {"file": str(baseline), "quality": old.get("quality"),
-                              **compare(report["checks"], old["checks"])}
+        report["baseline"] = {
+            "file": str(baseline),
+            "quality": old.get("quality"),
+            **compare(report["checks"], old["checks"]),
+        }
     regressions = report["baseline"]["regressions"] if report["baseline"] else []
     report["exit_code"] = 1 if summary["failed"] or regressions else 0
-    report["files"] = {"html": str(out / "report.html"), "json": str(out / "report.json"),
-                       "markdown": str(out / "report.md")}
+    report["files"] = {
+        "html": str(out / "report.html"),
+        "json": str(out / "report.json"),
+        "markdown": str(out / "report.md"),
+    }
     report["figures"] = sorted(written)
     write_text_atomic(out / "report.md", render_markdown(report))
     write_text_atomic(out / "report.html", render_html(report, results))
     write_text_atomic(out / "report.json", dumps(report))
     if progress is not None and report["baseline"]:
         b = report["baseline"]
-        lines = ([f"REGRESSION {r['name']}: {r['what']}" for r in b["regressions"]]
-                 + [f"improvement {r['name']}: {r['what']}" for r in b["improvements"]]
-                 + [f"new check {n}" for n in b["new_checks"]] + [f"missing check {n}" for n in b["missing_checks"]])
+        lines = (
+            [f"REGRESSION {r['name']}: {r['what']}" for r in b["regressions"]]
+            + [f"improvement {r['name']}: {r['what']}" for r in b["improvements"]]
+            + [f"new check {n}" for n in b["new_checks"]]
+            + [f"missing check {n}" for n in b["missing_checks"]]
+        )
         print("\n".join(lines), file=progress, flush=True)
     return report
