@@ -47,6 +47,10 @@ BATCH_DIRECTIONS = 128
 #: At most this many projected triangles are held at once (directions x triangles of non-convex shells).
 TRIANGLE_BUDGET = 200_000
 
+#: Triangles of one direction united per GEOS call; larger meshes are united chunk by chunk and the
+#: partial silhouettes united last, so that memory stays bounded for meshes of millions of faces.
+TRIANGLE_CHUNK = 100_000
+
 
 class NonWatertightWarning(UserWarning):
     """The mesh has open shells: silhouettes use both faces of every triangle."""
@@ -205,19 +209,26 @@ def _silhouettes(model: SilhouetteModel, d: np.ndarray, h: np.ndarray, v: np.nda
         hulls = shapely.convex_hull(shapely.linestrings(uv.reshape(n * n_cvx, k_max, 2))).reshape(n, n_cvx)
         hulls[shapely.get_type_id(hulls) != 3] = None  # edge-on shells (segments, points) have no area
         columns.append(hulls)
-    if len(model.triangles):
-        t = model.triangles.reshape(-1, 3)
-        uv = np.stack([t @ h.T, t @ v.T], axis=-1).reshape(len(model.triangles), 3, n, 2).transpose(2, 0, 1, 3)
-        e1, e2 = uv[:, :, 1] - uv[:, :, 0], uv[:, :, 2] - uv[:, :, 0]
-        area2 = np.abs(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0])  # (n, n_tri)
-        scale = np.sum(np.ptp(model.extent_vertices, axis=0) ** 2)
-        facing = (model.normals @ d.T).T > 0.0
-        use = (area2 > 2.0 * DEGENERATE_AREA_FRACTION * scale) & (facing | ~model.cullable[None, :])
-        polys = np.full(use.shape, None, dtype=object)
-        polys[use] = shapely.polygons(uv[use])
-        columns.append(polys)
+    for start in range(0, len(model.triangles), TRIANGLE_CHUNK):
+        columns.append(_triangle_union(model, slice(start, start + TRIANGLE_CHUNK), d, h, v))
     geoms = np.concatenate(columns, axis=1)
     return shapely.union_all(geoms, axis=1)
+
+
+def _triangle_union(model: SilhouetteModel, part: slice, d, h, v) -> np.ndarray:
+    """Union of the projected triangles ``model.triangles[part]`` per direction, shape (n, 1)."""
+    triangles, normals, cullable = model.triangles[part], model.normals[part], model.cullable[part]
+    n = len(d)
+    t = triangles.reshape(-1, 3)
+    uv = np.stack([t @ h.T, t @ v.T], axis=-1).reshape(len(triangles), 3, n, 2).transpose(2, 0, 1, 3)
+    e1, e2 = uv[:, :, 1] - uv[:, :, 0], uv[:, :, 2] - uv[:, :, 0]
+    area2 = np.abs(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0])  # (n, n_tri)
+    scale = np.sum(np.ptp(model.extent_vertices, axis=0) ** 2)
+    facing = (normals @ d.T).T > 0.0
+    use = (area2 > 2.0 * DEGENERATE_AREA_FRACTION * scale) & (facing | ~cullable[None, :])
+    polys = np.full(use.shape, None, dtype=object)
+    polys[use] = shapely.polygons(uv[use])
+    return shapely.union_all(polys, axis=1)[:, None]
 
 
 def metrics_for_directions(model: SilhouetteModel, directions, azimuth_deg=None, keep_polygons: bool = False) -> dict:
