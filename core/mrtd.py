@@ -126,3 +126,25 @@ class TabulatedMrtd:
         with np.errstate(divide="ignore"):
             log_dt = np.log(np.maximum(dt, 0.0))
         return np.interp(log_dt, mt, ft, left=0.0, right=ft[-1]) * 1000.0
+
+
+def sensor_mrtd(params: dict):
+    """A thermal sensor's MRTD curve from its canonical parameters.
+
+    The user's table (``mrtd_frequency_cy_mrad``, ``mrtd_k``) when given, else the parametric
+    default of :class:`ParametricMrtd` from ``netd_mk``, ``pitch_um``, ``focal_mm``, ``f_number``
+    and the centre wavelength of ``band`` (docs/scenarios.md names the parameters).
+    """
+    from csuas.core.johnson import ifov_from_pitch_rad
+    from csuas.core.radiometry import BANDS_UM
+
+    if params.get("mrtd_k") is not None:
+        return TabulatedMrtd(tuple(params["mrtd_frequency_cy_mrad"]), tuple(params["mrtd_k"]))
+    low, high = BANDS_UM[params["band"]]
+    return ParametricMrtd(
+        netd_k=params["netd_mk"] / 1000.0,
+        ifov_rad=float(ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"])),
+        f_number=params["f_number"],
+        pitch_m=params["pitch_um"] * 1e-6,
+        wavelength_m=0.5 * (low + high) * 1e-6,
+    )

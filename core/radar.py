@@ -20,7 +20,16 @@ from csuas.core.checks import require
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
-from csuas.core.units import K_BOLTZMANN, K_BOLTZMANN_TABLE_39, db_to_linear, frequency_ghz, linear_to_db
+from csuas.core.units import (
+    C_LIGHT,
+    C_LIGHT_PAPER,
+    K_BOLTZMANN,
+    K_BOLTZMANN_TABLE_39,
+    db_to_linear,
+    frequency_ghz,
+    linear_to_db,
+)
+from csuas.core.units import wavelength_m as carrier_wavelength_m
 
 INTEGRATIONS = ("coherent", "noncoherent", "none")
 
@@ -68,6 +77,19 @@ def total_loss_db(
         + np.asarray(d_rain_km, float) * gamma_rain_db_km
         + np.asarray(d_fog_km, float) * gamma_fog_db_km
     )
+
+
+def radar_wavelength_m(params: dict, convention: str) -> float:
+    """Carrier wavelength [m] of a radar's canonical parameters: ``wavelength_m``, or c/f.
+
+    With ``frequency_ghz`` the paper convention uses c = 3e8 m/s, as Section 4.9.3 does (it alone
+    reproduces 445.3 m); the physical convention the exact speed of light (docs/conventions.md
+    point 11).
+    """
+    if params.get("frequency_ghz") is not None:
+        c = C_LIGHT_PAPER if convention == "paper" else C_LIGHT
+        return float(carrier_wavelength_m(params["frequency_ghz"], c))
+    return params["wavelength_m"]
 
 
 def radar_range(

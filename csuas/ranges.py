@@ -15,11 +15,9 @@ from csuas.base.errors import ParameterError
 from csuas.core import acoustic, eo, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
-from csuas.core.johnson import ifov_from_pitch_rad
-from csuas.core.mrtd import ParametricMrtd, TabulatedMrtd
-from csuas.core.radiometry import BANDS_UM, graybody_apparent_temperature
+from csuas.core.mrtd import sensor_mrtd
+from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
-from csuas.core.units import C_LIGHT, C_LIGHT_PAPER, wavelength_m
 from csuas.scenario import Scenario, SensorSpec
 
 
@@ -39,20 +37,6 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     )
 
 
-def mrtd_curve(params: dict):
-    """The sensor's MRTD curve: the user's table, else the parametric default (csuas.core.mrtd)."""
-    if params.get("mrtd_k") is not None:
-        return TabulatedMrtd(tuple(params["mrtd_frequency_cy_mrad"]), tuple(params["mrtd_k"]))
-    low, high = BANDS_UM[params["band"]]
-    return ParametricMrtd(
-        netd_k=params["netd_mk"] / 1000.0,
-        ifov_rad=float(ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"])),
-        f_number=params["f_number"],
-        pitch_m=params["pitch_um"] * 1e-6,
-        wavelength_m=0.5 * (low + high) * 1e-6,
-    )
-
-
 def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, t, env = s.params, sc.target, sc.environment
     if p["model"] == "johnson":
@@ -68,7 +52,7 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
         extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
     return tir.tir_mrtd_range(
-        mrtd=mrtd_curve(p),
+        mrtd=sensor_mrtd(p),
         d_crit_m=t["d_crit_m"],
         lp_task=p["lp_task"],
         n_ttpf=p["n_ttpf"],
@@ -119,20 +103,13 @@ def _rf(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     )
 
 
-def radar_wavelength_m(params: dict, convention: str) -> float:
-    """Carrier wavelength [m]: given, or c/f (c = 3e8 m/s as the paper rounds it, exact in physical)."""
-    if params.get("frequency_ghz") is not None:
-        return float(wavelength_m(params["frequency_ghz"], C_LIGHT_PAPER if convention == "paper" else C_LIGHT))
-    return params["wavelength_m"]
-
-
 def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
     return radar.radar_range(
         p_tx_w=p["p_tx_w"],
         g_tx_db=p["g_tx_db"],
         g_rx_db=p["g_rx_db"],
-        wavelength_m=radar_wavelength_m(p, convention),
+        wavelength_m=radar.radar_wavelength_m(p, convention),
         sigma_m2=sc.target["sigma_radar_m2"],
         model=p["model"],
         p_rx_min_w=p.get("p_rx_min_w"),

@@ -14,7 +14,8 @@ import sys
 
 import numpy as np
 
-from csuas.ranges import evaluate, radar_wavelength_m
+from csuas.core.radar import radar_wavelength_m
+from csuas.ranges import evaluate
 from csuas.scenario import load_scenario, provenance
 
 #: Effects a scenario may declare that no range model of the paper reads, with the reason.

@@ -136,7 +136,7 @@ def tir_scenario(
     progress=None,
 ) -> list:
     """Render the scenario's thermal sensor at each range (mode ``tir``)."""
-    from csuas.ranges import mrtd_curve
+    from csuas.core.mrtd import sensor_mrtd
     from csuas.render.imaging.tir import render_tir
 
     spec = _sensor(scenario, "tir", sensor)
@@ -158,7 +158,7 @@ def tir_scenario(
             surroundings_k=env["temperature_k"],
             extinction_db_km=extinction,
             air_temperature_k=env["temperature_k"],
-            mrtd=mrtd_curve(p),
+            mrtd=sensor_mrtd(p),
             lp_task=p["lp_task"],
             n_ttpf=p["n_ttpf"],
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),

@@ -529,7 +529,7 @@ def point_4(budget: str) -> Section:
     # radar: SNR at the physical range from Sionna's radar link
     rp = sc.sensors["radar"].params
     r_rad = float(phys["radar"].range_m)
-    from csuas.ranges import radar_wavelength_m
+    from csuas.core.radar import radar_wavelength_m
 
     lam = radar_wavelength_m(rp, "physical")
     f_radar = 299_792_458.0 / lam / 1e9
@@ -578,7 +578,7 @@ def point_4(budget: str) -> Section:
 def point_5(_knob=None) -> Section:
     """Radar weather losses at 12 GHz vs the radar's own frequency, 1 km vs actual path."""
     from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
-    from csuas.ranges import radar_wavelength_m
+    from csuas.core.radar import radar_wavelength_m
 
     s = Section()
     sc = scenario("adverse")
