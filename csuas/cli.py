@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from csuas.base.errors import CsuasError
@@ -117,5 +118,25 @@ def main(argv: list[str] | None = None) -> int:
     return int(result.get("exit_code", 0)) if isinstance(result, dict) else 0
 
 
+#: Exit codes of an interrupted run (SIGINT, SIGTERM).
+INTERRUPTED = (130, 143)
+
+
+def entry() -> None:
+    """The ``csuas`` console script: :func:`main`, then exit.
+
+    An interrupt that arrives while Dr.Jit, Mitsuba or Sionna load can leave their C extensions
+    half initialised, and the interpreter's own shutdown then aborts (a fatal GIL error, exit -6)
+    after csuas has already cleaned up and reported. An interrupted run with those modules loaded
+    therefore ends at once, with its exit code, once its output is flushed.
+    """
+    code = main()
+    if code in INTERRUPTED and any(m.split(".")[0] in ("drjit", "mitsuba", "sionna") for m in list(sys.modules)):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()
