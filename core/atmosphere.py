@@ -11,6 +11,8 @@ Kruse, P. W., McGlauchlin, L. D., McQuistan, R. B. (1962). Elements of Infrared 
 Kim, I. I., McArthur, B., Korevaar, E. (2001). Comparison of laser beam propagation at 785 nm and
 1550 nm in fog and haze for optical wireless communications. Proc. SPIE 4214 (the q of Eq. 20).
 Koschmieder, H. (1924). Theorie der horizontalen Sichtweite.
+Bucholtz, A. (1995). Rayleigh-scattering calculations for the terrestrial atmosphere. Applied Optics
+34(15), 2765-2773 (sea-level Rayleigh extinction of the US Standard Atmosphere).
 """
 
 from __future__ import annotations
@@ -60,6 +62,41 @@ def kruse_q(visibility_km):
         [1.6, 1.3, 0.16 * v + 0.34, v - 0.5],
         default=0.0,
     )
+
+
+#: Rayleigh (molecular) extinction of sea-level air at 550 nm [1/km] (Bucholtz 1995, US Standard
+#: Atmosphere, 288.15 K, 1013.25 hPa); its Koschmieder visibility, 3.912/0.0116 = 337 km, is the
+#: clearest air can be.
+RAYLEIGH_EXTINCTION_550NM_PER_KM = 0.0116
+#: Wavelength exponent of Rayleigh extinction near 550 nm (Bucholtz 1995's fit: 4.05 at 0.55 um).
+RAYLEIGH_EXPONENT = 4.05
+
+
+def extinction_per_km(wavelength_nm, visibility_km, convention="paper"):
+    """Optical extinction coefficient [1/km] at a wavelength and meteorological visibility.
+
+    ``paper``: Kruse/Kim (Eqs. 19-20) as printed, whose exponent q jumps from 1.3 to 1.6 at
+    50 km, so that below 550 nm extinction rises (and the EO range falls, by up to 25 %) as the
+    air clears past 50 km (docs/conventions.md point 12).
+
+    ``physical``: continuous in visibility. Molecular (Rayleigh) extinction of Bucholtz (1995)
+    scales as lambda^-4.05; the rest of Koschmieder's 3.912/V is aerosol, scaled by Kim's q
+    below 6 km and Kruse's 1.3 above (the 1.6 branch stood for the molecular part, here explicit):
+
+        beta(lambda, V) = b_R (lambda/550)^-4.05 + (3.912/V - b_R) (lambda/550)^-q(V),
+        b_R = min(0.0116 /km, 3.912/V).
+
+    At 550 nm both give Koschmieder's 3.912/V (up to the 337 km Rayleigh limit).
+    """
+    check_convention(convention)
+    if convention == "paper":
+        return kruse_extinction_per_km(wavelength_nm, visibility_km)
+    lam = require("wavelength_nm", wavelength_nm, gt=0) / 550.0
+    v = require("visibility_km", visibility_km, gt=0, allow_inf=True)
+    total = KOSCHMIEDER_2PCT / v
+    molecular = np.minimum(RAYLEIGH_EXTINCTION_550NM_PER_KM, total)
+    q_aerosol = np.minimum(kruse_q(v), 1.3)
+    return molecular * lam ** (-RAYLEIGH_EXPONENT) + (total - molecular) * lam ** (-q_aerosol)
 
 
 def kruse_extinction_per_km(wavelength_nm, visibility_km):

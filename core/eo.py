@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.atmosphere import kruse_extinction_per_km, range_for_transmittance
+from csuas.core.atmosphere import extinction_per_km, range_for_transmittance
 from csuas.core.checks import require
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.result import RangeResult, Term, check_convention
@@ -39,6 +39,13 @@ def contrast_limited_range_m(c0, c_min, extinction, convention="paper"):
     ratio = np.where(c0 > cm, cm / np.where(c0 > 0, c0, 1.0), 1.0)
     r = range_for_transmittance(extinction, ratio, convention)
     return np.where(c0 > cm, r, 0.0)
+
+
+#: Source of the extinction term per convention (csuas.core.atmosphere.extinction_per_km).
+EXTINCTION_SOURCE = {
+    "paper": "Eqs. 19-20 (Kim's q, which steps from 1.3 to 1.6 at 50 km visibility)",
+    "physical": "Koschmieder with Rayleigh (Bucholtz 1995) and aerosol (Kim's q, no 50 km step) parts",
+}
 
 
 def eo_range(
@@ -71,7 +78,7 @@ def eo_range(
     check_convention(convention)
     ifov = ifov_rad(hfov_deg, n_h)
     r_johnson = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
-    sigma = kruse_extinction_per_km(wavelength_nm, visibility_km)
+    sigma = extinction_per_km(wavelength_nm, visibility_km, convention)
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
     reason = np.where(
@@ -83,7 +90,7 @@ def eo_range(
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),
         Term("johnson_range_m", r_johnson, "m", "Eq. 18"),
-        Term("kruse_extinction", sigma, unit, "Eqs. 19-20"),
+        Term("kruse_extinction", sigma, unit, EXTINCTION_SOURCE[convention]),
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
     return RangeResult(r, "eo", "johnson_ttpf+contrast (Eqs. 18, 21)", terms, reason)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.atmosphere import kruse_extinction_per_km
+from csuas.core.atmosphere import extinction_per_km
 from csuas.core.checks import require
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import bracketed_root
@@ -110,9 +110,11 @@ def lidar_range(
             terms.append(Term("eta_tl", e_tl, "-", "Eq. 101 (Table 47)"))
         r = r0 * factor**0.25  # Eq. 104
         return RangeResult(r, "lidar", "lidar_range_equation (Eqs. 99, 104)", terms)
-    beta = 0.0 if visibility_km is None else kruse_extinction_per_km(wavelength_nm, visibility_km)
+    beta = 0.0 if visibility_km is None else extinction_per_km(wavelength_nm, visibility_km, "physical")
     if visibility_km is not None:
-        terms.append(Term("kruse_extinction_per_km", beta, "1/km", "Eqs. 19-20"))
+        terms.append(
+            Term("kruse_extinction_per_km", beta, "1/km", "Eqs. 19-20, continuous (docs/conventions.md point 12)")
+        )
     if projected_area_m2 is not None:
         terms.append(Term("projected_area_m2", np.asarray(projected_area_m2, float), "m^2", "Eq. 8"))
     p_min = np.asarray(p_rx_min_w, float)

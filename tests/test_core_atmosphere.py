@@ -100,3 +100,67 @@ def test_far_ranges_stay_finite():
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(ParameterError, match=name):
         call()
+
+
+@pytest.mark.parametrize("wavelength_nm", [400.0, 550.0, 850.0, 1550.0])
+@pytest.mark.parametrize("breakpoint_km", [0.5, 1.0, 6.0, 50.0])
+def test_physical_extinction_is_continuous_at_every_kim_breakpoint(wavelength_nm, breakpoint_km):
+    below, above = atmosphere.extinction_per_km(
+        wavelength_nm, np.array([breakpoint_km, breakpoint_km * (1 + 1e-9)]), "physical"
+    )
+    assert abs(above - below) / below < 1e-6
+
+
+@pytest.mark.parametrize("visibility_km", [0.1, 2.0, 10.0, 100.0, 300.0])
+def test_physical_extinction_at_550_nm_is_koschmieder(visibility_km):
+    assert atmosphere.extinction_per_km(550.0, visibility_km, "physical") == pytest.approx(
+        3.912 / visibility_km, rel=1e-3
+    )
+
+
+def test_physical_extinction_adds_rayleigh_scattering_below_550_nm():
+    """At 100 km: 0.0116/km molecular (Bucholtz 1995) x (400/550)^-4.05, the rest aerosol x (400/550)^-1.3."""
+    molecular, total = 0.0116, -math.log(0.02) / 100.0
+    expected = molecular * (400 / 550) ** -4.05 + (total - molecular) * (400 / 550) ** -1.3
+    assert atmosphere.extinction_per_km(400.0, 100.0, "physical") == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_paper_convention_keeps_kims_step_at_50_km():
+    """Issue reproduction: the EO contrast range at 400 nm drops from 84.5 to 76.8 km as V passes 50 km."""
+    from csuas.core import eo
+
+    def contrast_range_km(v, q):  # paper: C0 10^(-sigma R / 10) = c_min, sigma = 3.912/V (400/550)^-q
+        return 10.0 * math.log10(0.5 / 0.05) / (-math.log(0.02) / v * (400 / 550) ** -q)
+
+    ranges = [
+        float(
+            eo.eo_range(
+                d_crit_m=0.101,
+                hfov_deg=0.001,
+                n_h=1920,
+                lp_task=1.0,
+                n_ttpf=1.0,
+                c_eo=0.5,
+                c_min=0.05,
+                wavelength_nm=400.0,
+                visibility_km=v,
+                convention="paper",
+            ).range_m
+        )
+        for v in (50.0, 50.01)
+    ]
+    assert ranges[0] / 1000 == pytest.approx(contrast_range_km(50.0, 1.3), rel=1e-9)
+    assert ranges[1] / 1000 == pytest.approx(contrast_range_km(50.01, 1.6), rel=1e-9)
+    assert round(ranges[0] / 1000, 1) == 84.5 and round(ranges[1] / 1000, 1) == 76.8
+    term = eo.eo_range(
+        d_crit_m=0.101,
+        hfov_deg=10.0,
+        n_h=1920,
+        lp_task=1.0,
+        n_ttpf=1.0,
+        c_eo=0.5,
+        c_min=0.05,
+        wavelength_nm=400.0,
+        visibility_km=50.0,
+    ).term("kruse_extinction")
+    assert "steps from 1.3 to 1.6 at 50 km" in term.source

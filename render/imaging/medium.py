@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core.atmosphere import extinction_per_km, transmittance
 from csuas.render.imaging.common import prepare
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS
 from csuas.render.imaging.measure import measure_window
@@ -103,7 +103,7 @@ def medium_vs_analytic_airlight(
     )
     use_variant("ad_rgb")
     distance = r / normalised.radius_m
-    beta = float(kruse_extinction_per_km(wavelength_nm, visibility_km))
+    beta = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
     tau = float(transmittance(beta, r, "physical"))
     background = np.full(3, horizon_radiance)
     common = dict(n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds)

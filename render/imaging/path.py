@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core.atmosphere import extinction_per_km, transmittance
 from csuas.core.radiometry import band_radiance
 
 
@@ -75,7 +75,7 @@ def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, h
     """
     if visibility_km is None:
         return NO_PATH
-    beta = float(kruse_extinction_per_km(wavelength_nm, visibility_km))
+    beta = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
     tau = float(transmittance(beta, range_m, "physical"))
     terms = (
         {"name": "extinction_per_km", "value": beta, "unit": "1/km", "source": "Kruse/Kim Eqs. 19-20 (physical)"},
