@@ -135,3 +135,26 @@ def test_bench_function_small():
     assert figures["n_directions"] == 40 and figures["time_s"] > 0
     assert figures["max_area_difference_m2"] < 1e-12  # fast and reference paths are both exact
     assert figures["speedup_vs_triangle_union"] > 1
+
+
+def test_a_sphere_average_beyond_the_time_budget_is_refused_before_it_starts(capsys, tmp_path):
+    """An open mesh forces the triangle union: 20 k triangles x 256 views at 1.8e-5 s each is about 92 s."""
+    import time
+
+    import numpy as np
+    import trimesh
+
+    from csuas.cli import main
+
+    sphere = trimesh.creation.icosphere(subdivisions=5)  # 20480 faces
+    open_mesh = trimesh.Trimesh(sphere.vertices, sphere.faces[:-1], process=False)
+    path = tmp_path / "open.ply"
+    open_mesh.export(path)
+    start = time.perf_counter()
+    assert main(["drone", str(path), "--quality", "draft", "--max-seconds", "10"]) == 2
+    err = capsys.readouterr().err
+    assert "max_seconds" in err and "--max-seconds" in err and "256 views" in err
+    assert time.perf_counter() - start < 10.0
+    estimate = float(err.split("estimated ")[1].split(" s")[0])
+    assert estimate == pytest.approx(1.8e-5 * (len(open_mesh.faces)) * 256, rel=0.05)
+    assert np.isfinite(estimate)

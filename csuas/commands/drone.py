@@ -2,16 +2,23 @@
 
 from __future__ import annotations
 
+import sys
 import time
 import warnings
 from pathlib import Path
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
 from csuas.drone_models.mesh_input import load_mesh_drone
 from csuas.drone_models.multirotor import PROPELLER_STYLES
 from csuas.drone_models.presets import build_drone, list_presets
 from csuas.drone_models.signature import K_LCS_DEFAULT, lcs_estimate
-from csuas.drone_models.silhouette import NonWatertightWarning, SilhouetteModel, projected_metrics
+from csuas.drone_models.silhouette import (
+    NonWatertightWarning,
+    SilhouetteModel,
+    estimated_seconds,
+    projected_metrics,
+)
 from csuas.drone_models.sphere_average import QUALITY_PRESETS, sphere_average
 
 
@@ -45,6 +52,12 @@ def add_arguments(parser) -> None:
         choices=tuple(QUALITY_PRESETS) + ("none",),
         default="standard",
         help="sphere-average sample preset, or none to skip it (default standard)",
+    )
+    parser.add_argument(
+        "--max-seconds",
+        type=float,
+        default=600.0,
+        help="refuse a sphere average estimated to take longer on 2 CPU cores (default 600)",
     )
     parser.add_argument(
         "--k-lcs", type=float, default=K_LCS_DEFAULT, help="LCS scaling factor k_LCS of Eq. 9 (default 0.1)"
@@ -106,6 +119,7 @@ def run(args) -> dict:
         "spec": drone.spec,
     }
     if args.quality != "none":
+        _check_cost(model, args)
         avg = sphere_average(model, quality=args.quality)
         result["sphere_average"] = avg
         result["lcs_m2"]["sphere_average"] = float(
@@ -119,6 +133,22 @@ def run(args) -> dict:
     result["warnings"] = [str(w.message) for w in caught if issubclass(w.category, NonWatertightWarning)]
     result["time_s"] = time.perf_counter() - start
     return result
+
+
+def _check_cost(model, args) -> None:
+    """Estimate the sphere average before it starts; refuse it above ``--max-seconds``."""
+    replicates, per_replicate = QUALITY_PRESETS[args.quality]
+    seconds = estimated_seconds(model, replicates * per_replicate)
+    if seconds > args.max_seconds:
+        raise ParameterError(
+            "max_seconds",
+            args.max_seconds,
+            f"at least the estimated {seconds:.0f} s of the {args.quality} sphere average "
+            f"({replicates * per_replicate} views of {len(model.triangles)} non-convex triangles, 2 CPU cores); "
+            "raise --max-seconds, or use --quality none or a lower quality",
+        )
+    if seconds > 10.0:
+        print(f"csuas drone: sphere average of about {seconds:.0f} s", file=sys.stderr)
 
 
 def render_text(result: dict) -> str:
