@@ -139,6 +139,9 @@ BAD_COMMAND_LINES = {
     "missing_scenario_file": ["range", "/no/such/scenario.toml"],
     "scenario_is_a_directory": ["range", "/tmp"],
     "scenario_is_dev_null": ["range", "/dev/null"],
+    "scenario_is_unreadable_device_memory": ["range", "/proc/self/mem"],
+    "render_out_under_proc": ["render", "eo", "default", "--range-m", "100", "--out", "/proc/x"],
+    "drone_missing_mesh_file": ["drone", "/no/such/mesh.ply"],
     "misspelt_embedded_scenario": ["range", "defualt"],
     "bad_convention_option": ["range", "default", "--convention", "mine"],
     "unknown_command": ["fly"],
@@ -225,6 +228,21 @@ def test_a_report_baseline_of_the_wrong_shape_is_refused_before_the_checks(tmp_p
     code, out, err = _run(capsys, ["report", "--quick", "--baseline", str(baseline), "--out", str(tmp_path / "r")])
     _assert_clean_refusal(code, out, err, "baseline")
     assert not (tmp_path / "r").exists()
+
+
+def test_a_scenario_nested_20000_deep_is_one_clean_error(tmp_path, capsys):
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 20000 + "]" * 20000 + "\n")
+    code, out, err = _run(capsys, ["range", str(path)])
+    _assert_clean_refusal(code, out, err, "too deeply")
+
+
+def test_a_report_out_that_is_a_file_is_refused_before_the_checks(tmp_path, capsys):
+    existing = tmp_path / "f"
+    existing.write_text("keep me")
+    code, out, err = _run(capsys, ["report", "--quick", "--out", str(existing)])
+    _assert_clean_refusal(code, out, err, "--out")
+    assert existing.read_text() == "keep me"
 
 
 def test_an_output_that_is_a_file_is_refused_before_rendering(tmp_path, capsys):
