@@ -279,9 +279,6 @@ def metrics_for_directions(model: SilhouetteModel, directions, azimuth_deg=None,
         raise ParameterError("directions", d.shape, "array of shape (n, 3)")
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     h, v = view_basis(d, azimuth_deg)
-    x = model.extent_vertices @ h.T  # (n_vert, n)
-    y = model.extent_vertices @ v.T
-    dx, dy = np.ptp(x, axis=0), np.ptp(y, axis=0)
     batch = max(
         1,
         min(
@@ -290,9 +287,11 @@ def metrics_for_directions(model: SilhouetteModel, directions, azimuth_deg=None,
             POINT_BUDGET // max(1, model.n_hull_points),
         ),
     )
-    polygons = np.concatenate(
-        [_silhouettes(model, d[i : i + batch], h[i : i + batch], v[i : i + batch]) for i in range(0, len(d), batch)]
-    )
+    batches = [slice(i, i + batch) for i in range(0, len(d), batch)]
+    # extents per batch too: (n_vert, n) projections of a million-vertex mesh at 256 views took 6 GB
+    dx = np.concatenate([np.ptp(model.extent_vertices @ h[b].T, axis=0) for b in batches])
+    dy = np.concatenate([np.ptp(model.extent_vertices @ v[b].T, axis=0) for b in batches])
+    polygons = np.concatenate([_silhouettes(model, d[b], h[b], v[b]) for b in batches])
     area = shapely.area(polygons)
     out = {
         "d_x_proj_m": dx,
