@@ -32,13 +32,6 @@ def received_power_dbm(p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, distance_m):
     )
 
 
-def weather_attenuation_db_km(frequency_ghz, rain_rate_mm_h, lwc_g_m3, temperature_k):
-    """Specific attenuations (rain, fog) [dB/km]; zero-valued effects are exact zeros."""
-    rain = rain_specific_attenuation_db_km(frequency_ghz, rain_rate_mm_h)
-    fog = fog_specific_attenuation_db_km(frequency_ghz, lwc_g_m3, temperature_k)
-    return rain, fog
-
-
 def rf_range(
     *,
     p_tx_w,

@@ -12,6 +12,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
+from csuas.core.units import wavelength_m
 
 QUALITIES = ("draft", "standard", "reference")
 
@@ -139,7 +140,7 @@ def run(args) -> dict:
     out = {
         "target": args.mesh_or_preset,
         "frequency_ghz": args.frequency_ghz,
-        "wavelength_m": 299_792_458.0 / (args.frequency_ghz * 1e9),
+        "wavelength_m": float(wavelength_m(args.frequency_ghz)),
         "azimuth_deg": args.azimuth_deg,
         "elevation_deg": args.elevation_deg,
         "polarisation": pol,
@@ -286,7 +287,7 @@ def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bound
             f"only {tubes} tubes cover the target: the grid is too coarse for a meaningful figure "
             f"or error estimate; raise --rays-per-wavelength"
         )
-    ka = 2.0 * math.pi * frequency_ghz * 1e9 / 299_792_458.0 * bounding_radius_m
+    ka = 2.0 * math.pi / float(wavelength_m(frequency_ghz)) * bounding_radius_m
     if ka < KA_VALIDITY:
         warnings.append(
             f"ka = {ka:.3g} < {KA_VALIDITY:g}: SBR-PO has no edge diffraction or creeping waves, "

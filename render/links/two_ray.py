@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.units import C_LIGHT
+from csuas.core.units import wavelength_m
 
 #: Vacuum permittivity [F/m] (CODATA 2018).
 EPSILON_0 = 8.8541878128e-12
@@ -140,7 +140,7 @@ def two_ray_paths(frequency_ghz, tx_position_m, rx_position_m, eta, polarization
         exp(-j 2 pi L/lambda) of the direct and the reflected ray; the
         reflected one is 0 without ground. Path gain = |sum|^2.
     """
-    wavelength = C_LIGHT / (float(frequency_ghz) * 1e9)
+    wavelength = float(wavelength_m(frequency_ghz))
     tx, rx = np.broadcast_arrays(np.asarray(tx_position_m, float), np.asarray(rx_position_m, float))
     rays = []
     for bounce in (False, True):
@@ -183,7 +183,7 @@ def radar_four_paths(frequency_ghz, radar_position_m, target_position_m, sigma_m
         Paths (direct, direct), (direct, ground), (ground, direct),
         (ground, ground); received/transmitted power = |sum|^2.
     """
-    wavelength = C_LIGHT / (float(frequency_ghz) * 1e9)
+    wavelength = float(wavelength_m(frequency_ghz))
     radar, target = np.broadcast_arrays(np.asarray(radar_position_m, float), np.asarray(target_position_m, float))
     amplitude = wavelength * np.sqrt(np.asarray(sigma_m2, float)) / (4 * np.pi) ** 1.5
     paths = []

@@ -21,6 +21,8 @@ import time
 
 import numpy as np
 
+from csuas.core.units import wavelength_m
+
 from .engine import Jobs, SbrEngine, backend
 from .geometry import load_target
 
@@ -140,7 +142,7 @@ def bench_memory(n_tubes: float = 1e8, batch_size: int | None = None) -> dict:
 
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
     engine = SbrEngine(load_target(canonical.plate(1.0)), batch_size=batch_size)
-    wavelength = 299_792_458.0 / 10e9
+    wavelength = float(wavelength_m(10.0))
     n = float(np.sqrt(n_tubes)) * wavelength / 1.0
     res = engine.trace(Jobs.build(0.0, 90.0, 10.0, n), 1)
     after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20

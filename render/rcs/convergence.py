@@ -36,7 +36,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import C_LIGHT
+from csuas.core.units import C_LIGHT, wavelength_m
 
 from . import canonical
 from .engine import Jobs, SbrEngine
@@ -92,7 +92,7 @@ def density_for_accuracy(
     ):
         if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value > 0):
             raise ParameterError(name, value, "a finite number > 0")
-    wavelength = C_LIGHT / (frequency_ghz * 1e9)
+    wavelength = wavelength_m(frequency_ghz)
     return max(1.0, coefficient_db * perimeter_m * wavelength / (area_m2 * error_db))
 
 
@@ -152,7 +152,7 @@ def convergence_curve(
         raise ParameterError("orientation", orientation, "'aligned' or 'random'")
     rng = np.random.default_rng(seed)
     a, f = 0.1, 10.0
-    lam = C_LIGHT / (f * 1e9)
+    lam = wavelength_m(f)
     exact = 4 * math.pi * (a * a) ** 2 / lam**2
     p_over_a = 4 * a / (a * a)
     az = rng.uniform(0.0, 90.0, int(trials)) if orientation == "random" else np.zeros(int(trials))

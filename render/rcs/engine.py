@@ -58,7 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import C_LIGHT
+from csuas.core.units import wavelength_m
 
 from .geometry import TargetMesh, direction_vector, polarisation_basis
 
@@ -253,7 +253,7 @@ class SbrEngine:
         """Per-job NumPy tables: grid, wave numbers, bases, materials."""
         d_in = direction_vector(jobs.incident_az_deg, jobs.incident_el_deg)
         pol_v, pol_h = polarisation_basis(jobs.incident_az_deg, jobs.incident_el_deg)
-        wavelength = C_LIGHT / (jobs.frequency_ghz * 1e9)
+        wavelength = wavelength_m(jobs.frequency_ghz)
         spacing = wavelength / jobs.rays_per_wavelength
         e1, e2 = pol_h, pol_v  # grid axes, both perpendicular to d_in
         pu, pv = self._hull @ e1.T, self._hull @ e2.T  # (H, J)

@@ -26,7 +26,7 @@ import numpy as np
 
 from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
-from csuas.core.units import watt_to_dbm
+from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.validation.report.figures import curves
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
 
@@ -532,7 +532,7 @@ def point_4(budget: str) -> Section:
     from csuas.core.radar import radar_wavelength_m
 
     lam = radar_wavelength_m(rp, "physical")
-    f_radar = 299_792_458.0 / lam / 1e9
+    f_radar = float(frequency_ghz(lam))
     link, elapsed = timed(radar_link_gain, f_radar, r_rad, 5.0, 5.0, rcs=sc.target["sigma_radar_m2"], budget=budget)
     loss = float(phys["radar"].term("l_total_db").value)
     noise = float(radar.thermal_noise_power_w(rp["t0_k"], rp["noise_figure_db"], rp["bandwidth_mhz"]))
@@ -583,7 +583,7 @@ def point_5(_knob=None) -> Section:
     s = Section()
     sc = scenario("adverse")
     rp, env = sc.sensors["radar"].params, sc.environment
-    f_own = 299_792_458.0 / radar_wavelength_m(rp, "physical") / 1e9
+    f_own = float(frequency_ghz(radar_wavelength_m(rp, "physical")))
     for f in (rp["loss_frequency_ghz"], f_own):
         g_r = float(rain_specific_attenuation_db_km(f, env["rain_rate_mm_h"]))
         g_f = float(fog_specific_attenuation_db_km(f, env["lwc_g_m3"], env["temperature_k"]))
