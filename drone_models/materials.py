@@ -26,13 +26,10 @@ source:
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 from csuas.base.errors import ParameterError
-
-#: Vacuum permittivity [F/m] (CODATA 2018).
-VACUUM_PERMITTIVITY_F_M = 8.8541878128e-12
+from csuas.core.dielectric import complex_permittivity
 
 #: Default part temperature [K], the paper's T_sUAS (Table 8).
 T_SUAS_K = 288.15
@@ -99,10 +96,7 @@ class Material:
         """
         if not frequency_ghz > 0.0:
             raise ParameterError("frequency_ghz", frequency_ghz, "x > 0 GHz")
-        omega_eps0 = 2.0 * math.pi * frequency_ghz * 1.0e9 * VACUUM_PERMITTIVITY_F_M
-        return complex(
-            self.relative_permittivity.real, self.relative_permittivity.imag - self.conductivity_s_m / omega_eps0
-        )
+        return complex(complex_permittivity(self.relative_permittivity, self.conductivity_s_m, frequency_ghz))
 
     def with_temperature(self, temperature_k: float) -> Material:
         """A copy of this material at another surface temperature [K]."""

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.core.dielectric import complex_permittivity
 from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, resolve_budget
 from csuas.render.links.rcs_table import RCSTable, as_rcs_function, bisector_aspect
 from csuas.render.links.two_ray import (
-    complex_permittivity,
     fresnel_coefficients,
     radar_four_paths,
     two_ray_path_gain_db,
@@ -155,3 +155,10 @@ def test_budgets():
     for kwargs in ({"budget": "fast"}, {"samples": 0}, {"samples": 2.5}, {"max_depth": -1}, {"max_depth": 11}):
         with pytest.raises(ParameterError):
             resolve_budget(**kwargs)
+
+
+def test_a_perfect_conductor_has_a_finite_real_and_minus_infinite_imaginary_permittivity():
+    eta = complex_permittivity(1.0, np.inf, 10.0)
+    assert eta.real == 1.0 and eta.imag == -np.inf
+    lossy = complex_permittivity(4.0 - 0.1j, 0.01, 1.0)  # a complex eps_r keeps its own loss
+    assert lossy == pytest.approx(4.0 - 1j * (0.1 + 0.01 / (2 * np.pi * 1e9 * 8.8541878128e-12)), rel=1e-12)

@@ -37,9 +37,10 @@ def _listed(values: np.ndarray):
 
 def run(args) -> dict:
     """Solve the links; return path_gain_db, friis_db, time_s (and two_ray_db over ground)."""
+    from csuas.core.dielectric import complex_permittivity
     from csuas.core.rf import free_space_path_loss_db
     from csuas.render.links.rf import rf_path_gain
-    from csuas.render.links.two_ray import complex_permittivity, two_ray_path_gain_db
+    from csuas.render.links.two_ray import two_ray_path_gain_db
 
     ground = None if str(args.ground).lower() == "none" else args.ground
     result = rf_path_gain(

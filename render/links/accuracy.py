@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.core.dielectric import complex_permittivity
 from csuas.core.radar import received_power_w
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.units import wavelength_m
@@ -20,7 +21,7 @@ from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, LinkBudget
 from csuas.render.links.radar import radar_link_gain
 from csuas.render.links.rf import rf_path_gain
 from csuas.render.links.scene import clear_scene_cache
-from csuas.render.links.two_ray import complex_permittivity, radar_four_paths, two_ray_path_gain_db
+from csuas.render.links.two_ray import radar_four_paths, two_ray_path_gain_db
 
 #: Budgets swept by default: raw sample counts at depth 1, the presets, Sionna's defaults.
 DEFAULT_BUDGETS = (

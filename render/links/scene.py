@@ -38,9 +38,9 @@ from functools import cache
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.core.dielectric import complex_permittivity
 from csuas.core.units import C_LIGHT
 from csuas.render.links.sionna_backend import load_sionna_rt
-from csuas.render.links.two_ray import complex_permittivity
 
 #: Half-size of the innermost square of the graded ground [m].
 INNER_HALF_SIZE_M = 1.0

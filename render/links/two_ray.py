@@ -23,31 +23,6 @@ import numpy as np
 
 from csuas.core.units import wavelength_m
 
-#: Vacuum permittivity [F/m] (CODATA 2018).
-EPSILON_0 = 8.8541878128e-12
-
-
-def complex_permittivity(relative_permittivity, conductivity_s_m, frequency_ghz):
-    """Complex relative permittivity eta = eps_r - j sigma/(omega eps_0) (ITU-R P.2040-3 Eq. 9).
-
-    Parameters
-    ----------
-    relative_permittivity : array_like
-        Real part eps_r [-].
-    conductivity_s_m : array_like
-        Conductivity sigma [S/m].
-    frequency_ghz : array_like
-        Frequency [GHz].
-
-    Returns
-    -------
-    numpy.ndarray of complex
-    """
-    omega = 2.0 * np.pi * np.asarray(frequency_ghz, dtype=float) * 1e9
-    return np.asarray(relative_permittivity, dtype=float) - 1j * np.asarray(conductivity_s_m, float) / (
-        omega * EPSILON_0
-    )
-
 
 def fresnel_coefficients(cos_incidence, eta):
     """Fresnel reflection coefficients of a half-space for a wave coming from vacuum.

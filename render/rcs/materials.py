@@ -34,9 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-
-#: Vacuum permittivity [F/m] (CODATA 2018).
-EPS0_F_M = 8.8541878128e-12
+from csuas.core.dielectric import complex_permittivity
 
 #: Wall thickness given to the dielectric parts of drone presets [m].
 DRONE_SHELL_THICKNESS_M = 0.002
@@ -102,8 +100,7 @@ class RadioMaterial:
         if self.itu_name is not None:
             eps_real, sigma = _itu_parameters(self.itu_name, frequency_ghz)
             eps = complex(eps_real, 0.0)
-        omega_eps0 = 2.0 * math.pi * frequency_ghz * 1.0e9 * EPS0_F_M
-        return complex(eps.real, eps.imag - sigma / omega_eps0)
+        return complex(complex_permittivity(eps, sigma, frequency_ghz))
 
 
 PEC = RadioMaterial("pec", is_pec=True)

@@ -45,9 +45,9 @@ def _budgets(names):
 
 def rf_links(budget: str) -> Section:
     """RF path gain drone -> sensor, 2.4 GHz, free space (Friis) and over medium dry ground (two-ray)."""
+    from csuas.core.dielectric import complex_permittivity
     from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.rf import rf_path_gain
-    from csuas.render.links.two_ray import complex_permittivity
 
     s = Section()
     d = np.array(DISTANCES_M)
@@ -108,9 +108,9 @@ def rf_links(budget: str) -> Section:
 
 def radar_links(budget: str) -> Section:
     """Monostatic radar link to a 0.01 m^2 drone: 24 GHz free space (Eq. 68), 10 GHz over ground (four paths)."""
+    from csuas.core.dielectric import complex_permittivity
     from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.radar import radar_link_gain
-    from csuas.render.links.two_ray import complex_permittivity
 
     s = Section()
     d = np.array(DISTANCES_M)
