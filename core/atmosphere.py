@@ -143,8 +143,24 @@ def transmittance(extinction, range_m, convention="physical"):
     with np.errstate(invalid="ignore"):
         optical = np.where(k == 0, 0.0, k * z_km)
     if convention == "paper":
-        return np.power(10.0, -optical / 10.0)
+        return db_transmittance(k, range_m)
     return np.exp(-optical)
+
+
+def db_transmittance(attenuation_db_km, range_m):
+    """Transmittance of a path with a specific attenuation in dB/km: 10^(-a z / 10) (Eq. 10).
+
+    Parameters
+    ----------
+    attenuation_db_km : array_like
+        Specific attenuation a [dB/km], >= 0 (zero gives exactly 1 at any range).
+    range_m : array_like
+        Path length z [m], >= 0.
+    """
+    a = require("attenuation_db_km", attenuation_db_km, ge=0)
+    z_km = require("range_m", range_m, ge=0, allow_inf=True) / 1000.0
+    with np.errstate(invalid="ignore"):
+        return np.power(10.0, -np.where(a == 0, 0.0, a * z_km) / 10.0)
 
 
 def range_for_transmittance(extinction, tau, convention="physical"):

@@ -164,3 +164,12 @@ def test_the_paper_convention_keeps_kims_step_at_50_km():
         visibility_km=50.0,
     ).term("kruse_extinction")
     assert "steps from 1.3 to 1.6 at 50 km" in term.source
+
+
+def test_db_transmittance_is_the_decibel_beer_lambert_law():
+    np.testing.assert_allclose(
+        atmosphere.db_transmittance([0.0, 1.0, 3.0], 1000.0), [1.0, 10**-0.1, 10**-0.3], rtol=1e-15
+    )
+    assert atmosphere.db_transmittance(0.0, np.inf) == 1.0
+    with pytest.raises(ParameterError, match="attenuation_db_km"):
+        atmosphere.db_transmittance(-1.0, 10.0)

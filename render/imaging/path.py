@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import extinction_per_km, transmittance
+from csuas.core.atmosphere import db_transmittance, extinction_per_km, transmittance
 from csuas.core.radiometry import band_radiance
 
 
@@ -107,7 +107,7 @@ def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: 
         return NO_PATH
     if not np.isfinite(extinction_db_km) or extinction_db_km < 0:
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
-    tau = float(10.0 ** (-extinction_db_km * range_m / 1000.0 / 10.0))
+    tau = float(db_transmittance(extinction_db_km, range_m))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
     terms = (
         {"name": "extinction_db_km", "value": float(extinction_db_km), "unit": "dB/km", "source": "Table 27"},

@@ -191,8 +191,8 @@ def point_1(render_quality: str) -> Section:
             y_label="|apparent contrast| (Weber)",
             log_y=True,
             lines=[
-                ("paper: C0 10^(-sigma R/10)", rr, c0_mean * 10 ** (-beta * rr / 1e4)),
-                ("physical: C0 exp(-beta R)", rr, c0_mean * np.exp(-beta * rr / 1e3)),
+                ("paper: C0 10^(-sigma R/10)", rr, c0_mean * atmosphere.transmittance(beta, rr, "paper")),
+                ("physical: C0 exp(-beta R)", rr, c0_mean * atmosphere.transmittance(beta, rr, "physical")),
             ],
             points=[("rendered (Mitsuba)", ranges, measured, N_SIGMA * c_se)],
             hlines=[("c_min", c_min)],
@@ -377,7 +377,7 @@ def point_2(render_quality: str) -> Section:
             )
         )
     paper_factor = math.exp(-sigma * 3.0)
-    phys_factor = 10 ** (-sigma * 3.0 / 10)
+    phys_factor = float(atmosphere.db_transmittance(sigma, 3000.0))
     s.outcomes.append(_deviation("conv.2.eq31_transmission_3km", paper_factor, phys_factor, "-", EXPLAIN_2B, "Eq. 31"))
     rr = np.linspace(0.0, 4000.0, 200)
     s.figures.append(
