@@ -134,6 +134,18 @@ def fibonacci_sphere(n: int) -> np.ndarray:
     return np.stack([rho * np.cos(phi), rho * np.sin(phi), z], axis=-1)
 
 
+def rotated_lattices(replicates: int, directions_per_replicate: int, seed: int = 0) -> np.ndarray:
+    """Randomly rotated Fibonacci lattices, shape ``(replicates, directions_per_replicate, 3)``.
+
+    The randomised quasi-Monte Carlo design of every sphere average in csuas: each replicate is the
+    same low-discrepancy lattice (:func:`fibonacci_sphere`) under an independent uniform random
+    rotation (:func:`random_rotations`), so replicate means are independent and unbiased and their
+    spread gives the standard error.
+    """
+    rotations = random_rotations(replicates, np.random.default_rng(seed))
+    return np.einsum("rij,nj->rni", rotations, fibonacci_sphere(directions_per_replicate))
+
+
 def random_rotations(count: int, rng: np.random.Generator) -> np.ndarray:
     """``count`` uniformly distributed random rotation matrices, shape (count, 3, 3).
 

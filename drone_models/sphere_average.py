@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
+from csuas.drone_models.geometry import rotated_lattices
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
 
 #: Accuracy presets: name -> (replicates, directions per replicate).
@@ -68,8 +68,7 @@ def sphere_average(
         raise ParameterError("directions_per_replicate", m, "integer >= 1")
     start = time.perf_counter()
     model = mesh if isinstance(mesh, SilhouetteModel) else SilhouetteModel.from_mesh(mesh)
-    rotations = random_rotations(r, np.random.default_rng(seed))
-    directions = np.einsum("rij,nj->rni", rotations, fibonacci_sphere(m)).reshape(-1, 3)
+    directions = rotated_lattices(r, m, seed).reshape(-1, 3)
     values = metrics_for_directions(model, directions)
     out = {}
     for key in AVERAGED_METRICS:

@@ -101,3 +101,15 @@ def test_random_rotations_are_proper_rotations():
     r = random_rotations(50, np.random.default_rng(3))
     np.testing.assert_allclose(r @ r.transpose(0, 2, 1), np.broadcast_to(np.eye(3), (50, 3, 3)), atol=1e-13)
     np.testing.assert_allclose(np.linalg.det(r), 1.0, atol=1e-13)
+
+
+def test_rotated_lattices_are_rotations_of_one_fibonacci_lattice():
+    from csuas.drone_models.geometry import fibonacci_sphere, rotated_lattices
+
+    dirs = rotated_lattices(3, 50, seed=4)
+    assert dirs.shape == (3, 50, 3)
+    np.testing.assert_allclose(np.linalg.norm(dirs, axis=-1), 1.0, rtol=1e-12)
+    base = fibonacci_sphere(50)
+    for replicate in dirs:  # a rotation preserves every pairwise angle of the lattice
+        np.testing.assert_allclose(replicate @ replicate.T, base @ base.T, atol=1e-12)
+    assert not np.allclose(dirs[0], dirs[1])

@@ -27,7 +27,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.drone_models.geometry import fibonacci_sphere, random_rotations
+from csuas.drone_models.geometry import rotated_lattices
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
 from csuas.render.lidar.cross_section import trace_lcs
 from csuas.render.lidar.target import LidarTarget
@@ -59,12 +59,6 @@ def _resolve(quality, replicates, directions_per_replicate, grid) -> tuple:
         int(values["grid"]),
         "custom" if custom else quality,
     )
-
-
-def sphere_directions(replicates: int, directions_per_replicate: int, seed: int = 0) -> np.ndarray:
-    """Randomly rotated Fibonacci lattices, shape ``(replicates, directions_per_replicate, 3)``."""
-    rotations = random_rotations(replicates, np.random.default_rng(seed))
-    return np.einsum("rij,nj->rni", rotations, fibonacci_sphere(directions_per_replicate))
 
 
 def mean_lidar_cross_section(
@@ -109,7 +103,7 @@ def mean_lidar_cross_section(
     r, m, g, name = _resolve(quality, replicates, directions_per_replicate, grid)
     target.scene()
     start = time.perf_counter()
-    directions = sphere_directions(r, m, seed).reshape(-1, 3)
+    directions = rotated_lattices(r, m, seed).reshape(-1, 3)
     traced = trace_lcs(target, directions, None, math.inf, g, 1, seed + 1)
     lcs = traced["lcs_m2"][:, 0].reshape(r, m)
     area_traced = traced["area_m2"][:, 0].reshape(r, m)
