@@ -17,8 +17,10 @@ when it first runs):
   and :func:`csuas.render.rcs.bench.bench_sbr` / ``bench_memory``.
 """
 
+from csuas.drone_models.geometry import direction_vector
+
 from .convergence import convergence_curve, density_for_accuracy, preset_errors
-from .geometry import TargetMesh, direction_vector, load_target, polarisation_basis, prepare_mesh
+from .geometry import TargetMesh, load_target, polarisation_basis, prepare_mesh
 from .materials import RadioMaterial, resolve_material
 from .solver import QUALITY_PRESETS, RcsResult, compute_rcs
 from .sweep import PAPER_BANDS_GHZ, aspect_sweep, band_sweep, plot_polar, rcs_table, sphere_average

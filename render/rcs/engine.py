@@ -59,8 +59,9 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
+from csuas.drone_models.geometry import direction_vector
 
-from .geometry import TargetMesh, direction_vector, polarisation_basis
+from .geometry import TargetMesh, polarisation_basis
 
 #: Default tube batch on CPU and on GPU [tubes]; about 200 bytes of state per tube.
 BATCH_SIZE_CPU = 1 << 20

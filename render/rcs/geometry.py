@@ -20,13 +20,6 @@ from csuas.base.errors import ParameterError
 from .materials import DRONE_SHELL_THICKNESS_M, SHELL_MAX_CONDUCTIVITY_S_M, RadioMaterial, resolve_material
 
 
-def direction_vector(azimuth_deg, elevation_deg) -> np.ndarray:
-    """Unit vector (..., 3) toward ``(azimuth_deg, elevation_deg)`` [deg]."""
-    az = np.radians(np.asarray(azimuth_deg, dtype=float))
-    el = np.radians(np.asarray(elevation_deg, dtype=float))
-    return np.stack(np.broadcast_arrays(np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)), axis=-1)
-
-
 def polarisation_basis(azimuth_deg, elevation_deg) -> tuple[np.ndarray, np.ndarray]:
     """(theta-hat, phi-hat) of a direction, each (..., 3): the V and H unit vectors.
 
