@@ -15,7 +15,6 @@ Section 4.4.3; lidar transmission loss, Eq. 101). csuas solves them exactly:
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import lambertw
 
 LN10 = np.log(10.0)
 
@@ -36,7 +35,10 @@ def lambertw_exp(log_x):
     log_x = np.asarray(log_x, dtype=float)
     small = log_x < 1.0
     out = np.empty_like(log_x)
-    out[small] = lambertw(np.exp(log_x[small])).real
+    if np.any(small):
+        from scipy.special import lambertw  # imported on first use: 0.17 s of every command's start-up
+
+        out[small] = lambertw(np.exp(log_x[small])).real
     big = ~small
     if np.any(big):
         lx = log_x[big]
