@@ -1,0 +1,344 @@
+"""Every public function of the core, as a table (in the manner of colour-science's tests).
+
+Each row gives a function, scalar inputs and an independent reference (a closed form written out
+here from the paper's equation, or a value the paper prints). For every row the same four checks
+run: the reference value; n-dimensional broadcasting (a (2, 3) array equals the function applied
+element by element); 0-d in gives 0-d out and float32 in gives float64-close finite out; NaN in
+gives NaN out or a ParameterError naming the parameter, never a silent number. Functions whose
+references live in a dedicated test file are listed in COVERED_ELSEWHERE with that file; a public
+function in neither place fails ``test_every_public_core_function_has_a_row``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import math
+import pkgutil
+
+import numpy as np
+import pytest
+
+import csuas.core
+from csuas.base.errors import ParameterError
+from csuas.core import acoustic, atmosphere, dielectric, eo, horizon, johnson, lidar, radar, rf, tir, units
+
+C = 299_792_458.0
+A = 6_371_000.0
+
+
+def _range(result):
+    return result.range_m if hasattr(result, "range_m") else result
+
+
+#: (name, function, scalar keyword arguments, reference, the argument that broadcasts)
+ROWS = [
+    ("units.db_to_linear", units.db_to_linear, {"value_db": 10.0}, 10.0, "value_db"),
+    ("units.linear_to_db", units.linear_to_db, {"value": 100.0}, 20.0, "value"),
+    ("units.watt_to_dbm", units.watt_to_dbm, {"power_w": 0.1}, 20.0, "power_w"),
+    ("units.wavelength_m", units.wavelength_m, {"frequency_ghz": 24.0}, C / 24e9, "frequency_ghz"),
+    ("units.frequency_ghz", units.frequency_ghz, {"wavelength_m_": 0.0125}, C / 0.0125 / 1e9, "wavelength_m_"),
+    ("units.per_km_to_db_per_km", units.per_km_to_db_per_km, {"beta_per_km": 1.0}, 10 / math.log(10), "beta_per_km"),
+    ("units.db_per_km_to_per_km", units.db_per_km_to_per_km, {"gamma_db_km": 10 / math.log(10)}, 1.0, "gamma_db_km"),
+    (
+        "atmosphere.koschmieder_extinction_per_km",
+        atmosphere.koschmieder_extinction_per_km,
+        {"visibility_km": 10.0},
+        -math.log(0.02) / 10.0,
+        "visibility_km",
+    ),
+    ("atmosphere.kruse_q", atmosphere.kruse_q, {"visibility_km": 3.0}, 0.16 * 3.0 + 0.34, "visibility_km"),  # Eq. 20
+    (
+        "atmosphere.kruse_extinction_per_km",
+        atmosphere.kruse_extinction_per_km,
+        {"wavelength_nm": 850.0, "visibility_km": 10.0},
+        -math.log(0.02) / 10.0 * (850 / 550) ** -1.3,
+        "visibility_km",
+    ),
+    (
+        "atmosphere.extinction_per_km",
+        atmosphere.extinction_per_km,
+        {"wavelength_nm": 550.0, "visibility_km": 20.0, "convention": "physical"},
+        -math.log(0.02) / 20.0,
+        "visibility_km",
+    ),
+    (
+        "atmosphere.transmittance",
+        atmosphere.transmittance,
+        {"extinction": 1.0, "range_m": 1000.0, "convention": "physical"},
+        math.exp(-1.0),
+        "range_m",
+    ),
+    (
+        "atmosphere.db_transmittance",
+        atmosphere.db_transmittance,
+        {"attenuation_db_km": 3.0, "range_m": 1000.0},
+        10**-0.3,
+        "range_m",
+    ),
+    (
+        "atmosphere.koschmieder_apparent_contrast",
+        atmosphere.koschmieder_apparent_contrast,
+        {"c0": 0.5, "extinction_per_km": 1.0, "range_m": 1000.0},
+        0.5 * math.exp(-1.0),
+        "range_m",
+    ),
+    (
+        "atmosphere.range_for_transmittance",
+        atmosphere.range_for_transmittance,
+        {"extinction": 1.0, "tau": math.exp(-2.0), "convention": "physical"},
+        2000.0,
+        "tau",
+    ),
+    (
+        "eo.contrast_limited_range_m",
+        eo.contrast_limited_range_m,
+        {"c0": 0.5, "c_min": 0.05, "extinction": 1.0, "convention": "physical"},
+        1000.0 * math.log(10.0),
+        "c0",
+    ),
+    (
+        "eo.eo_range",
+        eo.eo_range,  # Section 4.9.1: 555.5 m
+        {
+            "d_crit_m": 0.101,
+            "hfov_deg": 10.0,
+            "n_h": 1920,
+            "lp_task": 1.0,
+            "n_ttpf": 1.0,
+            "c_eo": 0.5,
+            "c_min": 0.05,
+            "wavelength_nm": 550.0,
+            "visibility_km": 10.0,
+        },
+        0.101 / (2 * math.radians(10.0) / 1920),
+        "d_crit_m",
+    ),
+    ("johnson.ifov_rad", johnson.ifov_rad, {"hfov_deg": 10.0, "n_h": 1920}, math.radians(10.0) / 1920, "hfov_deg"),
+    (
+        "johnson.ifov_from_pitch_rad",
+        johnson.ifov_from_pitch_rad,
+        {"pitch_um": 10.0, "focal_mm": 20.0},
+        5e-4,
+        "pitch_um",
+    ),
+    (
+        "johnson.johnson_range_m",
+        johnson.johnson_range_m,
+        {"d_crit_m": 0.101, "ifov": 1e-4, "lp_task": 2.0},
+        0.101 / (2 * 2.0 * 1e-4),
+        "d_crit_m",
+    ),  # Eq. 18
+    (
+        "tir.tir_johnson_range",
+        tir.tir_johnson_range,
+        {"d_crit_m": 0.101, "hfov_deg": 36.67, "n_h": 1280, "lp_task": 1.0, "n_ttpf": 1.0},
+        0.101 / (2 * math.radians(36.67) / 1280),
+        "d_crit_m",
+    ),
+    (
+        "tir.delta_t_linear",
+        tir.delta_t_linear,  # Eq. 26: 33.63 K with the defaults
+        {"emissivity_suas": 0.68, "t_suas_k": 288.15, "emissivity_bg": 0.77, "t_bg_k": 298.15},
+        0.68 * 288.15 - 0.77 * 298.15,
+        "t_suas_k",
+    ),
+    ("acoustic.array_gain_db", acoustic.array_gain_db, {"n_micro": 128}, 10 * math.log10(128), "n_micro"),  # Eq. 42
+    (
+        "acoustic.acoustic_range",
+        acoustic.acoustic_range,  # Eq. 44 without wind
+        {"sl_db": 80.0, "snr_req_db": 10.0, "noise_level_db": 35.0, "g_array_db": 20.0},
+        10 ** ((80 - 10 - 35 + 20) / 20),
+        "sl_db",
+    ),
+    (
+        "rf.free_space_path_loss_db",
+        rf.free_space_path_loss_db,
+        {"frequency_ghz": 2.4, "distance_m": 1000.0},
+        20 * math.log10(4 * math.pi * 1000.0 * 2.4e9 / C),
+        "distance_m",
+    ),
+    (
+        "rf.received_power_dbm",
+        rf.received_power_dbm,
+        {"p_tx_w": 0.1, "g_tx_dbi": 8.0, "g_rx_db": 14.0, "frequency_ghz": 2.4, "distance_m": 1000.0},
+        20 + 8 + 14 - 20 * math.log10(4 * math.pi * 1000.0 * 2.4e9 / C),
+        "distance_m",
+    ),
+    (
+        "rf.rf_range",
+        rf.rf_range,  # Eq. 57 in free space
+        {"p_tx_w": 0.1, "g_tx_dbi": 8.0, "g_rx_db": 14.0, "frequency_ghz": 2.4, "s_rx_dbm": -100.0},
+        C / 2.4e9 / (4 * math.pi) * 10 ** ((20 + 8 + 14 + 100) / 20),
+        "s_rx_dbm",
+    ),
+    (
+        "radar.thermal_noise_power_w",
+        radar.thermal_noise_power_w,  # Eq. 73
+        {"t0_k": 290.0, "noise_figure_db": 10.0, "bandwidth_mhz": 200.0, "k_b": 1.38e-23},
+        1.38e-23 * 290 * 10 * 200e6,
+        "bandwidth_mhz",
+    ),
+    (
+        "radar.received_power_w",
+        radar.received_power_w,  # Eq. 68
+        {"p_tx_w": 10.0, "g_tx_db": 25.0, "g_rx_db": 25.0, "wavelength_m": 0.0125, "sigma_m2": 0.01, "range_m": 100.0},
+        10 * 10**5 * 0.0125**2 * 0.01 / ((4 * math.pi) ** 3 * 100.0**4),
+        "range_m",
+    ),
+    (
+        "radar.radar_range",
+        radar.radar_range,  # Section 4.9.3's radar: 445.3 m (Eq. 109)
+        {
+            "p_tx_w": 100.0,
+            "g_tx_db": 35.0,
+            "g_rx_db": 35.0,
+            "wavelength_m": 0.0125,
+            "sigma_m2": 0.01,
+            "bandwidth_mhz": 50.0,
+            "k_b": 1.381e-23,
+        },
+        (100 * 10**7 * 0.0125**2 * 0.01 / ((4 * math.pi) ** 3 * 10 * 1.381e-23 * 290 * 10 * 50e6)) ** 0.25,
+        "p_tx_w",
+    ),
+    (
+        "lidar.divergence_rad",
+        lidar.divergence_rad,
+        {"wavelength_nm": 1550.0, "aperture_mm": 3.0},
+        1.22 * 1550e-9 / 3e-3,
+        "aperture_mm",
+    ),  # Airy divergence
+    (
+        "lidar.lidar_range",
+        lidar.lidar_range,  # Eqs. 99, 104 with Table 47's losses
+        {
+            "p_tx_w": 1.0,
+            "p_rx_min_w": 1e-10,
+            "sigma_lidar_m2": 0.006,
+            "aperture_mm": 3.0,
+            "wavelength_nm": 1550.0,
+            "eta_sys": 0.5,
+            "eta_tl": 0.681,
+        },
+        (1.0 / 1e-10 * 0.006 / (1.22**2 * math.pi) * 3e-3**4 / 1550e-9**2) ** 0.25 * (0.5 * 0.681**2) ** 0.25,
+        "p_tx_w",
+    ),
+    (
+        "horizon.horizon_distance_m",
+        horizon.horizon_distance_m,
+        {"height_m": 2.0},
+        math.sqrt(2 * 4 / 3 * A * 2.0),
+        "height_m",
+    ),
+    (
+        "horizon.line_of_sight_limit_m",
+        horizon.line_of_sight_limit_m,
+        {"sensor_height_m": 2.0, "target_height_m": 120.0},
+        math.sqrt(2 * 4 / 3 * A * 2.0) + math.sqrt(2 * 4 / 3 * A * 120.0),
+        "target_height_m",
+    ),
+    (
+        "dielectric.complex_permittivity",
+        dielectric.complex_permittivity,
+        {"relative_permittivity": 5.0, "conductivity_s_m": 0.01, "frequency_ghz": 1.0},
+        5.0 - 1j * 0.01 / (2 * math.pi * 1e9 * 8.8541878128e-12),
+        "frequency_ghz",
+    ),
+]
+
+#: Public functions whose references live in a dedicated test file.
+COVERED_ELSEWHERE = {
+    "acoustic.iso9613_absorption_db_m": "tests/test_core_acoustic.py (ISO 9613-2 Table 2)",
+    "acoustic.wind_noise_db": "tests/test_core_acoustic.py (Table 31)",
+    "acoustic.wind_noise_extrapolated": "tests/test_core_acoustic.py",
+    "checks.require": "tests/test_core_hostile.py",
+    "itu.fog_coefficient_kl": "tests/test_core_itu.py (ITU-Rpy, Tables 36, 43)",
+    "itu.fog_specific_attenuation_db_km": "tests/test_core_itu.py (ITU-Rpy)",
+    "itu.rain_coefficients": "tests/test_core_itu.py (ITU-R validation example)",
+    "itu.rain_specific_attenuation_db_km": "tests/test_core_itu.py (ITU-Rpy, Tables 35, 42)",
+    "itu.water_permittivity": "tests/test_core_itu.py (ITU-Rpy)",
+    "johnson.line_pairs": "tests/test_core_eo.py (Table 20)",
+    "johnson.n_ttpf": "tests/test_core_eo.py (Table 21)",
+    "lidar.lidar_range_no_loss_m": "tests/test_core_rf_radar_lidar.py (Eq. 99)",
+    "lidar.received_power_w": "tests/test_core_rf_radar_lidar.py",
+    "mrtd.diffraction_mtf": "tests/test_core_thermal.py",
+    "mrtd.sensor_mrtd": "tests/test_core_thermal.py",
+    "radar.integration_gain": "tests/test_core_rf_radar_lidar.py (Eqs. 77-82)",
+    "radar.radar_wavelength_m": "tests/test_range_cli.py (Section 4.9.3)",
+    "radar.total_loss_db": "tests/test_core_rf_radar_lidar.py (Eq. 85: 13.595 dB)",
+    "radiometry.band_limits_um": "tests/test_core_thermal.py",
+    "radiometry.band_radiance": "tests/test_core_thermal.py (Planck quadrature)",
+    "radiometry.graybody_apparent_temperature": "tests/test_core_thermal.py",
+    "radiometry.radiance_temperature": "tests/test_core_thermal.py",
+    "radiometry.spectral_radiance": "tests/test_core_thermal.py",
+    "result.check_convention": "tests/test_core_hostile.py",
+    "result.unbounded_reason": "tests/test_core_hostile.py",
+    "sensitivity.acoustic_model": "tests/test_sensitivity.py (Section 4.9.2)",
+    "sensitivity.eo_johnson_model": "tests/test_sensitivity.py (Section 4.9.1)",
+    "sensitivity.one_at_a_time": "tests/test_sensitivity.py (Tables 48-51)",
+    "sensitivity.platform_comparison": "tests/test_sensitivity.py (Table 52)",
+    "sensitivity.radar_model": "tests/test_sensitivity.py (Section 4.9.3)",
+    "solve.bracketed_root": "tests/test_core_solve.py",
+    "solve.lambertw_exp": "tests/test_core_solve.py",
+    "solve.solve_log_linear": "tests/test_core_solve.py",
+    "tir.attenuated_delta_t": "tests/test_core_thermal.py (Eq. 31)",
+    "tir.delta_t_radiometric": "tests/test_core_thermal.py (band radiometry)",
+    "tir.tir_mrtd_range": "tests/test_core_thermal.py",
+    "units.power_sum_db": "tests/test_core_acoustic.py (Eq. 108)",
+}
+
+
+def _public_core_functions():
+    found = set()
+    for info in pkgutil.iter_modules(csuas.core.__path__):
+        module = importlib.import_module(f"csuas.core.{info.name}")
+        for name, function in inspect.getmembers(module, inspect.isfunction):
+            if function.__module__ == module.__name__ and not name.startswith("_"):
+                found.add(f"{info.name}.{name}")
+    return found
+
+
+def test_every_public_core_function_has_a_row():
+    rows = {row[0] for row in ROWS}
+    assert _public_core_functions() - rows - set(COVERED_ELSEWHERE) == set()
+    assert rows & set(COVERED_ELSEWHERE) == set()
+    assert (rows | set(COVERED_ELSEWHERE)) - _public_core_functions() == set(), "a row names no function"
+
+
+IDS = [row[0] for row in ROWS]
+#: Arguments whose errors name the canonical (scenario) parameter they stand for.
+CANONICAL_NAME = {"c0": "c_eo", "target_height_m": "height_m"}
+
+
+@pytest.mark.parametrize("name, function, kwargs, reference, _", ROWS, ids=IDS)
+def test_reference_value(name, function, kwargs, reference, _):
+    np.testing.assert_allclose(_range(function(**kwargs)), reference, rtol=1e-9)
+
+
+@pytest.mark.parametrize("name, function, kwargs, reference, argument", ROWS, ids=IDS)
+def test_broadcasting_matches_element_by_element(name, function, kwargs, reference, argument):
+    values = kwargs[argument] * (1.0 + 0.01 * np.arange(6).reshape(2, 3))
+    together = np.asarray(_range(function(**{**kwargs, argument: values})))
+    one_by_one = np.array([_range(function(**{**kwargs, argument: v})) for v in values.ravel()]).reshape(2, 3)
+    assert together.shape == (2, 3)
+    np.testing.assert_allclose(together, one_by_one, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name, function, kwargs, reference, argument", ROWS, ids=IDS)
+def test_zero_d_and_float32_inputs(name, function, kwargs, reference, argument):
+    zero_d = np.asarray(_range(function(**{**kwargs, argument: np.float64(kwargs[argument])})))
+    assert zero_d.ndim == 0
+    low = np.asarray(_range(function(**{**kwargs, argument: np.float32(kwargs[argument])})))
+    assert np.all(np.isfinite(low))
+    # the input's own float32 rounding (6e-8 relative) times the function's sensitivity (<= 4 here)
+    np.testing.assert_allclose(low, zero_d, rtol=5e-7)
+
+
+@pytest.mark.parametrize("name, function, kwargs, reference, argument", ROWS, ids=IDS)
+def test_nan_in_is_nan_out_or_an_error_naming_the_parameter(name, function, kwargs, reference, argument):
+    try:
+        out = np.asarray(_range(function(**{**kwargs, argument: np.nan})))
+    except ParameterError as exc:
+        assert CANONICAL_NAME.get(argument, argument.rstrip("_")) in str(exc)
+        return
+    assert np.all(np.isnan(out)), (name, out)
