@@ -11,14 +11,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import CsuasError, ParameterError, raise_all
 from csuas.core import acoustic, eo, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
-from csuas.scenario import Scenario, SensorSpec
+from csuas.defaults import load_parameters
+from csuas.scenario import Scenario, SensorSpec, check_value
 
 
 def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
@@ -290,12 +291,14 @@ def _explain_short_range(scenario: Scenario, sensor: SensorSpec, result: RangeRe
             f"{sensor.params['tl_path_km']:g} km path, whatever the range (docs/conventions.md point 8)"
         )
     else:
-        losses = [
-            f"{t.name} = {float(np.max(t.value)):.3g} dB"
+        causes = [
+            f"{t.name} = {float(np.max(t.value)):.3g}" + ("" if t.unit == "-" else f" {t.unit}")
             for t in result.terms
-            if t.unit == "dB" and ("loss" in t.name or t.name.startswith("l_"))
+            if (t.unit == "dB" and ("loss" in t.name or "budget" in t.name or t.name.startswith("l_")))
+            or t.name.startswith("eta_")
+            or t.name.endswith("_no_loss_m")
         ]
-        text = "the budget is spent before 1 m" + (f" (losses: {', '.join(losses)})" if losses else "")
+        text = "the budget is spent before 1 m" + (f" ({', '.join(causes)})" if causes else "")
     _add_reason(result, unexplained, f"range below {SHORT_RANGE_M:g} m: {text}")
 
 
@@ -321,13 +324,14 @@ def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenar
         table = dict(getattr(scenario, section))
         if name not in table:
             raise ParameterError("vary", key, f"a parameter of {section}: " + ", ".join(table))
-        table[name] = value
+        table[name] = check_value(f"vary {key}", load_parameters()[section][name], value)
         return replace(scenario, **{section: table})
     if section != "sensor":
         raise ParameterError("vary", key, "target.<name>, environment.<name> or sensor.<name>")
     sensor = scenario.sensors[sensor_name]
     if name not in sensor.params:
         raise ParameterError("vary", key, "a parameter of the sensor: " + ", ".join(sensor.params))
+    value = check_value(f"vary {key}", load_parameters()[sensor.modality][name], value)
     params = dict(sensor.params, **{name: value})
     if name == "p_desired" and "n_ttpf" not in sensor.explicit:
         params["n_ttpf"] = float(johnson.n_ttpf(value))
@@ -360,15 +364,20 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
     if sensor_name not in scenario.sensors:
         raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
     only = replace(scenario, sensors={sensor_name: scenario.sensors[sensor_name]})
+    variants, errors = {}, []
+    for key, bounds in variations.items():
+        for value in bounds:
+            try:
+                variants[key, value] = _with_value(only, sensor_name, key, value)
+            except CsuasError as exc:
+                errors.append(exc)
+    raise_all({str(e): e for e in errors}.values())  # a wrong key fails both bounds: said once
     baseline = float(evaluate(only, convention)[sensor_name].range_m)
     bars = []
     for key, (low, high) in variations.items():
         section, _, name = key.partition(".")
         current = (only.sensors[sensor_name].params if section == "sensor" else getattr(only, section, {})).get(name)
-        ranges = [
-            float(evaluate(_with_value(only, sensor_name, key, v), convention)[sensor_name].range_m)
-            for v in (low, high)
-        ]
+        ranges = [float(evaluate(variants[key, v], convention)[sensor_name].range_m) for v in (low, high)]
         bars.append(
             TornadoBar(
                 key,

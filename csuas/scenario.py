@@ -21,7 +21,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-from csuas.base.errors import ScenarioError, raise_all
+from csuas.base.errors import ScenarioError, plain, raise_all
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
@@ -125,10 +125,10 @@ class Scenario:
 
 
 def _fail(key: str, value, allowed: str):
-    raise ScenarioError(f"{key} = {value!r} is invalid; allowed: {allowed}")
+    raise ScenarioError(f"{key} = {plain(value)} is invalid; allowed: {allowed}")
 
 
-def _check_value(key: str, spec: dict, value):
+def check_value(key: str, spec: dict, value):
     """Validate one value against its parameter spec; return it (as float/int/str/list)."""
     if "choices" in spec:
         if not isinstance(value, str) or value not in spec["choices"]:
@@ -137,7 +137,7 @@ def _check_value(key: str, spec: dict, value):
     if isinstance(value, list):
         if not spec.get("list"):
             _fail(key, value, f"a number [{spec['unit']}]")
-        return [_check_value(key, {**spec, "list": False}, v) for v in value]
+        return [check_value(key, {**spec, "list": False}, v) for v in value]
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         _fail(key, value, f"a number [{spec['unit']}] in [{spec['min']:g}, {spec['max']:g}]")
     if isinstance(value, float) and math.isnan(value):
@@ -194,7 +194,7 @@ def _apply_overrides(
                     values["lwc_g_m3"] = load_tables()["classes"]["lwc_g_m3"][raw]
                     explicit.add("lwc_g_m3")
                     origin["lwc_g_m3"] = f"{label} (fog class {raw!r}, Table 16)"
-            values[param] = _check_value(full, registry[param], value)
+            values[param] = check_value(full, registry[param], value)
         except ScenarioError as exc:
             errors.append(exc)
             continue
@@ -354,8 +354,9 @@ def plausibility_warnings(sensor: SensorSpec) -> list[str]:
     """Likely unit mistakes of an imaging sensor: a field of view that does not fit its detector.
 
     The fields of view of a pinhole camera with square pixels satisfy
-    tan(HFOV/2) / tan(VFOV/2) = N_H / N_V. A ratio off by more than a factor of two, or a field of
-    view below 0.2 deg beside one above 2 deg, most often means degrees and radians were mixed.
+    tan(HFOV/2) / tan(VFOV/2) = N_H / N_V (Eq. 15 per axis). A ratio off by more than a factor of two
+    most often means degrees and radians were mixed; a field of view below 0.2 deg beside one above
+    2 deg is named as the likely radian. One warning per sensor.
     """
     p = sensor.params
     if sensor.modality not in ("eo", "tir"):
@@ -363,19 +364,18 @@ def plausibility_warnings(sensor: SensorSpec) -> list[str]:
     h, v = p["hfov_deg"], p["vfov_deg"]
     optical = math.tan(math.radians(min(h, 179.0)) / 2) / math.tan(math.radians(min(v, 179.0)) / 2)
     pixels = p["n_h"] / p["n_v"]
-    found = []
-    if not (0.5 <= optical / pixels <= 2.0):
-        found.append(
-            f"sensors.{sensor.name}: hfov_deg = {h:g} and vfov_deg = {v:g} give an aspect ratio of "
-            f"{optical:.3g}, but the detector's n_h / n_v is {pixels:.3g}; is a field of view in radians?"
-        )
-    for key, value, other in (("hfov_deg", h, v), ("vfov_deg", v, h)):
-        if value < 0.2 and other > 2.0:
-            found.append(
-                f"sensors.{sensor.name}.{key} = {value:g} deg beside {other:g} deg: radians instead of "
-                f"degrees? ({value:g} rad = {math.degrees(value):.3g} deg)"
-            )
-    return found
+    if 0.5 <= optical / pixels <= 2.0:
+        return []
+    suspects = [
+        f" {key} = {value:g} looks like radians ({value:g} rad = {math.degrees(value):.3g} deg)"
+        for key, value, other in (("hfov_deg", h, v), ("vfov_deg", v, h))
+        if value < 0.2 and other > 2.0
+    ]
+    return [
+        f"sensors.{sensor.name}: hfov_deg = {h:g} and vfov_deg = {v:g} give a field-of-view aspect ratio "
+        f"tan(hfov/2) / tan(vfov/2) = {optical:.3g}, but the detector's n_h / n_v = {p['n_h']:g} / "
+        f"{p['n_v']:g} = {pixels:.3g};" + (";".join(suspects) or " is a field of view in radians?")
+    ]
 
 
 def provenance(section: str, params: dict, origin: dict) -> dict:
@@ -430,7 +430,8 @@ def load_scenario(source) -> Scenario:
     if not path.is_file():
         raise ScenarioError(f"scenario = {str(source)!r} is not a regular file (a device or a pipe)")
     try:
-        text = path.read_bytes()[: MAX_SCENARIO_BYTES + 1]
+        with path.open("rb") as stream:
+            text = stream.read(MAX_SCENARIO_BYTES + 1)
     except OSError as exc:
         raise ScenarioError(f"scenario = {str(source)!r} cannot be read: {exc.strerror or exc}") from None
     if len(text) > MAX_SCENARIO_BYTES:

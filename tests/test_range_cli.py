@@ -115,10 +115,52 @@ def test_the_text_output_shows_terms_inputs_and_horizontal_range(capsys, tmp_pat
     assert "horizontal n/a" in text and "horizontal 546.5 m" in text
 
 
-def test_a_fov_in_radians_draws_a_warning_not_an_error(capsys, tmp_path):
+def test_a_fov_in_radians_draws_one_warning_not_an_error(capsys, tmp_path):
     out = _range(capsys, tmp_path, '[sensors.e]\nmodality = "eo"\nhfov_deg = 0.17\nvfov_deg = 20.0\n')
-    assert any("radians" in w for w in out["warnings"])
+    (warning,) = out["warnings"]  # one mistake, one warning: aspect ratio and the likely radian together
+    aspect = math.tan(math.radians(0.17) / 2) / math.tan(math.radians(10.0))
+    assert f"{aspect:.3g}" in warning and "1920 / 1080" in warning
+    assert f"{math.degrees(0.17):.3g} deg" in warning and "hfov_deg = 0.17 looks like radians" in warning
     assert not _range(capsys, tmp_path, '[sensors.e]\nmodality = "eo"\n')["warnings"]
+    path = tmp_path / "fov.toml"
+    path.write_text('[sensors.e]\nmodality = "eo"\nhfov_deg = 0.17\nvfov_deg = 20.0\n')
+    assert main(["range", str(path)]) == 0  # the text output: the warning once on stderr
+    err = capsys.readouterr().err
+    assert err.count("csuas range: warning:") == 1 and "looks like radians" in err
+
+
+def test_a_near_zero_range_names_the_budget_that_is_spent(capsys, tmp_path):
+    out = _range(
+        capsys,
+        tmp_path,
+        '[target]\nsl_db = 20.0\n[environment]\nnoise_level_db = 90.0\n[sensors.a]\nmodality = "acoustic"\n',
+    )
+    a = out["sensors"]["a"]
+    budget = 20.0 - 10.0 - 90.0 + 20.0  # Eq. 44: SL - SNR_req - NL + G_array (Table 8, Eq. 38, Eq. 42 defaults)
+    assert a["range_m"] == pytest.approx(10 ** (budget / 20), rel=1e-12)  # Eq. 44 spherical spreading: 1 mm
+    assert f"budget_db = {budget:g} dB" in a["reason"] and "below 1 m" in a["reason"]
+
+
+def test_a_null_horizontal_range_carries_its_meaning(capsys, tmp_path):
+    out = _range(capsys, tmp_path, '[target]\naltitude_m = 300.0\n[sensors.r]\nmodality = "radar"\n')
+    radar = out["sensors"]["r"]
+    assert radar["horizontal_range_m"] is None and "never within range" in radar["horizontal_range_m_note"]
+    assert "horizontal_range_m_nonfinite" not in radar
+    assert main(["range", str(tmp_path / "s.toml")]) == 0
+    text = capsys.readouterr().out
+    assert "horizontal_range_m                    n/a m" in text and "nan" not in text
+
+
+def test_the_mavic_3_target_preset_has_the_side_view_height_of_its_mesh():
+    from csuas.defaults import load_presets
+    from csuas.drone_models.presets import build_drone
+    from csuas.drone_models.silhouette import projected_metrics
+
+    preset = load_presets()["target"]["dji_mavic_3"]
+    side = projected_metrics(build_drone("dji_mavic_3"), 90.0, 0.0)  # Eq. 1, min(d_x, d_y) seen from the side
+    assert preset["d_crit_m"] == pytest.approx(side["d_crit_min_m"], rel=1e-3)
+    assert 0.1077 < preset["d_crit_m"] < 0.1077 + 0.02  # DJI: 107.7 mm high unfolded without propellers
+    assert preset["mass_g"] == 895.0  # DJI take-off weight
 
 
 def test_every_mistake_of_a_scenario_comes_at_once(capsys, tmp_path):

@@ -33,6 +33,9 @@ DEFAULT_RADAR_NOTE = (
 )
 
 
+#: Meaning of a null horizontal range (the target higher above the sensor than the slant range).
+NEVER_WITHIN_RANGE = "null: the target's altitude exceeds the slant range, it is never within range at that altitude"
+
 #: Radar parameters whose change makes DEFAULT_RADAR_NOTE's figures wrong.
 RADAR_BUDGET_KEYS = {
     "p_tx_w",
@@ -83,7 +86,10 @@ def run(args) -> dict:
         entry["range_m"] = _scalar(entry["range_m"])
         entry["terms"] = {k: {**v, "value": _scalar(v["value"])} for k, v in entry["terms"].items()}
         if "horizontal_range_m" in entry["terms"]:
-            entry["horizontal_range_m"] = entry["terms"]["horizontal_range_m"]["value"]
+            horizontal = entry["terms"]["horizontal_range_m"]
+            entry["horizontal_range_m"] = horizontal["value"]
+            if np.any(np.isnan(horizontal["value"])):
+                entry["horizontal_range_m_note"] = horizontal["value_note"] = NEVER_WITHIN_RANGE
         if "reason" in entry:
             entry["reason"] = _scalar(entry["reason"])
         entry["preset"] = spec.preset
@@ -120,7 +126,7 @@ def _metres(value) -> str:
 
 def _value(value) -> str:
     if isinstance(value, (float, np.floating)):
-        return f"{value:.6g}"
+        return f"{value:.6g}" if np.isfinite(value) else ("n/a" if np.isnan(value) else f"{value:+}")
     if isinstance(value, np.ndarray):
         return np.array2string(value, precision=4, separator=", ")
     return str(value)

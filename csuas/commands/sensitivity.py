@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import CsuasError, ParameterError
 from csuas.core.sensitivity import one_at_a_time, platform_comparison
 from csuas.defaults import default_values, load_presets, load_sensitivity
 
@@ -86,7 +86,10 @@ def _scenario_analysis(args) -> dict:
     sensor = args.sensor
     if sensor is None:
         if len(scenario.sensors) > 1:
-            raise ParameterError("--sensor", None, "one of the scenario's sensors: " + ", ".join(scenario.sensors))
+            raise CsuasError(
+                f"--sensor is required: scenario {scenario.name!r} has {len(scenario.sensors)} sensors; "
+                f"name one of {', '.join(scenario.sensors)}"
+            )
         sensor = next(iter(scenario.sensors))
     baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
     title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
