@@ -43,6 +43,10 @@ COMMANDS = {
 }
 
 
+#: Exit code when standard output's reader went away (128 + SIGPIPE), as the shell reports it.
+BROKEN_PIPE = 141
+
+
 class _Parser(argparse.ArgumentParser):
     """Argument parser whose usage errors are one line and exit code 2."""
 
@@ -114,7 +118,11 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
-    print(text)
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left (csuas ... | head): end quietly, as SIGPIPE would
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return BROKEN_PIPE
     return int(result.get("exit_code", 0)) if isinstance(result, dict) else 0
 
 

@@ -184,3 +184,12 @@ def test_work_beyond_the_tube_budget_is_refused_before_tracing(capsys):
     err = capsys.readouterr().err
     assert code == 2 and "max_tubes" in err and "min on 2 CPU cores" in err
     assert time.perf_counter() - start < 30.0
+
+
+def test_a_reader_that_leaves_early_gets_no_traceback(tmp_path):
+    """``csuas range default --json | head -1`` used to end in a BrokenPipeError traceback."""
+    proc = subprocess.Popen([*CSUAS, "range", "default", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader is gone before csuas writes
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=60) == 141
+    assert "Traceback" not in err and "BrokenPipe" not in err
