@@ -30,6 +30,15 @@ def _timed(fn, repeat=3):
 def _scenarios(n, rng):
     """``{model: (function, keyword arguments)}``: the random inputs are drawn here, outside any timer."""
     u = lambda lo, hi: rng.uniform(lo, hi, n)
+    rf_inputs = dict(
+        p_tx_w=u(0.01, 1),
+        g_tx_dbi=8.0,
+        g_rx_db=14.0,
+        frequency_ghz=u(1, 6),
+        s_rx_dbm=-100.0,
+        rain_rate_mm_h=u(0, 30),
+        lwc_g_m3=u(0, 0.5),
+    )
     return {
         "eo": (
             eo.eo_range,
@@ -53,31 +62,8 @@ def _scenarios(n, rng):
             acoustic.acoustic_range,
             dict(sl_db=u(50, 90), snr_req_db=10.0, noise_level_db=u(25, 60), g_array_db=20.0, wind_speed_m_s=u(0, 12)),
         ),
-        "rf": (
-            rf.rf_range,
-            dict(
-                p_tx_w=u(0.01, 1),
-                g_tx_dbi=8.0,
-                g_rx_db=14.0,
-                frequency_ghz=u(1, 6),
-                s_rx_dbm=-100.0,
-                rain_rate_mm_h=u(0, 30),
-                lwc_g_m3=u(0, 0.5),
-            ),
-        ),
-        "rf_physical": (
-            rf.rf_range,
-            dict(
-                p_tx_w=u(0.01, 1),
-                g_tx_dbi=8.0,
-                g_rx_db=14.0,
-                frequency_ghz=u(1, 6),
-                s_rx_dbm=-100.0,
-                rain_rate_mm_h=u(0, 30),
-                lwc_g_m3=u(0, 0.5),
-                convention="physical",
-            ),
-        ),
+        "rf": (rf.rf_range, rf_inputs),
+        "rf_physical": (rf.rf_range, {**rf_inputs, "convention": "physical"}),
         "radar": (
             radar.radar_range,
             dict(
