@@ -23,6 +23,10 @@ from csuas.core.acoustic import acoustic_range
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radar import radar_range
 from csuas.core.units import C_LIGHT_PAPER, wavelength_m
+from csuas.defaults import default_values, load_presets, load_sensitivity
+
+#: The one-at-a-time analyses of Section 4.9 (Tables 48-51), by their key in ``sensitivity.toml``.
+ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
 
 
 def eo_johnson_model(d_crit_m, n_ttpf, n_h, hfov_deg, lp_task=1.0):
@@ -164,3 +168,27 @@ def platform_comparison(targets: dict, eo_params: dict, acoustic_params: dict, r
             "acoustic": float(acoustic_model(sl_db=t["sl_db"], **acoustic_params)),
         }
     return out
+
+
+def _section_defaults(analysis: str) -> dict:
+    """The default value of every parameter of one Section 4.9 analysis (Tables 48-51)."""
+    spec = load_sensitivity()[analysis]
+    return {name: triple[1] for name, triple in spec["parameters"].items()} | dict(spec.get("fixed", {}))
+
+
+def table_52_platforms() -> dict:
+    """Table 52 under the Section 4.9 defaults, with the paper's printed values beside."""
+    targets = {}
+    for name in load_sensitivity()["platforms"]:
+        if name == "source":
+            continue
+        target = default_values("target") | load_presets()["target"][name]
+        targets[name] = {k: target[k] for k in ("d_crit_m", "sigma_radar_m2", "sl_db")}
+    eo = {k: v for k, v in _section_defaults("eo").items() if k != "d_crit_m"}
+    radar = {k: v for k, v in _section_defaults("radar").items() if k != "sigma_radar_m2"}
+    acoustic = {k: v for k, v in _section_defaults("acoustic_calm").items() if k != "sl_db"}
+    computed = platform_comparison(targets, eo, acoustic, radar)
+    return {
+        name: {"computed_m": ranges, "paper_m": load_sensitivity()["platforms"][name]["paper"]}
+        for name, ranges in computed.items()
+    }

@@ -1,7 +1,7 @@
 """The layer contract of ARCHITECTURE.md, checked on every import statement of the package.
 
 Layers, lowest first: base <- defaults <- core <- drone_models <- render <- validation <- cli
-(``csuas.cli``, ``csuas.commands``, ``csuas.scenario``, ``csuas.ranges``). A module may import its
+(``csuas.cli``, ``csuas.commands``, ``csuas.core.scenario``, ``csuas.core.ranges``). A module may import its
 own layer and the layers below it. Imports inside functions count too: a lazy import is still a
 dependency.
 """
@@ -27,15 +27,8 @@ FOLDERS = {
 }
 
 #: What each layer may import besides csuas and the standard library.
-THIRD_PARTY = {"base": {"numpy", "matplotlib"}, "defaults": {"tomli"}, "core": {"numpy", "scipy"}}
-
-#: Imports that break the contract today, to be removed by the one-source-of-truth refactor
-#: (ARCHITECTURE.md, "Known debts"). The test fails when one of them is gone, so the list shrinks.
-KNOWN_DEBTS = {
-    ("validation/report/checks_conventions.py", "csuas.scenario"),
-    ("validation/report/checks_conventions.py", "csuas.ranges"),
-    ("validation/report/checks_defaults.py", "csuas.commands.sensitivity"),
-}
+#: (tomli is the standard library's tomllib on Python 3.10.)
+THIRD_PARTY = {"base": {"numpy", "matplotlib"}, "defaults": {"tomli"}, "core": {"numpy", "scipy", "tomli"}}
 
 
 def _layer_of_module(module: str) -> str | None:
@@ -78,12 +71,7 @@ def _violations():
 
 def test_no_layer_imports_a_layer_above_it():
     violations = _violations()
-    assert violations - KNOWN_DEBTS == set(), "new imports against the layer contract"
-
-
-def test_known_debts_still_exist():
-    """A repaid debt must leave KNOWN_DEBTS, so the list only ever shrinks."""
-    assert KNOWN_DEBTS - _violations() == set()
+    assert violations == set(), "imports against the layer contract"
 
 
 @pytest.mark.parametrize(

@@ -248,6 +248,17 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "ranges.evaluate": "tests/test_scenario.py (every embedded scenario against the core models)",
+    "ranges.horizontal_range_m": "tests/test_range_cli.py, tests/test_scenario.py (Eq. 13)",
+    "ranges.paper_eta_tl": "tests/test_scenario.py (Table 47)",
+    "ranges.scenario_one_at_a_time": "tests/test_sensitivity.py",
+    "scenario.check_value": "tests/test_scenario_errors.py",
+    "scenario.embedded_scenarios": "tests/test_scenario.py (every embedded scenario evaluates finite)",
+    "scenario.load_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
+    "scenario.parse_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
+    "scenario.plausibility_warnings": "tests/test_range_cli.py (one warning per mistake)",
+    "scenario.provenance": "tests/test_range_cli.py (inputs.<p>.source)",
+    "sensitivity.table_52_platforms": "tests/test_sensitivity.py (Table 52)",
     "acoustic.iso9613_absorption_db_m": "tests/test_core_acoustic.py (ISO 9613-2 Table 2)",
     "acoustic.wind_noise_db": "tests/test_core_acoustic.py (Table 31)",
     "acoustic.wind_noise_extrapolated": "tests/test_core_acoustic.py",

@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.core.scenario import parse_scenario
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
 from csuas.render.lidar import LidarTarget, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
 from csuas.render.lidar.sphere_average import drone_lcs_versus_rule
-from csuas.scenario import parse_scenario
 
 pytestmark = pytest.mark.slow
 
@@ -150,7 +150,7 @@ def test_lcs_draft_benchmark(benchmark, target):
 def test_render_lidar_follows_the_render_mode_contract():
     import io
 
-    from csuas.scenario import load_scenario
+    from csuas.core.scenario import load_scenario
 
     stream = io.StringIO()
     rows = render_lidar(

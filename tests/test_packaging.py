@@ -25,7 +25,7 @@ def test_every_package_folder_is_listed_in_pyproject():
 
 def test_import_selects_no_variant_and_loads_no_renderer():
     code = (
-        "import sys, csuas, csuas.core.eo, csuas.scenario, csuas.ranges, csuas.drone_models, csuas.render; "
+        "import sys, csuas, csuas.core.eo, csuas.core.scenario, csuas.core.ranges, csuas.drone_models, csuas.render; "
         "print(any(m.split('.')[0] in ('mitsuba', 'drjit', 'sionna') for m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

@@ -5,8 +5,8 @@ import pytest
 
 from csuas.base.errors import ScenarioError
 from csuas.core import itu
-from csuas.ranges import evaluate
-from csuas.scenario import load_scenario, parse_scenario
+from csuas.core.ranges import evaluate
+from csuas.core.scenario import load_scenario, parse_scenario
 
 
 def _scenario(**sections):
@@ -142,13 +142,17 @@ def test_p_desired_zero_without_a_limit_is_an_explicit_error():
 def test_every_embedded_scenario_is_finite(convention):
     import numpy as np
 
-    for name in ("default", "adverse", "black_hornet"):
+    from csuas.core.scenario import embedded_scenarios
+
+    names = embedded_scenarios()
+    assert {"default", "adverse", "black_hornet"} <= set(names)
+    for name in names:
         for result in evaluate(load_scenario(name), convention).values():
             assert np.all(np.isfinite(result.range_m)) and np.all(result.range_m >= 0)
 
 
 def test_paper_lidar_eta_follows_declared_visibility():
-    from csuas.ranges import paper_eta_tl
+    from csuas.core.ranges import paper_eta_tl
 
     sc = parse_scenario({"environment": {"visibility_km": 3.0}, "sensors": {"l": {"modality": "lidar"}}})
     assert paper_eta_tl(sc, sc.sensors["l"]) == pytest.approx(0.6803, abs=1e-4)  # Table 47's derivation
@@ -164,7 +168,7 @@ def test_table_9_contrast_classes():
 
 
 def test_altitude_adds_the_horizontal_range_of_eq_13():
-    from csuas.ranges import horizontal_range_m
+    from csuas.core.ranges import horizontal_range_m
 
     assert horizontal_range_m(500.0, 300.0) == pytest.approx(400.0)  # 3-4-5 triangle
     assert np.isnan(horizontal_range_m(100.0, 120.0))  # higher than the range: never within range

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from csuas.cli import main
-from csuas.scenario import MAX_SCENARIO_BYTES, check_value
+from csuas.core.scenario import MAX_SCENARIO_BYTES, check_value
 
 
 def _error_lines(capsys, argv) -> list[str]:

@@ -2,8 +2,8 @@
 
 import pytest
 
-from csuas.commands.sensitivity import platforms
 from csuas.core.sensitivity import one_at_a_time
+from csuas.core.sensitivity import table_52_platforms as platforms
 from csuas.defaults import load_sensitivity
 
 
@@ -45,8 +45,8 @@ def test_table_52():
 
 
 def test_scenario_one_at_a_time_matches_section_4_9_for_eo():
-    from csuas.ranges import scenario_one_at_a_time
-    from csuas.scenario import load_scenario
+    from csuas.core.ranges import scenario_one_at_a_time
+    from csuas.core.scenario import load_scenario
 
     baseline, bars = scenario_one_at_a_time(
         load_scenario("default"),
@@ -62,8 +62,8 @@ def test_scenario_one_at_a_time_matches_section_4_9_for_eo():
 
 def test_scenario_one_at_a_time_bad_key():
     from csuas.base.errors import ParameterError
-    from csuas.ranges import scenario_one_at_a_time
-    from csuas.scenario import load_scenario
+    from csuas.core.ranges import scenario_one_at_a_time
+    from csuas.core.scenario import load_scenario
 
     with pytest.raises(ParameterError, match="vary"):
         scenario_one_at_a_time(load_scenario("default"), "radar", {"radar.p_tx_w": (1, 2)})

@@ -15,8 +15,8 @@ import sys
 import numpy as np
 
 from csuas.core.radar import radar_wavelength_m
-from csuas.ranges import evaluate
-from csuas.scenario import load_scenario, provenance
+from csuas.core.ranges import evaluate
+from csuas.core.scenario import load_scenario, provenance
 
 #: Effects a scenario may declare that no range model of the paper reads, with the reason.
 IGNORED_EFFECTS = {

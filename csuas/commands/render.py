@@ -81,7 +81,7 @@ def resolve_mode(name: str):
 
 def run(args) -> dict:
     """Render each range; returns the ``--json`` object (``results[]`` with docs/command-line.md keys)."""
-    from csuas.scenario import load_scenario
+    from csuas.core.scenario import load_scenario
 
     start = time.perf_counter()
     errors = [ParameterError("range_m", r, "finite and > 0 [m]") for r in args.range_m if not (0 < r < float("inf"))]

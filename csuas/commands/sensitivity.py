@@ -5,10 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from csuas.base.errors import CsuasError, ParameterError
-from csuas.core.sensitivity import one_at_a_time, platform_comparison
-from csuas.defaults import default_values, load_presets, load_sensitivity
-
-ANALYSES = ("eo", "acoustic_calm", "acoustic_wind", "radar")
+from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
+from csuas.defaults import load_sensitivity
 
 
 def add_arguments(parser):
@@ -41,29 +39,6 @@ def add_arguments(parser):
     )
 
 
-def _defaults(analysis: str) -> dict:
-    spec = load_sensitivity()[analysis]
-    return {name: triple[1] for name, triple in spec["parameters"].items()} | dict(spec.get("fixed", {}))
-
-
-def platforms() -> dict:
-    """Table 52 under the Section 4.9 defaults, with the paper's printed values beside."""
-    targets = {}
-    for name in load_sensitivity()["platforms"]:
-        if name == "source":
-            continue
-        target = default_values("target") | load_presets()["target"][name]
-        targets[name] = {k: target[k] for k in ("d_crit_m", "sigma_radar_m2", "sl_db")}
-    eo = {k: v for k, v in _defaults("eo").items() if k != "d_crit_m"}
-    radar = {k: v for k, v in _defaults("radar").items() if k != "sigma_radar_m2"}
-    acoustic = {k: v for k, v in _defaults("acoustic_calm").items() if k != "sl_db"}
-    computed = platform_comparison(targets, eo, acoustic, radar)
-    return {
-        name: {"computed_m": ranges, "paper_m": load_sensitivity()["platforms"][name]["paper"]}
-        for name, ranges in computed.items()
-    }
-
-
 def _parse_variations(items) -> dict:
     variations = {}
     for item in items:
@@ -79,8 +54,8 @@ def _parse_variations(items) -> dict:
 
 
 def _scenario_analysis(args) -> dict:
-    from csuas.ranges import scenario_one_at_a_time
-    from csuas.scenario import load_scenario
+    from csuas.core.ranges import scenario_one_at_a_time
+    from csuas.core.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
     sensor = args.sensor
@@ -133,7 +108,7 @@ def run(args) -> dict:
             entry["plot"] = str(path)
         result["analyses"][name] = entry
     if args.analysis in ("platforms", "all"):
-        result["platforms"] = platforms()
+        result["platforms"] = table_52_platforms()
     return result
 
 

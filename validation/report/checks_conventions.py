@@ -44,13 +44,13 @@ N_SIGMA = 3.0
 @functools.lru_cache(maxsize=4)
 def scenario(name: str):
     """An embedded scenario (cached)."""
-    from csuas.scenario import load_scenario
+    from csuas.core.scenario import load_scenario
 
     return load_scenario(name)
 
 
 def _ranges(name: str, convention: str) -> dict:
-    from csuas.ranges import evaluate
+    from csuas.core.ranges import evaluate
 
     return {k: v for k, v in evaluate(scenario(name), convention).items()}
 
@@ -631,8 +631,8 @@ EXPLAIN_6 = (
 
 def point_6(_knob=None) -> Section:
     """Non-coherent integration gain and radar range, paper n^(1/n) vs physical sqrt(n)."""
-    from csuas.ranges import evaluate
-    from csuas.scenario import parse_scenario
+    from csuas.core.ranges import evaluate
+    from csuas.core.scenario import parse_scenario
 
     s = Section()
     sc = parse_scenario(

@@ -82,8 +82,7 @@ def _printed_tolerance(value: float) -> float:
 def section_4_9(_knob=None) -> Section:
     """Baselines, quoted tornado bounds (Tables 48-51) and Table 52, with the tornado plots."""
     from csuas.base.plots import tornado_plot
-    from csuas.commands.sensitivity import ANALYSES, platforms
-    from csuas.core.sensitivity import one_at_a_time
+    from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
     from csuas.defaults import load_sensitivity
 
     section = Section()
@@ -130,7 +129,7 @@ def section_4_9(_knob=None) -> Section:
                 caption=f"One-at-a-time sensitivity, {spec['source']}; dashed: baseline {baseline:.1f} m.",
             )
         )
-    table52, elapsed = timed(platforms)
+    table52, elapsed = timed(table_52_platforms)
     for platform, row in table52.items():
         for modality, computed in row["computed_m"].items():
             printed = row["paper_m"][modality]

@@ -15,6 +15,7 @@ import math
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -124,7 +125,7 @@ class Scenario:
         return fog_v / 1000.0 if fog_v is not None else self.environment["visibility_km"]
 
 
-def _fail(key: str, value, allowed: str):
+def _fail(key: str, value, allowed: str) -> NoReturn:
     raise ScenarioError(f"{key} = {plain(value)} is invalid; allowed: {allowed}")
 
 
@@ -221,15 +222,15 @@ def _defaults(section: str) -> dict:
     return {k: v.get("value") for k, v in load_parameters()[section].items()}
 
 
-def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec:
+def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec | None:
     prefix = f"sensors.{name}"
     if not isinstance(table, dict):
         _fail(prefix, table, "a table with modality = ...")
     modality = table.get("modality")
-    if modality not in MODALITIES:
+    if not isinstance(modality, str) or modality not in MODALITIES:
         _fail(f"{prefix}.modality", modality, ", ".join(MODALITIES))
     registry = load_parameters()[modality]
-    values, explicit, origin = _defaults(modality), set(), {}
+    values, explicit, origin = _defaults(modality), set[str](), dict[str, str]()
     preset = table.get("preset", "default")
     if not isinstance(preset, str):
         _fail(f"{prefix}.preset", preset, "a preset name")
@@ -304,7 +305,7 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
         if not isinstance(preset, str) or preset not in load_presets()[preset_kind]:
             attempt(_fail, f"{section}.preset", preset, ", ".join(load_presets()[preset_kind]))
             preset = default_preset
-        values, given, where = _defaults(section), set(), {}
+        values, given, where = _defaults(section), set[str](), dict[str, str]()
         _apply_overrides(
             section,
             f"{section}(preset {preset})",

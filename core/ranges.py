@@ -18,8 +18,8 @@ from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.scenario import Scenario, SensorSpec, check_value
 from csuas.defaults import load_parameters
-from csuas.scenario import Scenario, SensorSpec, check_value
 
 
 def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
