@@ -9,7 +9,7 @@ from scipy import integrate
 from csuas.base.errors import ParameterError
 from csuas.core import radiometry, tir
 from csuas.core.mrtd import LLOYD_K, ParametricMrtd, TabulatedMrtd, diffraction_mtf
-from csuas.validation.paper_procedures import tir_step_reduction
+from csuas.validation.core.paper_procedures import tir_step_reduction
 
 H, C, KB = 6.62607015e-34, 299792458.0, 1.380649e-23
 

@@ -2,7 +2,7 @@
 
 import pytest
 
-from csuas.validation.defaults_checks import all_checks, core_checks
+from csuas.validation.core.checks import all_checks, core_checks
 
 
 def test_core_checks_cover_the_paper_tables():

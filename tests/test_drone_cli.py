@@ -10,9 +10,9 @@ from csuas.base.checks import Check
 from csuas.base.errors import ParameterError
 from csuas.cli import main
 from csuas.drone_models import build_drone
-from csuas.drone_models.bench import bench_silhouette
-from csuas.drone_models.checks import default_checks
 from csuas.drone_models.export import export_drone
+from csuas.validation.drone.bench import bench_silhouette
+from csuas.validation.drone.checks import default_checks
 
 
 def run_json(capsys, *argv):

@@ -21,9 +21,9 @@ from scipy.integrate import quad
 
 from csuas.base.errors import ParameterError
 from csuas.render.lidar import LidarTarget, lidar_cross_section, material_reflectance
-from csuas.render.lidar.accuracy import accuracy_vs_time, preset_accuracy
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.sphere_average import mean_lidar_cross_section
+from csuas.validation.lidar.accuracy import accuracy_vs_time, preset_accuracy
 
 pytestmark = pytest.mark.slow
 
@@ -280,7 +280,7 @@ def test_bad_meshes_and_path_options(plate):
 
 
 def test_report_oracle_rows_pass_at_draft_quality():
-    from csuas.render.lidar.oracles import near_range_sphere_factor, oracle_comparisons
+    from csuas.validation.lidar.oracles import near_range_sphere_factor, oracle_comparisons
 
     rows = oracle_comparisons("draft")
     assert len(rows) == 7 and all(r["ok"] for r in rows), [r["name"] for r in rows if not r["ok"]]

@@ -116,7 +116,7 @@ def test_render_lidar_bad_sensor_and_range_inside_the_drone(scenario):
 
 
 def test_default_checks_table_8():
-    from csuas.render.lidar.checks import default_checks
+    from csuas.validation.lidar.checks import default_checks
 
     checks = default_checks()
     assert [c.name for c in checks] == [
@@ -133,7 +133,7 @@ def test_default_checks_table_8():
 
 
 def test_bench_figures():
-    from csuas.render.lidar.bench import bench
+    from csuas.validation.lidar.bench import bench
 
     r = bench()
     assert r["ray_intersect_rays_per_s"] > 0 and r["lcs_pipeline_rays_per_s"] > 0

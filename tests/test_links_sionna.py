@@ -247,7 +247,7 @@ def test_cli_pathloss(capsys):
 
 
 def test_bench_links_structure():
-    from csuas.render.links.bench import SCENES, bench_links
+    from csuas.validation.links.bench import SCENES, bench_links
 
     result = bench_links(repeats=1)
     assert set(result["scenes"]) == set(SCENES)

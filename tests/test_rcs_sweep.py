@@ -81,7 +81,7 @@ def test_band_sweep_of_the_drone_at_two_bands():
 
 @pytest.mark.slow
 def test_default_checks_compare_the_drone_with_table8_and_3gpp():
-    checks = __import__("csuas.render.rcs.checks", fromlist=["default_checks"]).default_checks(
+    checks = __import__("csuas.validation.rcs.checks", fromlist=["default_checks"]).default_checks(
         {"n_azimuth": 8, "n_elevation": 4}
     )
     assert [c.name for c in checks] == [
@@ -129,7 +129,7 @@ def test_quality_presets_measured_error_ordering():
 
 
 def test_bench_returns_throughputs():
-    from csuas.render.rcs.bench import bench_sbr
+    from csuas.validation.rcs.bench import bench_sbr
 
     out = bench_sbr(
         canonical.dihedral(0.1, 0.15),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from csuas.render.imaging.checks import imaging_checks
+from csuas.validation.imaging.checks import imaging_checks
 
 pytestmark = pytest.mark.slow
 

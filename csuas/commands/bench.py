@@ -7,14 +7,14 @@ import sys
 
 #: Benchmark suites: name -> (module, function). Each function returns a list of row dicts or a dict.
 SUITES = {
-    "core_models": ("csuas.validation.bench_core", "bench_models"),
-    "core_iterative": ("csuas.validation.bench_core", "bench_iterative"),
-    "drone_silhouette": ("csuas.drone_models.bench", "bench_silhouette"),
-    "rcs_sbr": ("csuas.render.rcs.bench", "bench_sbr"),
-    "rcs_memory": ("csuas.render.rcs.bench", "bench_memory"),
-    "sionna_links": ("csuas.render.links.bench", "bench_links"),
-    "lidar_lcs": ("csuas.render.lidar.bench", "bench"),
-    "render_window": ("csuas.render.imaging.bench", "bench_window_vs_full_frame"),
+    "core_models": ("csuas.validation.core.bench", "bench_models"),
+    "core_iterative": ("csuas.validation.core.bench", "bench_iterative"),
+    "drone_silhouette": ("csuas.validation.drone.bench", "bench_silhouette"),
+    "rcs_sbr": ("csuas.validation.rcs.bench", "bench_sbr"),
+    "rcs_memory": ("csuas.validation.rcs.bench", "bench_memory"),
+    "sionna_links": ("csuas.validation.links.bench", "bench_links"),
+    "lidar_lcs": ("csuas.validation.lidar.bench", "bench"),
+    "render_window": ("csuas.validation.imaging.bench", "bench_window_vs_full_frame"),
 }
 
 

@@ -64,7 +64,7 @@ def run(args) -> dict:
         return {"parameters": list_parameters()}
     if args.action == "presets":
         return {"presets": list_presets()}
-    from csuas.validation.defaults_checks import all_checks
+    from csuas.validation.core.checks import all_checks
 
     checks = [c.as_dict() for c in all_checks(include_simulation=not args.core_only)]
     summary = {

@@ -8,10 +8,8 @@ Modules: :mod:`~csuas.render.lidar.target` (meshes and albedos),
 :mod:`~csuas.render.lidar.cross_section` (single-bounce LCS, plane or
 spherical wave, beam footprint), :mod:`~csuas.render.lidar.sphere_average`
 (Eq. 7 and the rule of Eq. 9), :mod:`~csuas.render.lidar.path` (multi-bounce
-path tracing), :mod:`~csuas.render.lidar.runner` (``csuas render lidar``),
-:mod:`~csuas.render.lidar.accuracy`, :mod:`~csuas.render.lidar.oracles`,
-:mod:`~csuas.render.lidar.checks`, :mod:`~csuas.render.lidar.bench`.
-
+path tracing), :mod:`~csuas.render.lidar.runner` (``csuas render lidar``). Its accuracy sweeps, oracles,
+checks and benchmark live in :mod:`csuas.validation.lidar`.
 Importing this package does not import Mitsuba; the first trace selects the
 ``ad_mono`` variant through :func:`csuas.render.backend.use_variant`.
 """

@@ -40,7 +40,7 @@ def lidar_parameters(scenario, sensor: str | None = None) -> dict:
 
     Parameters
     ----------
-    scenario : csuas.scenario.Scenario
+    scenario : csuas.core.scenario.Scenario
     sensor : str, optional
         Name of a lidar sensor of the scenario; the first lidar sensor when omitted.
     """
@@ -117,7 +117,7 @@ def render_lidar(
 
     Parameters
     ----------
-    scenario : csuas.scenario.Scenario
+    scenario : csuas.core.scenario.Scenario
         Uses ``target_preset`` (a :func:`csuas.drone_models.build_drone`
         preset) and the lidar sensor's ``wavelength_nm`` and ``aperture_mm``.
     ranges_m : float or sequence of float

@@ -13,8 +13,8 @@ when it first runs):
   :mod:`csuas.render.rcs.sweep`;
 * :func:`convergence_curve`, :func:`density_for_accuracy`,
   :func:`preset_errors` in :mod:`csuas.render.rcs.convergence`;
-* :func:`csuas.render.rcs.checks.default_checks` (Table 8 and 3GPP TR 38.901)
-  and :func:`csuas.render.rcs.bench.bench_sbr` / ``bench_memory``.
+
+Its checks (Table 8, 3GPP TR 38.901) and benchmarks live in :mod:`csuas.validation.rcs`.
 """
 
 from csuas.drone_models.geometry import direction_vector

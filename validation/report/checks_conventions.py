@@ -92,7 +92,7 @@ EXPLAIN_1 = (
 )
 
 
-def point_1(render_quality: str) -> Section:
+def eo_fog_transmission(render_quality: str) -> Section:
     """Table 47's eta_TL and the EO contrast limit in fog, paper vs physical vs rendered contrast."""
     from csuas.render.imaging import render_eo
 
@@ -264,7 +264,7 @@ def _plate(emissivity: float, temperature_k: float, side_m: float):
     ]
 
 
-def point_2(render_quality: str) -> Section:
+def thermal_contrast(render_quality: str) -> Section:
     """Delta T of the defaults: linear 33.6 K, radiometric 15.3 K, rendered plate; Eq. 31 over 1 and 3 km."""
     from csuas.render.imaging import render_tir
 
@@ -416,7 +416,7 @@ EXPLAIN_3 = (
 )
 
 
-def point_3(render_quality: str) -> Section:
+def thermal_contrast_of_table_8(render_quality: str) -> Section:
     """C_TIR of Table 8 vs Eq. 5 (kinetic and radiance temperatures) vs the rendered drone."""
     from csuas.render.imaging import render_tir
 
@@ -477,7 +477,7 @@ EXPLAIN_5 = (
 )
 
 
-def point_4(budget: str) -> Section:
+def rf_radar_adverse_links(budget: str) -> Section:
     """RF and radar ranges in the adverse scenario; Sionna RT link budgets at the physical ranges."""
     from csuas.render.links.radar import radar_link_gain
     from csuas.render.links.rf import rf_path_gain
@@ -575,7 +575,7 @@ def point_4(budget: str) -> Section:
     return s
 
 
-def point_5(_knob=None) -> Section:
+def radar_weather_loss_frequency(_knob=None) -> Section:
     """Radar weather losses at 12 GHz vs the radar's own frequency, 1 km vs actual path."""
     from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
     from csuas.core.radar import radar_wavelength_m
@@ -629,7 +629,7 @@ EXPLAIN_6 = (
 )
 
 
-def point_6(_knob=None) -> Section:
+def noncoherent_integration(_knob=None) -> Section:
     """Non-coherent integration gain and radar range, paper n^(1/n) vs physical sqrt(n)."""
     from csuas.core.ranges import evaluate
     from csuas.core.scenario import parse_scenario
@@ -663,7 +663,7 @@ EXPLAIN_7 = (
 )
 
 
-def point_7(_knob=None) -> Section:
+def acoustic_gain_and_absorption(_knob=None) -> Section:
     """Acoustic array gain 20 vs 21.07 dB, ISO 9613-1 absorption, ranges paper vs physical."""
     s = Section()
     sc = scenario("default")
@@ -695,7 +695,7 @@ EXPLAIN_8 = (
 )
 
 
-def point_8(quality: str) -> Section:
+def lidar_interaction_and_transmission(quality: str) -> Section:
     """Lidar: I_laser paper vs bounded vs ray-traced under the beam, eta_TL, ranges."""
     from csuas.render.lidar.runner import render_lidar
 
@@ -740,7 +740,7 @@ def point_8(quality: str) -> Section:
 
 
 # --- 9. horizontal vs slant range ---------------------------------------------------------------------------
-def point_9(_knob=None) -> Section:
+def horizontal_vs_slant_range(_knob=None) -> Section:
     """Eq. 14 uses the horizontal distance; the simulation uses the slant range."""
     s = Section()
     r_eo = float(_ranges("default", "paper")["eo"].range_m)
@@ -761,7 +761,7 @@ def point_9(_knob=None) -> Section:
 
 
 # --- 10. wind noise outside Table 31 ------------------------------------------------------------------------
-def point_10(_knob=None) -> Section:
+def wind_noise_outside_table_31(_knob=None) -> Section:
     """Table 31 covers 1-12 m/s; the paper's own Strong Breeze (12.3 m/s) and Calm (0.3 m/s) fall outside."""
     s = Section()
     for name, v in (("calm", 0.3), ("strong breeze", 12.3)):
@@ -802,7 +802,7 @@ SPECS = [
     _spec(
         1,
         "extinction in 1/km read as dB/km (Eq. 10, Table 47, EO contrast limit)",
-        point_1,
+        eo_fog_transmission,
         "paper (10^(-sigma z/10)) vs physical (exp(-beta z)) vs rendered apparent contrast in fog",
         SIM_TOL + " (2 % of the contrast-limited range)",
         "render quality (samples per pixel)",
@@ -812,7 +812,7 @@ SPECS = [
     _spec(
         2,
         "TIR Delta T: linear Eq. 26 vs band radiometry; Eq. 31",
-        point_2,
+        thermal_contrast,
         "paper linear Delta T vs radiometric Delta T vs rendered graybody plate; Eq. 31 vs path transmittance",
         SIM_TOL + " (0.05 K)",
         "render quality (samples per pixel)",
@@ -822,7 +822,7 @@ SPECS = [
     _spec(
         3,
         "C_TIR = 0.5 vs Eq. 5",
-        point_3,
+        thermal_contrast_of_table_8,
         "Table 8 C_TIR vs Eq. 5 vs the rendered drone's radiance contrast",
         "0.005 (printed digits)",
         "render quality (samples per pixel)",
@@ -832,7 +832,7 @@ SPECS = [
     _spec(
         4,
         "RF and radar losses over a fixed 1 km path",
-        point_4,
+        rf_radar_adverse_links,
         "paper fixed-path losses vs losses over the range; Sionna RT link budget at the physical range",
         "Sionna link budget closes within 0.05 dB (free space is exact up to float precision)",
         "Sionna RT sample budget",
@@ -842,30 +842,46 @@ SPECS = [
     _spec(
         5,
         "radar losses at 12 GHz vs the radar's frequency",
-        point_5,
+        radar_weather_loss_frequency,
         "paper 12 GHz vs own-frequency ITU losses",
         "known deviation",
     ),
     _spec(
-        6, "non-coherent integration n_p^(1/n_p) vs sqrt(n_p)", point_6, "paper Eq. 78 vs sqrt(n_p)", "known deviation"
+        6,
+        "non-coherent integration n_p^(1/n_p) vs sqrt(n_p)",
+        noncoherent_integration,
+        "paper Eq. 78 vs sqrt(n_p)",
+        "known deviation",
     ),
     _spec(
         7,
         "acoustic array gain and ISO 9613-1 absorption",
-        point_7,
+        acoustic_gain_and_absorption,
         "paper 20 dB, no absorption vs Eq. 42 + ISO",
         "known deviation",
     ),
     _spec(
         8,
         "lidar interaction and eta_TL",
-        point_8,
+        lidar_interaction_and_transmission,
         "paper I_laser = sigma/A_illum vs bounded vs ray-traced LCS under the beam; fixed-path eta_TL",
         "known deviation (table values from the ray tracer are shown side by side)",
         "lidar ray-grid quality",
         LIDAR_QUALITY,
         True,
     ),
-    _spec(9, "horizontal distance vs slant range", point_9, "Eq. 14 horizontal vs slant range", "table only"),
-    _spec(10, "wind noise outside Table 31", point_10, "Table 31 range vs the paper's wind classes", "table only"),
+    _spec(
+        9,
+        "horizontal distance vs slant range",
+        horizontal_vs_slant_range,
+        "Eq. 14 horizontal vs slant range",
+        "table only",
+    ),
+    _spec(
+        10,
+        "wind noise outside Table 31",
+        wind_noise_outside_table_31,
+        "Table 31 range vs the paper's wind classes",
+        "table only",
+    ),
 ]

@@ -1,13 +1,13 @@
 """Checks of the paper's defaults (``csuas defaults check``) and of Section 4.9's worked numbers.
 
 * ``defaults.core``: every default the analytic core can recompute
-  (:func:`csuas.validation.defaults_checks.core_checks`: ITU rain and fog,
+  (:func:`csuas.validation.core.checks.core_checks`: ITU rain and fog,
   Koschmieder, Kruse, Table 31/32, Table 41/44, Eq. 85, Eq. 5, Eq. 26);
 * ``defaults.drone``: d_crit, sigma_lidar (Eq. 9 with the exact projected
-  area) and emissivity from the drone meshes (:mod:`csuas.drone_models.checks`);
+  area) and emissivity from the drone meshes (:mod:`csuas.validation.drone.checks`);
 * ``defaults.rcs`` and ``defaults.lidar``: Table 8's sigma_radar and
-  sigma_lidar against the simulated drone (:mod:`csuas.render.rcs.checks`,
-  :mod:`csuas.render.lidar.checks`), their accuracy knob per report quality;
+  sigma_lidar against the simulated drone (:mod:`csuas.validation.rcs.checks`,
+  :mod:`csuas.validation.lidar.checks`), their accuracy knob per report quality;
 * ``worked.section_4_9``: the baselines and the quoted tornado bounds of
   Tables 48-51 / Figures 3-5 and the platform comparison of Table 52, with
   the tornado plots.
@@ -22,7 +22,7 @@ import math
 from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckSpec, Outcome, Section, from_check, timed
 
-#: Settings of the drone RCS check per report quality (see csuas.render.rcs.checks for the quick ones' accuracy).
+#: Settings of the drone RCS check per report quality (see csuas.validation.rcs.checks for the quick ones' accuracy).
 RCS_SETTINGS = {
     "quick": {"rays_per_wavelength": 3.0, "max_bounces": 3, "n_azimuth": 24, "n_elevation": 8},
     "full": {"rays_per_wavelength": 6.0, "max_bounces": 5, "n_azimuth": 48, "n_elevation": 16},
@@ -36,7 +36,7 @@ def _from_checks(provider, *args, **kwargs) -> list:
 
 def core_defaults(_knob=None) -> Section:
     """The analytic-core defaults checks, each provider timed."""
-    from csuas.validation import defaults_checks as dc
+    from csuas.validation.core import checks as dc
 
     outcomes = []
     for provider in (dc.itu_checks, dc.environment_checks, dc.sensor_checks):
@@ -46,14 +46,14 @@ def core_defaults(_knob=None) -> Section:
 
 def drone_defaults(_knob=None) -> Section:
     """d_crit (Tables 8, 52), sigma_lidar by Eq. 9 and emissivity from the drone meshes."""
-    from csuas.drone_models.checks import default_checks
+    from csuas.validation.drone.checks import default_checks
 
     return Section(outcomes=_from_checks(default_checks))
 
 
 def rcs_defaults(settings: dict) -> Section:
     """Table 8's sigma_radar and 3GPP TR 38.901's small UAV against the SBR-PO drone average."""
-    from csuas.render.rcs.checks import default_checks
+    from csuas.validation.rcs.checks import default_checks
 
     outcomes = _from_checks(default_checks, settings)
     for o in outcomes:
@@ -65,7 +65,7 @@ def rcs_defaults(settings: dict) -> Section:
 
 def lidar_defaults(quality: str) -> Section:
     """Table 8's sigma_lidar and Eq. 9's k_LCS against the ray-traced drone LCS."""
-    from csuas.render.lidar.checks import default_checks
+    from csuas.validation.lidar.checks import default_checks
 
     return Section(outcomes=_from_checks(default_checks, quality))
 

@@ -2,7 +2,7 @@
 
 Oracles (docs/validation.md): Lambertian plate at normal incidence LCS = 4 rho A;
 Lambertian sphere (8/3) rho pi a^2 (the faceted icosphere's exact value is
-``4 rho sum A_f cos^2``, :func:`csuas.render.lidar.accuracy.convex_polyhedron_lcs`).
+``4 rho sum A_f cos^2``, :func:`csuas.validation.lidar.accuracy.convex_polyhedron_lcs`).
 Knob: the ray grid and jitter replicates (:data:`csuas.render.lidar.QUALITY_PRESETS`).
 The drone's mean LCS against k_LCS A_p is in ``defaults.lidar``.
 """
@@ -26,7 +26,7 @@ def oracles(quality: str) -> Section:
 
     from csuas.drone_models.geometry import direction_vector
     from csuas.render.lidar import LidarTarget, lidar_cross_section
-    from csuas.render.lidar.accuracy import convex_polyhedron_lcs
+    from csuas.validation.lidar.accuracy import convex_polyhedron_lcs
 
     s = Section()
     side = 0.2
@@ -92,7 +92,7 @@ def oracles(quality: str) -> Section:
 
 def accuracy(grids) -> Section:
     """Relative error and time of the LCS of the reference icosphere against the ray grid."""
-    from csuas.render.lidar.accuracy import accuracy_vs_time
+    from csuas.validation.lidar.accuracy import accuracy_vs_time
 
     s = Section()
     rows, elapsed = timed(accuracy_vs_time, grids, replicates=8)

@@ -11,7 +11,7 @@ import numpy as np
 
 from csuas.core import acoustic, eo, johnson, lidar, radar, rf, tir
 from csuas.core.mrtd import ParametricMrtd
-from csuas.validation.paper_procedures import eo_step_reduction, tir_step_reduction
+from csuas.validation.core.paper_procedures import eo_step_reduction, tir_step_reduction
 
 #: Scenarios the paper's scalar loops are timed on; their per-scenario time is scaled to all
 #: ``n`` (a loop costs the same per scenario, so a couple of hundred measure it well).

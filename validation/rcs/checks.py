@@ -58,7 +58,7 @@ _WHY_HIGH = (
 
 @functools.lru_cache(maxsize=4)
 def _drone_average(preset: str, frequency_ghz: float, n: float, bounces: int, n_az: int, n_el: int) -> dict:
-    from .sweep import sphere_average
+    from csuas.render.rcs.sweep import sphere_average
 
     return sphere_average(
         preset,

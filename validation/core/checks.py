@@ -26,9 +26,9 @@ RAIN_REL_TOL = 0.01
 FOG_REL_TOL = 0.005
 #: Modules that contribute checks computed from simulations (each exposes ``default_checks()``).
 SIMULATION_PROVIDERS = (
-    "csuas.drone_models.checks",  # d_crit and emissivity of the meshes (Tables 8, 27, 52), LCS by Eq. 9
-    "csuas.render.rcs.checks",  # SBR-PO mean RCS vs Table 8 and 3GPP TR 38.901
-    "csuas.render.lidar.checks",  # ray-traced LCS vs Table 8 and k_LCS
+    "csuas.validation.drone.checks",  # d_crit and emissivity of the meshes (Tables 8, 27, 52), LCS by Eq. 9
+    "csuas.validation.rcs.checks",  # SBR-PO mean RCS vs Table 8 and 3GPP TR 38.901
+    "csuas.validation.lidar.checks",  # ray-traced LCS vs Table 8 and k_LCS
 )
 
 

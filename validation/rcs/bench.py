@@ -22,9 +22,8 @@ import time
 import numpy as np
 
 from csuas.core.units import wavelength_m
-
-from .engine import Jobs, SbrEngine, backend
-from .geometry import load_target
+from csuas.render.rcs.engine import Jobs, SbrEngine, backend
+from csuas.render.rcs.geometry import load_target
 
 
 def _raw_throughput(engine: SbrEngine, n_rays: int, repeats: int) -> dict:
@@ -138,7 +137,7 @@ def bench_memory(n_tubes: float = 1e8, batch_size: int | None = None) -> dict:
         ``peak_rss_gib`` (process high-water mark after the run) and
         ``peak_rss_before_gib``.
     """
-    from . import canonical
+    from csuas.render.rcs import canonical
 
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
     engine = SbrEngine(load_target(canonical.plate(1.0)), batch_size=batch_size)

@@ -23,10 +23,10 @@ import time
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector
-from csuas.render.lidar.accuracy import convex_polyhedron_lcs
 from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.lidar.sphere_average import mean_lidar_cross_section
 from csuas.render.lidar.target import LidarTarget
+from csuas.validation.lidar.accuracy import convex_polyhedron_lcs
 
 #: Relative floor of the tolerances (float32 vertex and direction rounding).
 FLOAT32_FLOOR = 2e-5
