@@ -114,13 +114,13 @@ def test_default_checks():
     checks = {c.name: c for c in default_checks()}
     assert all(isinstance(c, Check) for c in checks.values())
     d_crit = checks["T8.d_crit_m.dji_mini_4_pro"]
-    assert d_crit.ok and d_crit.paper == 0.101 and d_crit.rel_tol == 0.03
+    assert d_crit.ok and d_crit.expected == 0.101 and d_crit.details["rel_tol"] == 0.03
     assert checks["T52.d_crit_m.black_hornet_3"].ok
     lcs = checks["T8.sigma_lidar_m2.dji_mini_4_pro"]
-    assert lcs.paper == 0.006
+    assert lcs.expected == 0.006
     # recomputed from the mesh: k_LCS x sphere-averaged projected area
-    assert lcs.computed == pytest.approx(0.1 * lcs.extra["projected_area_mean_m2"])
-    assert lcs.extra["projected_area_side_m2"] < lcs.computed / 0.1 < lcs.extra["projected_area_top_m2"]
+    assert lcs.measured == pytest.approx(0.1 * lcs.details["projected_area_mean_m2"])
+    assert lcs.details["projected_area_side_m2"] < lcs.measured / 0.1 < lcs.details["projected_area_top_m2"]
     assert lcs.ok or lcs.known_deviation
     emissivity = checks["T27.emissivity_suas.dji_mini_4_pro"]
     assert emissivity.ok or emissivity.known_deviation

@@ -124,11 +124,11 @@ def test_default_checks_table_8():
         "Eq9.k_lcs.dji_mini_4_pro.raytraced",
     ]
     sigma, k = checks
-    assert sigma.paper == 0.006 and k.paper == 0.1
+    assert sigma.expected == 0.006 and k.expected == 0.1
     # physics disagrees with the rule of thumb and says why
     assert not sigma.ok and not k.ok
     assert "albedo" in sigma.limitation and "0.0375" in sigma.limitation
-    assert sigma.extra["time_s"] < 30.0 and math.isfinite(sigma.extra["stderr_m2"])
+    assert sigma.time_s < 30.0 and math.isfinite(sigma.error_estimate)
     json.dumps(sigma.as_dict())
 
 

@@ -88,11 +88,11 @@ def test_default_checks_compare_the_drone_with_table8_and_3gpp():
         "rcs.dji_mini_4_pro.mean_dbsm.table8",
         "rcs.dji_mini_4_pro.mean_of_dbsm.3gpp_tr38901",
     ]
-    assert all(isinstance(c, Check) and math.isfinite(c.computed) for c in checks)
-    assert checks[0].paper == pytest.approx(-20.0) and checks[1].paper == pytest.approx(-12.81)
+    assert all(isinstance(c, Check) and math.isfinite(c.measured) for c in checks)
+    assert checks[0].expected == pytest.approx(-20.0) and checks[1].expected == pytest.approx(-12.81)
     for c in checks:
         note = c.known_deviation or c.limitation
-        assert c.ok or (note and f"{abs(c.computed - c.paper):.1f} dB" in note)
+        assert c.ok or (note and f"{abs(c.measured - c.expected):.1f} dB" in note)
         assert c.as_dict()["rays_per_wavelength"] == 3.0
 
 

@@ -16,13 +16,14 @@ import numpy as np
 import pytest
 
 from csuas import cli
+from csuas.base.checks import Check
 from csuas.base.errors import ParameterError
 from csuas.validation.report import runner
 from csuas.validation.report.baseline import compare
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS
 from csuas.validation.report.checks_defaults import SPECS as DEFAULT_SPECS
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, run_spec
+from csuas.validation.report.registry import CheckSpec, Section, run_spec
 
 SPEC8_KEYS = {"name", "expected", "measured", "tolerance", "ok", "known_deviation", "time_s"}
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -39,14 +40,12 @@ def _passing(_knob):
         points=[("samples", x[::5], 1 / x[::5], 0.01 * np.ones(4))],
     )
     return Section(
-        outcomes=[Outcome("synthetic.sqrt2", math.sqrt(2.0), 1.41421, 1e-5, "-", error_estimate=1e-6)], figures=[fig]
+        outcomes=[Check("synthetic.sqrt2", math.sqrt(2.0), 1.41421, 1e-5, "-", error_estimate=1e-6)], figures=[fig]
     )
 
 
 def _known(_knob):
-    return Section(
-        outcomes=[Outcome("synthetic.known", 20.0, 21.07, 0.05, "dB", known_deviation="rounded in the paper")]
-    )
+    return Section(outcomes=[Check("synthetic.known", 20.0, 21.07, 0.05, "dB", known_deviation="rounded in the paper")])
 
 
 def _raises(_knob):
@@ -149,10 +148,10 @@ def test_run_spec_rejects_a_wrong_return_type():
 
 
 def test_outcome_verdicts():
-    assert Outcome("a", 1.0, 1.05, 0.1).verdict == "ok"
-    assert Outcome("a", 1.0, 1.5, 0.1).verdict == "FAIL"
-    assert Outcome("a", 1.0, 1.5, 0.1, known_deviation="why").verdict == "known"
-    assert not Outcome("a", 1.0, math.nan, 0.1).ok and not Outcome("a", math.inf, math.inf, 0.1).ok
+    assert Check("a", 1.0, 1.05, 0.1).verdict == "ok"
+    assert Check("a", 1.0, 1.5, 0.1).verdict == "FAIL"
+    assert Check("a", 1.0, 1.5, 0.1, known_deviation="why").verdict == "known"
+    assert not Check("a", 1.0, math.nan, 0.1).ok and not Check("a", math.inf, math.inf, 0.1).ok
 
 
 def test_perturbed_figure_fails_the_baseline(good_report):

@@ -9,9 +9,10 @@ import subprocess
 import numpy as np
 import pytest
 
+from csuas.base.checks import Check
 from csuas.validation.report import runner
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS
-from csuas.validation.report.registry import CheckSpec, Outcome, Section
+from csuas.validation.report.registry import CheckSpec, Section
 
 BROWSER = next((shutil.which(b) for b in ("chromium", "chromium-browser", "google-chrome") if shutil.which(b)), None)
 
@@ -23,7 +24,7 @@ def _plots(_knob):
     rgb = np.zeros((16, 16, 3))
     rgb[4:12, 4:12, 0] = 1.0  # a red square
     return Section(
-        outcomes=[Outcome("browser.figure", 1.0, 1.0, 0.1)],
+        outcomes=[Check("browser.figure", 1.0, 1.0, 0.1)],
         figures=[
             curves("browser_curve", "a plot", x_label="x", y_label="y", lines=[("x^2", x, x * x)]),
             image("browser_image", "an image", rgb),

@@ -54,7 +54,7 @@ def itu_checks() -> list[Check]:
                 "closed-form fit gives k = 4.006e-4, alpha = 1.585 at 5.8 GHz"
             )
         checks.append(
-            Check(
+            Check.of_paper(
                 f"T35/T42.k.{f:g}GHz",
                 rain["k"][i],
                 float(k),
@@ -66,7 +66,7 @@ def itu_checks() -> list[Check]:
             )
         )
         checks.append(
-            Check(
+            Check.of_paper(
                 f"T35/T42.alpha.{f:g}GHz",
                 rain["alpha"][i],
                 float(alpha),
@@ -80,7 +80,7 @@ def itu_checks() -> list[Check]:
         for j, r in enumerate(rain["rain_rate_mm_h"]):
             gamma = float(itu.rain_specific_attenuation_db_km(f, r))
             checks.append(
-                Check(
+                Check.of_paper(
                     f"T35/T42.gamma_rain.{f:g}GHz.{r:g}mm_h",
                     rain["gamma_db_km"][i][j],
                     gamma,
@@ -94,7 +94,7 @@ def itu_checks() -> list[Check]:
     for i, f in enumerate(fog["frequency_ghz"]):
         k_l = float(itu.fog_coefficient_kl(f, 293.15))
         checks.append(
-            Check(
+            Check.of_paper(
                 f"T36/T43.K_l.{f:g}GHz",
                 fog["k_l"][i],
                 k_l,
@@ -107,7 +107,7 @@ def itu_checks() -> list[Check]:
         for j, lwc in enumerate(fog["lwc_g_m3"]):
             gamma = float(itu.fog_specific_attenuation_db_km(f, lwc, 293.15))
             checks.append(
-                Check(
+                Check.of_paper(
                     f"T36/T43.gamma_fog.{f:g}GHz.{lwc:g}g_m3",
                     fog["gamma_db_km"][i][j],
                     gamma,
@@ -128,7 +128,7 @@ def environment_checks() -> list[Check]:
     for name, sigma_paper in zip(("light", "moderate", "dense"), misc["fog_sigma_per_km"]):
         sigma = float(atmosphere.koschmieder_extinction_per_km(visibilities[name] / 1000.0))
         checks.append(
-            Check(
+            Check.of_paper(
                 f"T16.sigma_fog.{name}",
                 sigma_paper,
                 sigma,
@@ -140,7 +140,7 @@ def environment_checks() -> list[Check]:
         )
     sigma = float(atmosphere.kruse_extinction_per_km(1550.0, 3.0))
     checks.append(
-        Check(
+        Check.of_paper(
             "T47.kruse_sigma.1550nm.3km",
             misc["kruse_sigma_1550nm_3km"],
             sigma,
@@ -152,7 +152,7 @@ def environment_checks() -> list[Check]:
     )
     eta = float(atmosphere.transmittance(sigma, 3000.0, "paper"))
     checks.append(
-        Check(
+        Check.of_paper(
             "T47.eta_tl",
             misc["eta_tl"],
             eta,
@@ -173,7 +173,7 @@ def sensor_checks() -> list[Check]:
     """Acoustic (Tables 31-32), radar losses (Tables 41, 44, Eq. 85), TIR consistency and contrast."""
     misc = load_tables()["printed"]["misc"]
     checks = [
-        Check(
+        Check.of_paper(
             "T32.wind_noise.6.7m_s",
             misc["wind_noise_6_7_m_s_db"],
             float(acoustic.wind_noise_db(6.7)),
@@ -182,7 +182,7 @@ def sensor_checks() -> list[Check]:
             "linear interpolation of Table 31",
             abs_tol=0.005,
         ),
-        Check(
+        Check.of_paper(
             "T32.g_array",
             misc["g_array_db"],
             float(acoustic.array_gain_db(128)),
@@ -195,7 +195,7 @@ def sensor_checks() -> list[Check]:
     ]
     hardware = load_tables()["radar"]["hardware_losses_db"]
     checks.append(
-        Check(
+        Check.of_paper(
             "T41.l_hardware",
             misc["l_hardware_t41_db"],
             float(sum(v for k, v in hardware.items() if k != "source")),
@@ -208,7 +208,7 @@ def sensor_checks() -> list[Check]:
     g_rain = float(itu.rain_specific_attenuation_db_km(12.0, 6.0))
     g_fog = float(itu.fog_specific_attenuation_db_km(12.0, 0.2, 293.15))
     checks.append(
-        Check(
+        Check.of_paper(
             "T44.l_propagation",
             misc["l_propagation_t44_db"],
             g_rain + g_fog,
@@ -219,7 +219,7 @@ def sensor_checks() -> list[Check]:
         )
     )
     checks.append(
-        Check(
+        Check.of_paper(
             "Eq85.l_radar_total",
             misc["l_radar_total_eq85_db"],
             float(radar.total_loss_db(10.0, 3.0, g_rain, g_fog, 3.0, 3.0)),
@@ -233,7 +233,7 @@ def sensor_checks() -> list[Check]:
     tir_d = default_values("tir")
     ratio = (tir_d["n_h"] / np.deg2rad(tir_d["hfov_deg"])) / (tir_d["focal_mm"] * 1e-3 / (tir_d["pitch_um"] * 1e-6))
     checks.append(
-        Check(
+        Check.of_paper(
             "T25.ifov_consistency",
             misc["tir_hfov_pitch_consistency"],
             float(ratio),
@@ -246,7 +246,7 @@ def sensor_checks() -> list[Check]:
     target, env = default_values("target"), default_values("environment")
     c_tir = (target["t_suas_k"] - env["t_bg_k"]) / (target["t_suas_k"] + env["t_bg_k"])
     checks.append(
-        Check(
+        Check.of_paper(
             "T8.c_tir",
             target["c_tir"],
             float(c_tir),
@@ -267,7 +267,7 @@ def sensor_checks() -> list[Check]:
         )
     )
     checks.append(
-        Check(
+        Check.of_paper(
             "Eq26.delta_t.lwir",
             dt_linear,
             dt_lwir,

@@ -29,7 +29,7 @@ SIDE_VIEW = {"azimuth_deg": 90.0, "elevation_deg": 0.0}
 
 def _d_crit_check(preset: str, paper: float, source: str, rel_tol: float) -> Check:
     m = projected_metrics(build_drone(preset), **SIDE_VIEW)
-    return Check(
+    return Check.of_paper(
         name=f"{source.split(',')[0].replace('Table ', 'T')}.d_crit_m.{preset}",
         paper=paper,
         computed=m["d_crit_min_m"],
@@ -61,7 +61,7 @@ def _lcs_check() -> Check:
     computed = float(lcs_estimate(area["mean"], K_LCS_DEFAULT, 1.0))
     implied_area = 0.006 / K_LCS_DEFAULT
     return _explain_if_failing(
-        Check(
+        Check.of_paper(
             name="T8.sigma_lidar_m2.dji_mini_4_pro",
             paper=0.006,
             computed=computed,
@@ -95,7 +95,7 @@ def _emissivity_check() -> Check:
     total = sum(p.mesh.area for p in surfaces)
     aluminium = sum(p.mesh.area for p in surfaces if p.material.name == "aluminium") / total
     return _explain_if_failing(
-        Check(
+        Check.of_paper(
             name="T27.emissivity_suas.dji_mini_4_pro",
             paper=0.68,
             computed=e["area_weighted"],

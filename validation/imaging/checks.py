@@ -56,7 +56,7 @@ def _thermal_checks(q, seed) -> list:
             - radiance_temperature(0.68 * band_radiance(288.15, band), band)
         )
         out.append(
-            Check(
+            Check.of_paper(
                 f"render.tir.delta_t.graybody_plate.{band}",
                 oracle,
                 -res.values["delta_t_k"],
@@ -69,7 +69,7 @@ def _thermal_checks(q, seed) -> list:
         )
         linear = -float(delta_t_linear(0.68, 288.15, 0.77, 298.15))
         out.append(
-            Check(
+            Check.of_paper(
                 f"Eq26.delta_t_linear_vs_rendered.{band}",
                 linear,
                 -res.values["delta_t_k"],
@@ -99,7 +99,7 @@ def _eo_checks(q, seed) -> list:
     exact = projected_metrics(drone.mesh(), az, el)
     pot = exact["projected_area_m2"] / (r * ifov) ** 2
     out.append(
-        Check(
+        Check.of_paper(
             f"render.eo.pixels_on_target.{DEFAULT_PRESET}.500m",
             pot,
             res.values["pixels_on_target"],
@@ -114,7 +114,7 @@ def _eo_checks(q, seed) -> list:
     r_j = float(johnson_range_m(d_crit, ifov, 1.0, 1.0))
     res = render_eo(drone, range_m=r_j, quality=q, seed=seed)
     out.append(
-        Check(
+        Check.of_paper(
             f"Eq18.johnson_range.rendered_dcrit.{DEFAULT_PRESET}",
             r_j,
             res.values["johnson_range_rendered_m"],
@@ -126,7 +126,7 @@ def _eo_checks(q, seed) -> list:
         )
     )
     out.append(
-        Check(
+        Check.of_paper(
             f"T8.c_eo.rendered.{DEFAULT_PRESET}.horizon_sky",
             0.5,
             abs(res.values["contrast"]),
@@ -155,7 +155,7 @@ def _eo_checks(q, seed) -> list:
         background=rho_bg,
     )
     out.append(
-        Check(
+        Check.of_paper(
             "Eq4.contrast.lambertian_plate",
             (rho - rho_bg) / (rho + rho_bg),
             res.values["contrast"],
@@ -177,7 +177,7 @@ def _eo_checks(q, seed) -> list:
         contrast_limited_range_m(abs(near.values["contrast_weber_inherent"]), 0.05, math.log(50.0) / 5.0, "physical")
     )
     out.append(
-        Check(
+        Check.of_paper(
             "Eq21.contrast_limited_range.rendered",
             expected,
             rendered,
@@ -202,7 +202,7 @@ def _medium_check(seed) -> Check:
     m = medium_vs_analytic_airlight(
         plate(width_m=0.3, height_m=0.3, reflectance=0.05), range_m=300.0, visibility_km=0.5, quality=q, seed=seed
     )
-    return Check(
+    return Check.of_paper(
         "render.eo.fog_medium_vs_koschmieder_airlight",
         m["analytic_radiance"],
         m["medium_radiance"],

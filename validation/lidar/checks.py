@@ -61,7 +61,7 @@ def default_checks(quality: str = "draft", seed: int = 0) -> list:
     }
     deviation = _explanation(r)
     return [
-        Check(
+        Check.of_paper(
             name=f"T8.sigma_lidar_m2.{DEFAULT_PRESET}.raytraced",
             paper=SIGMA_LIDAR_PAPER_M2,
             computed=r["lcs_m2"]["mean"],
@@ -75,7 +75,7 @@ def default_checks(quality: str = "draft", seed: int = 0) -> list:
             limitation=deviation,
             extra=extra,
         ),
-        Check(
+        Check.of_paper(
             name=f"Eq9.k_lcs.{DEFAULT_PRESET}.raytraced",
             paper=K_LCS_PAPER,
             computed=r["k_lcs_measured"]["mean"],

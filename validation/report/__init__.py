@@ -5,7 +5,7 @@ References: docs/validation.md.
 Modules
 -------
 registry
-    :class:`CheckSpec` (a declared check), :class:`Outcome` (one compared
+    :class:`CheckSpec` (a declared check), :class:`Check` (one compared
     figure), :class:`Section`, :func:`run_spec` (exceptions become failed checks).
 checks_defaults, checks_conventions, checks_links, checks_rcs, checks_lidar, checks_imaging
     The registered checks, one module per area (``SPECS`` lists).
@@ -21,6 +21,7 @@ runner
 Importing this package imports neither Mitsuba nor Sionna; the checks do, when run.
 """
 
-from csuas.validation.report.registry import QUALITIES, CheckSpec, Figure, Outcome, Section, run_spec
+from csuas.base.checks import Check
+from csuas.validation.report.registry import QUALITIES, CheckSpec, Figure, Section, run_spec
 
-__all__ = ["QUALITIES", "CheckSpec", "Figure", "Outcome", "Section", "run_spec"]
+__all__ = ["QUALITIES", "CheckSpec", "Figure", "Check", "Section", "run_spec"]

@@ -24,11 +24,12 @@ import math
 
 import numpy as np
 
+from csuas.base.checks import Check
 from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: Render quality per report quality (samples per pixel: draft 32, reference 2048).
 RENDER_QUALITY = {"quick": "draft", "full": "reference"}
@@ -67,10 +68,10 @@ def _row(quantity, unit, paper=None, physical=None, simulated=None, simulated_er
     }
 
 
-def _deviation(name, paper, physical, unit, explanation, source, tolerance=None) -> Outcome:
+def _deviation(name, paper, physical, unit, explanation, source, tolerance=None) -> Check:
     """The paper convention's value against the physical one: a known deviation when they differ."""
     tol = tolerance if tolerance is not None else 1e-3 * max(abs(paper), 1e-12)
-    outcome = Outcome(
+    outcome = Check(
         f"{name}.paper_vs_physical",
         float(paper),
         float(physical),
@@ -166,7 +167,7 @@ def eo_fog_transmission(render_quality: str) -> Section:
         )
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "conv.1.eo_contrast_range.simulated",
             r_phys_sim,
             r_sim,
@@ -300,7 +301,7 @@ def thermal_contrast(render_quality: str) -> Section:
         )
         s.outcomes.append(_deviation(f"conv.2.delta_t.{band}", dt_lin, dt_rad, "K", EXPLAIN_2, "Eq. 26", tolerance=0.5))
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"conv.2.delta_t.{band}.simulated",
                 dt_rad,
                 sim,
@@ -364,7 +365,7 @@ def thermal_contrast(render_quality: str) -> Section:
             )
         )
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"conv.2.attenuated_delta_t.{r:g}m.simulated",
                 phys,
                 sims[-1],
@@ -515,7 +516,7 @@ def rf_radar_adverse_links(budget: str) -> Section:
         _deviation("conv.4.rf_range", float(paper["rf"].range_m), r_phys, "m", EXPLAIN_4, "Tables 37, Eqs. 57-61")
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "conv.4.rf_received_power_at_range.simulated",
             float(rf_p["s_rx_dbm"]),
             p_rx,
@@ -561,7 +562,7 @@ def rf_radar_adverse_links(budget: str) -> Section:
         )
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "conv.4.radar_snr_at_range.simulated",
             float(rp["snr_min_db"]),
             snr,

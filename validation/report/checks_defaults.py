@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import math
 
+from csuas.base.checks import Check
 from csuas.validation.report.figures import from_writer
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, from_check, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: Settings of the drone RCS check per report quality (see csuas.validation.rcs.checks for the quick ones' accuracy).
 RCS_SETTINGS = {
@@ -30,8 +31,11 @@ RCS_SETTINGS = {
 
 
 def _from_checks(provider, *args, **kwargs) -> list:
+    """The checks of one provider, each with its share of the provider's time."""
     checks, elapsed = timed(provider, *args, **kwargs)
-    return [from_check(c, elapsed / max(1, len(checks))) for c in checks]
+    for check in checks:
+        check.time_s = elapsed / max(1, len(checks))
+    return checks
 
 
 def core_defaults(_knob=None) -> Section:
@@ -91,7 +95,7 @@ def section_4_9(_knob=None) -> Section:
         (baseline, bars), elapsed = timed(one_at_a_time, spec["model"], spec["parameters"], spec.get("fixed"))
         source = f"{spec['source']}, Section 4.9"
         section.outcomes.append(
-            Outcome(
+            Check(
                 f"worked.{analysis}.baseline_m",
                 spec["baseline_m"],
                 float(baseline),
@@ -109,7 +113,7 @@ def section_4_9(_knob=None) -> Section:
                 ("high", at_high, by_name[name].range_at_high_m),
             ):
                 section.outcomes.append(
-                    Outcome(
+                    Check(
                         f"worked.{analysis}.{name}.{end}_m",
                         printed,
                         float(computed),
@@ -137,7 +141,7 @@ def section_4_9(_knob=None) -> Section:
             if platform == "black_hornet_3" and modality == "eo":
                 note = "555.54 m x 0.025/0.101 = 137.50 m; the paper prints 137.4 (it truncates instead of rounding)"
             section.outcomes.append(
-                Outcome(
+                Check(
                     f"worked.table52.{platform}.{modality}_m",
                     printed,
                     float(computed),

@@ -17,9 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.checks import Check
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves, image
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
 SPP_SWEEP = {"quick": (1, 2, 4), "full": (1, 2, 4, 8, 16)}
@@ -78,7 +79,7 @@ def johnson(quality: str) -> Section:
         expected = d_exact / (ifov * r)
         # extents come from jittered sample hits: allow a quarter of a stratum per edge beyond the sampling error
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"imaging.pixels_across_dcrit.{r:.0f}m",
                 expected,
                 px[-1],
@@ -96,7 +97,7 @@ def johnson(quality: str) -> Section:
     r_sim_se = float(np.sqrt(1.0 / np.sum(weights)))
     extra_rel = abs(d_exact - sc.target["d_crit_m"]) / sc.target["d_crit_m"]
     s.outcomes.append(
-        Outcome(
+        Check(
             "imaging.johnson_range_m",
             r_johnson,
             r_sim,
@@ -149,7 +150,7 @@ def pixels_on_target(settings: dict) -> Section:
         res = _render(r, p, settings["quality"], seed=5)
         expected = area / (ifov * r) ** 2
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"imaging.pixels_on_target.{r:g}m",
                 expected,
                 res.values["pixels_on_target"],

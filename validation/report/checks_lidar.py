@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import math
 
+from csuas.base.checks import Check
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
 GRIDS = {"quick": (8, 16, 32, 64), "full": (8, 16, 32, 64, 128, 256)}
@@ -43,7 +44,7 @@ def oracles(quality: str) -> Section:
     res, elapsed = timed(lidar_cross_section, LidarTarget.from_mesh(plate, ALBEDO, "plate"), 0.0, 90.0, quality=quality)
     exact = 4.0 * ALBEDO * side * side
     s.outcomes.append(
-        Outcome(
+        Check(
             "lidar.oracle.plate_normal.lcs_m2",
             exact,
             res.lcs_m2,
@@ -62,7 +63,7 @@ def oracles(quality: str) -> Section:
     faceted = convex_polyhedron_lcs(sphere, ALBEDO, direction_vector(az, el))
     smooth = 8.0 / 3.0 * ALBEDO * math.pi * radius**2
     s.outcomes.append(
-        Outcome(
+        Check(
             "lidar.oracle.sphere_faceted.lcs_m2",
             faceted,
             res.lcs_m2,
@@ -75,7 +76,7 @@ def oracles(quality: str) -> Section:
         )
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "lidar.oracle.sphere_smooth.lcs_m2",
             smooth,
             res.lcs_m2,
@@ -113,7 +114,7 @@ def accuracy(grids) -> Section:
     )
     for r in rows:
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"lidar.accuracy.grid{r['grid']}.error_rel",
                 0.0,
                 r["error_rel"],

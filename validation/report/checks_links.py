@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.checks import Check
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: Sample budget of the link checks per report quality.
 BUDGETS = {"quick": "draft", "full": "standard"}
@@ -60,7 +61,7 @@ def rf_links(budget: str) -> Section:
     err_free = float(np.max(np.abs(free.path_gain_db - friis)))
     err_ground = float(np.max(np.abs(ground.path_gain_db - two_ray)))
     s.outcomes.append(
-        Outcome(
+        Check(
             "links.rf.free_space.max_error_db",
             0.0,
             err_free,
@@ -73,7 +74,7 @@ def rf_links(budget: str) -> Section:
         )
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "links.rf.ground.max_error_db",
             0.0,
             err_ground,
@@ -120,7 +121,7 @@ def radar_links(budget: str) -> Section:
     eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], 10.0)
     four = closed_form_db("radar", 10.0, d, 5.0, 10.0, eta)
     s.outcomes.append(
-        Outcome(
+        Check(
             "links.radar.free_space.max_error_db",
             0.0,
             float(np.max(np.abs(free.path_gain_db - eq68))),
@@ -133,7 +134,7 @@ def radar_links(budget: str) -> Section:
         )
     )
     s.outcomes.append(
-        Outcome(
+        Check(
             "links.radar.ground.max_error_db",
             0.0,
             float(np.max(np.abs(ground.path_gain_db - four))),
@@ -208,7 +209,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
         sigma = float(table["rcs_m2"][SBR_AZIMUTHS_DEG.index(aspect), SBR_ELEVATIONS_DEG.index(0.0)])
         eq68 = closed_form_db("radar", f, d, 5.0, 5.0, sigma_m2=sigma)
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"links.radar_sbr.azimuth_{aspect:g}.max_error_db",
                 0.0,
                 float(np.max(np.abs(link.path_gain_db - eq68))),
@@ -271,7 +272,7 @@ def link_accuracy(budgets) -> Section:
         best = [r for r in rows if r["budget"] in ("draft", "standard")]
         for r in best:
             s.outcomes.append(
-                Outcome(
+                Check(
                     f"links.{link}.accuracy.{r['budget']}.max_error_db",
                     0.0,
                     r["max_error_db"],

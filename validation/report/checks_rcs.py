@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.checks import Check
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import from_writer
-from csuas.validation.report.registry import CheckSpec, Outcome, Section, timed
+from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: SBR quality preset per report quality.
 QUALITY = {"quick": "draft", "full": "standard"}
@@ -41,7 +42,7 @@ def canonical(quality: str) -> Section:
         sigma = 0.5 * (res.rcs_m2("VV") + res.rcs_m2("HH")).ravel()[0]
         err = max(float(res.error_estimate_db("VV").ravel()[0]), float(res.error_estimate_db("HH").ravel()[0]))
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"rcs.canonical.{name}.dbsm",
                 float(to_dbsm(exact)),
                 float(to_dbsm(sigma)),
@@ -86,7 +87,7 @@ def convergence(settings: dict) -> Section:
     for r in rows:
         # the error model (1) of convergence.py: the measured mean within a factor 2 of the rule
         s.outcomes.append(
-            Outcome(
+            Check(
                 f"rcs.convergence.plate.N{r['rays_per_wavelength']:g}.mean_abs_error_db",
                 r["model_error_db"],
                 r["mean_abs_error_db"],

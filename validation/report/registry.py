@@ -5,7 +5,7 @@ oracle or a core prediction against a simulation, or the paper against
 physics), the tolerance and why, the accuracy knob and its value per report
 quality (``quick``, ``full``), and a function ``run(knob_value) -> Section``
 that computes the figures. One spec may produce several figures
-(:class:`Outcome`: expected, measured, tolerance, error estimate, time,
+(:class:`csuas.base.checks.Check`: expected, measured, tolerance, error estimate, time,
 known deviation) plus plots, images and a side-by-side table (the
 convention differences of docs/conventions.md show paper, physical and simulated values).
 
@@ -22,84 +22,10 @@ import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from csuas.base.checks import Check
+
 #: Report qualities, cheapest first.
 QUALITIES = ("quick", "full")
-
-
-@dataclass
-class Outcome:
-    """One compared figure.
-
-    Attributes
-    ----------
-    name : str
-        Stable identifier (the baseline comparison matches on it).
-    expected : float
-        Oracle, paper or core value.
-    measured : float
-        Simulated or recomputed value.
-    tolerance : float
-        Largest accepted ``|measured - expected|`` in ``unit``; the baseline
-        comparison uses it as the largest accepted drift of either value.
-    unit : str
-    error_estimate : float or None
-        Estimated error of ``measured`` (standard error, Richardson estimate,
-        quadrature error) in ``unit``; None for exact computations.
-    known_deviation : str or None
-        Explanation when the figure disagrees because the paper deviates (from
-        itself or from physics), so that it is reported, not hidden.
-    limitation : str or None
-        Explanation when the figure disagrees because of a documented limit of
-        csuas's own models (e.g. no edge diffraction in SBR-PO); reported apart
-        from the paper's deviations.
-    tolerance_source : str
-        Where the tolerance comes from (an error estimate times a factor, a
-        printed precision, a derived bound); empty: the spec's ``tolerance_why``.
-    time_s : float
-        Wall time of the computation that produced the figure [s]; figures
-        computed together share that time equally.
-    source, method : str
-        Where ``expected`` comes from; how ``measured`` is obtained.
-    details : dict
-        Further numbers (JSON-ready).
-    ok_override : bool or None
-        Verdict when it is not ``|measured - expected| <= tolerance`` (an error).
-    """
-
-    name: str
-    expected: float
-    measured: float
-    tolerance: float
-    unit: str = ""
-    error_estimate: float | None = None
-    known_deviation: str | None = None
-    limitation: str | None = None
-    tolerance_source: str = ""
-    time_s: float = 0.0
-    source: str = ""
-    method: str = ""
-    details: dict = field(default_factory=dict)
-    ok_override: bool | None = None
-
-    @property
-    def ok(self) -> bool:
-        """True when both values are finite and agree within the tolerance."""
-        if self.ok_override is not None:
-            return self.ok_override
-        try:
-            e, m, t = float(self.expected), float(self.measured), float(self.tolerance)
-        except (TypeError, ValueError):
-            return False
-        return all(math.isfinite(v) for v in (e, m, t)) and abs(m - e) <= t
-
-    @property
-    def verdict(self) -> str:
-        """``ok``, ``known`` (a deviation of the paper), ``limit`` (a limit of csuas's models) or ``FAIL``."""
-        if self.ok:
-            return "ok"
-        if self.known_deviation:
-            return "known"
-        return "limit" if self.limitation else "FAIL"
 
 
 @dataclass
@@ -182,7 +108,7 @@ def run_spec(spec: CheckSpec, quality: str) -> Section:
         text = f"{type(exc).__name__}: {exc}"
         section = Section(error=text, notes=[traceback.format_exc()])
         section.outcomes.append(
-            Outcome(
+            Check(
                 name=f"{spec.name}.error",
                 expected=math.nan,
                 measured=math.nan,
@@ -204,30 +130,3 @@ def timed(fn, *args, **kwargs):
     start = time.perf_counter()
     result = fn(*args, **kwargs)
     return result, time.perf_counter() - start
-
-
-def from_check(check, time_s: float = 0.0) -> Outcome:
-    """An :class:`Outcome` from a :class:`csuas.base.checks.Check` (``defaults check`` records).
-
-    The tolerance becomes ``max(abs_tol, rel_tol * |paper|)``, the rule of ``Check.ok``.
-    """
-    tolerance = max(check.abs_tol, check.rel_tol * abs(check.paper)) if math.isfinite(check.paper) else math.nan
-    extra = dict(check.extra)
-    error = extra.get("stderr", extra.get("stderr_m2"))
-    if "time_s" in extra and not time_s:
-        time_s = float(extra["time_s"])
-    return Outcome(
-        name=check.name,
-        expected=check.paper,
-        measured=check.computed,
-        tolerance=tolerance,
-        unit=check.unit,
-        error_estimate=error,
-        known_deviation=check.known_deviation,
-        limitation=check.limitation,
-        time_s=time_s,
-        source=check.source,
-        method=check.method,
-        details={"rel_tol": check.rel_tol, "abs_tol": check.abs_tol, **extra},
-        ok_override=None if check.ok == (abs(check.computed - check.paper) <= tolerance) else check.ok,
-    )
