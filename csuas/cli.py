@@ -19,13 +19,13 @@ csuas (one line with a hint to rerun with ``--debug`` for the traceback); 2 bad 
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
 import sys
 
 from csuas.base.errors import CsuasError
 from csuas.base.fileio import dumps
 from csuas.base.interrupts import Terminated, handling_interrupts, pending, raise_if_interrupted
+from csuas.base.registry import resolve
 
 #: Command name -> one-line help. The module ``csuas.commands.<name>`` implements it.
 COMMANDS = {
@@ -65,7 +65,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     for name, help_text in COMMANDS.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
         if name == command:
-            module = importlib.import_module(f"csuas.commands.{name}")
+            module = resolve(f"csuas.commands.{name}")
             module.add_arguments(cmd)
             cmd.add_argument("--json", action="store_true", help="print one JSON object on stdout")
             cmd.set_defaults(_module=module)

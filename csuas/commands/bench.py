@@ -2,19 +2,20 @@
 
 from __future__ import annotations
 
-import importlib
 import sys
 
-#: Benchmark suites: name -> (module, function). Each function returns a list of row dicts or a dict.
+from csuas.base.registry import resolve
+
+#: Benchmark suites: name -> "module:function" (csuas.base.registry); each returns a list of row dicts or a dict.
 SUITES = {
-    "core_models": ("csuas.validation.core.bench", "bench_models"),
-    "core_iterative": ("csuas.validation.core.bench", "bench_iterative"),
-    "drone_silhouette": ("csuas.validation.drone.bench", "bench_silhouette"),
-    "rcs_sbr": ("csuas.validation.rcs.bench", "bench_sbr"),
-    "rcs_memory": ("csuas.validation.rcs.bench", "bench_memory"),
-    "sionna_links": ("csuas.validation.links.bench", "bench_links"),
-    "lidar_lcs": ("csuas.validation.lidar.bench", "bench"),
-    "render_window": ("csuas.validation.imaging.bench", "bench_window_vs_full_frame"),
+    "core_models": "csuas.validation.core.bench:bench_models",
+    "core_iterative": "csuas.validation.core.bench:bench_iterative",
+    "drone_silhouette": "csuas.validation.drone.bench:bench_silhouette",
+    "rcs_sbr": "csuas.validation.rcs.bench:bench_sbr",
+    "rcs_memory": "csuas.validation.rcs.bench:bench_memory",
+    "sionna_links": "csuas.validation.links.bench:bench_links",
+    "lidar_lcs": "csuas.validation.lidar.bench:bench",
+    "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",
 }
 
 
@@ -27,9 +28,8 @@ def run(args) -> dict:
     """``{suite: figures}`` for every suite run."""
     out = {}
     for name in args.only or SUITES:
-        module, function = SUITES[name]
         print(f"bench: {name} ...", file=sys.stderr, flush=True)
-        out[name] = getattr(importlib.import_module(module), function)()
+        out[name] = resolve(SUITES[name])()
     return {"benchmarks": out}
 
 

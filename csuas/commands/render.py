@@ -9,12 +9,12 @@ only when run, so that ``csuas --help`` never imports Mitsuba.
 
 from __future__ import annotations
 
-import importlib
 import sys
 import time
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import prepare_output_dir
+from csuas.base.registry import resolve
 
 #: Mode name -> "module:function" of a render mode ``f(scenario, **options) -> list of dict``.
 MODES = {
@@ -75,8 +75,7 @@ def resolve_mode(name: str):
     """The render-mode callable registered under ``name`` in :data:`MODES`."""
     if name not in MODES:
         raise ParameterError("mode", name, ", ".join(MODES))
-    module, _, func = MODES[name].partition(":")
-    return getattr(importlib.import_module(module), func)
+    return resolve(MODES[name])
 
 
 def run(args) -> dict:

@@ -12,11 +12,10 @@ being hidden.
 
 from __future__ import annotations
 
-import importlib
-
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.base.registry import resolve
 from csuas.core import acoustic, atmosphere, itu, radar, tir
 from csuas.defaults import default_values, load_tables
 
@@ -24,11 +23,13 @@ from csuas.defaults import default_values, load_tables
 RAIN_REL_TOL = 0.01
 #: Relative tolerance of ITU fog values (interpolated K_l).
 FOG_REL_TOL = 0.005
-#: Modules that contribute checks computed from simulations (each exposes ``default_checks()``).
+#: Check providers computed from simulations, "module:function" (csuas.base.registry):
+#: d_crit, emissivity and LCS by Eq. 9 of the meshes (Tables 8, 27, 52); SBR-PO mean RCS vs Table 8 and
+#: 3GPP TR 38.901; ray-traced LCS vs Table 8 and k_LCS.
 SIMULATION_PROVIDERS = (
-    "csuas.validation.drone.checks",  # d_crit and emissivity of the meshes (Tables 8, 27, 52), LCS by Eq. 9
-    "csuas.validation.rcs.checks",  # SBR-PO mean RCS vs Table 8 and 3GPP TR 38.901
-    "csuas.validation.lidar.checks",  # ray-traced LCS vs Table 8 and k_LCS
+    "csuas.validation.drone.checks:default_checks",
+    "csuas.validation.rcs.checks:default_checks",
+    "csuas.validation.lidar.checks:default_checks",
 )
 
 
@@ -291,6 +292,6 @@ def all_checks(include_simulation: bool = True) -> list[Check]:
     """Core checks plus those of the simulation providers (drone mesh, RCS, LCS)."""
     checks = core_checks()
     if include_simulation:
-        for name in SIMULATION_PROVIDERS:
-            checks += importlib.import_module(name).default_checks()
+        for reference in SIMULATION_PROVIDERS:
+            checks += resolve(reference)()
     return checks

@@ -14,30 +14,25 @@ from pathlib import Path
 
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path, dumps, exclusive_lock, prepare_output_dir, to_jsonable, write_text_atomic
+from csuas.base.registry import resolve
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
 from csuas.validation.report.registry import QUALITIES, run_spec
 
+#: The report's check modules, in report order (csuas.base.registry): each holds a list of CheckSpec.
+SPEC_LISTS = (
+    "csuas.validation.report.checks_defaults:SPECS",
+    "csuas.validation.report.checks_conventions:SPECS",
+    "csuas.validation.report.checks_links:SPECS",
+    "csuas.validation.report.checks_rcs:SPECS",
+    "csuas.validation.report.checks_lidar:SPECS",
+    "csuas.validation.report.checks_imaging:SPECS",
+)
+
 
 def all_specs() -> list:
     """Every registered check, in report order."""
-    from csuas.validation.report import (
-        checks_conventions,
-        checks_defaults,
-        checks_imaging,
-        checks_lidar,
-        checks_links,
-        checks_rcs,
-    )
-
-    return (
-        checks_defaults.SPECS
-        + checks_conventions.SPECS
-        + checks_links.SPECS
-        + checks_rcs.SPECS
-        + checks_lidar.SPECS
-        + checks_imaging.SPECS
-    )
+    return [spec for reference in SPEC_LISTS for spec in resolve(reference)]
 
 
 def check_record(spec, outcome) -> dict:
