@@ -21,12 +21,12 @@ from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
 from csuas.render.imaging import Quality, render_eo
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.targets import plate
 
 pytestmark = pytest.mark.slow
 
 Q = Quality("test", 4, 8)  # 128 samples per pixel
-EO = dict(hfov_deg=10.0, n_h=1920, n_v=1080)
 IFOV = math.radians(10.0) / 1920
 
 
@@ -51,7 +51,11 @@ def exact_pixel_coverage(silhouette, range_m, ifov, window, target_px):
     [(300.0, 0.0, 0.0), (300.0, 45.0, 30.0), (900.0, 90.0, 10.0), (300.0, 0.0, 90.0), (1500.0, 120.0, -20.0)],
 )
 def test_pixels_on_target_match_exact_silhouette(drone, range_m, azimuth_deg, elevation_deg):
-    res = render_eo(drone, range_m=range_m, azimuth_deg=azimuth_deg, elevation_deg=elevation_deg, quality=Q, **EO)
+    res = render_eo(
+        drone,
+        View(range_m=range_m, azimuth_deg=azimuth_deg, elevation_deg=elevation_deg),
+        settings=RenderSettings(quality=Q),
+    )
     exact = projected_metrics(drone.mesh(), azimuth_deg, elevation_deg)
     px_area = (range_m * IFOV) ** 2
     pot, se = res.values["pixels_on_target"], res.stderr["pixels_on_target"]
@@ -76,9 +80,14 @@ def test_pixels_on_target_match_exact_silhouette(drone, range_m, azimuth_deg, el
 
 def test_perspective_at_10_m_matches_pinhole_projection(drone):
     """At 10 m the pinhole image differs from the orthographic silhouette; compare with the exact perspective union."""
-    r, sensor = 10.0, dict(hfov_deg=40.0, n_h=640, n_v=480)
+    r, sensor = 10.0, EoSensor(hfov_deg=40.0, n_h=640, n_v=480)
     ifov = math.radians(40.0) / 640
-    res = render_eo(drone, range_m=r, azimuth_deg=30.0, elevation_deg=20.0, quality=Quality("t", 2, 8), **sensor)
+    res = render_eo(
+        drone,
+        View(range_m=r, azimuth_deg=30.0, elevation_deg=20.0),
+        sensor,
+        settings=RenderSettings(quality=Quality("t", 2, 8)),
+    )
     m = projected_metrics(drone.mesh(), 30.0, 20.0)
     d, h, v = m["direction"], m["h_axis"], m["v_axis"]
     tris = drone.mesh().triangles  # (n, 3, 3) body frame
@@ -99,7 +108,12 @@ def test_rendered_dcrit_spans_2_lp_nttpf_pixels_at_johnson_range(drone, lp_task,
     d_crit = projected_metrics(drone.mesh(), 0.0, 0.0)["d_crit_min_m"]
     ifov = float(ifov_rad(10.0, 1920))
     r_johnson = float(johnson_range_m(d_crit, ifov, lp_task, n_ttpf))  # Eq. 18
-    res = render_eo(drone, range_m=r_johnson, quality=Q, lp_task=lp_task, n_ttpf=n_ttpf, **EO)
+    res = render_eo(
+        drone,
+        View(range_m=r_johnson),
+        sensor=EoSensor(lp_task=lp_task, n_ttpf=n_ttpf),
+        settings=RenderSettings(quality=Q),
+    )
     assert res.values["pixels_across_dcrit"] == pytest.approx(2 * lp_task * n_ttpf, rel=0.02)
     assert res.values["johnson_range_rendered_m"] == pytest.approx(r_johnson, rel=0.02)
 
@@ -112,16 +126,10 @@ def test_sky_above_ground_below():
     from csuas.render.imaging.targets import grey_material
 
     flat = [Part("flat", "body", trimesh.creation.box((1.0, 1.0, 0.01)), grey_material(0.5))]
-    kw = dict(
-        range_m=100.0,
-        diffuse_fraction=1.0,
-        ground_reflectance=0.3,
-        illuminance_lx=70000.0,
-        quality=Quality("t", 2, 8),
-        **EO,
-    )
-    top = render_eo(flat, elevation_deg=90.0, **kw)
-    bottom = render_eo(flat, elevation_deg=-90.0, **kw)
+    light = Daylight(diffuse_fraction=1.0, ground_reflectance=0.3, illuminance_lx=70000.0)
+    settings = RenderSettings(quality=Quality("t", 2, 8))
+    top = render_eo(flat, View(100.0, elevation_deg=90.0), light=light, settings=settings)
+    bottom = render_eo(flat, View(100.0, elevation_deg=-90.0), light=light, settings=settings)
     l_sky, l_ground = 70000.0 / math.pi, 0.3 * 70000.0 / math.pi
     assert top.values["sky_radiance"] == pytest.approx(l_sky)
     assert top.values["target_radiance"] == pytest.approx(
@@ -133,7 +141,12 @@ def test_sky_above_ground_below():
 
 
 def test_night_without_light_has_zero_contrast_and_a_note():
-    res = render_eo(plate(), range_m=100.0, illuminance_lx=0.0, quality=Quality("t", 1, 2), **EO)
+    res = render_eo(
+        plate(),
+        View(range_m=100.0),
+        light=Daylight(illuminance_lx=0.0),
+        settings=RenderSettings(quality=Quality("t", 1, 2)),
+    )
     assert res.values["contrast"] == 0.0 and res.values["target_radiance"] == 0.0
     assert any("Weber contrast undefined" in n for n in res.notes)
 
@@ -143,20 +156,35 @@ def test_plate_contrast_is_eq4_under_equal_illuminance():
     rho, rho_bg, e_v = 0.5, 0.2, 70000.0
     res = render_eo(
         plate(reflectance=rho),
-        range_m=200.0,
-        quality=Quality("t", 2, 2),
-        diffuse_fraction=0.0,
-        ground_reflectance=0.0,
-        sun_azimuth_deg=0.0,
-        sun_elevation_deg=45.0,
-        background=rho_bg,
-        illuminance_lx=e_v,
-        **EO,
+        View(range_m=200.0),
+        light=Daylight(
+            illuminance_lx=e_v,
+            diffuse_fraction=0.0,
+            sun_azimuth_deg=0.0,
+            sun_elevation_deg=45.0,
+            ground_reflectance=0.0,
+            background=rho_bg,
+        ),
+        settings=RenderSettings(quality=Quality("t", 2, 2)),
     )
     assert res.values["target_radiance"] == pytest.approx(rho * e_v / math.pi, rel=1e-5)
     assert res.values["background_radiance"] == pytest.approx(rho_bg * e_v / math.pi, rel=1e-12)
     assert res.values["contrast"] == pytest.approx((rho - rho_bg) / (rho + rho_bg), rel=1e-5)
     assert res.terms == []  # no atmosphere requested, none applied: it changes nothing (docs/scenarios.md (effects))
+    hazy_but_off = render_eo(
+        plate(reflectance=rho),
+        View(range_m=200.0),
+        light=Daylight(
+            illuminance_lx=e_v,
+            diffuse_fraction=0.0,
+            sun_azimuth_deg=0.0,
+            ground_reflectance=0.0,
+            background=rho_bg,
+            visibility_km=1.0,
+        ),
+        settings=RenderSettings(quality=Quality("t", 2, 2)),
+    )
+    assert hazy_but_off.terms == [] and hazy_but_off.values["contrast"] == res.values["contrast"]
     assert res.values["contrast"] == res.values["contrast_inherent"]
     assert res.values["target_radiance_apparent"] == res.values["target_radiance"]
 
@@ -164,8 +192,8 @@ def test_plate_contrast_is_eq4_under_equal_illuminance():
 @pytest.fixture(scope="module")
 def hazy_plate():
     """A dark plate against the horizon sky in 5 km visibility, rendered at 1 and 3 km."""
-    kw = dict(quality=Q, visibility_km=5.0, wavelength_nm=550.0, **EO)
-    return [render_eo(plate(reflectance=0.05), range_m=r, **kw) for r in (1000.0, 3000.0)]
+    kw = dict(light=Daylight(visibility_km=5.0), atmosphere=True, settings=RenderSettings(quality=Q))
+    return [render_eo(plate(reflectance=0.05), View(range_m=r), **kw) for r in (1000.0, 3000.0)]
 
 
 def test_koschmieder_transmittance_and_airlight(hazy_plate):
@@ -201,9 +229,9 @@ def test_same_image_at_10_m_and_20_km_after_range_normalisation(drone):
     import dataclasses
 
     big = [dataclasses.replace(p, mesh=p.mesh.copy().apply_scale(2000.0)) for p in drone.parts]
-    sensor = dict(hfov_deg=40.0, n_h=640, n_v=480)
-    near = render_eo(drone, range_m=10.0, quality=Quality("t", 2, 4), **sensor)
-    far = render_eo(big, range_m=20000.0, quality=Quality("t", 2, 4), **sensor)
+    sensor, settings = EoSensor(hfov_deg=40.0, n_h=640, n_v=480), RenderSettings(quality=Quality("t", 2, 4))
+    near = render_eo(drone, View(range_m=10.0), sensor, settings=settings)
+    far = render_eo(big, View(range_m=20000.0), sensor, settings=settings)
     for key in ("pixels_on_target", "pixels_above_half", "pixels_across_dcrit", "contrast"):
         assert far.values[key] == pytest.approx(near.values[key], rel=1e-5, abs=1e-9)
     assert np.allclose(far.image, near.image, rtol=1e-4)
@@ -211,18 +239,15 @@ def test_same_image_at_10_m_and_20_km_after_range_normalisation(drone):
 
 def test_plate_at_10_m_and_20_km_float32_precision():
     """The same 1 m plate at 10 m (100 px) and at 20 km (0.05 px): area x R^2 and contrast agree."""
-    sensor = dict(hfov_deg=57.29577951308232, n_h=1000, n_v=1000)  # IFOV = 1 mrad
     kw = dict(
-        quality=Quality("t", 4, 8),
-        diffuse_fraction=0.0,
-        ground_reflectance=0.0,
-        sun_azimuth_deg=0.0,
-        sun_elevation_deg=45.0,
-        background=0.2,
-        **sensor,
+        sensor=EoSensor(hfov_deg=57.29577951308232, n_h=1000, n_v=1000),  # IFOV = 1 mrad
+        light=Daylight(
+            diffuse_fraction=0.0, ground_reflectance=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0, background=0.2
+        ),
+        settings=RenderSettings(quality=Quality("t", 4, 8)),
     )
-    near = render_eo(plate(), range_m=10.0, **kw)
-    far = render_eo(plate(), range_m=20000.0, **kw)
+    near = render_eo(plate(), View(range_m=10.0), **kw)
+    far = render_eo(plate(), View(range_m=20000.0), **kw)
     assert near.values["pixels_on_target"] == pytest.approx(1e4, rel=2e-3)
     tolerance = 4 * far.stderr["pixels_on_target"] + 1e-3 * 0.0025
     assert far.values["pixels_on_target"] == pytest.approx(1.0 / 20.0**2, abs=tolerance)
@@ -236,8 +261,8 @@ def test_single_pixel_and_subpixel_targets_are_stable(offset):
     r = 1000.0
     one_px = plate(width_m=r * IFOV, height_m=r * IFOV)
     sub_px = plate(width_m=0.1 * r * IFOV, height_m=0.1 * r * IFOV)
-    res1 = render_eo(one_px, range_m=r, quality=Q, target_offset_px=offset, **EO)
-    res2 = render_eo(sub_px, range_m=r, quality=Q, target_offset_px=offset, **EO)
+    res1 = render_eo(one_px, View(range_m=r, target_offset_px=offset), settings=RenderSettings(quality=Q))
+    res2 = render_eo(sub_px, View(range_m=r, target_offset_px=offset), settings=RenderSettings(quality=Q))
     assert res1.values["pixels_on_target"] == pytest.approx(1.0, abs=4 * res1.stderr["pixels_on_target"] + 2e-3)
     assert res2.values["pixels_on_target"] == pytest.approx(0.01, abs=4 * res2.stderr["pixels_on_target"] + 2e-5)
     assert res2.stderr["pixels_on_target"] < 0.001
@@ -255,7 +280,7 @@ def test_edge_on_plate_and_zero_width_quad():
     from csuas.render.imaging.targets import grey_material
 
     r = 100.0
-    res = render_eo(plate(thickness_m=0.01), range_m=r, azimuth_deg=90.0, quality=Q, **EO)
+    res = render_eo(plate(thickness_m=0.01), View(range_m=r, azimuth_deg=90.0), settings=RenderSettings(quality=Q))
     exact = 0.01 * 1.0 / ((r - 0.5) * IFOV) ** 2  # pinhole: the near end face (0.5 m closer) bounds the silhouette
     assert res.values["pixels_on_target"] == pytest.approx(exact, abs=4 * res.stderr["pixels_on_target"] + 1e-3 * exact)
     assert res.values["pixels_across_dcrit"] == pytest.approx(0.01 / ((r - 0.5) * IFOV), rel=0.01)
@@ -265,7 +290,9 @@ def test_edge_on_plate_and_zero_width_quad():
         process=False,
     )
     res0 = render_eo(
-        [Part("quad", "body", quad, grey_material())], range_m=r, azimuth_deg=90.0, quality=Quality("t", 2, 2), **EO
+        [Part("quad", "body", quad, grey_material())],
+        View(range_m=r, azimuth_deg=90.0),
+        settings=RenderSettings(quality=Quality("t", 2, 2)),
     )
     assert res0.values["pixels_on_target"] == 0.0
     assert res0.values["pixels_across_dcrit"] == 0.0
@@ -276,28 +303,50 @@ def test_edge_on_plate_and_zero_width_quad():
 
 def test_bad_input_names_parameter():
     with pytest.raises(ParameterError, match="range_m"):
-        render_eo("dji_mini_4_pro", range_m=0.1, quality="draft")
+        render_eo("dji_mini_4_pro", View(range_m=0.1), settings=RenderSettings(quality="draft"))
     with pytest.raises(ParameterError, match="range_m"):
-        render_eo("dji_mini_4_pro", range_m=float("nan"), quality="draft")
+        render_eo("dji_mini_4_pro", View(range_m=float("nan")), settings=RenderSettings(quality="draft"))
     with pytest.raises(ParameterError, match="quality"):
-        render_eo("dji_mini_4_pro", range_m=100.0, quality="ultra")
+        render_eo("dji_mini_4_pro", View(range_m=100.0), settings=RenderSettings(quality="ultra"))
     with pytest.raises(ParameterError, match="elevation_deg"):
-        render_eo("dji_mini_4_pro", range_m=100.0, elevation_deg=95.0, quality="draft")
+        render_eo("dji_mini_4_pro", View(range_m=100.0, elevation_deg=95.0), settings=RenderSettings(quality="draft"))
     with pytest.raises(ParameterError, match="sun_elevation_deg"):
-        render_eo("dji_mini_4_pro", range_m=100.0, sun_elevation_deg=-5.0, quality="draft")
+        render_eo(
+            "dji_mini_4_pro",
+            View(range_m=100.0),
+            light=Daylight(sun_elevation_deg=-5.0),
+            settings=RenderSettings(quality="draft"),
+        )
     with pytest.raises(ParameterError, match="background"):
-        render_eo("dji_mini_4_pro", range_m=100.0, background="ground", quality="draft")
+        render_eo(
+            "dji_mini_4_pro",
+            View(range_m=100.0),
+            light=Daylight(background="ground"),
+            settings=RenderSettings(quality="draft"),
+        )
+    with pytest.raises(ParameterError, match="visibility_km"):
+        render_eo("dji_mini_4_pro", View(range_m=100.0), atmosphere=True, settings=RenderSettings(quality="draft"))
     with pytest.raises(ParameterError, match="hfov_deg"):
-        render_eo("dji_mini_4_pro", range_m=100.0, hfov_deg=0.0, quality="draft")
+        render_eo(
+            "dji_mini_4_pro",
+            View(range_m=100.0),
+            sensor=EoSensor(hfov_deg=0.0),
+            settings=RenderSettings(quality="draft"),
+        )
 
 
 def test_ranges_from_1_m_to_50_km(drone):
     """At 1 m the drone overfills a small sensor (clipped window, noted); at 50 km it is 0.0005 px."""
-    near = render_eo(drone, range_m=1.0, quality=Quality("t", 1, 2), hfov_deg=10.0, n_h=192, n_v=108)
+    near = render_eo(
+        drone,
+        View(range_m=1.0),
+        sensor=EoSensor(hfov_deg=10.0, n_h=192, n_v=108),
+        settings=RenderSettings(quality=Quality("t", 1, 2)),
+    )
     assert near.window.clipped and near.window.n_pixels == 192 * 108
     assert any("beyond the sensor frame" in n for n in near.notes)
     assert 0 < near.values["pixels_on_target"] <= 192 * 108
-    far = render_eo(drone, range_m=50000.0, quality=Q, **EO)
+    far = render_eo(drone, View(range_m=50000.0), settings=RenderSettings(quality=Q))
     exact = projected_metrics(drone.mesh(), 0.0, 0.0)["projected_area_m2"] / (50000.0 * IFOV) ** 2
     assert exact < 1e-3
     assert far.values["pixels_on_target"] == pytest.approx(exact, abs=4 * far.stderr["pixels_on_target"] + 1e-3 * exact)
@@ -305,10 +354,10 @@ def test_ranges_from_1_m_to_50_km(drone):
 
 
 def test_same_seed_same_result_other_seed_other_noise():
-    kw = dict(range_m=400.0, azimuth_deg=20.0, elevation_deg=10.0, quality=Quality("t", 2, 4), **EO)
-    a = render_eo("dji_mini_4_pro", seed=7, **kw)
-    b = render_eo("dji_mini_4_pro", seed=7, **kw)
-    c = render_eo("dji_mini_4_pro", seed=8, **kw)
+    view, q = View(400.0, azimuth_deg=20.0, elevation_deg=10.0), Quality("t", 2, 4)
+    a = render_eo("dji_mini_4_pro", view, settings=RenderSettings(quality=q, seed=7))
+    b = render_eo("dji_mini_4_pro", view, settings=RenderSettings(quality=q, seed=7))
+    c = render_eo("dji_mini_4_pro", view, settings=RenderSettings(quality=q, seed=8))
     assert a.values == b.values
     np.testing.assert_array_equal(a.image, b.image)
     assert a.values["pixels_on_target"] != c.values["pixels_on_target"]

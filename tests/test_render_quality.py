@@ -12,6 +12,7 @@ from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
 from csuas.render.imaging import QUALITY_PRESETS, Quality, accuracy_sweep, render_eo, resolve_quality
+from csuas.render.imaging.records import RenderSettings, View
 from csuas.validation.imaging.bench import bench_window_vs_full_frame
 
 pytestmark = pytest.mark.slow
@@ -32,7 +33,9 @@ def test_accuracy_sweep_error_falls_with_samples_and_stays_within_stderr():
     ifov = np.radians(10.0) / 1920
     exact = projected_metrics(drone.mesh(), az, el)["projected_area_m2"] / (r * ifov) ** 2
     rows = accuracy_sweep(
-        lambda q: render_eo(drone, range_m=r, azimuth_deg=az, elevation_deg=el, quality=q),
+        lambda q: render_eo(
+            drone, View(range_m=r, azimuth_deg=az, elevation_deg=el), settings=RenderSettings(quality=q)
+        ),
         n_sides=(1, 2, 4, 8),
         reference=exact,
         n_batches=4,

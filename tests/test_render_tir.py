@@ -17,13 +17,13 @@ from csuas.base.errors import ParameterError
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import tir_mrtd_range
 from csuas.render.imaging import Quality, render_tir
+from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import default_mrtd
 
 pytestmark = pytest.mark.slow
 
 Q = Quality("test", 2, 8)
-TIR = dict(hfov_deg=36.67, n_h=1280, n_v=720)
 IFOV = math.radians(36.67) / 1280
 
 
@@ -39,14 +39,12 @@ def test_graybody_plate_delta_t_matches_band_planck_oracle(row):
     surroundings = None if row["surroundings_k"] == "none" else float(row["surroundings_k"])
     res = render_tir(
         plate(emissivity=0.68, temperature_k=288.15),
-        range_m=100.0,
-        band=row["band"],
-        t_bg_k=298.15,
-        emissivity_bg=0.77,
-        surroundings_k=surroundings,
+        View(range_m=100.0),
+        sensor=ThermalSensor(band=row["band"]),
+        scene=ThermalScene(t_bg_k=298.15, emissivity_bg=0.77, surroundings_k=surroundings),
+        settings=RenderSettings(quality=Q),
         linear_reference=(0.68, 288.15),
-        quality=Q,
-        **TIR,
+        reflected_surroundings=surroundings is not None,
     )
     dt, se = res.values["delta_t_k"], res.stderr["delta_t_k"]
     assert dt < 0  # the plate is colder than the background
@@ -62,9 +60,12 @@ def test_graybody_plate_delta_t_matches_band_planck_oracle(row):
 
 
 def test_plate_delta_t_same_at_10_m_and_20_km():
-    kw = dict(band="lwir", surroundings_k=None, quality=Q, hfov_deg=57.29577951308232, n_h=1000, n_v=1000)
-    near = render_tir(plate(), range_m=10.0, **kw)
-    far = render_tir(plate(), range_m=20000.0, **kw)
+    kw = dict(
+        sensor=ThermalSensor(band="lwir", hfov_deg=57.29577951308232, n_h=1000, n_v=1000),
+        settings=RenderSettings(quality=Q),
+    )
+    near = render_tir(plate(), View(range_m=10.0), **kw)
+    far = render_tir(plate(), View(range_m=20000.0), **kw)
     assert near.values["delta_t_k"] == pytest.approx(-15.33, abs=0.006)
     assert far.values["delta_t_k"] == pytest.approx(near.values["delta_t_k"], abs=1e-6)
     tolerance = 4 * far.stderr["pixels_on_target"] + 1e-3 * 0.0025
@@ -78,7 +79,14 @@ def test_plate_delta_t_same_at_10_m_and_20_km():
 def test_path_transmittance_and_radiance():
     """Apparent Delta T after 5 km at 1 dB/km with air at 293.15 K, against the closed form inline."""
     sigma, r, t_air = 1.0, 5000.0, 293.15
-    res = render_tir(plate(), range_m=r, band="lwir", extinction_db_km=sigma, air_temperature_k=t_air, quality=Q, **TIR)
+    res = render_tir(
+        plate(),
+        View(range_m=r),
+        sensor=ThermalSensor(band="lwir"),
+        scene=ThermalScene(extinction_db_km=sigma, air_temperature_k=t_air),
+        settings=RenderSettings(quality=Q),
+        atmosphere=True,
+    )
     tau = 10 ** (-sigma * r / 1000 / 10)
     l_air = float(band_radiance(t_air, "lwir"))
     l_t = 0.68 * float(band_radiance(288.15, "lwir"))
@@ -99,12 +107,11 @@ def test_mrtd_range_matches_core_with_oracle_delta_t():
     target = plate(width_m=width, height_m=width)
     res = render_tir(
         target,
-        range_m=200.0,
-        band="lwir",
-        extinction_db_km=1.0,
-        air_temperature_k=293.15,
-        quality=Quality("t", 4, 8),
-        **TIR,
+        View(range_m=200.0),
+        sensor=ThermalSensor(band="lwir"),
+        scene=ThermalScene(extinction_db_km=1.0, air_temperature_k=293.15),
+        settings=RenderSettings(quality=Quality("t", 4, 8)),
+        atmosphere=True,
     )
     t_bg_app = float(radiance_temperature(0.77 * band_radiance(298.15, "lwir"), "lwir"))
     expected = tir_mrtd_range(
@@ -130,13 +137,11 @@ def test_drone_lwir_and_mwir_are_finite_and_bounded():
     for band in ("lwir", "mwir"):
         res = render_tir(
             "dji_mini_4_pro",
-            range_m=150.0,
-            band=band,
-            surroundings_k=293.15,
-            azimuth_deg=30.0,
-            elevation_deg=15.0,
-            quality=Quality("t", 2, 4),
-            **TIR,
+            View(range_m=150.0, azimuth_deg=30.0, elevation_deg=15.0),
+            sensor=ThermalSensor(band=band),
+            scene=ThermalScene(surroundings_k=293.15),
+            settings=RenderSettings(quality=Quality("t", 2, 4)),
+            reflected_surroundings=True,
         )
         assert all(np.isfinite(v) for v in res.values.values() if isinstance(v, float) and v != float("inf"))
         # Every part is at 288.15 K reflecting 293.15 K surroundings: the radiance temperature lies in between.
@@ -147,8 +152,33 @@ def test_drone_lwir_and_mwir_are_finite_and_bounded():
 
 def test_bad_input():
     with pytest.raises(ParameterError, match="band"):
-        render_tir(plate(), range_m=100.0, band="swir", quality="draft")
+        render_tir(
+            plate(), View(range_m=100.0), sensor=ThermalSensor(band="swir"), settings=RenderSettings(quality="draft")
+        )
     with pytest.raises(ParameterError, match="emissivity_bg"):
-        render_tir(plate(), range_m=100.0, emissivity_bg=1.5, quality="draft")
+        render_tir(
+            plate(),
+            View(range_m=100.0),
+            scene=ThermalScene(emissivity_bg=1.5),
+            settings=RenderSettings(quality="draft"),
+        )
     with pytest.raises(ParameterError, match="extinction_db_km"):
-        render_tir(plate(), range_m=100.0, extinction_db_km=-1.0, quality="draft")
+        render_tir(
+            plate(),
+            View(range_m=100.0),
+            scene=ThermalScene(extinction_db_km=-1.0),
+            settings=RenderSettings(quality="draft"),
+            atmosphere=True,
+        )
+    with pytest.raises(ParameterError, match="extinction_db_km"):
+        render_tir(plate(), View(range_m=100.0), settings=RenderSettings(quality="draft"), atmosphere=True)
+    with pytest.raises(ParameterError, match="surroundings_k"):
+        render_tir(plate(), View(range_m=100.0), settings=RenderSettings(quality="draft"), reflected_surroundings=True)
+
+
+def test_an_effect_switched_off_is_not_simulated_even_when_its_parameter_is_given():
+    """The records may carry every parameter; only the switches decide what is built (docs/scenarios.md (effects))."""
+    scene = ThermalScene(surroundings_k=293.15, extinction_db_km=1.0)
+    off = render_tir(plate(), View(range_m=500.0), scene=scene, settings=RenderSettings(quality=Q))
+    assert off.terms == [] and off.stderr["delta_t_k"] == 0.0  # no path, pure emission
+    assert off.values["delta_t_k"] == pytest.approx(-15.33, abs=0.006)  # the oracle without surroundings

@@ -1,7 +1,7 @@
 """EO and thermal-IR imaging of drones in Mitsuba 3 (docs/simulation.md).
 
->>> from csuas.render.imaging import render_eo, render_tir
->>> result = render_eo("dji_mini_4_pro", range_m=500.0, quality="draft")
+>>> from csuas.render.imaging import RenderSettings, View, render_eo, render_tir
+>>> result = render_eo("dji_mini_4_pro", View(range_m=500.0), settings=RenderSettings(quality="draft"))
 >>> result.values["pixels_on_target"], result.stderr["pixels_on_target"]
 
 Only a window around the target is rendered, in camera-relative,
@@ -13,6 +13,20 @@ Mitsuba; the renderers select a variant when called.
 
 from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.quality import QUALITY_PRESETS, Quality, accuracy_sweep, resolve_quality
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.tir import render_tir
 
-__all__ = ["render_eo", "render_tir", "Quality", "QUALITY_PRESETS", "resolve_quality", "accuracy_sweep"]
+__all__ = [
+    "render_eo",
+    "render_tir",
+    "View",
+    "EoSensor",
+    "ThermalSensor",
+    "Daylight",
+    "ThermalScene",
+    "RenderSettings",
+    "Quality",
+    "QUALITY_PRESETS",
+    "resolve_quality",
+    "accuracy_sweep",
+]

@@ -35,14 +35,13 @@ from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path
 from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_eo_scene, path_integrator
 from csuas.render.imaging.trace import trace_window
 
 #: Luminance weights of linear Rec. 709 / sRGB primaries (ITU-R BT.709).
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
-#: Default diffuse (sky) fraction of the horizontal illuminance (module docstring).
-DEFAULT_DIFFUSE_FRACTION = 0.15
 
 
 def sun_and_sky(
@@ -89,31 +88,12 @@ def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
 
 def render_eo(
     target,
+    view: View,
+    sensor: EoSensor = EoSensor(),
+    light: Daylight = Daylight(),
     *,
-    range_m,
-    hfov_deg=10.0,
-    n_h=1920,
-    n_v=1080,
-    azimuth_deg=0.0,
-    elevation_deg=0.0,
-    illuminance_lx=70000.0,
-    diffuse_fraction=DEFAULT_DIFFUSE_FRACTION,
-    sun_azimuth_deg=None,
-    sun_elevation_deg=45.0,
-    ground_reflectance=0.2,
-    background="sky",
-    visibility_km=None,
-    wavelength_nm=550.0,
-    quality="standard",
-    seed=0,
-    target_offset_px=(0.0, 0.0),
-    max_depth=3,
-    lp_task=1.0,
-    n_ttpf=1.0,
-    c_min=0.05,
-    full_frame=False,
-    progress=None,
-    variant=None,
+    atmosphere: bool = False,
+    settings: RenderSettings = RenderSettings(),
 ) -> ImagingResult:
     """Render the target in the visible band and measure its figures.
 
@@ -122,53 +102,40 @@ def render_eo(
     target : str, Drone or list of parts
         Drone preset name, a :class:`~csuas.drone_models.Drone`, or parts
         with ``name``, ``mesh`` (closed, outward), ``material``.
-    range_m : float
-        Slant range sensor-target [m].
-    hfov_deg, n_h, n_v : float, int, int
-        Sensor field of view and pixels (Table 22); IFOV = HFOV / N_H (Eq. 15).
-    azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor (docs/command-line.md) [deg].
-    illuminance_lx : float
-        Horizontal illuminance E_v (Table 11) [lx].
-    diffuse_fraction, sun_elevation_deg, ground_reflectance : float
-        Illumination split (module docstring).
-    sun_azimuth_deg : float or None
-        Sun azimuth in the body frame [deg]; None puts the sun behind the sensor (= azimuth_deg).
-    background : "sky" or float
-        Horizon sky, or the reflectance of a Lambertian background.
-    visibility_km : float or None
-        Visibility for Koschmieder transmittance and airlight; None: no atmosphere.
-    wavelength_nm : float
-        Sensor wavelength for the Kruse extinction (Eqs. 19-20) [nm].
-    quality : str or Quality
-        ``draft``, ``standard``, ``reference`` or a :class:`Quality`.
-    seed : int
-        Random seed (results are deterministic for a given seed).
-    target_offset_px : (float, float)
-        Offset of the target's centre from the default pixel centre [px].
-    max_depth : int
-        Path length of the path tracer (3: sun, sky and one inter-reflection).
-    lp_task, n_ttpf : float
-        Line pairs (Table 20) and TTPF multiplier (Table 21): ``johnson_range_rendered_m``
-        is the range where the rendered d_crit spans 2 lp n_TTPF pixels (Eq. 18),
-        from pixels across d_crit scaling as 1/R.
-    c_min : float
-        Minimum contrast (Table 24): ``contrast_limited_range_m`` solves
-        C0 tau(R) = c_min (Eq. 21, :func:`csuas.core.eo.contrast_limited_range_m`,
-        physical convention) with C0 the rendered inherent contrast (Eq. 3);
-        +inf (JSON null) without atmosphere.
-    full_frame : bool
-        Render the whole sensor frame instead of the window (benchmark).
-    progress : callable(fraction) or file-like or None
-        Progress callback, or a stream (e.g. ``sys.stderr``) for text progress.
-    variant : str or None
-        Exact Mitsuba variant (else CUDA, then LLVM ``ad_rgb``).
+    view : View
+        Slant range, aspect and pixel offset (:class:`~csuas.render.imaging.records.View`).
+    sensor : EoSensor
+        Camera and task (Table 22): IFOV = HFOV / N_H (Eq. 15); ``johnson_range_rendered_m``
+        is the range where the rendered d_crit spans 2 lp n_TTPF pixels (Eq. 18), from pixels
+        across d_crit scaling as 1/R; ``contrast_limited_range_m`` solves C0 tau(R) = c_min
+        (Eq. 21, :func:`csuas.core.eo.contrast_limited_range_m`, physical convention) with C0
+        the rendered inherent contrast (Eq. 3).
+    light : Daylight
+        Sun, sky, ground, background (Table 11, module docstring) and visibility.
+    atmosphere : bool
+        Koschmieder transmittance and airlight over the range at ``light.visibility_km``
+        (Eqs. 19-21); off: no path, and the contrast-limited range is unbounded (JSON null).
+    settings : RenderSettings
+        Quality, seed, path length, full frame, progress and variant.
     """
+    if atmosphere and light.visibility_km is None:
+        raise ParameterError("visibility_km", None, "a visibility > 0 km when atmosphere=True")
+    range_m, azimuth_deg, elevation_deg, target_offset_px = (
+        view.range_m,
+        view.azimuth_deg,
+        view.elevation_deg,
+        view.target_offset_px,
+    )
+    hfov_deg, n_h, n_v, wavelength_nm = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.wavelength_nm
+    lp_task, n_ttpf, c_min = sensor.lp_task, sensor.n_ttpf, sensor.c_min
+    illuminance_lx, background = light.illuminance_lx, light.background
+    visibility_km = light.visibility_km if atmosphere else None
+    quality, seed, max_depth, progress = settings.quality, settings.seed, settings.max_depth, settings.progress
     from csuas.render.backend import use_variant
 
     t0 = time.perf_counter()
     q = resolve_quality(quality)
-    r, sensor, normalised, window, target_px, bounds = prepare(
+    r, camera, normalised, window, target_px, bounds = prepare(
         target,
         range_m=range_m,
         hfov_deg=hfov_deg,
@@ -177,26 +144,26 @@ def render_eo(
         azimuth_deg=azimuth_deg,
         elevation_deg=elevation_deg,
         target_offset_px=target_offset_px,
-        full=full_frame,
+        full=settings.full_frame,
     )
-    light = sun_and_sky(illuminance_lx, diffuse_fraction, sun_elevation_deg, ground_reflectance)
+    sky = sun_and_sky(illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
     if isinstance(background, str):
         if background != "sky":
             raise ParameterError("background", background, "'sky' or a reflectance 0..1")
-        l_bg = light["sky_radiance"]
+        l_bg = sky["sky_radiance"]
     else:
         if not (0.0 <= float(background) <= 1.0):
             raise ParameterError("background", background, "'sky' or a reflectance 0..1")
         l_bg = float(background) * illuminance_lx / math.pi
-    sun_az = azimuth_deg if sun_azimuth_deg is None else sun_azimuth_deg
-    use_variant("ad_rgb", variant)
-    to_sun = normalised.to_render(direction_vector(sun_az, sun_elevation_deg))
+    sun_az = azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+    use_variant("ad_rgb", settings.variant)
+    to_sun = normalised.to_render(direction_vector(sun_az, light.sun_elevation_deg))
     scene = build_eo_scene(
         normalised,
         sun_direction_render=to_sun,
-        sun_irradiance=light["sun_irradiance_lx"],
-        sky_radiance=light["sky_radiance"],
-        ground_radiance=light["ground_radiance"],
+        sun_irradiance=sky["sun_irradiance_lx"],
+        sky_radiance=sky["sky_radiance"],
+        ground_radiance=sky["ground_radiance"],
         up_render=normalised.to_render([0.0, 0.0, 1.0]),
     )
     if progress is not None and not callable(progress):
@@ -204,7 +171,7 @@ def render_eo(
     tally = trace_window(
         scene,
         path_integrator(max_depth),
-        sensor,
+        camera,
         window,
         target_px,
         r / normalised.radius_m,
@@ -215,7 +182,7 @@ def render_eo(
         bounds=bounds,
         progress=progress,
     )
-    path = eo_path(r, visibility_km, wavelength_nm, light["sky_radiance"])
+    path = eo_path(r, visibility_km, wavelength_nm, sky["sky_radiance"])
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
     for name in ("contrast", "contrast_weber"):
@@ -229,9 +196,9 @@ def render_eo(
     if tally.nonfinite_samples:
         notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
     m.values.update(
-        sun_irradiance_lx=light["sun_irradiance_lx"],
-        sky_radiance=light["sky_radiance"],
-        ground_radiance=light["ground_radiance"],
+        sun_irradiance_lx=sky["sun_irradiance_lx"],
+        sky_radiance=sky["sky_radiance"],
+        ground_radiance=sky["ground_radiance"],
     )
     return ImagingResult(
         "eo",
@@ -239,7 +206,7 @@ def render_eo(
         r,
         float(azimuth_deg),
         float(elevation_deg),
-        sensor.ifov_rad,
+        camera.ifov_rad,
         window,
         m.values,
         m.stderr,

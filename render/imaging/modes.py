@@ -24,6 +24,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 
 ATMOSPHERE_CHOICES = ("auto", "on", "off")
 
@@ -94,27 +95,20 @@ def eo_scenario(
     from csuas.render.imaging.eo import render_eo
 
     spec = _sensor(scenario, "eo", sensor)
-    p, env = spec.params, scenario.environment
-    visibility = scenario.optical_visibility_km if _atmosphere_on(scenario, atmosphere) else None
+    camera = EoSensor.from_params(spec.params)
+    light = Daylight(
+        illuminance_lx=scenario.environment["illuminance_lx"], visibility_km=scenario.optical_visibility_km
+    )
+    settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
         res = render_eo(
             scenario.target_preset,
-            range_m=r,
-            hfov_deg=p["hfov_deg"],
-            n_h=p["n_h"],
-            n_v=p["n_v"],
-            azimuth_deg=azimuth_deg,
-            elevation_deg=elevation_deg,
-            illuminance_lx=env["illuminance_lx"],
-            visibility_km=visibility,
-            wavelength_nm=p["wavelength_nm"],
-            quality=quality,
-            seed=seed,
-            lp_task=p["lp_task"],
-            n_ttpf=p["n_ttpf"],
-            c_min=p["c_min"],
-            progress=progress,
+            View(r, azimuth_deg, elevation_deg),
+            camera,
+            light,
+            atmosphere=_atmosphere_on(scenario, atmosphere),
+            settings=settings,
         )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed, exposure))
@@ -136,35 +130,30 @@ def tir_scenario(
     progress=None,
 ) -> list:
     """Render the scenario's thermal sensor at each range (mode ``tir``)."""
-    from csuas.core.mrtd import sensor_mrtd
     from csuas.render.imaging.tir import render_tir
 
     spec = _sensor(scenario, "tir", sensor)
-    p, env, target = spec.params, scenario.environment, scenario.target
-    extinction = p["extinction_db_km"] if _atmosphere_on(scenario, atmosphere) else None
+    env, target = scenario.environment, scenario.target
+    camera = ThermalSensor.from_params(spec.params)
+    thermal_scene = ThermalScene(
+        t_bg_k=env["t_bg_k"],
+        emissivity_bg=env["emissivity_bg"],
+        surroundings_k=env["temperature_k"],
+        extinction_db_km=spec.params["extinction_db_km"],
+        air_temperature_k=env["temperature_k"],
+    )
+    settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
         res = render_tir(
             scenario.target_preset,
-            range_m=r,
-            hfov_deg=p["hfov_deg"],
-            n_h=p["n_h"],
-            n_v=p["n_v"],
-            band=p["band"],
-            azimuth_deg=azimuth_deg,
-            elevation_deg=elevation_deg,
-            t_bg_k=env["t_bg_k"],
-            emissivity_bg=env["emissivity_bg"],
-            surroundings_k=env["temperature_k"],
-            extinction_db_km=extinction,
-            air_temperature_k=env["temperature_k"],
-            mrtd=sensor_mrtd(p),
-            lp_task=p["lp_task"],
-            n_ttpf=p["n_ttpf"],
+            View(r, azimuth_deg, elevation_deg),
+            camera,
+            thermal_scene,
+            atmosphere=_atmosphere_on(scenario, atmosphere),
+            reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
-            quality=quality,
-            seed=seed,
-            progress=progress,
+            settings=settings,
         )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed))

@@ -36,6 +36,7 @@ from csuas.render.imaging.common import prepare, progress_printer
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, tir_path
 from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_parts
 from csuas.render.imaging.trace import trace_window
@@ -66,30 +67,14 @@ def area_weighted_graybody(target, band: str) -> tuple[float, float]:
 
 def render_tir(
     target,
+    view: View,
+    sensor: ThermalSensor = ThermalSensor(),
+    scene: ThermalScene = ThermalScene(),
     *,
-    range_m,
-    hfov_deg=36.67,
-    n_h=1280,
-    n_v=720,
-    band="lwir",
-    azimuth_deg=0.0,
-    elevation_deg=0.0,
-    t_bg_k=298.15,
-    emissivity_bg=0.77,
-    surroundings_k=None,
-    extinction_db_km=None,
-    air_temperature_k=293.15,
-    mrtd=None,
-    lp_task=1.0,
-    n_ttpf=1.0,
+    atmosphere: bool = False,
+    reflected_surroundings: bool = False,
     linear_reference=None,
-    quality="standard",
-    seed=0,
-    target_offset_px=(0.0, 0.0),
-    max_depth=3,
-    full_frame=False,
-    progress=None,
-    variant=None,
+    settings: RenderSettings = RenderSettings(),
 ) -> ImagingResult:
     """Render the target in a thermal band and measure apparent Delta T and the MRTD range.
 
@@ -97,32 +82,35 @@ def render_tir(
     ----------
     target : str, Drone or list of parts
         See :func:`csuas.render.imaging.eo.render_eo`.
-    range_m : float
-        Slant range [m].
-    hfov_deg, n_h, n_v : float, int, int
-        Sensor (Table 25); IFOV = HFOV / N_H (Eq. 15, = pitch / focal, Eq. 22, for the defaults).
-    band : {"lwir", "mwir"}
-        8-12 um or 3-5 um.
-    azimuth_deg, elevation_deg : float
-        Direction from the target toward the sensor (docs/command-line.md) [deg].
-    t_bg_k, emissivity_bg : float
-        Background graybody (Table 27).
-    surroundings_k : float or None
-        Temperature of the uniform surroundings reflected by target and
-        background [K]; None reflects nothing (the thermal case of docs/validation.md without reflected surroundings).
-    extinction_db_km : float or None
-        Path attenuation (Table 27) [dB/km]; None: no atmosphere.
-    air_temperature_k : float
-        Air temperature of the path radiance [K].
-    mrtd : callable or None
-        MRTD curve (cy/rad -> K) with ``max_frequency``; None: :func:`default_mrtd`.
-    lp_task, n_ttpf : float
-        Line pairs (Table 20) and TTPF multiplier (Table 21) of the MRTD range.
+    view : View
+        Slant range, aspect and pixel offset (:class:`~csuas.render.imaging.records.View`).
+    sensor : ThermalSensor
+        Camera, band, MRTD curve and task (Table 25); IFOV = HFOV / N_H (Eq. 15, = pitch / focal,
+        Eq. 22, for the defaults).
+    scene : ThermalScene
+        Background graybody, surroundings and air (Table 27).
+    atmosphere : bool
+        Attenuation at ``scene.extinction_db_km`` and path radiance at ``scene.air_temperature_k``
+        over the range; off: no path.
+    reflected_surroundings : bool
+        Uniform surroundings at ``scene.surroundings_k`` reflected by target and background; off:
+        nothing reflected (the thermal case of docs/validation.md without reflected surroundings).
     linear_reference : (emissivity, temperature_k) or None
         Target values for the paper's linear Delta T (Eq. 26); None: area-weighted parts.
-    quality, seed, target_offset_px, max_depth, full_frame, progress, variant
+    settings : RenderSettings
         As in :func:`csuas.render.imaging.eo.render_eo`.
     """
+    if atmosphere and scene.extinction_db_km is None:
+        raise ParameterError("extinction_db_km", None, "a number [dB/km] when atmosphere=True")
+    if reflected_surroundings and scene.surroundings_k is None:
+        raise ParameterError("surroundings_k", None, "a temperature > 0 K when reflected_surroundings=True")
+    range_m, azimuth_deg, elevation_deg = view.range_m, view.azimuth_deg, view.elevation_deg
+    hfov_deg, n_h, n_v, band, mrtd = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.band, sensor.mrtd
+    lp_task, n_ttpf = sensor.lp_task, sensor.n_ttpf
+    t_bg_k, emissivity_bg, air_temperature_k = scene.t_bg_k, scene.emissivity_bg, scene.air_temperature_k
+    surroundings_k = scene.surroundings_k if reflected_surroundings else None
+    extinction_db_km = scene.extinction_db_km if atmosphere else None
+    quality, seed, max_depth, progress = settings.quality, settings.seed, settings.max_depth, settings.progress
     from csuas.render.backend import use_variant
 
     t0 = time.perf_counter()
@@ -132,7 +120,7 @@ def render_tir(
         if not 0.0 <= value <= 1.0:
             raise ParameterError(name, value, "0 <= x <= 1")
     q = resolve_quality(quality)
-    r, sensor, normalised, window, target_px, bounds = prepare(
+    r, camera, normalised, window, target_px, bounds = prepare(
         target,
         range_m=range_m,
         hfov_deg=hfov_deg,
@@ -140,19 +128,19 @@ def render_tir(
         n_v=n_v,
         azimuth_deg=azimuth_deg,
         elevation_deg=elevation_deg,
-        target_offset_px=target_offset_px,
-        full=full_frame,
+        target_offset_px=view.target_offset_px,
+        full=settings.full_frame,
     )
     l_surr = 0.0 if surroundings_k is None else float(band_radiance(surroundings_k, band))
     l_bg = emissivity_bg * float(band_radiance(t_bg_k, band)) + (1.0 - emissivity_bg) * l_surr
-    use_variant("ad_mono", variant)
-    scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
+    use_variant("ad_mono", settings.variant)
+    mitsuba_scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render tir {r:g} m", progress)
     tally = trace_window(
-        scene,
+        mitsuba_scene,
         path_integrator(max_depth),
-        sensor,
+        camera,
         window,
         target_px,
         r / normalised.radius_m,
@@ -176,9 +164,9 @@ def render_tir(
     eps_t, t_t = linear_reference or area_weighted_graybody(target, band)
     values["delta_t_linear_k"] = float(delta_t_linear(eps_t, t_t, emissivity_bg, t_bg_k))
     # MRTD: spatial frequency of the target at this range and the range where Delta T meets the curve.
-    curve = mrtd if mrtd is not None else default_mrtd(sensor.ifov_rad, band)
-    d_crit = values["pixels_across_dcrit"] * sensor.ifov_rad * r
-    d_crit_se = stderr["pixels_across_dcrit"] * sensor.ifov_rad * r
+    curve = mrtd if mrtd is not None else default_mrtd(camera.ifov_rad, band)
+    d_crit = values["pixels_across_dcrit"] * camera.ifov_rad * r
+    d_crit_se = stderr["pixels_across_dcrit"] * camera.ifov_rad * r
     sigma = 0.0 if extinction_db_km is None else float(extinction_db_km)
     t_bg_app = inherent.values["background_temperature_apparent_k"]
 
@@ -226,7 +214,7 @@ def render_tir(
         r,
         float(azimuth_deg),
         float(elevation_deg),
-        sensor.ifov_rad,
+        camera.ifov_rad,
         window,
         values,
         stderr,

@@ -10,9 +10,11 @@ less for the default 1920 x 1080 EO sensor).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.records import EoSensor, RenderSettings, View
 from csuas.render.imaging.scene import target_parts
 
 
@@ -38,10 +40,13 @@ def bench_window_vs_full_frame(
     """
     q = resolve_quality(quality)
     target = target_parts(target)  # build the mesh once: the benchmark compares rendering, not mesh generation
-    common = dict(range_m=range_m, hfov_deg=hfov_deg, n_h=n_h, n_v=n_v, quality=q, seed=seed)
-    render_eo(target, **common)  # compile kernels outside the timing
-    window = min((render_eo(target, **common) for _ in range(3)), key=lambda r: r.time_s)  # best of 3 (ms-scale)
-    full = render_eo(target, full_frame=True, **common)
+    view, sensor = View(range_m), EoSensor(hfov_deg=hfov_deg, n_h=n_h, n_v=n_v)
+    settings = RenderSettings(quality=q, seed=seed)
+    render_eo(target, view, sensor, settings=settings)  # compile kernels outside the timing
+    window = min(  # best of 3 (ms-scale)
+        (render_eo(target, view, sensor, settings=settings) for _ in range(3)), key=lambda r: r.time_s
+    )
+    full = render_eo(target, view, sensor, settings=replace(settings, full_frame=True))
     pw, pf = window.values["pixels_on_target"], full.values["pixels_on_target"]
     sw, sf = window.stderr["pixels_on_target"], full.stderr["pixels_on_target"]
     combined = math.hypot(sw, sf)

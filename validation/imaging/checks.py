@@ -20,6 +20,7 @@ from csuas.core.tir import delta_t_linear
 from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.medium import medium_vs_analytic_airlight
 from csuas.render.imaging.quality import Quality, resolve_quality
+from csuas.render.imaging.records import Daylight, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import render_tir
 
@@ -42,14 +43,11 @@ def _thermal_checks(q, seed) -> list:
     for band in ("lwir", "mwir"):
         res = render_tir(
             plate(emissivity=0.68, temperature_k=288.15),
-            range_m=100.0,
-            band=band,
-            t_bg_k=298.15,
-            emissivity_bg=0.77,
-            surroundings_k=None,
+            View(range_m=100.0),
+            sensor=ThermalSensor(band=band),
+            scene=ThermalScene(t_bg_k=298.15, emissivity_bg=0.77),
+            settings=RenderSettings(quality=q, seed=seed),
             linear_reference=(0.68, 288.15),
-            quality=q,
-            seed=seed,
         )
         oracle = float(
             radiance_temperature(0.77 * band_radiance(298.15, band), band)
@@ -95,7 +93,9 @@ def _eo_checks(q, seed) -> list:
     drone = build_drone(DEFAULT_PRESET)
     ifov = float(ifov_rad(10.0, 1920))
     r, az, el = 500.0, 30.0, 20.0
-    res = render_eo(drone, range_m=r, azimuth_deg=az, elevation_deg=el, quality=q, seed=seed)
+    res = render_eo(
+        drone, View(range_m=r, azimuth_deg=az, elevation_deg=el), settings=RenderSettings(quality=q, seed=seed)
+    )
     exact = projected_metrics(drone.mesh(), az, el)
     pot = exact["projected_area_m2"] / (r * ifov) ** 2
     out.append(
@@ -112,7 +112,7 @@ def _eo_checks(q, seed) -> list:
     )
     d_crit = projected_metrics(drone.mesh(), 0.0, 0.0)["d_crit_min_m"]
     r_j = float(johnson_range_m(d_crit, ifov, 1.0, 1.0))
-    res = render_eo(drone, range_m=r_j, quality=q, seed=seed)
+    res = render_eo(drone, View(range_m=r_j), settings=RenderSettings(quality=q, seed=seed))
     out.append(
         Check.of_paper(
             f"Eq18.johnson_range.rendered_dcrit.{DEFAULT_PRESET}",
@@ -145,14 +145,11 @@ def _eo_checks(q, seed) -> list:
     rho, rho_bg = 0.5, 0.2
     res = render_eo(
         plate(reflectance=rho),
-        range_m=200.0,
-        quality=q,
-        seed=seed,
-        diffuse_fraction=0.0,
-        ground_reflectance=0.0,
-        sun_azimuth_deg=0.0,
-        sun_elevation_deg=45.0,
-        background=rho_bg,
+        View(range_m=200.0),
+        light=Daylight(
+            diffuse_fraction=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0, ground_reflectance=0.0, background=rho_bg
+        ),
+        settings=RenderSettings(quality=q, seed=seed),
     )
     out.append(
         Check.of_paper(
@@ -167,7 +164,13 @@ def _eo_checks(q, seed) -> list:
         )
     )
     near, far = (
-        render_eo(plate(reflectance=0.05), range_m=rr, quality=q, seed=seed, visibility_km=5.0)
+        render_eo(
+            plate(reflectance=0.05),
+            View(range_m=rr),
+            light=Daylight(visibility_km=5.0),
+            settings=RenderSettings(quality=q, seed=seed),
+            atmosphere=True,
+        )
         for rr in (1000.0, 3000.0)
     )
     c1, c2 = abs(near.values["contrast_weber"]), abs(far.values["contrast_weber"])

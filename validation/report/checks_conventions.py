@@ -28,6 +28,7 @@ from csuas.base.checks import Check
 from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.units import frequency_ghz, watt_to_dbm
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import curves
 from csuas.validation.report.registry import CheckSpec, Section, timed
 
@@ -128,15 +129,11 @@ def eo_fog_transmission(render_quality: str) -> Section:
     for r in ranges:
         res = render_eo(
             sc.target_preset,
-            range_m=float(r),
-            hfov_deg=p["hfov_deg"],
-            n_h=p["n_h"],
-            n_v=p["n_v"],
-            visibility_km=v_km,
-            wavelength_nm=p["wavelength_nm"],
-            quality=render_quality,
-            illuminance_lx=sc.environment["illuminance_lx"],
-            seed=1,
+            View(range_m=float(r)),
+            sensor=EoSensor(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"], wavelength_nm=p["wavelength_nm"]),
+            light=Daylight(illuminance_lx=sc.environment["illuminance_lx"], visibility_km=v_km),
+            settings=RenderSettings(quality=render_quality, seed=1),
+            atmosphere=v_km is not None,
         )
         rows.append(
             (
@@ -274,19 +271,15 @@ def thermal_contrast(render_quality: str) -> Section:
     t, env, p = sc.target, sc.environment, sc.sensors["tir"].params
     args = (t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
     dt_lin = float(tir.delta_t_linear(*args))
-    kw = dict(
-        hfov_deg=p["hfov_deg"],
-        n_h=p["n_h"],
-        n_v=p["n_v"],
-        t_bg_k=env["t_bg_k"],
-        emissivity_bg=env["emissivity_bg"],
-        quality=render_quality,
-        seed=2,
-    )
+    camera = dict(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"])
+    background = dict(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"])
+    settings = RenderSettings(quality=render_quality, seed=2)
     for band in ("lwir", "mwir"):
         dt_rad = float(tir.delta_t_radiometric(*args, band))
         plate = _plate(t["emissivity_suas"], t["t_suas_k"], 1.0)
-        res = render_tir(plate, range_m=200.0, band=band, surroundings_k=None, **kw)
+        res = render_tir(
+            plate, View(200.0), ThermalSensor(band=band, **camera), ThermalScene(**background), settings=settings
+        )
         sim, se = res.values["delta_t_k"], res.stderr["delta_t_k"]
         s.table.append(
             _row(
@@ -316,7 +309,14 @@ def thermal_contrast(render_quality: str) -> Section:
         )
     # reflected surroundings at the air temperature (physical only) and the rendered drone
     dt_surr = float(tir.delta_t_radiometric(*args, "lwir", env["temperature_k"]))
-    res = render_tir(sc.target_preset, range_m=100.0, band="lwir", surroundings_k=env["temperature_k"], **kw)
+    res = render_tir(
+        sc.target_preset,
+        View(range_m=100.0),
+        ThermalSensor(band="lwir", **camera),
+        ThermalScene(surroundings_k=env["temperature_k"], **background),
+        reflected_surroundings=True,
+        settings=settings,
+    )
     s.table.append(
         _row(
             "Delta T, LWIR, surroundings at the air temperature reflected",
@@ -338,12 +338,11 @@ def thermal_contrast(render_quality: str) -> Section:
     for r in ranges:
         res = render_tir(
             _plate(t["emissivity_suas"], t["t_suas_k"], 4.0),
-            range_m=float(r),
-            band="lwir",
-            surroundings_k=None,
-            extinction_db_km=sigma,
-            air_temperature_k=env["temperature_k"],
-            **kw,
+            View(range_m=float(r)),
+            ThermalSensor(band="lwir", **camera),
+            ThermalScene(extinction_db_km=sigma, air_temperature_k=env["temperature_k"], **background),
+            atmosphere=True,
+            settings=settings,
         )
         sims.append(res.values["delta_t_k"])
         ses.append(res.stderr["delta_t_k"])
@@ -429,15 +428,13 @@ def thermal_contrast_of_table_8(render_quality: str) -> Section:
     tb = float(graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], "lwir"))
     res = render_tir(
         sc.target_preset,
-        range_m=100.0,
-        hfov_deg=p["hfov_deg"],
-        n_h=p["n_h"],
-        n_v=p["n_v"],
-        t_bg_k=env["t_bg_k"],
-        emissivity_bg=env["emissivity_bg"],
-        surroundings_k=env["temperature_k"],
-        quality=render_quality,
-        seed=3,
+        View(range_m=100.0),
+        sensor=ThermalSensor(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"]),
+        scene=ThermalScene(
+            t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"]
+        ),
+        settings=RenderSettings(quality=render_quality, seed=3),
+        reflected_surroundings=True,
     )
     t_bg_r = res.values["background_temperature_apparent_k"]
     dt = res.values["delta_t_k"]

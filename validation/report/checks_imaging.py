@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.render.imaging.records import EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves, image
 from csuas.validation.report.registry import CheckSpec, Section, timed
@@ -43,16 +44,16 @@ def _render(r, p, quality, seed=0):
 
     return render_eo(
         PRESET,
-        range_m=float(r),
-        hfov_deg=p["hfov_deg"],
-        n_h=p["n_h"],
-        n_v=p["n_v"],
-        quality=quality,
-        lp_task=p["lp_task"],
-        n_ttpf=p["n_ttpf"],
-        c_min=p["c_min"],
-        seed=seed,
-        **VIEW,
+        View(float(r), **VIEW),
+        sensor=EoSensor(
+            hfov_deg=p["hfov_deg"],
+            n_h=p["n_h"],
+            n_v=p["n_v"],
+            lp_task=p["lp_task"],
+            n_ttpf=p["n_ttpf"],
+            c_min=p["c_min"],
+        ),
+        settings=RenderSettings(quality=quality, seed=seed),
     )
 
 
@@ -212,18 +213,14 @@ def gallery(quality: str) -> Section:
     for r in (10.0, 30.0, 100.0):
         res = render_tir(
             PRESET,
-            range_m=r,
-            hfov_deg=tp["hfov_deg"],
-            n_h=tp["n_h"],
-            n_v=tp["n_v"],
-            band=tp["band"],
-            t_bg_k=env["t_bg_k"],
-            emissivity_bg=env["emissivity_bg"],
-            surroundings_k=env["temperature_k"],
-            quality=quality,
-            seed=11,
+            View(r, **VIEW),
+            sensor=ThermalSensor(hfov_deg=tp["hfov_deg"], n_h=tp["n_h"], n_v=tp["n_v"], band=tp["band"]),
+            scene=ThermalScene(
+                t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"]
+            ),
+            settings=RenderSettings(quality=quality, seed=11),
             linear_reference=(t["emissivity_suas"], t["t_suas_k"]),
-            **VIEW,
+            reflected_surroundings=True,
         )
         s.figures.append(
             image(
