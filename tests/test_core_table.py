@@ -248,6 +248,11 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "radar_detection.albersheim_snr_db": "tests/test_radar_detection.py (Richards' 13.1 dB example)",
+    "radar_detection.pd_exact": "tests/test_radar_detection.py (closed forms, quadrature, Monte Carlo)",
+    "radar_detection.required_snr_db": "tests/test_radar_detection.py (Meyer & Mayer, brentq on quadrature)",
+    "radar_detection.shnidman_snr_db": "tests/test_radar_detection.py (against the exact inverse)",
+    "radar_detection.threshold": "tests/test_radar_detection.py (noise-only gamma tail)",
     "ranges.evaluate": "tests/test_scenario.py (every embedded scenario against the core models)",
     "ranges.horizontal_range_m": "tests/test_range_cli.py, tests/test_scenario.py (Eq. 13)",
     "ranges.paper_eta_tl": "tests/test_scenario.py (Table 47)",
