@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import ParameterError, raise_all
 
 
 def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False, why: str = ""):
@@ -55,3 +55,31 @@ def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: 
         allowed += f": {why}" if why else ""
         raise ParameterError(name, float(first), allowed)
     return arr
+
+
+def require_all(*checks):
+    """Check several parameters with :func:`require` and report every failure at once.
+
+    Parameters
+    ----------
+    *checks : (str, array_like, dict)
+        ``(name, value, bounds)`` with ``bounds`` the keyword arguments of :func:`require`.
+
+    Returns
+    -------
+    list of ndarray
+        The checked arrays, in order.
+
+    Raises
+    ------
+    ParameterError or InputErrors
+        One failure, or several together (:func:`csuas.base.errors.raise_all`).
+    """
+    arrays, errors = [], []
+    for name, value, bounds in checks:
+        try:
+            arrays.append(require(name, value, **bounds))
+        except ParameterError as exc:
+            errors.append(exc)
+    raise_all(errors)
+    return arrays

@@ -248,6 +248,19 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "checks.require_all": "tests/test_detection.py",
+    "detection.energy_detector_pd": "tests/test_detection.py (Monte Carlo, adaptive quadrature, Swerling 1 identity)",
+    "detection.energy_detector_threshold": "tests/test_detection.py (noise-only gamma tail)",
+    "detection.imaging_pd": "tests/test_detection.py (Table 21 at Eq. 18 ranges)",
+    "detection.lidar_pd_gaussian": "tests/test_detection.py (Monte Carlo)",
+    "detection.lidar_pd_poisson": "tests/test_detection.py (exact Poisson sums, Monte Carlo)",
+    "detection.photon_counting_threshold": "tests/test_detection.py (exact Poisson sums)",
+    "detection.ttpf_probability": "tests/test_detection.py (every column of Table 21)",
+    "fusion.approach_looks": "tests/test_fusion.py",
+    "fusion.cumulative_pd": "tests/test_fusion.py (1 - (1 - p)^n)",
+    "fusion.first_detection": "tests/test_fusion.py (Monte Carlo approach)",
+    "fusion.fuse_k_of_n": "tests/test_fusion.py (enumeration)",
+    "fusion.fuse_or": "tests/test_fusion.py (enumeration)",
     "radar_detection.albersheim_snr_db": "tests/test_radar_detection.py (Richards' 13.1 dB example)",
     "radar_detection.pd_exact": "tests/test_radar_detection.py (closed forms, quadrature, Monte Carlo)",
     "radar_detection.required_snr_db": "tests/test_radar_detection.py (Meyer & Mayer, brentq on quadrature)",
