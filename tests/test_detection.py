@@ -124,7 +124,7 @@ def test_fading_average_against_adaptive_quadrature(m, k_db):
             snr, t = 10 ** (snr_db / 10), special.gammainccinv(m, pfa)
             step = max(t - m, 0) / (m * snr)  # where the steady Pd rises
             points = [x for x in (0.5 * step, step, 2 * step, 1.0) if lo < x < hi]
-            integrand = lambda g: stats.ncx2.sf(2 * t, 2 * m, 2 * m * snr * g) * dist.pdf(g)
+            integrand = lambda g, t=t, snr=snr: stats.ncx2.sf(2 * t, 2 * m, 2 * m * snr * g) * dist.pdf(g)
             reference = integrate.quad(integrand, lo, hi, points=points, limit=1000, epsabs=1e-14, epsrel=1e-13)[0]
             fading = "rayleigh" if k_db is None else "rician"
             computed = float(energy_detector_pd(snr_db, pfa, m, fading, 0.0 if k_db is None else k_db))
