@@ -60,3 +60,65 @@ def tornado_plot(path, title: str, baseline_m: float, bars, *, log_scale: bool =
         fig.savefig(tmp, format="png")
     plt.close(fig)
     return Path(path)
+
+
+def pd_plot(
+    path, title: str, range_m, curves: dict, *, fused=None, fused_label: str = "fused", markers=None, cumulative=None
+):
+    """Write probability of detection against range, one line per sensor and the fused one, as PNG.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output PNG.
+    title : str
+    range_m : array_like
+        Range grid [m] (log axis).
+    curves : dict
+        ``{label: Pd}`` on the grid.
+    fused : array_like, optional
+        Fused Pd (thick black line), labelled ``fused_label``.
+    markers : dict, optional
+        ``{label: (range_m, pd)}``: each sensor's deterministic range and the Pd there.
+    cumulative : dict, optional
+        ``{label: cumulative Pd}`` along an approach, drawn in a second panel.
+    """
+    plt = _pyplot()
+    panels = 2 if cumulative else 1
+    fig, axes = plt.subplots(panels, 1, figsize=(8.0, 4.2 * panels), dpi=110, sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    colours = {}
+    for label, pd in curves.items():
+        (line,) = ax.plot(range_m, pd, lw=1.6, label=label)
+        colours[label] = line.get_color()
+    if fused is not None:
+        ax.plot(range_m, fused, color="k", lw=2.2, ls="--", label=fused_label)
+    for label, (r, p) in (markers or {}).items():
+        if r and p is not None and r > 0:
+            ax.plot([r], [p], marker="o", ms=6, mfc="white", color=colours.get(label, "k"))
+    ax.set_xscale("log")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_ylabel("probability of detection per look")
+    ax.set_title(f"{title}\n(circles: each sensor's deterministic range and the Pd it implies)", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="lower left")
+    if cumulative:
+        ax2 = axes[1, 0]
+        for label, c in cumulative.items():
+            ax2.plot(
+                range_m,
+                c,
+                lw=2.6 if label == fused_label else 1.6,
+                color="k" if label == fused_label else colours.get(label),
+                label=label,
+            )
+        ax2.set_ylim(-0.02, 1.02)
+        ax2.set_ylabel("cumulative Pd along the approach")
+        ax2.grid(alpha=0.3, which="both")
+        ax2.legend(fontsize=8, loc="lower left")
+    axes[-1, 0].set_xlabel("slant range [m]")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)
+    return Path(path)

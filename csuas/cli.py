@@ -40,6 +40,8 @@ COMMANDS = {
     "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
     "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",
+    "pd": "probability of detection against range for every sensor of a scenario, fused, and along an approach",
+    "pd-radar": "probability of detection of a radar detector (Swerling 0-4), or the SNR a Pd needs",
 }
 
 
@@ -65,7 +67,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     for name, help_text in COMMANDS.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
         if name == command:
-            module = resolve(f"csuas.commands.{name}")
+            module = resolve(f"csuas.commands.{name.replace('-', '_')}")
             module.add_arguments(cmd)
             cmd.add_argument("--json", action="store_true", help="print one JSON object on stdout")
             cmd.set_defaults(_module=module)

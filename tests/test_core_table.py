@@ -248,6 +248,12 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "pd_curves.approach": "tests/test_pd_curves.py",
+    "pd_curves.fuse": "tests/test_pd_curves.py (exact product for n-of-n)",
+    "pd_curves.fused_cumulative": "tests/test_pd_curves.py",
+    "pd_curves.margin_db": "tests/test_pd_curves.py (R^-4 and R^-2 laws, two-way rain attenuation)",
+    "pd_curves.range_at_pd": "tests/test_pd_curves.py",
+    "pd_curves.sensor_pd": "tests/test_pd_curves.py (the detectors' closed forms at the deterministic range)",
     "checks.require_all": "tests/test_detection.py",
     "detection.energy_detector_pd": "tests/test_detection.py (Monte Carlo, adaptive quadrature, Swerling 1 identity)",
     "detection.energy_detector_threshold": "tests/test_detection.py (noise-only gamma tail)",

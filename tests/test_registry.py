@@ -13,7 +13,7 @@ from csuas.validation.report.runner import SPEC_LISTS
 
 @pytest.mark.parametrize("name", sorted(COMMANDS))
 def test_every_command_module_has_its_three_functions(name):
-    module = resolve(f"csuas.commands.{name}")
+    module = resolve(f"csuas.commands.{name.replace('-', '_')}")
     assert all(callable(getattr(module, f, None)) for f in ("add_arguments", "run", "render_text"))
 
 

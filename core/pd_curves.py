@@ -1,0 +1,348 @@
+"""Probability of detection against range for every sensor of a scenario, and fused (``csuas pd``).
+
+Each sensor's deterministic model (:mod:`csuas.core.ranges`) stays the single source of its
+budget. For a threshold-limited sensor (acoustic, RF, radar, lidar) the budget margin at range R,
+m(R) [dB], is how far the threshold could rise and the model still reach R: the model is
+evaluated once over a grid of threshold shifts (it is vectorised), and m(R) interpolated in
+log R. The SNR at R is the SNR at the threshold plus m(R), so m = 0 at the deterministic
+range, and every convention's losses (fixed paths, or attenuation growing with R) are
+included exactly as the range model has them. The detector of each modality
+(:mod:`csuas.core.detection`, :mod:`csuas.core.radar_detection`) turns that SNR into Pd; the
+imaging sensors use the target transfer probability function of the resolvable cycles. The
+line-of-sight horizon, when the scenario gives heights, ends every optical and radio sensor's
+reach. Every assumption is a sensor parameter with its default and source
+(``defaults/parameters.toml``, docs/detection.md).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from csuas.base.errors import ParameterError
+from csuas.core import detection, johnson, radar, radar_detection, tir
+from csuas.core.checks import require
+from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
+from csuas.core.horizon import line_of_sight_limit_m
+from csuas.core.mrtd import sensor_mrtd
+from csuas.core.radiometry import graybody_apparent_temperature
+from csuas.core.ranges import ADAPTERS, HORIZONS
+from csuas.core.result import check_convention
+from csuas.core.scenario import Scenario, SensorSpec
+
+#: Threshold shifts over which a model is evaluated to read its margin [dB]; beyond them Pd is saturated.
+MARGIN_GRID_DB = np.linspace(-150.0, 150.0, 2401)
+#: Probabilities at which ``range_at_pd`` is reported.
+REPORTED_PD = (0.5, 0.9)
+
+
+@dataclass
+class PdCurve:
+    """Pd of one sensor over a range grid.
+
+    Attributes
+    ----------
+    sensor, modality : str
+    range_m, pd : ndarray
+        The range grid [m] and Pd on it.
+    deterministic_range_m : float
+        The sensor's range from :func:`csuas.core.ranges.evaluate` (the paper's model), before the horizon.
+    pd_at_deterministic_range : float or None
+        Pd there: the probability the deterministic threshold implies (None when that range is 0).
+    assumptions : list of str
+        The detector and its parameters, each with where it comes from.
+    looks : str
+        ``independent`` or ``correlated`` successive looks; ``look_rate_hz`` their rate.
+    """
+
+    sensor: str
+    modality: str
+    range_m: np.ndarray
+    pd: np.ndarray
+    deterministic_range_m: float
+    pd_at_deterministic_range: float | None
+    assumptions: list = field(default_factory=list)
+    looks: str = "independent"
+    look_rate_hz: float = 1.0
+
+
+def _threshold_key(sensor: SensorSpec) -> tuple[str, bool]:
+    """The parameter holding the sensor's detection threshold, and whether it is in dB."""
+    if sensor.modality == "radar":
+        return ("p_rx_min_w", False) if sensor.params["model"] == "range_equation" else ("snr_min_db", True)
+    return {"rf": ("s_rx_dbm", True), "acoustic": ("snr_req_db", True), "lidar": ("p_rx_min_w", False)}[sensor.modality]
+
+
+def margin_db(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) -> np.ndarray:
+    """Budget margin [dB] of a threshold-limited sensor at each range: 0 at its deterministic range.
+
+    Parameters
+    ----------
+    scenario, sensor
+        The resolved scenario and one of its acoustic, RF, radar or lidar sensors.
+    convention : {"paper", "physical"}
+    range_m : array_like
+        Ranges [m], >= 0.
+
+    Returns
+    -------
+    ndarray
+        m(R) [dB], clipped to the grid's +-150 dB (Pd is saturated well before).
+    """
+    r_query = require("range_m", range_m, ge=0)
+    key, in_db = _threshold_key(sensor)
+    base = sensor.params[key]
+    shifted = base + MARGIN_GRID_DB if in_db else base * 10.0 ** (MARGIN_GRID_DB / 10.0)
+    model = replace(sensor, params={**sensor.params, key: shifted})
+    reach = np.asarray(ADAPTERS[sensor.modality](scenario, model, convention).range_m, dtype=float)
+    usable = np.isfinite(reach) & (reach > 0)
+    if not np.any(usable):  # the budget reaches no range at any threshold shift
+        return np.full(r_query.shape, MARGIN_GRID_DB[0])
+    log_reach, shift = np.log(reach[usable])[::-1], MARGIN_GRID_DB[usable][::-1]  # increasing reach
+    keep = np.concatenate([[True], np.diff(log_reach) > 0])
+    with np.errstate(divide="ignore"):
+        log_r = np.log(np.maximum(r_query, 1e-300))
+    return np.interp(log_r, log_reach[keep], shift[keep], left=MARGIN_GRID_DB[-1], right=MARGIN_GRID_DB[0])
+
+
+def _horizon_m(scenario: Scenario, sensor: SensorSpec) -> float:
+    """Line-of-sight limit of an optical or radio sensor when the scenario gives its height, else inf."""
+    height = sensor.params.get("height_m")
+    if sensor.modality not in HORIZONS or height is None:
+        return np.inf
+    k, _ = HORIZONS[sensor.modality]
+    return float(line_of_sight_limit_m(height, max(height + scenario.target["altitude_m"], 0.0), k))
+
+
+def _source(sensor: SensorSpec, key: str) -> str:
+    return f"sensors.{sensor.name}.{key}" + ("" if key in sensor.explicit else " default")
+
+
+def _imaging(scenario, sensor, convention, r):
+    p, t = sensor.params, scenario.target
+    exponent = p["ttpf_exponent"]
+    ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
+    notes = [f"target transfer probability function, exponent {exponent} ({_source(sensor, 'ttpf_exponent')})"]
+    if sensor.modality == "tir" and p["model"] == "mrtd":
+        pd = _mrtd_pd(scenario, sensor, convention, r)
+        notes.append(
+            "resolvable cycles: the highest frequency whose MRTD the apparent Delta T(R) exceeds, over lp_task"
+        )
+        return pd, notes
+    r50 = johnson.johnson_range_m(t["d_crit_m"], ifov, p["lp_task"], 1.0)
+    cutoff = np.inf
+    if sensor.modality == "eo":
+        cutoff = float(np.asarray(ADAPTERS["eo"](scenario, sensor, convention).term("contrast_limited_range_m").value))
+        notes.append("Pd = 0 beyond the contrast-limited range (Eq. 21)")
+    notes.append(f"cycles across d_crit from Eq. 17: x = R50 / R, R50 = {float(r50):.4g} m")
+    return detection.imaging_pd(r, r50, exponent, cutoff), notes
+
+
+def _mrtd_pd(scenario, sensor, convention, r):
+    """TTPF of the resolvable cycles f*(R) d_crit / (lp R), f* where MRTD(f*) = |Delta T(R)|."""
+    p, t, env = sensor.params, scenario.target, scenario.environment
+    curve = sensor_mrtd(p)
+    extra = {}
+    if convention == "paper":
+        dt0 = tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
+    else:
+        t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"])
+        dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
+        extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
+    dt = np.abs(tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra))
+    f_star = curve.max_frequency(dt)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(r > 0, f_star * t["d_crit_m"] / (p["lp_task"] * np.where(r > 0, r, 1.0)), np.inf)
+    return detection.ttpf_probability(np.where(np.isnan(x), 0.0, x), p["ttpf_exponent"])
+
+
+def _threshold_pd(scenario, sensor, convention, r):
+    p = sensor.params
+    m = margin_db(scenario, sensor, convention, r)
+    pfa = p["pfa"]
+    notes = [f"Pfa = {pfa:g} ({_source(sensor, 'pfa')})"]
+    if sensor.modality == "radar":
+        n, integration = int(p["n_pulses"]), p["integration"]
+        gain_db = 10 * np.log10(float(radar.integration_gain(n, integration, convention)))
+        snr1_db = p["snr_min_db"] - gain_db
+        swerling = int(p["swerling"])
+        if integration == "none":
+            n, mode = 1, "noncoherent"
+        else:
+            mode = integration
+        notes += [
+            f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})",
+            f"{n} pulse(s), {mode} integration",
+            f"single-pulse SNR at the deterministic range: snr_min_db - integration gain = {snr1_db:.4g} dB",
+        ]
+        return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
+    if sensor.modality in ("rf", "acoustic"):
+        reference = p["snr_at_sensitivity_db"] if sensor.modality == "rf" else p["snr_req_db"]
+        fading = p.get("fading", "none")
+        notes.append(f"energy detector, M = {p['time_bandwidth']:g} ({_source(sensor, 'time_bandwidth')})")
+        if sensor.modality == "rf":
+            notes.append(f"SNR {reference:g} dB at s_rx_dbm ({_source(sensor, 'snr_at_sensitivity_db')})")
+            notes.append(f"fading {fading}" + (f", K = {p['rician_k_db']:g} dB" if fading == "rician" else ""))
+        else:
+            notes.append(f"SNR at the threshold: snr_req_db = {reference:g} dB")
+        return (
+            detection.energy_detector_pd(reference + m, pfa, p["time_bandwidth"], fading, p.get("rician_k_db", 0.0)),
+            notes,
+        )
+    if p["detector"] == "poisson":
+        signal = p["photons_at_threshold"] * 10.0 ** (m / 10.0)
+        notes.append(
+            f"photon counting: {p['photons_at_threshold']:g} signal photons at p_rx_min_w, "
+            f"{p['noise_photons']:g} noise counts per gate"
+        )
+        return detection.lidar_pd_poisson(signal, p["noise_photons"], pfa), notes
+    notes.append(
+        f"linear-mode receiver in Gaussian noise, electrical SNR {p['snr_at_threshold_db']:g} dB at p_rx_min_w "
+        "(SNR grows as the square of the received power)"
+    )
+    return detection.lidar_pd_gaussian(p["snr_at_threshold_db"] + 2.0 * m, pfa), notes
+
+
+def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | None = None) -> PdCurve:
+    """Pd against range of one sensor of a scenario.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    sensor_name : str
+        Key of the sensor in the scenario.
+    range_m : array_like
+        Slant ranges [m], >= 0.
+    convention : {"paper", "physical"}, optional
+        Overrides the scenario's convention.
+    """
+    conv = check_convention(convention or scenario.convention)
+    if sensor_name not in scenario.sensors:
+        raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
+    sensor = scenario.sensors[sensor_name]
+    r = require("range_m", range_m, ge=0)
+    if sensor.modality in ("eo", "tir"):
+        pd, notes = _imaging(scenario, sensor, conv, r)
+    else:
+        pd, notes = _threshold_pd(scenario, sensor, conv, r)
+    horizon = _horizon_m(scenario, sensor)
+    if np.isfinite(horizon):
+        pd = np.where(r > horizon, 0.0, pd)
+        notes.append(f"Pd = 0 beyond the line-of-sight horizon ({horizon / 1000:.3g} km)")
+    deterministic = float(np.asarray(ADAPTERS[sensor.modality](scenario, sensor, conv).range_m))
+    at_deterministic = None  # a zero range has no threshold crossing to read
+    if deterministic > 0:
+        at_deterministic = float(_pd_without_horizon(scenario, sensor, conv, deterministic))
+    return PdCurve(
+        sensor_name,
+        sensor.modality,
+        r,
+        np.asarray(pd, dtype=float),
+        deterministic,
+        at_deterministic,
+        notes,
+        sensor.params["looks"],
+        float(sensor.params["look_rate_hz"]),
+    )
+
+
+def _pd_without_horizon(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) -> np.ndarray:
+    """Pd of one resolved sensor at given ranges, without the horizon (used for the deterministic range)."""
+    r = require("range_m", range_m, ge=0)
+    if sensor.modality in ("eo", "tir"):
+        return _imaging(scenario, sensor, convention, r)[0]
+    return _threshold_pd(scenario, sensor, convention, r)[0]
+
+
+def range_at_pd(range_m, pd, target: float) -> float | None:
+    """The largest grid range at which Pd still reaches ``target``, interpolated in log range [m]; None if never."""
+    r, p = np.asarray(range_m, float), np.asarray(pd, float)
+    above = np.nonzero(p >= target)[0]
+    if above.size == 0:
+        return None
+    i = int(above[-1])
+    if i == r.size - 1:
+        return float(r[i])
+    r0, r1, p0, p1 = r[i], r[i + 1], p[i], p[i + 1]
+    if p0 == p1 or r0 <= 0:
+        return float(r0)
+    frac = (p0 - target) / (p0 - p1)
+    return float(np.exp(np.log(r0) + frac * (np.log(r1) - np.log(r0))))
+
+
+def fuse(curves: list, rule: str = "or") -> np.ndarray:
+    """Fused Pd of independent sensors on a shared range grid: ``or`` or ``k-of-n:K``."""
+    stack = np.stack([c.pd for c in curves])
+    if rule == "or":
+        return fuse_or(stack)
+    kind, _, k = rule.partition(":")
+    if kind != "k-of-n" or not k.isdigit():
+        raise ParameterError("fusion", rule, "or, or k-of-n:K with K a whole number")
+    return fuse_k_of_n(stack, int(k))
+
+
+def approach(
+    scenario: Scenario,
+    sensor_name: str,
+    speed_m_s: float,
+    start_range_m: float,
+    stop_range_m: float = 0.0,
+    convention: str | None = None,
+) -> dict:
+    """Cumulative Pd of one sensor along a straight approach at constant speed, looking at its own rate.
+
+    Parameters
+    ----------
+    scenario, sensor_name, convention
+        As in :func:`sensor_pd`.
+    speed_m_s : float
+        Closing speed of the drone [m/s].
+    start_range_m, stop_range_m : float
+        Where the approach starts and ends [m].
+
+    Returns
+    -------
+    dict
+        ``look_range_m`` and ``cumulative_pd`` at each of the sensor's looks (independent or
+        correlated, the sensor's ``looks``), ``median_range_m`` of the first detection (None when
+        the approach ends first), ``never`` (the probability of no detection) and ``notes`` (the
+        false-alarm floor 1 - (1 - Pfa)^n when it exceeds 1 %: Pd per look includes noise crossings).
+    """
+    sensor = scenario.sensors.get(sensor_name)
+    if sensor is None:
+        raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
+    looks = approach_looks(start_range_m, stop_range_m, speed_m_s, sensor.params["look_rate_hz"])
+    curve = sensor_pd(scenario, sensor_name, looks, convention)
+    cumulative = cumulative_pd(curve.pd, sensor.params["looks"])
+    first = first_detection(looks, cumulative)
+    out = {
+        "look_range_m": looks,
+        "cumulative_pd": cumulative,
+        "median_range_m": first["median_range_m"],
+        "never": float(first["never"]),
+        "notes": [],
+    }
+    pfa = sensor.params.get("pfa")
+    if pfa is not None and sensor.params["looks"] == "independent":
+        floor = -np.expm1(looks.size * np.log1p(-pfa))
+        if floor > 0.01:
+            out["notes"].append(
+                f"false alarms alone reach {floor:.2g} over the approach's {looks.size} looks (Pfa {pfa:g} each)"
+            )
+    return out
+
+
+def fused_cumulative(approaches: list, range_m) -> np.ndarray:
+    """Cumulative Pd of independent sensors on a common range grid: 1 - prod(1 - C_s(R)).
+
+    Each sensor's cumulative probability at R is that of its last look at or beyond R (a step
+    function: nothing is gained between looks).
+    """
+    r = require("range_m", range_m, ge=0)
+    missed = np.ones(r.shape)
+    for a in approaches:
+        looks, c = a["look_range_m"], a["cumulative_pd"]
+        index = np.searchsorted(-looks, -r, side="right") - 1  # looks run far to near
+        missed *= 1.0 - np.where(index >= 0, c[np.maximum(index, 0)], 0.0)
+    return 1.0 - missed

@@ -1,0 +1,173 @@
+"""``csuas pd SCENARIO``: probability of detection against range for every sensor, and fused (docs/detection.md).
+
+JSON (``--json``): top-level ``range_m`` (the grid) and, aligned with it, ``sensors.<name>.pd``;
+per sensor also ``range_at_pd`` (keys ``"0.5"`` and ``"0.9"``: metres, or null when never
+reached), ``deterministic_range_m`` and ``pd_at_deterministic_range`` (the paper's range and the
+Pd its threshold implies), ``assumptions``, ``looks`` and ``look_rate_hz``; ``fused.pd``,
+``fused.rule`` and ``fused.range_at_pd``. With ``--approach-speed-m-s`` also ``cumulative_pd``
+(aligned with ``range_m``: detected by the time the drone, closing from the grid's far end,
+reaches that range) and ``median_first_detection_range_m`` per sensor and fused.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from csuas.base.errors import ParameterError, raise_all
+from csuas.core.pd_curves import REPORTED_PD, approach, fuse, fused_cumulative, range_at_pd, sensor_pd
+from csuas.core.ranges import evaluate
+from csuas.core.scenario import load_scenario
+
+#: Points of the default log-spaced range grid, and how far beyond the longest range it reaches.
+GRID_POINTS, GRID_BEYOND = 400, 3.0
+
+
+def add_arguments(parser):
+    """Declare the options of ``csuas pd``."""
+    parser.add_argument("scenario", help="scenario TOML file, or an embedded scenario name")
+    parser.add_argument(
+        "--range-m",
+        type=float,
+        nargs="+",
+        default=None,
+        metavar="R",
+        help=f"slant ranges [m] (default: {GRID_POINTS} log-spaced from 1 m to {GRID_BEYOND:g}x the longest range)",
+    )
+    parser.add_argument("--fusion", default="or", help="or (default), or k-of-n:K (at least K sensors detect)")
+    parser.add_argument(
+        "--approach-speed-m-s",
+        type=float,
+        default=None,
+        metavar="V",
+        help="closing speed of a drone flying in from the grid's far end: cumulative Pd and median first detection",
+    )
+    parser.add_argument("--plot", default=None, metavar="FILE.png", help="write Pd against range (and the approach)")
+    parser.add_argument(
+        "--convention", choices=("paper", "physical"), default=None, help="override the scenario's convention"
+    )
+
+
+def _grid(scenario, args) -> np.ndarray:
+    if args.range_m is not None:
+        return np.asarray(sorted(args.range_m), dtype=float)
+    reach = [float(np.max(r.range_m)) for r in evaluate(scenario, args.convention).values()]
+    longest = max([r for r in reach if np.isfinite(r) and r > 0], default=1000.0)
+    return np.geomspace(1.0, max(GRID_BEYOND * longest, 10.0), GRID_POINTS)
+
+
+def _check(args) -> None:
+    errors = []
+    if args.range_m is not None:
+        bad = [r for r in args.range_m if not (np.isfinite(r) and r >= 0)]
+        if bad or not args.range_m:
+            errors.append(ParameterError("range_m", bad[0] if bad else args.range_m, "ranges >= 0 [m], finite"))
+    if args.approach_speed_m_s is not None and not (
+        np.isfinite(args.approach_speed_m_s) and args.approach_speed_m_s > 0
+    ):
+        errors.append(ParameterError("approach_speed_m_s", args.approach_speed_m_s, "> 0 [m/s], finite"))
+    kind, _, k = args.fusion.partition(":")
+    if args.fusion != "or" and not (kind == "k-of-n" and k.isdigit() and int(k) >= 1):
+        errors.append(ParameterError("fusion", args.fusion, "or, or k-of-n:K with K a whole number >= 1"))
+    if args.plot is not None and not args.plot.lower().endswith(".png"):
+        errors.append(ParameterError("plot", args.plot, "a file name ending in .png"))
+    raise_all(errors)
+
+
+def _at_pd(range_m, pd) -> dict:
+    return {f"{p:g}": range_at_pd(range_m, pd, p) for p in REPORTED_PD}
+
+
+def run(args) -> dict:
+    """Pd of every sensor of the scenario on the grid, fused, and along an approach."""
+    _check(args)
+    scenario = load_scenario(args.scenario)
+    grid = _grid(scenario, args)
+    curves = [sensor_pd(scenario, name, grid, args.convention) for name in scenario.sensors]
+    if args.fusion != "or" and int(args.fusion.partition(":")[2]) > len(curves):
+        raise ParameterError("fusion", args.fusion, f"K at most {len(curves)}, the scenario's sensors")
+    fused = fuse(curves, args.fusion)
+    out = {
+        "scenario": scenario.name,
+        "convention": args.convention or scenario.convention,
+        "range_m": grid,
+        "sensors": {},
+        "fused": {"pd": fused, "rule": args.fusion, "range_at_pd": _at_pd(grid, fused)},
+    }
+    approaches = {}
+    for c in curves:
+        out["sensors"][c.sensor] = {
+            "modality": c.modality,
+            "pd": c.pd,
+            "range_at_pd": _at_pd(grid, c.pd),
+            "deterministic_range_m": c.deterministic_range_m,
+            "pd_at_deterministic_range": c.pd_at_deterministic_range,
+            "assumptions": c.assumptions,
+            "looks": c.looks,
+            "look_rate_hz": c.look_rate_hz,
+        }
+        if args.approach_speed_m_s is not None:
+            a = approach(scenario, c.sensor, args.approach_speed_m_s, float(grid[-1]), float(grid[0]), args.convention)
+            approaches[c.sensor] = a
+            out["sensors"][c.sensor]["cumulative_pd"] = fused_cumulative([a], grid)
+            out["sensors"][c.sensor]["median_first_detection_range_m"] = a["median_range_m"]
+            out["sensors"][c.sensor]["approach_notes"] = a["notes"]
+    if approaches:
+        if args.fusion != "or":
+            out["fused"]["approach_note"] = "the fused cumulative Pd combines the sensors' cumulative Pd by OR"
+        cumulative = fused_cumulative(list(approaches.values()), grid)
+        out["approach_speed_m_s"] = args.approach_speed_m_s
+        out["fused"]["cumulative_pd"] = cumulative
+        out["fused"]["median_first_detection_range_m"] = range_at_pd(grid, cumulative, 0.5)
+    if args.plot is not None:
+        from csuas.base.plots import pd_plot
+
+        cumulative = None
+        if approaches:
+            cumulative = {name: out["sensors"][name]["cumulative_pd"] for name in approaches}
+            cumulative[f"fused ({args.fusion})"] = out["fused"]["cumulative_pd"]
+        out["plot"] = str(
+            pd_plot(
+                Path(args.plot),
+                f"Pd against range, scenario {scenario.name} ({out['convention']} convention)",
+                grid,
+                {c.sensor: c.pd for c in curves},
+                fused=fused,
+                fused_label=f"fused ({args.fusion})",
+                markers={c.sensor: (c.deterministic_range_m, c.pd_at_deterministic_range) for c in curves},
+                cumulative=cumulative,
+            )
+        )
+    return out
+
+
+def _metres(value) -> str:
+    return "never" if value is None else f"{value:,.1f} m"
+
+
+def render_text(result: dict) -> str:
+    """One row per sensor: the paper's range and its Pd, the ranges of Pd 0.5 and 0.9, the assumptions."""
+    lines = [f"scenario {result['scenario']} ({result['convention']} convention), Pd per look"]
+    approach_on = "approach_speed_m_s" in result
+    header = f"  {'sensor':<14}{'R* (paper)':>14}{'Pd(R*)':>8}{'R(Pd=0.5)':>14}{'R(Pd=0.9)':>14}"
+    lines.append(header + (f"{'median first':>16}" if approach_on else ""))
+    for name, s in result["sensors"].items():
+        pd_star = "-" if s["pd_at_deterministic_range"] is None else f"{s['pd_at_deterministic_range']:.3f}"
+        row = (
+            f"  {name:<14}{_metres(s['deterministic_range_m']):>14}{pd_star:>8}"
+            f"{_metres(s['range_at_pd']['0.5']):>14}{_metres(s['range_at_pd']['0.9']):>14}"
+        )
+        lines.append(row + (f"{_metres(s['median_first_detection_range_m']):>16}" if approach_on else ""))
+    f = result["fused"]
+    at = f["range_at_pd"]
+    row = f"  {'fused ' + f['rule']:<14}{'':>14}{'':>8}{_metres(at['0.5']):>14}{_metres(at['0.9']):>14}"
+    lines.append(row + (f"{_metres(f['median_first_detection_range_m']):>16}" if approach_on else ""))
+    if approach_on:
+        lines.append(f"approach at {result['approach_speed_m_s']:g} m/s from {result['range_m'][-1]:,.0f} m")
+    lines.append("assumptions:")
+    for name, s in result["sensors"].items():
+        lines.append(f"  {name}: " + "; ".join(s["assumptions"] + s.get("approach_notes", [])))
+    if "plot" in result:
+        lines.append(f"plot: {result['plot']}")
+    return "\n".join(lines)
