@@ -248,6 +248,10 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
+    "rcs_statistics.fit_lognormal": "tests/test_rcs_statistics.py (3GPP-like samples)",
+    "rcs_statistics.pd_over_rcs_samples": "tests/test_rcs_statistics.py (Swerling 1 limit, steady limit)",
+    "rcs_statistics.rcs_summary": "tests/test_rcs_statistics.py",
     "pd_curves.approach": "tests/test_pd_curves.py",
     "pd_curves.fuse": "tests/test_pd_curves.py (exact product for n-of-n)",
     "pd_curves.fused_cumulative": "tests/test_pd_curves.py",

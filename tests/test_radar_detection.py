@@ -23,6 +23,7 @@ from csuas.core.radar_detection import (
     shnidman_snr_db,
     threshold,
 )
+from csuas.validation.detection.monte_carlo import simulate_detector
 
 
 def test_swerling_1_single_pulse_closed_form():
@@ -79,28 +80,6 @@ def test_steady_and_scan_to_scan_against_their_defining_integrals(n, snr_db):
     assert pd_exact(snr_db, pfa, n, 3) == pytest.approx(_scan_to_scan_quadrature(snr, pfa, n, 4), abs=1e-8)
 
 
-def _monte_carlo(snr_db, pfa, n, swerling, integration, trials, rng):
-    """Detections of simulated complex samples: unit-power noise plus a target of sampled RCS."""
-    snr = 10 ** (snr_db / 10)
-    looks = n if swerling in (2, 4) and integration == "noncoherent" else 1  # independent RCS draws per dwell
-    if swerling == 0:
-        rcs = np.ones((trials, n))
-    else:
-        k = 1.0 if swerling in (1, 2) else 2.0
-        rcs = rng.gamma(k, 1 / k, size=(trials, looks))
-        rcs = np.repeat(rcs, n // looks, axis=1)
-    phase = np.exp(2j * np.pi * rng.random((trials, 1)))
-    signal = np.sqrt(snr * rcs) * phase
-    noise = (rng.standard_normal((trials, n)) + 1j * rng.standard_normal((trials, n))) / np.sqrt(2)
-    if integration == "coherent":
-        statistic = np.abs(np.sum(signal + noise, axis=1)) ** 2 / n  # noise power 1 again
-        t = -math.log(pfa)
-    else:
-        statistic = np.sum(np.abs(signal + noise) ** 2, axis=1)
-        t = special.gammainccinv(n, pfa)
-    return np.mean(statistic > t)
-
-
 @pytest.mark.parametrize("integration", ["noncoherent", "coherent"])
 @pytest.mark.parametrize("swerling", [0, 1, 2, 3, 4])
 @pytest.mark.parametrize("n", [1, 4, 16])
@@ -109,7 +88,7 @@ def test_monte_carlo_detector_reproduces_the_exact_pd(swerling, n, integration):
     trials, pfa = 100_000, 1e-3
     for snr_db in (0.0, 6.0):
         exact = float(pd_exact(snr_db, pfa, n, swerling, integration))
-        simulated = _monte_carlo(snr_db, pfa, n, swerling, integration, trials, rng)
+        simulated, _ = simulate_detector(snr_db, pfa, n, swerling, integration, trials, rng)
         sigma = math.sqrt(exact * (1 - exact) / trials)
         assert abs(simulated - exact) <= 4 * sigma + 1e-4, (snr_db, exact, simulated)
 

@@ -19,6 +19,7 @@ GROUPS = {
     "rcs": "Radar cross-section (SBR-PO) vs oracles",
     "lidar": "Lidar cross-section vs oracles",
     "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
+    "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.

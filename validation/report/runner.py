@@ -27,6 +27,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_rcs:SPECS",
     "csuas.validation.report.checks_lidar:SPECS",
     "csuas.validation.report.checks_imaging:SPECS",
+    "csuas.validation.report.checks_detection:SPECS",
 )
 
 
