@@ -170,10 +170,11 @@ def _swerling_4(n, snr, t):
         mean, sd = nn * pp, np.sqrt(nn * pp * (1.0 - pp))
         lo = np.maximum(0.0, np.floor(mean - sigmas * sd - sigmas))
         hi = np.minimum(nn, np.ceil(mean + sigmas * sd + sigmas))
-        width = int(np.max(hi - lo)) + 1
-        chunk = max(1, 4_000_000 // width)
-        for start in range(0, todo.size, chunk):
-            sl = slice(start, start + chunk)
+        widths = (hi - lo).astype(int) + 1
+        order = np.argsort(widths, kind="stable")  # chunks of similar width: little padding
+        for start in range(0, order.size, 8192):
+            sl = order[start : start + 8192]
+            width = int(widths[sl].max())
             nc, pc, yc, oc, lc, hc = (x[sl, None] for x in (nn, pp, yy, lo_odds, lo, hi))
             k = np.arange(width)[None, :]
             j = hc - k  # descending j, ascending shape m = 2N - j

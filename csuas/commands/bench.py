@@ -16,6 +16,7 @@ SUITES = {
     "sionna_links": "csuas.validation.links.bench:bench_links",
     "lidar_lcs": "csuas.validation.lidar.bench:bench",
     "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",
+    "detection_pd": "csuas.validation.detection.bench:bench_pd",
 }
 
 
