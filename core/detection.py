@@ -35,6 +35,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require, require_all
+from csuas.core.solve import bracketed_root
 
 #: TTPF exponents E(x) = E0 + E1 x: "johnson" (reproduces Table 21), "ttp" (Vollmerhausen et al. 2004).
 TTPF_EXPONENTS = {"johnson": (2.7, 0.7), "ttp": (1.51, 0.24)}
@@ -78,6 +79,25 @@ def ttpf_probability(cycles_ratio, exponent="johnson"):
         log_term = (e0 + e1 * x) * np.log(x)  # P = 1 / (1 + exp(-E ln x)), stable for any x
         p = 1.0 / (1.0 + np.exp(-log_term))
     return np.where(x == 0, 0.0, np.where(np.isinf(x), 1.0, p))
+
+
+def ttpf_cycles_ratio(probability, exponent="johnson"):
+    """Inverse of the TTPF: the cycles ratio x = N / N50 at which the task succeeds with a probability.
+
+    The counterpart of Table 21's n_TTPF; the Johnson-era exponent gives each printed multiplier
+    within 3.7 % (0.95: 2.04 for 2.00; 0.02: 0.259 for 0.25).
+
+    Parameters
+    ----------
+    probability : array_like
+        Probability of task success, 0 < P < 1 (P = 1 needs infinitely many cycles).
+    exponent : {"johnson", "ttp"}
+    """
+    p = require("probability", probability, gt=0, lt=1)
+    log_x, _ = bracketed_root(
+        lambda u: ttpf_probability(np.exp(u), exponent) - p, np.full(p.shape, -40.0), np.full(p.shape, 40.0), xtol=1e-13
+    )
+    return np.exp(log_x)
 
 
 def imaging_pd(range_m, range_50_m, exponent="johnson", cutoff_range_m=np.inf):

@@ -41,6 +41,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.core.checks import require
+from csuas.core.solve import bracketed_root
 
 #: Swerling cases: 0 (steady, also called 5), 1 and 3 (scan-to-scan), 2 and 4 (pulse-to-pulse).
 SWERLING_CASES = (0, 1, 2, 3, 4)
@@ -277,8 +278,8 @@ def required_snr_db(pd, pfa, n_pulses=1, swerling=0, integration="noncoherent", 
     pfa, n_pulses, swerling, integration
         As in :func:`pd_exact`.
     method : {"exact", "albersheim", "shnidman"}
-        The exact inverse (a vectorised bracketed secant search on :func:`pd_exact` in dB, to
-        1e-6 dB), or one of the approximations (:func:`albersheim_snr_db`: steady target,
+        The exact inverse (:func:`csuas.core.solve.bracketed_root` on :func:`pd_exact` in dB, to
+        1e-7 dB), or one of the approximations (:func:`albersheim_snr_db`: steady target,
         noncoherent; :func:`shnidman_snr_db`).
 
     Returns
@@ -310,22 +311,8 @@ def required_snr_db(pd, pfa, n_pulses=1, swerling=0, integration="noncoherent", 
         lo, hi = np.where(f_lo < 0, lo, lo - 60.0), np.where(f_hi > 0, hi, hi + 60.0)
         if np.min(lo) < -300 or np.max(hi) > 300:
             raise ParameterError("pd", pd, "a Pd reached between -300 and 300 dB of SNR")
-    # Illinois (modified regula falsi): superlinear, and every point keeps its bracket.
-    side = np.zeros(d.shape)
-    for _ in range(100):
-        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
-        fx = pd_exact(x, p, n, s, integration) - d
-        below = fx < 0
-        lo, f_lo = np.where(below, x, lo), np.where(below, fx, f_lo)
-        hi, f_hi = np.where(below, hi, x), np.where(below, f_hi, fx)
-        f_hi = np.where(below & (side < 0), 0.5 * f_hi, f_hi)  # the same end moved twice: halve the other's value
-        f_lo = np.where(~below & (side > 0), 0.5 * f_lo, f_lo)
-        side = np.where(below, -1.0, 1.0)
-        if np.all((hi - lo < 1e-6) | (np.abs(fx) < 1e-14)):
-            break
-    x = np.where(np.abs(fx) < 1e-14, x, 0.5 * (lo + hi))
-    return x[()] if x.ndim == 0 else x
+    root, _ = bracketed_root(lambda x: pd_exact(x, p, n, s, integration) - d, lo, hi, xtol=1e-7, rtol=0.0)
+    return root[()] if root.ndim == 0 else root
 
 
 def albersheim_snr_db(pd, pfa, n_pulses=1):

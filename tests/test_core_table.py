@@ -265,6 +265,7 @@ COVERED_ELSEWHERE = {
     "detection.lidar_pd_gaussian": "tests/test_detection.py (Monte Carlo)",
     "detection.lidar_pd_poisson": "tests/test_detection.py (exact Poisson sums, Monte Carlo)",
     "detection.photon_counting_threshold": "tests/test_detection.py (exact Poisson sums)",
+    "detection.ttpf_cycles_ratio": "tests/test_detection.py (Table 21 multipliers)",
     "detection.ttpf_probability": "tests/test_detection.py (every column of Table 21)",
     "fusion.approach_looks": "tests/test_fusion.py",
     "fusion.cumulative_pd": "tests/test_fusion.py (1 - (1 - p)^n)",

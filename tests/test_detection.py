@@ -23,6 +23,7 @@ from csuas.core.detection import (
     lidar_pd_gaussian,
     lidar_pd_poisson,
     photon_counting_threshold,
+    ttpf_cycles_ratio,
     ttpf_probability,
 )
 
@@ -50,6 +51,13 @@ def test_ttpf_closed_form_both_exponents():
         e = e0 + e1 * x
         np.testing.assert_allclose(ttpf_probability(x, name), x**e / (1 + x**e), rtol=1e-12)
     assert ttpf_probability(1.0, "ttp") == 0.5
+
+
+@pytest.mark.parametrize("p_desired, n_ttpf", [row for row in TABLE_21 if 0 < row[0] < 1])
+def test_ttpf_inverse_gives_table_21_multipliers(p_desired, n_ttpf):
+    x = float(ttpf_cycles_ratio(p_desired))
+    assert ttpf_probability(x) == pytest.approx(p_desired, abs=1e-12)
+    assert x == pytest.approx(n_ttpf, rel=0.037)
 
 
 def test_ttpf_extremes_are_finite():
