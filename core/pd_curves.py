@@ -26,8 +26,7 @@ from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
-from csuas.core.radiometry import graybody_apparent_temperature
-from csuas.core.ranges import ADAPTERS, HORIZONS
+from csuas.core.ranges import ADAPTERS, HORIZONS, thermal_contrast
 from csuas.core.result import check_convention
 from csuas.core.scenario import Scenario, SensorSpec
 
@@ -141,15 +140,9 @@ def _imaging(scenario, sensor, convention, r):
 
 def _mrtd_pd(scenario, sensor, convention, r):
     """TTPF of the resolvable cycles f*(R) d_crit / (lp R), f* where MRTD(f*) = |Delta T(R)|."""
-    p, t, env = sensor.params, scenario.target, scenario.environment
+    p, t = sensor.params, scenario.target
     curve = sensor_mrtd(p)
-    extra = {}
-    if convention == "paper":
-        dt0 = tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
-    else:
-        t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"])
-        dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
-        extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
+    dt0, extra = thermal_contrast(scenario, sensor, convention)
     dt = np.abs(tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra))
     f_star = curve.max_frequency(dt)
     with np.errstate(divide="ignore", invalid="ignore"):

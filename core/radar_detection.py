@@ -40,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
-from csuas.core.checks import require
+from csuas.core.checks import require, require_all
 from csuas.core.solve import bracketed_root
 
 #: Swerling cases: 0 (steady, also called 5), 1 and 3 (scan-to-scan), 2 and 4 (pulse-to-pulse).
@@ -331,9 +331,9 @@ def albersheim_snr_db(pd, pfa, n_pulses=1):
     n_pulses : array_like
         Pulses integrated noncoherently, >= 1.
     """
-    d = require("pd", pd, gt=0, lt=1)
-    p = require("pfa", pfa, gt=0, lt=1)
-    n = require("n_pulses", n_pulses, ge=1)
+    d, p, n = require_all(
+        ("pd", pd, {"gt": 0, "lt": 1}), ("pfa", pfa, {"gt": 0, "lt": 1}), ("n_pulses", n_pulses, {"ge": 1})
+    )
     a = np.log(0.62 / p)
     b = np.log(d / (1.0 - d))
     with np.errstate(invalid="ignore"):

@@ -38,20 +38,33 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     )
 
 
+def thermal_contrast(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """Delta T at zero range [K] of a thermal sensor's scenario, and the path inputs of its convention.
+
+    The paper convention takes Eq. 26's linear Delta T; the physical one the difference of the
+    radiance temperatures in the sensor's band, with the background's apparent temperature, the
+    air temperature and the band kept for the path (:func:`csuas.core.tir.attenuated_delta_t`).
+
+    Returns
+    -------
+    (ndarray, dict)
+        Delta T0 and the keyword arguments of the convention's attenuation.
+    """
+    t, env, band = sc.target, sc.environment, s.params["band"]
+    if convention == "paper":
+        return tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"]), {}
+    t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], band)
+    dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], band) - t_bg_app
+    return dt0, dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=band)
+
+
 def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
-    p, t, env = s.params, sc.target, sc.environment
+    p, t = s.params, sc.target
     if p["model"] == "johnson":
         return tir.tir_johnson_range(
             d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"], lp_task=p["lp_task"], n_ttpf=p["n_ttpf"]
         )
-    extra = {}
-    if convention == "paper":
-        dt0 = tir.delta_t_linear(t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
-    else:
-        # Delta T of the radiance temperatures (csuas.core.tir.delta_t_radiometric), background kept for the path
-        t_bg_app = graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], p["band"])
-        dt0 = graybody_apparent_temperature(t["emissivity_suas"], t["t_suas_k"], p["band"]) - t_bg_app
-        extra = dict(t_bg_app_k=t_bg_app, air_temperature_k=env["temperature_k"], band=p["band"])
+    dt0, extra = thermal_contrast(sc, s, convention)
     return tir.tir_mrtd_range(
         mrtd=sensor_mrtd(p),
         d_crit_m=t["d_crit_m"],

@@ -280,6 +280,7 @@ COVERED_ELSEWHERE = {
     "ranges.evaluate": "tests/test_scenario.py (every embedded scenario against the core models)",
     "ranges.horizontal_range_m": "tests/test_range_cli.py, tests/test_scenario.py (Eq. 13)",
     "ranges.paper_eta_tl": "tests/test_scenario.py (Table 47)",
+    "ranges.thermal_contrast": "tests/test_scenario.py (every embedded scenario), tests/test_pd_curves.py",
     "ranges.scenario_one_at_a_time": "tests/test_sensitivity.py",
     "scenario.check_value": "tests/test_scenario_errors.py",
     "scenario.embedded_scenarios": "tests/test_scenario.py (every embedded scenario evaluates finite)",

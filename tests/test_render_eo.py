@@ -154,36 +154,16 @@ def test_night_without_light_has_zero_contrast_and_a_note():
 def test_plate_contrast_is_eq4_under_equal_illuminance():
     """Sun only at 45 deg onto a vertical plate: its irradiance equals the horizontal illuminance E_v."""
     rho, rho_bg, e_v = 0.5, 0.2, 70000.0
-    res = render_eo(
-        plate(reflectance=rho),
-        View(range_m=200.0),
-        light=Daylight(
-            illuminance_lx=e_v,
-            diffuse_fraction=0.0,
-            sun_azimuth_deg=0.0,
-            sun_elevation_deg=45.0,
-            ground_reflectance=0.0,
-            background=rho_bg,
-        ),
-        settings=RenderSettings(quality=Quality("t", 2, 2)),
-    )
+    sun_only = dict(illuminance_lx=e_v, diffuse_fraction=0.0, sun_azimuth_deg=0.0, sun_elevation_deg=45.0,
+                    ground_reflectance=0.0, background=rho_bg)  # fmt: skip
+    settings = RenderSettings(quality=Quality("t", 2, 2))
+    res = render_eo(plate(reflectance=rho), View(range_m=200.0), light=Daylight(**sun_only), settings=settings)
     assert res.values["target_radiance"] == pytest.approx(rho * e_v / math.pi, rel=1e-5)
     assert res.values["background_radiance"] == pytest.approx(rho_bg * e_v / math.pi, rel=1e-12)
     assert res.values["contrast"] == pytest.approx((rho - rho_bg) / (rho + rho_bg), rel=1e-5)
     assert res.terms == []  # no atmosphere requested, none applied: it changes nothing (docs/scenarios.md (effects))
-    hazy_but_off = render_eo(
-        plate(reflectance=rho),
-        View(range_m=200.0),
-        light=Daylight(
-            illuminance_lx=e_v,
-            diffuse_fraction=0.0,
-            sun_azimuth_deg=0.0,
-            ground_reflectance=0.0,
-            background=rho_bg,
-            visibility_km=1.0,
-        ),
-        settings=RenderSettings(quality=Quality("t", 2, 2)),
-    )
+    hazy = Daylight(**sun_only, visibility_km=1.0)
+    hazy_but_off = render_eo(plate(reflectance=rho), View(range_m=200.0), light=hazy, settings=settings)
     assert hazy_but_off.terms == [] and hazy_but_off.values["contrast"] == res.values["contrast"]
     assert res.values["contrast"] == res.values["contrast_inherent"]
     assert res.values["target_radiance_apparent"] == res.values["target_radiance"]
