@@ -26,7 +26,7 @@ from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
-from csuas.core.ranges import ADAPTERS, HORIZONS, thermal_contrast
+from csuas.core.ranges import ADAPTERS, HORIZONS, evaluate, thermal_contrast
 from csuas.core.result import check_convention
 from csuas.core.scenario import Scenario, SensorSpec
 
@@ -34,6 +34,8 @@ from csuas.core.scenario import Scenario, SensorSpec
 MARGIN_GRID_DB = np.linspace(-150.0, 150.0, 2401)
 #: Probabilities at which ``range_at_pd`` is reported.
 REPORTED_PD = (0.5, 0.9)
+#: Points of the default log-spaced range grid, and how far beyond the longest range it reaches.
+GRID_POINTS, GRID_BEYOND = 400, 3.0
 
 
 @dataclass
@@ -246,6 +248,13 @@ def _pd_without_horizon(scenario: Scenario, sensor: SensorSpec, convention: str,
     if sensor.modality in ("eo", "tir"):
         return _imaging(scenario, sensor, convention, r)[0]
     return _threshold_pd(scenario, sensor, convention, r)[0]
+
+
+def default_range_grid(scenario: Scenario, convention: str | None = None) -> np.ndarray:
+    """GRID_POINTS log-spaced ranges from 1 m to GRID_BEYOND times the scenario's longest range [m]."""
+    reach = [float(np.max(r.range_m)) for r in evaluate(scenario, convention).values()]
+    longest = max([r for r in reach if np.isfinite(r) and r > 0], default=1000.0)
+    return np.geomspace(1.0, max(GRID_BEYOND * longest, 10.0), GRID_POINTS)
 
 
 def range_at_pd(range_m, pd, target: float) -> float | None:

@@ -42,6 +42,7 @@ COMMANDS = {
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",
     "pd": "probability of detection against range for every sensor of a scenario, fused, and along an approach",
     "pd-radar": "probability of detection of a radar detector (Swerling 0-4), or the SNR a Pd needs",
+    "sweep": "a sweep over scenario parameters or simulator settings, in one process or on a Dask cluster",
 }
 
 

@@ -91,3 +91,8 @@ def default_values(section: str) -> dict:
 def scenario_path(name: str):
     """Path of an embedded scenario file (``default``, ``fog``, ...)."""
     return resources.files(__name__).joinpath("scenarios", f"{name}.toml")
+
+
+def sweep_path(name: str):
+    """Path of an embedded sweep spec (``range_rain``, ``rcs_bands``, ...; docs/sweeps.md)."""
+    return resources.files(__name__).joinpath("sweeps", f"{name}.toml")

@@ -1,6 +1,6 @@
 """The layer contract of ARCHITECTURE.md, checked on every import statement of the package.
 
-Layers, lowest first: base <- defaults <- core <- drone_models <- render <- validation <- cli
+Layers, lowest first: base <- defaults <- core <- drone_models <- render <- sweep <- validation <- cli
 (``csuas.cli``, ``csuas.commands``, ``csuas.core.scenario``, ``csuas.core.ranges``). A module may import its
 own layer and the layers below it. Imports inside functions count too: a lazy import is still a
 dependency.
@@ -15,13 +15,14 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 #: folder -> layer name, lowest first
-LAYERS = ("base", "defaults", "core", "drone_models", "render", "validation", "cli")
+LAYERS = ("base", "defaults", "core", "drone_models", "render", "sweep", "validation", "cli")
 FOLDERS = {
     "base": "base",
     "defaults": "defaults",
     "core": "core",
     "drone_models": "drone_models",
     "render": "render",
+    "sweep": "sweep",
     "validation": "validation",
     "csuas": "cli",
 }

@@ -253,6 +253,7 @@ COVERED_ELSEWHERE = {
     "rcs_statistics.pd_over_rcs_samples": "tests/test_rcs_statistics.py (Swerling 1 limit, steady limit)",
     "rcs_statistics.rcs_summary": "tests/test_rcs_statistics.py",
     "pd_curves.approach": "tests/test_pd_curves.py",
+    "pd_curves.default_range_grid": "tests/test_pd_cli.py (grid reaches the longest range)",
     "pd_curves.fuse": "tests/test_pd_curves.py (exact product for n-of-n)",
     "pd_curves.fused_cumulative": "tests/test_pd_curves.py",
     "pd_curves.margin_db": "tests/test_pd_curves.py (R^-4 and R^-2 laws, two-way rain attenuation)",

@@ -30,8 +30,16 @@ stamp="$venv/.csuas-installed"
 want=$(cat pyproject.toml tools/setup.sh | sha256sum | cut -c1-16)
 if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
   say "installing csuas and its dependencies into $venv (about 3 min with an empty pip cache)"
-  "$venv/bin/python" -m pip install --disable-pip-version-check --progress-bar off -e ".[test]" 2>&1 \
-    | grep --line-buffered -E "^(Collecting|Successfully|ERROR|error)" | sed -u 's/^/setup:   /' >&2 || true
+  log=$(mktemp)
+  { "$venv/bin/python" -m pip install --disable-pip-version-check --progress-bar off -e ".[test]" 2>&1
+    echo "pip-exit-status $?"; } | tee "$log" \
+    | grep --line-buffered -E "^(Collecting|Successfully|ERROR)" | sed -u 's/^/setup:   /' >&2 || true
+  rc=$(sed -n 's/^pip-exit-status //p' "$log")
+  if [ "$rc" != 0 ]; then
+    tail -n 30 "$log" | grep -v '^pip-exit-status' | sed 's/^/setup:   /' >&2
+    rm -f "$log"; say "pip install failed (exit $rc): the lines above say why"; exit 1
+  fi
+  rm -f "$log"
   "$venv/bin/python" -c "import csuas, mitsuba, drjit, sionna.rt, trimesh, mapbox_earcut" \
     || { say "import check failed: the install above did not complete"; exit 1; }
   echo "$want" > "$stamp"

@@ -16,12 +16,18 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
-from csuas.core.pd_curves import REPORTED_PD, approach, fuse, fused_cumulative, range_at_pd, sensor_pd
-from csuas.core.ranges import evaluate
+from csuas.core.pd_curves import (
+    GRID_BEYOND,
+    GRID_POINTS,
+    REPORTED_PD,
+    approach,
+    default_range_grid,
+    fuse,
+    fused_cumulative,
+    range_at_pd,
+    sensor_pd,
+)
 from csuas.core.scenario import load_scenario
-
-#: Points of the default log-spaced range grid, and how far beyond the longest range it reaches.
-GRID_POINTS, GRID_BEYOND = 400, 3.0
 
 
 def add_arguments(parser):
@@ -52,9 +58,7 @@ def add_arguments(parser):
 def _grid(scenario, args) -> np.ndarray:
     if args.range_m is not None:
         return np.asarray(sorted(args.range_m), dtype=float)
-    reach = [float(np.max(r.range_m)) for r in evaluate(scenario, args.convention).values()]
-    longest = max([r for r in reach if np.isfinite(r) and r > 0], default=1000.0)
-    return np.geomspace(1.0, max(GRID_BEYOND * longest, 10.0), GRID_POINTS)
+    return default_range_grid(scenario, args.convention)
 
 
 def _check(args) -> None:

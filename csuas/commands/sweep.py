@@ -1,0 +1,44 @@
+"""``csuas sweep SPEC --out DIR``: a sweep over scenario parameters, in one process or on Dask (docs/sweeps.md).
+
+JSON (``--json``): the provenance of ``DIR/sweep.json`` (``csuas_version``, ``spec_digest``,
+``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``points``, ``chunks``, ``chunks_run``,
+``chunks_resumed``, ``wall_time_s``, ``results``), plus ``columns`` of ``DIR/results.parquet``.
+"""
+
+from __future__ import annotations
+
+import sys
+
+
+def add_arguments(parser):
+    """Declare the options of ``csuas sweep``."""
+    parser.add_argument("spec", help="sweep spec TOML file, or an embedded spec (range_rain, pd_radar_power, ...)")
+    parser.add_argument("--out", required=True, help="output folder (results.parquet, sweep.json, chunks/)")
+    parser.add_argument(
+        "--scheduler",
+        default="local",
+        help="serial (this process), local (default: a LocalCluster of process workers) or tcp://HOST:PORT",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="workers of the local cluster (default: CPU count)")
+
+
+def run(args) -> dict:
+    """Validate the spec, run or resume the sweep, and return its provenance."""
+    from csuas.base.errors import ParameterError
+    from csuas.sweep import load_spec, read_results, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise ParameterError("workers", args.workers, "a whole number >= 1")
+    spec = load_spec(args.spec)
+    provenance = run_sweep(spec, args.out, args.scheduler, args.workers, progress=sys.stderr)
+    provenance["columns"] = list(read_results(provenance["results"]))
+    return provenance
+
+
+def render_text(result: dict) -> str:
+    """Where the results are and what the run took."""
+    return (
+        f"sweep {result['job']} of {result['scenario']}: {result['points']:,} points in {result['chunks']} chunk(s) "
+        f"({result['chunks_resumed']} resumed) on {result['scheduler']} with {result['workers']} worker(s), "
+        f"{result['wall_time_s']:.1f} s\nresults: {result['results']}\ncolumns: {', '.join(result['columns'])}"
+    )

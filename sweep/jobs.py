@@ -1,0 +1,217 @@
+"""What one task of a sweep computes: a chunk of points of one job, as result columns.
+
+* ``range``: vectorised. The chunk's points are grouped by the values the models branch on
+  (which effects are present, heights and altitudes, text choices, derived Johnson values); each
+  group goes to :func:`csuas.core.ranges.evaluate` once with its other axes as arrays, so 10^6
+  points are a few NumPy calls, not 10^6 evaluations.
+* ``pd``: per point, :func:`csuas.core.pd_curves.sensor_pd` on the scenario's default grid.
+* ``render``: per point, the scenario render modes (Mitsuba), kernels kept warm by the worker.
+* ``rcs``: SBR-PO, one call per frequency for all the chunk's aspects (the engine is cached by
+  the worker process).
+
+Every function returns ``{column: array}`` aligned with the chunk's points, plus ``time_s`` per
+point (the chunk's wall time shared equally).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from csuas.core import johnson
+from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fuse, range_at_pd, sensor_pd
+from csuas.core.ranges import evaluate
+from csuas.core.scenario import Scenario
+from csuas.defaults import load_parameters
+
+from .spec import JOB_AXES, SweepSpec, point_seed
+
+#: Environment parameters the models branch on, with the predicate that decides the branch.
+EFFECT_PREDICATES = {
+    "environment.rain_rate_mm_h": lambda v: v > 0,
+    "environment.lwc_g_m3": lambda v: v > 0,
+    "environment.wind_speed_m_s": lambda v: v >= 1.0,
+    "environment.illuminance_lx": lambda v: v < 400.0,
+}
+#: Parameters read as scalars (by a branch or a derivation): points are grouped by their value.
+SCALAR_NAMES = ("altitude_m", "height_m", "p_desired", "task", "fog_visibility_m")
+
+
+@dataclass
+class _FixedEffects(Scenario):
+    """A scenario whose parameters may be arrays; its effects are those of the group's points."""
+
+    group_effects: frozenset = frozenset()
+
+    @property
+    def effects(self) -> frozenset:  # type: ignore[override]
+        return self.group_effects
+
+
+def with_values(scenario: Scenario, values: dict) -> Scenario:
+    """A copy of ``scenario`` with canonical parameters set (scalars or arrays), marked explicit.
+
+    Derived values follow as the scenario loader derives them: ``n_ttpf`` from ``p_desired``
+    (Table 21) and ``lp_task`` from ``task`` (Table 20) unless given.
+    """
+    target, environment = dict(scenario.target), dict(scenario.environment)
+    explicit = {k: set(v) for k, v in scenario.explicit.items()}
+    sensors = dict(scenario.sensors)
+    for key, value in values.items():
+        parts = key.split(".")
+        if parts[0] == "target":
+            target[parts[1]] = value
+            explicit["target"].add(parts[1])
+        elif parts[0] == "environment":
+            environment[parts[1]] = value
+            explicit["environment"].add(parts[1])
+        else:
+            sensor = sensors[parts[1]]
+            params = dict(sensor.params, **{parts[2]: value})
+            if parts[2] == "p_desired" and "n_ttpf" not in sensor.explicit:
+                params["n_ttpf"] = float(johnson.n_ttpf(value))
+            if parts[2] == "task" and "lp_task" not in sensor.explicit:
+                params["lp_task"] = johnson.line_pairs(value)
+            sensors[parts[1]] = replace(sensor, params=params, explicit=sensor.explicit | {parts[2]})
+    return replace(scenario, target=target, environment=environment, sensors=sensors, explicit=explicit)
+
+
+def _is_scalar(scenario: Scenario, key: str) -> bool:
+    """Whether the models read this parameter as a scalar: text choices, whole numbers, SCALAR_NAMES."""
+    parts = key.split(".")
+    section = scenario.sensors[parts[1]].modality if parts[0] == "sensors" else parts[0]
+    spec = load_parameters()[section][parts[-1]]
+    return "choices" in spec or parts[-1] in SCALAR_NAMES or isinstance(spec.get("value"), int)
+
+
+def range_chunk(spec: SweepSpec, columns: dict) -> dict:
+    """Range of every sensor at each point of the chunk (vectorised by groups)."""
+    scenario = spec.scenario
+    n = len(next(iter(columns.values()))) if columns else 1
+    codes = []
+    for key, values in columns.items():
+        if key in EFFECT_PREDICATES:
+            codes.append(np.asarray([EFFECT_PREDICATES[key](float(v)) for v in np.unique(values)])[
+                np.unique(values, return_inverse=True)[1]
+            ].astype(np.int64))  # fmt: skip
+        elif _is_scalar(scenario, key):
+            codes.append(np.unique(values, return_inverse=True)[1].astype(np.int64))
+    if codes:
+        group = np.unique(np.stack(codes), axis=1, return_inverse=True)[1].reshape(-1)
+    else:
+        group = np.zeros(n, dtype=np.int64)
+    out = {f"range_m.{name}": np.full(n, np.nan) for name in scenario.sensors}
+    for g in np.unique(group):
+        idx = np.nonzero(group == g)[0]
+        first = with_values(scenario, {k: v[idx[0]] for k, v in columns.items()})
+        values = {k: v[idx[0]] if _is_scalar(scenario, k) else np.asarray(v[idx], float) for k, v in columns.items()}
+        batch = with_values(scenario, values)
+        batch = _FixedEffects(**{f: getattr(batch, f) for f in batch.__dataclass_fields__}, group_effects=first.effects)
+        results = evaluate(batch, spec.options.get("convention"))
+        for name, result in results.items():
+            out[f"range_m.{name}"][idx] = np.broadcast_to(np.asarray(result.range_m, float), idx.shape)
+    return out
+
+
+def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
+    """Per point: each sensor's Pd at its deterministic range and its ranges at Pd 0.5 and 0.9, and fused."""
+    n = len(next(iter(columns.values()))) if columns else 1
+    names = list(spec.scenario.sensors)
+    out = {}
+    for name in [*names, "fused"]:
+        for p in REPORTED_PD:
+            out[f"range_at_pd_{p:g}.{name}"] = np.full(n, np.nan)
+    for name in names:
+        out[f"pd_at_deterministic_range.{name}"] = np.full(n, np.nan)
+    convention = spec.options.get("convention")
+    for i in range(n):
+        scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items()})
+        grid = default_range_grid(scenario, convention)
+        curves = [sensor_pd(scenario, name, grid, convention) for name in names]
+        for c in curves:
+            out[f"pd_at_deterministic_range.{c.sensor}"][i] = (
+                np.nan if c.pd_at_deterministic_range is None else c.pd_at_deterministic_range
+            )
+        for name, pd in [*((c.sensor, c.pd) for c in curves), ("fused", fuse(curves, spec.options["fusion"]))]:
+            for p in REPORTED_PD:
+                r = range_at_pd(grid, pd, p)
+                out[f"range_at_pd_{p:g}.{name}"][i] = np.nan if r is None else r
+    return out
+
+
+def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
+    """Per point: the scenario's render mode at the point's range and aspect, seeded by the point."""
+    from csuas.render.imaging.modes import eo_scenario, tir_scenario
+    from csuas.render.lidar.runner import render_lidar
+
+    mode = {"eo": eo_scenario, "tir": tir_scenario, "lidar": render_lidar}[spec.options["mode"]]
+    n = len(next(iter(columns.values())))
+    seeds = point_seed(spec.seed, np.arange(start, start + n))
+    keys = ("pixels_on_target", "pixels_across_dcrit", "contrast", "delta_t_k", "lcs_m2")
+    out = {k: np.full(n, np.nan) for k in keys}
+    out["pixels_on_target_stderr"] = np.full(n, np.nan)
+    own = {k: v for k, v in columns.items() if k in JOB_AXES["render"]}
+    for i in range(n):
+        scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items() if k not in own})
+        at = {k: float(own[k][i]) if k in own else spec.options[k] for k in JOB_AXES["render"]}
+        (row,) = mode(
+            scenario,
+            ranges_m=[at["range_m"]],
+            quality=spec.options["quality"],
+            azimuth_deg=at["azimuth_deg"],
+            elevation_deg=at["elevation_deg"],
+            seed=int(seeds[i] % (2**31)),
+        )
+        for k in keys:
+            value = row.get(k)
+            if isinstance(value, (int, float)) and value is not None:
+                out[k][i] = value
+        out["pixels_on_target_stderr"][i] = row.get("stderr", {}).get("pixels_on_target", np.nan)
+    return out
+
+
+def rcs_chunk(spec: SweepSpec, columns: dict) -> dict:
+    """RCS [dBsm] VV and HH at each point, one SBR-PO call per frequency for the chunk's aspects."""
+    from csuas.render.rcs import compute_rcs
+
+    target = spec.options["target"] or spec.scenario.target_preset
+    n = len(columns["frequency_ghz"])
+    az = np.asarray(columns.get("azimuth_deg", np.full(n, spec.options["azimuth_deg"])), float)
+    el = np.asarray(columns.get("elevation_deg", np.full(n, spec.options["elevation_deg"])), float)
+    out = {k: np.full(n, np.nan) for k in ("rcs_dbsm.VV", "rcs_dbsm.HH", "error_db.VV", "error_db.HH")}
+    for f in np.unique(columns["frequency_ghz"]):
+        idx = np.nonzero(columns["frequency_ghz"] == f)[0]
+        res = compute_rcs(
+            target,
+            float(f),
+            az[idx],
+            el[idx],
+            quality=spec.options["quality"],
+            rays_per_wavelength=spec.options["rays_per_wavelength"],
+        )
+        for name, (rx, tx) in (("VV", (0, 0)), ("HH", (1, 1))):
+            sigma = res.sigma_m2[0, :, 0, rx, tx]
+            with np.errstate(divide="ignore"):
+                out[f"rcs_dbsm.{name}"][idx] = np.where(sigma > 0, 10 * np.log10(np.maximum(sigma, 1e-300)), np.nan)
+            if res.error_db is not None:
+                out[f"error_db.{name}"][idx] = res.error_db[0, :, 0, rx, tx]
+    return out
+
+
+def run_chunk(spec: SweepSpec, start: int, stop: int) -> dict:
+    """Result columns of points ``start..stop``: the axes, the job's outputs, ``point`` and ``time_s``."""
+    t0 = time.perf_counter()
+    columns = spec.points(start, stop)
+    if spec.job == "range":
+        result = range_chunk(spec, columns)
+    elif spec.job == "pd":
+        result = pd_chunk(spec, columns)
+    elif spec.job == "render":
+        result = render_chunk(spec, columns, start)
+    else:
+        result = rcs_chunk(spec, columns)
+    n = stop - start
+    elapsed = time.perf_counter() - t0
+    return {"point": np.arange(start, stop), **columns, **result, "time_s": np.full(n, elapsed / max(n, 1))}

@@ -1,0 +1,225 @@
+"""Running a sweep: chunks as tasks on Dask (``dask.distributed``), or in this process.
+
+Schedulers: ``serial`` (this process, no Dask), ``local`` (a ``LocalCluster`` of process workers,
+one thread each) or ``tcp://HOST:PORT`` (a running Dask scheduler). Each chunk's result is
+written atomically to ``DIR/chunks/chunk-NNNNNN.parquet`` as it arrives; a sweep started again on
+the same folder with the same spec skips the chunks already there (``DIR/sweep-state.json``
+holds the spec's digest). When every chunk is done, ``DIR/results.parquet`` gathers them in
+point order and ``DIR/sweep.json`` records the provenance. Results depend only on the spec (each
+point's seed comes from the spec's seed and its index), so every scheduler gives the same table.
+
+Simulator workers (``render``, ``rcs``) retire gracefully after ``recycle_after`` tasks and their
+nanny starts a fresh process, so memory stays bounded; a worker that dies mid-task is replaced by
+Dask and its task run again. When the cluster's workers declare a ``GPU`` resource, simulator
+tasks ask for one.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from csuas.base.errors import CsuasError, ParameterError
+from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+
+from .jobs import run_chunk
+from .spec import SweepSpec
+
+SIMULATORS = ("render", "rcs")
+#: Seconds to wait for a ``tcp://`` scheduler before giving up.
+CONNECT_TIMEOUT_S = 10.0
+
+#: Tasks this worker process has run (simulator jobs), for recycling.
+_TASKS_RUN = {"count": 0}
+
+
+def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
+    """``(start, stop)`` of every chunk, in point order."""
+    n, size = spec.n_points, spec.chunk_points
+    return [(start, min(start + size, n)) for start in range(0, n, size)]
+
+
+def _chunk_path(out: Path, index: int) -> Path:
+    return out / "chunks" / f"chunk-{index:06d}.parquet"
+
+
+def _write_table(columns: dict, path: Path) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.table({k: (v.astype(str) if v.dtype == object else v) for k, v in columns.items()})
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)
+
+
+def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> int:
+    """One chunk on a worker: compute, write its parquet file, and recycle the worker when due."""
+    _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
+    if spec.job in SIMULATORS:
+        _TASKS_RUN["count"] += 1
+        if _TASKS_RUN["count"] >= spec.recycle_after:
+            _retire_worker()
+    return index
+
+
+def _retire_worker() -> None:
+    """Ask this Dask worker to close gracefully once its result is safe; its nanny starts a new one."""
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):
+        return  # not on a Dask worker (serial): nothing to recycle
+    _TASKS_RUN["count"] = 0
+    worker.loop.add_callback(worker.close_gracefully, restart=True, reason="csuas-recycle")
+
+
+def _check_state(spec: SweepSpec, out: Path) -> None:
+    """Refuse a folder holding another sweep; record this sweep's digest."""
+    state = out / "sweep-state.json"
+    if state.exists():
+        old = json.loads(state.read_text()).get("digest")
+        if old != spec.digest:
+            raise ParameterError(
+                "out", str(out), "a new folder, or the folder of this same sweep (it holds another sweep's chunks)"
+            )
+    else:
+        write_text_atomic(state, json.dumps({"digest": spec.digest}))
+
+
+def _client(scheduler: str, workers: int | None, job: str):
+    from distributed import Client, LocalCluster
+
+    if scheduler == "local":
+        cluster = LocalCluster(
+            n_workers=workers or max(1, (os.cpu_count() or 1)),
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        )
+        return Client(cluster), cluster
+    try:
+        return Client(scheduler, timeout=CONNECT_TIMEOUT_S), None
+    except (OSError, TimeoutError) as exc:
+        raise ParameterError("scheduler", scheduler, f"a reachable Dask scheduler ({type(exc).__name__})") from None
+
+
+def _progress(done: int, total: int, started: float, stream) -> None:
+    if stream is None:
+        return
+    elapsed = time.perf_counter() - started
+    eta = elapsed / done * (total - done) if done else float("nan")
+    stream.write(f"\rsweep: {done}/{total} chunks, {elapsed:.0f} s, ETA {eta:.0f} s   ")
+    stream.flush()
+    if done == total:
+        stream.write("\n")
+
+
+def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | None = None, progress=sys.stderr) -> dict:
+    """Run every chunk not yet in ``out`` and gather the results.
+
+    Returns
+    -------
+    dict
+        The provenance written to ``sweep.json``: csuas version, spec digest, seed, scheduler,
+        workers, points, chunks (run now and resumed), wall time, and the results' path.
+    """
+    if scheduler not in ("serial", "local") and not scheduler.startswith("tcp://"):
+        raise ParameterError("scheduler", scheduler, "serial, local or tcp://HOST:PORT")
+    out = Path(out)
+    prepare_output_dir(out)
+    (out / "chunks").mkdir(exist_ok=True)
+    _check_state(spec, out)
+    bounds = chunk_bounds(spec)
+    todo = [i for i in range(len(bounds)) if not _chunk_path(out, i).exists()]
+    started = time.perf_counter()
+    n_workers = 1
+    if scheduler == "serial" or not todo:
+        for done, i in enumerate(todo, 1):
+            _task(spec, i, *bounds[i], str(out))
+            _progress(done, len(todo), started, progress)
+    else:
+        from distributed import as_completed
+
+        client, cluster = _client(scheduler, workers, spec.job)
+        try:
+            info = client.scheduler_info()
+            n_workers = len(info.get("workers", {}))
+            gpu = spec.job in SIMULATORS and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
+            futures = [
+                client.submit(
+                    _task,
+                    spec,
+                    i,
+                    *bounds[i],
+                    str(out),
+                    key=f"csuas-{spec.digest[:12]}-{i}",
+                    pure=False,
+                    resources={"GPU": 1} if gpu else None,
+                    retries=2,
+                )  # fmt: skip
+                for i in todo
+            ]
+            for done, future in enumerate(as_completed(futures), 1):
+                future.result()
+                _progress(done, len(todo), started, progress)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    results = gather(out, len(bounds))
+    provenance = {
+        "csuas_version": _version(),
+        "spec_digest": spec.digest,
+        "job": spec.job,
+        "scenario": spec.scenario_source,
+        "seed": spec.seed,
+        "scheduler": scheduler,
+        "workers": n_workers,
+        "points": spec.n_points,
+        "chunks": len(bounds),
+        "chunks_run": len(todo),
+        "chunks_resumed": len(bounds) - len(todo),
+        "wall_time_s": time.perf_counter() - started,
+        "results": str(results),
+    }
+    write_text_atomic(out / "sweep.json", json.dumps(provenance, indent=2))
+    return provenance
+
+
+def gather(out: Path, n_chunks: int) -> Path:
+    """Concatenate the chunk files in point order into ``results.parquet`` (written atomically)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    missing = [i for i in range(n_chunks) if not _chunk_path(out, i).exists()]
+    if missing:
+        raise CsuasError(f"sweep: {len(missing)} chunk(s) missing after the run, first {missing[0]}")
+    table = pa.concat_tables([pq.read_table(_chunk_path(out, i)) for i in range(n_chunks)])
+    path = out / "results.parquet"
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)
+    return path
+
+
+def _version() -> str:
+    from importlib.metadata import version
+
+    try:
+        return version("csuas")
+    except Exception:  # pragma: no cover - not installed as a distribution
+        return "unknown"
+
+
+def read_results(path) -> dict:
+    """``{column: ndarray}`` of a results table."""
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(path)
+    return {name: np.asarray(table.column(name).to_numpy(zero_copy_only=False)) for name in table.column_names}
