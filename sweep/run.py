@@ -57,8 +57,24 @@ def _write_table(columns: dict, path: Path) -> None:
         pq.write_table(table, tmp)
 
 
+def _one_thread_per_worker() -> None:
+    """On a Dask worker, Dr.Jit's thread pool shrinks to one thread: the cluster's workers are the parallelism."""
+    try:
+        from distributed import get_worker
+
+        get_worker()
+    except (ImportError, ValueError):
+        return  # in this process (serial): Dr.Jit keeps its threads
+    import drjit
+
+    if drjit.thread_count() != 1:
+        drjit.set_thread_count(1)
+
+
 def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> int:
     """One chunk on a worker: compute, write its parquet file, and recycle the worker when due."""
+    if spec.job in SIMULATORS:
+        _one_thread_per_worker()
     _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
     if spec.job in SIMULATORS:
         _TASKS_RUN["count"] += 1

@@ -1,0 +1,103 @@
+"""Benchmarks of ``csuas sweep`` on this machine (docs/performance.md).
+
+* scaling: a CPU-bound simulator sweep (SBR-PO RCS of the default drone) on a LocalCluster of 1
+  and of 2 one-thread workers; each cluster is started and warmed (kernels compiled) before the
+  timed run, so the ratio is the sweep's, not start-up's;
+* per-task overhead: tiny range chunks on one worker against the same chunks computed in this
+  process, per task;
+* memory: the resident memory of one worker rendering the default drone many times (EO, draft),
+  read after every block of renders, without recycling, to show whether it stays flat.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from pathlib import Path
+
+from csuas.sweep import parse_spec, run_sweep
+from csuas.sweep.jobs import run_chunk
+from csuas.sweep.run import chunk_bounds
+
+RCS_SPEC = {
+    "job": "rcs",
+    "seed": 1,
+    "chunk_points": 12,
+    "options": {"target": "dji_mini_4_pro", "quality": "standard"},
+    "axes": {
+        "frequency_ghz": [9.4, 16.0, 24.0, 35.0],
+        "azimuth_deg": {"min": 0.0, "max": 360.0, "samples": 24},
+        "elevation_deg": [-20.0, 0.0, 20.0],
+    },
+}
+
+
+def _resident_mb() -> float:
+    """This process's resident memory [MB] (Linux /proc; the peak from getrusage elsewhere)."""
+    status = Path("/proc/self/status")
+    if status.exists():
+        for line in status.read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _render_block(n: int) -> float:
+    """Render the default drone ``n`` times (EO, draft) in this worker; return its resident memory [MB]."""
+    from csuas.render.imaging import RenderSettings, View, render_eo
+    from csuas.sweep.run import _one_thread_per_worker
+
+    _one_thread_per_worker()
+    for i in range(n):
+        render_eo("dji_mini_4_pro", View(300.0 + i), settings=RenderSettings(quality="draft", seed=i))
+    return _resident_mb()
+
+
+def _timed_on_cluster(spec, n_workers: int, folder: Path) -> float:
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=40) as cluster:  # fmt: skip
+        run_sweep(spec, folder / f"warm{n_workers}", cluster.scheduler_address, progress=None)
+        start = time.perf_counter()
+        run_sweep(spec, folder / f"timed{n_workers}", cluster.scheduler_address, progress=None)
+        return time.perf_counter() - start
+
+
+def bench_sweep(renders: int = 1000, block: int = 100) -> dict:
+    """Scaling 1 -> 2 workers, per-task overhead, and one worker's memory over ``renders`` renders."""
+    from distributed import Client, LocalCluster
+
+    spec = parse_spec(RCS_SPEC)
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        one = _timed_on_cluster(spec, 1, folder)
+        two = _timed_on_cluster(spec, 2, folder)
+        tiny = parse_spec({"job": "range", "scenario": "default", "chunk_points": 1,
+                           "axes": {"target.d_crit_m": [0.05 + 0.001 * i for i in range(200)]}})  # fmt: skip
+        start = time.perf_counter()
+        for bounds in chunk_bounds(tiny):
+            run_chunk(tiny, *bounds)
+        in_process = time.perf_counter() - start
+        with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                          silence_logs=40) as cluster:  # fmt: skip
+            run_sweep(tiny, folder / "tiny-warm", cluster.scheduler_address, progress=None)
+            start = time.perf_counter()
+            run_sweep(tiny, folder / "tiny", cluster.scheduler_address, progress=None)
+            on_worker = time.perf_counter() - start
+            with Client(cluster.scheduler_address) as client:
+                memory = [client.submit(_render_block, block, pure=False).result() for _ in range(renders // block)]
+    return {
+        "rcs_points": spec.n_points,
+        "rcs_tasks": len(chunk_bounds(spec)),
+        "one_worker_s": one,
+        "two_workers_s": two,
+        "scaling_1_to_2": one / two,
+        "task_overhead_s": (on_worker - in_process) / len(chunk_bounds(tiny)),
+        "renders": renders,
+        "worker_rss_mb_first_block": memory[0],
+        "worker_rss_mb_last_block": memory[-1],
+        "worker_rss_growth_mb_per_1000_renders": (memory[-1] - memory[0]) / max(renders - block, 1) * 1000,
+    }
