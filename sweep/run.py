@@ -72,7 +72,10 @@ def _one_thread_per_worker() -> None:
 
 
 def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> int:
-    """One chunk on a worker: compute, write its parquet file, and recycle the worker when due."""
+    """One chunk on a worker: compute, write its parquet file, and recycle the worker when due.
+
+    Returns the process id that ran it (the provenance counts the worker processes used).
+    """
     if spec.job in SIMULATORS:
         _one_thread_per_worker()
     _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
@@ -80,7 +83,7 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> int:
         _TASKS_RUN["count"] += 1
         if _TASKS_RUN["count"] >= spec.recycle_after:
             _retire_worker()
-    return index
+    return os.getpid()
 
 
 def _retire_worker() -> None:
@@ -144,7 +147,8 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
     -------
     dict
         The provenance written to ``sweep.json``: csuas version, spec digest, seed, scheduler,
-        workers, points, chunks (run now and resumed), wall time, and the results' path.
+        workers, the worker processes that ran this run's chunks (recycled workers count anew),
+        points, chunks (run now and resumed), wall time, and the results' path.
     """
     if scheduler not in ("serial", "local") and not scheduler.startswith("tcp://"):
         raise ParameterError("scheduler", scheduler, "serial, local or tcp://HOST:PORT")
@@ -155,10 +159,10 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
     bounds = chunk_bounds(spec)
     todo = [i for i in range(len(bounds)) if not _chunk_path(out, i).exists()]
     started = time.perf_counter()
-    n_workers = 1
+    n_workers, pids = 1, set()
     if scheduler == "serial" or not todo:
         for done, i in enumerate(todo, 1):
-            _task(spec, i, *bounds[i], str(out))
+            pids.add(_task(spec, i, *bounds[i], str(out)))
             _progress(done, len(todo), started, progress)
     else:
         from distributed import as_completed
@@ -183,7 +187,7 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
                 for i in todo
             ]
             for done, future in enumerate(as_completed(futures), 1):
-                future.result()
+                pids.add(future.result())
                 _progress(done, len(todo), started, progress)
         finally:
             client.close()
@@ -198,6 +202,7 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         "seed": spec.seed,
         "scheduler": scheduler,
         "workers": n_workers,
+        "worker_processes": len(pids),
         "points": spec.n_points,
         "chunks": len(bounds),
         "chunks_run": len(todo),

@@ -1,8 +1,9 @@
 """``csuas sweep SPEC --out DIR``: a sweep over scenario parameters, in one process or on Dask (docs/sweeps.md).
 
 JSON (``--json``): the provenance of ``DIR/sweep.json`` (``csuas_version``, ``spec_digest``,
-``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``points``, ``chunks``, ``chunks_run``,
-``chunks_resumed``, ``wall_time_s``, ``results``), plus ``columns`` of ``DIR/results.parquet``.
+``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``worker_processes``, ``points``,
+``chunks``, ``chunks_run``, ``chunks_resumed``, ``wall_time_s``, ``results``), plus ``columns`` of
+``DIR/results.parquet``.
 """
 
 from __future__ import annotations

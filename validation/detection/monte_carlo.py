@@ -1,8 +1,8 @@
 """Monte Carlo simulation of radar detectors: the independent reference of core.radar_detection.
 
 Complex Gaussian noise of unit power per sample plus a target whose RCS is drawn per the Swerling
-case (docs/detection.md): one draw per dwell for Swerling 0, 1 and 3, one per pulse for 2 and 4
-with noncoherent integration, one per coherent processing interval with coherent integration.
+case (docs/detection.md): one draw per dwell for Swerling 0, 1 and 3, one per pulse for 2 and 4,
+whatever the integration (coherent integration of pulse-to-pulse echoes sums independent phasors).
 The detector either sums the squared magnitudes of the N pulses (noncoherent) or takes the
 squared magnitude of their sum over N (coherent), and compares with the threshold that gives Pfa
 under noise alone (gamma quantile, independent of the code under test).
@@ -35,13 +35,13 @@ def simulate_detector(snr_db, pfa, n_pulses, swerling, integration, trials, rng)
     """
     snr = 10 ** (snr_db / 10)
     n = int(n_pulses)
-    draws = n if swerling in (2, 4) and integration == "noncoherent" else 1
+    draws = n if swerling in (2, 4) else 1
     if swerling == 0:
         rcs = np.ones((trials, n))
     else:
         shape = 1.0 if swerling in (1, 2) else 2.0
         rcs = np.repeat(rng.gamma(shape, 1 / shape, size=(trials, draws)), n // draws, axis=1)
-    signal = np.sqrt(snr * rcs) * np.exp(2j * np.pi * rng.random((trials, 1)))
+    signal = np.sqrt(snr * rcs) * np.exp(2j * np.pi * rng.random((trials, draws)))
     noise = (rng.standard_normal((trials, n)) + 1j * rng.standard_normal((trials, n))) / math.sqrt(2)
     if integration == "coherent":
         statistic = np.abs(np.sum(signal + noise, axis=1)) ** 2 / n

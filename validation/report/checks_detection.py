@@ -115,6 +115,8 @@ def monte_carlo(trials: int) -> Section:
     for integration in ("noncoherent", "coherent"):
         for swerling in range(5):
             for n in (1, 8):
+                if integration == "coherent" and swerling == 4 and n > 1:
+                    continue  # independent chi-square-4 phasors summed: no closed form (docs/detection.md)
                 snr_db = 8.0 if n == 1 else 0.0
                 exact = float(pd_exact(snr_db, 1e-4, n, swerling, integration))
                 (simulated, stderr), elapsed = timed(
