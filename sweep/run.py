@@ -8,10 +8,10 @@ holds the spec's digest). When every chunk is done, ``DIR/results.parquet`` gath
 point order and ``DIR/sweep.json`` records the provenance. Results depend only on the spec (each
 point's seed comes from the spec's seed and its index), so every scheduler gives the same table.
 
-Simulator workers (``render``, ``rcs``) retire gracefully after ``recycle_after`` tasks and their
-nanny starts a fresh process, so memory stays bounded; a worker that dies mid-task is replaced by
-Dask and its task run again. When the cluster's workers declare a ``GPU`` resource, simulator
-tasks ask for one.
+Simulator workers (``render``, ``rcs``) are restarted by their nanny after ``recycle_after``
+tasks (the client keeps one task a worker in flight, so the worker is idle then), so memory stays
+bounded; a worker that dies mid-task is replaced by Dask and its task run again. When the
+cluster's workers declare a ``GPU`` resource, simulator tasks ask for one.
 """
 
 from __future__ import annotations
@@ -33,9 +33,6 @@ from .spec import SweepSpec
 SIMULATORS = ("render", "rcs")
 #: Seconds to wait for a ``tcp://`` scheduler before giving up.
 CONNECT_TIMEOUT_S = 10.0
-
-#: Tasks this worker process has run (simulator jobs), for recycling.
-_TASKS_RUN = {"count": 0}
 
 
 def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
@@ -71,31 +68,22 @@ def _one_thread_per_worker() -> None:
         drjit.set_thread_count(1)
 
 
-def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> int:
-    """One chunk on a worker: compute, write its parquet file, and recycle the worker when due.
+def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple:
+    """One chunk on a worker: compute and write its parquet file.
 
-    Returns the process id that ran it (the provenance counts the worker processes used).
+    Returns the process id and the Dask worker address that ran it (None in this process), for
+    the provenance and for recycling.
     """
     if spec.job in SIMULATORS:
         _one_thread_per_worker()
     _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
-    if spec.job in SIMULATORS:
-        _TASKS_RUN["count"] += 1
-        if _TASKS_RUN["count"] >= spec.recycle_after:
-            _retire_worker()
-    return os.getpid()
-
-
-def _retire_worker() -> None:
-    """Ask this Dask worker to close gracefully once its result is safe; its nanny starts a new one."""
     try:
         from distributed import get_worker
 
-        worker = get_worker()
+        address = get_worker().address
     except (ImportError, ValueError):
-        return  # not on a Dask worker (serial): nothing to recycle
-    _TASKS_RUN["count"] = 0
-    worker.loop.add_callback(worker.close_gracefully, restart=True, reason="csuas-recycle")
+        address = None
+    return os.getpid(), address
 
 
 def _check_state(spec: SweepSpec, out: Path) -> None:
@@ -162,7 +150,7 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
     n_workers, pids = 1, set()
     if scheduler == "serial" or not todo:
         for done, i in enumerate(todo, 1):
-            pids.add(_task(spec, i, *bounds[i], str(out)))
+            pids.add(_task(spec, i, *bounds[i], str(out))[0])
             _progress(done, len(todo), started, progress)
     else:
         from distributed import as_completed
@@ -171,23 +159,31 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         try:
             info = client.scheduler_info()
             n_workers = len(info.get("workers", {}))
-            gpu = spec.job in SIMULATORS and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
-            futures = [
-                client.submit(
-                    _task,
-                    spec,
-                    i,
-                    *bounds[i],
-                    str(out),
-                    key=f"csuas-{spec.digest[:12]}-{i}",
-                    pure=False,
-                    resources={"GPU": 1} if gpu else None,
-                    retries=2,
+            simulator = spec.job in SIMULATORS
+            gpu = simulator and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
+
+            def submit(i):
+                return client.submit(
+                    _task, spec, i, *bounds[i], str(out), key=f"csuas-{spec.digest[:12]}-{i}", pure=False,
+                    resources={"GPU": 1} if gpu else None, retries=2,
                 )  # fmt: skip
-                for i in todo
-            ]
-            for done, future in enumerate(as_completed(futures), 1):
-                pids.add(future.result())
+
+            # a window of tasks in flight: one a worker for simulators (a worker due for recycling is
+            # idle when its task returns), two a worker otherwise
+            queue = iter(todo)
+            window = max(1, n_workers) * (1 if simulator else 2)
+            running = as_completed([submit(i) for _, i in zip(range(window), queue)])
+            tasks_by_worker: dict = {}
+            for done, future in enumerate(running, 1):
+                pid, address = future.result()
+                pids.add(pid)
+                tasks_by_worker[address] = tasks_by_worker.get(address, 0) + 1
+                if simulator and tasks_by_worker[address] >= spec.recycle_after:
+                    client.restart_workers([address])  # a fresh process: bounded memory (docs/sweeps.md)
+                    del tasks_by_worker[address]
+                following = next(queue, None)
+                if following is not None:
+                    running.add(submit(following))
                 _progress(done, len(todo), started, progress)
         finally:
             client.close()

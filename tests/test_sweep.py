@@ -113,24 +113,18 @@ def dask_cluster(tmp_path):
         [VENV_BIN / "dask", "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
     )  # fmt: skip
-    workers = [
-        subprocess.Popen(
-            [VENV_BIN / "dask", "worker", address, "--nthreads", "1", "--no-dashboard", "--name", f"w{i}"],
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-            env=env,
-            cwd=tmp_path,
-        )  # fmt: skip
-        for i in range(2)
-    ]
+    workers = subprocess.Popen(
+        [VENV_BIN / "dask", "worker", address, "--nworkers", "2", "--nthreads", "1", "--no-dashboard"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
+    )  # fmt: skip
     from distributed import Client
 
     with Client(address, timeout=30) as client:
         client.wait_for_workers(2, timeout=60)
-    yield address, workers
-    for p in [*workers, scheduler]:
+    yield address
+    for p in (workers, scheduler):
         p.terminate()
-    for p in [*workers, scheduler]:
+    for p in (workers, scheduler):
         try:
             p.wait(timeout=20)
         except subprocess.TimeoutExpired:
