@@ -15,6 +15,7 @@ point (the chunk's wall time shared equally).
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass, replace
 
@@ -176,7 +177,8 @@ def rcs_chunk(spec: SweepSpec, columns: dict) -> dict:
     """RCS [dBsm] VV and HH at each point, one SBR-PO call per frequency for the chunk's aspects."""
     from csuas.render.rcs import compute_rcs
 
-    target = spec.options["target"] or spec.scenario.target_preset
+    # interned: the SBR engine cache keys on the target object, and each task unpickles its own string
+    target = sys.intern(str(spec.options["target"] or spec.scenario.target_preset))
     n = len(columns["frequency_ghz"])
     az = np.asarray(columns.get("azimuth_deg", np.full(n, spec.options["azimuth_deg"])), float)
     el = np.asarray(columns.get("elevation_deg", np.full(n, spec.options["elevation_deg"])), float)
