@@ -427,6 +427,20 @@ def _albersheim_db(pd, pfa, n):
     return -5 * np.log10(n) + (6.2 + 4.54 / np.sqrt(n + 0.44)) * np.log10(a + 0.12 * a * b + 1.7 * b)
 
 
+def _check_fitted_domain(errors, name, pd, pd_range, pfa, pfa_range, n_pulses, n_max):
+    """Pd, Pfa and N checked against an approximation's fitted domain (errors collected)."""
+    why = (
+        f"{name} equation is fitted for {pd_range[0]:g} <= Pd <= {pd_range[1]:g}, "
+        f"{pfa_range[0]:g} <= Pfa <= {pfa_range[1]:g}, 1 <= N <= {n_max}"
+    )
+    p = _check(errors, "pd", pd, ge=pd_range[0], le=pd_range[1], why=why)
+    f = _check(errors, "pfa", pfa, ge=pfa_range[0], le=pfa_range[1], why=why)
+    n = _check(errors, "n_pulses", n_pulses, ge=1, le=n_max, why=why)
+    if n is not None and np.any(n != np.floor(n)):
+        errors.append(ParameterError("n_pulses", float(n[n != np.floor(n)].flat[0]), f"an integer 1..{n_max}"))
+    return p, f, n
+
+
 def albersheim_snr_db(pd, pfa, n_pulses=1):
     """Albersheim's approximation (1981) of the single-pulse SNR [dB] a steady target needs.
 
@@ -458,12 +472,7 @@ def albersheim_snr_db(pd, pfa, n_pulses=1):
         Arguments outside the validity range (use ``required_snr_db(..., method="exact")`` there).
     """
     errors = []
-    why = "Albersheim's equation is fitted for 0.1 <= Pd <= 0.9, 1e-7 <= Pfa <= 1e-3, 1 <= N <= 8096"
-    p = _check(errors, "pd", pd, ge=0.1, le=0.9, why=why)
-    f = _check(errors, "pfa", pfa, ge=1e-7, le=1e-3, why=why)
-    n = _check(errors, "n_pulses", n_pulses, ge=1, le=8096, why=why)
-    if n is not None and np.any(n != np.floor(n)):
-        errors.append(ParameterError("n_pulses", float(n[n != np.floor(n)].flat[0]), "an integer 1..8096"))
+    p, f, n = _check_fitted_domain(errors, "Albersheim's", pd, (0.1, 0.9), pfa, (1e-7, 1e-3), n_pulses, 8096)
     raise_all(errors)
     return _albersheim_db(p, f, n)[()]
 
@@ -502,12 +511,7 @@ def shnidman_snr_db(pd, pfa, n_pulses=1, swerling=0):
         Arguments outside the validity range (use ``required_snr_db(..., method="exact")`` there).
     """
     errors = []
-    why = "Shnidman's equation is fitted for 0.1 <= Pd <= 0.99, 1e-9 <= Pfa <= 1e-3, 1 <= N <= 100"
-    p = _check(errors, "pd", pd, ge=0.1, le=0.99, why=why)
-    f = _check(errors, "pfa", pfa, ge=1e-9, le=1e-3, why=why)
-    n = _check(errors, "n_pulses", n_pulses, ge=1, le=100, why=why)
-    if n is not None and np.any(n != np.floor(n)):
-        errors.append(ParameterError("n_pulses", float(n[n != np.floor(n)].flat[0]), "an integer 1..100"))
+    p, f, n = _check_fitted_domain(errors, "Shnidman's", pd, (0.1, 0.99), pfa, (1e-9, 1e-3), n_pulses, 100)
     sw = _check_swerling(errors, swerling)
     raise_all(errors)
     p, f, n, sw = np.broadcast_arrays(p, f, n, sw)

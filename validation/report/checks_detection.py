@@ -117,7 +117,8 @@ def monte_carlo(trials: int) -> Section:
             for n in (1, 8):
                 if integration == "coherent" and swerling == 4 and n > 1:
                     continue  # independent chi-square-4 phasors summed: no closed form (docs/detection.md)
-                snr_db = 8.0 if n == 1 else 0.0
+                no_gain = n == 1 or (integration == "coherent" and swerling == 2)  # decorrelated echoes add in power
+                snr_db = 8.0 if no_gain else 0.0
                 exact = float(pd_exact(snr_db, 1e-4, n, swerling, integration))
                 (simulated, stderr), elapsed = timed(
                     simulate_detector, snr_db, 1e-4, n, swerling, integration, trials, rng
