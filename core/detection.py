@@ -14,7 +14,7 @@ the detector each modality is assumed to use stated as a parameter:
 * RF (passive emission) and acoustics: an energy detector over a time-bandwidth product M
   (Urkowitz 1967): 2 M complex-sample degrees of freedom, Pfa from the central chi-square,
   Pd from the noncentral one; optionally Rayleigh or Rician fading of the received power,
-  averaged by Gauss-Laguerre quadrature.
+  averaged by composite Gauss-Legendre quadrature in probability (error below 1e-6).
 * Lidar: threshold detection of a return pulse in Gaussian noise (a linear-mode receiver),
   or photon counting with Poisson statistics (a Geiger-mode or photon-counting receiver).
 

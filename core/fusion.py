@@ -45,7 +45,8 @@ def fuse_or(pd_per_sensor, axis=0):
         The sensor axis.
     """
     p = _probabilities("pd_per_sensor", pd_per_sensor, axis)
-    return 1.0 - np.prod(1.0 - p, axis=0)
+    with np.errstate(divide="ignore"):  # a sensor with Pd = 1: log(0) = -inf, and the product is 0
+        return -np.expm1(np.sum(np.log1p(-p), axis=0))  # exact for tiny Pd, where 1 - prod(1 - p) rounds
 
 
 def fuse_k_of_n(pd_per_sensor, k, axis=0):
@@ -105,10 +106,9 @@ def approach_looks(start_range_m, stop_range_m, speed_m_s, look_rate_hz):
         raise ParameterError("stop_range_m", stop, f"below start_range_m = {start:g}")
     step = v / f
     count = int(np.floor((start - stop) / step * (1 + 1e-12))) + 1
-    if count > 50_000_000:
-        raise ParameterError(
-            "look_rate_hz", f, f"at most {50_000_000 * step / (start - stop) * f:g} Hz for this approach"
-        )
+    if count > MAX_LOOKS:
+        max_rate = MAX_LOOKS * v / (start - stop)
+        raise ParameterError("look_rate_hz", f, f"at most {max_rate:g} Hz ({MAX_LOOKS:g} looks) for this approach")
     return start - step * np.arange(count)
 
 

@@ -140,6 +140,18 @@ def test_fading_average_against_adaptive_quadrature(m, k_db):
     assert worst < 1e-6
 
 
+@pytest.mark.parametrize("m", [1, 4, 32, 500])
+def test_rayleigh_fading_is_swerling_1_of_the_radar_detector(m):
+    """Slow Rayleigh fading over M samples is a scan-to-scan exponential target: the Swerling 1 closed form."""
+    from csuas.core.radar_detection import pd_exact
+
+    snr = np.array([-8.0, 0.0, 6.0, 15.0, 30.0])
+    for pfa in (1e-3, 1e-8):
+        np.testing.assert_allclose(
+            energy_detector_pd(snr, pfa, m, "rayleigh"), pd_exact(snr, pfa, m, 1), atol=1e-6, rtol=0
+        )
+
+
 def test_rician_limits_are_rayleigh_and_steady():
     snr = np.array([0.0, 6.0, 12.0])
     np.testing.assert_allclose(

@@ -32,6 +32,11 @@ def test_k_of_n_and_or_against_enumeration(n):
     assert fuse_or(p) == pytest.approx(_enumerate_at_least(p, 1), abs=1e-14)
 
 
+def test_or_fusion_keeps_tiny_probabilities():
+    assert fuse_or([1e-18, 2e-18]) == pytest.approx(3e-18, rel=1e-12)  # 1 - prod(1 - p) would give 0
+    assert fuse_or([1.0, 0.3]) == 1.0
+
+
 def test_fusion_vectorised_over_ranges():
     pd = np.array([[0.1, 0.5, 0.9], [0.2, 0.2, 0.2], [0.0, 1.0, 0.5]])  # sensors x ranges
     both = fuse_k_of_n(pd, 3)
