@@ -108,7 +108,11 @@ def approach_looks(start_range_m, stop_range_m, speed_m_s, look_rate_hz):
     count = int(np.floor((start - stop) / step * (1 + 1e-12))) + 1
     if count > MAX_LOOKS:
         max_rate = MAX_LOOKS * v / (start - stop)
-        raise ParameterError("look_rate_hz", f, f"at most {max_rate:g} Hz ({MAX_LOOKS:g} looks) for this approach")
+        raise ParameterError(
+            "look_rate_hz",
+            f,
+            f"at most {max_rate:g} Hz for an approach of {start - stop:g} m at {v:g} m/s ({MAX_LOOKS:g} looks)",
+        )
     return start - step * np.arange(count)
 
 
