@@ -18,7 +18,7 @@ from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
-from csuas.core.scenario import Scenario, SensorSpec, check_value
+from csuas.core.scenario import Scenario, SensorSpec, check_value, johnson_derived
 from csuas.defaults import load_parameters
 
 
@@ -330,8 +330,6 @@ def horizontal_range_m(slant_range_m, altitude_m):
 
 def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:
     """A copy of ``scenario`` with one parameter changed (``target.X``, ``environment.X`` or ``sensor.X``)."""
-    from csuas.core import johnson
-
     section, _, name = key.partition(".")
     if section in ("target", "environment"):
         table = dict(getattr(scenario, section))
@@ -346,10 +344,8 @@ def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenar
         raise ParameterError("vary", key, "a parameter of the sensor: " + ", ".join(sensor.params))
     value = check_value(f"vary {key}", load_parameters()[sensor.modality][name], value)
     params = dict(sensor.params, **{name: value})
-    if name == "p_desired" and "n_ttpf" not in sensor.explicit:
-        params["n_ttpf"] = float(johnson.n_ttpf(value))
-    if name == "task" and "lp_task" not in sensor.explicit:
-        params["lp_task"] = johnson.line_pairs(value)
+    if name in ("p_desired", "task"):
+        params.update(johnson_derived(params, sensor.explicit))
     sensors = dict(scenario.sensors, **{sensor_name: replace(sensor, params=params)})
     return replace(scenario, sensors=sensors)
 

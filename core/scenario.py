@@ -222,6 +222,25 @@ def _defaults(section: str) -> dict:
     return {k: v.get("value") for k, v in load_parameters()[section].items()}
 
 
+def johnson_derived(params: dict, explicit) -> dict:
+    """An imaging sensor's values derived from others unless given: lp_task from task (Table 20),
+    n_TTPF from p_desired (Table 21).
+
+    Parameters
+    ----------
+    params : dict
+        The sensor's resolved parameters (``task`` and ``p_desired`` read).
+    explicit : set of str
+        Parameters the scenario gives; those are never derived.
+    """
+    derived = {}
+    if "lp_task" not in explicit:
+        derived["lp_task"] = johnson.line_pairs(params["task"])
+    if "n_ttpf" not in explicit:
+        derived["n_ttpf"] = float(johnson.n_ttpf(params["p_desired"]))
+    return derived
+
+
 def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec | None:
     prefix = f"sensors.{name}"
     if not isinstance(table, dict):
@@ -251,11 +270,11 @@ def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec | None:
     if errors:
         return None
     if modality in ("eo", "tir"):
-        if "lp_task" not in explicit:
-            values["lp_task"] = johnson.line_pairs(values["task"])
+        derived = johnson_derived(values, explicit)
+        values.update(derived)
+        if "lp_task" in derived:
             origin["lp_task"] = f"derived from task = {values['task']!r} (Table 20)"
-        if "n_ttpf" not in explicit:
-            values["n_ttpf"] = float(johnson.n_ttpf(values["p_desired"]))
+        if "n_ttpf" in derived:
             origin["n_ttpf"] = f"derived from p_desired = {values['p_desired']:g} (Table 21)"
         curve = [values.get("mrtd_frequency_cy_mrad"), values.get("mrtd_k")]
         if (curve[0] is None) != (curve[1] is None):

@@ -21,10 +21,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from csuas.core import johnson
 from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fuse, range_at_pd, sensor_pd
 from csuas.core.ranges import evaluate
-from csuas.core.scenario import Scenario
+from csuas.core.scenario import Scenario, johnson_derived
 from csuas.defaults import load_parameters
 
 from .spec import JOB_AXES, SweepSpec, point_seed
@@ -71,10 +70,8 @@ def with_values(scenario: Scenario, values: dict) -> Scenario:
         else:
             sensor = sensors[parts[1]]
             params = dict(sensor.params, **{parts[2]: value})
-            if parts[2] == "p_desired" and "n_ttpf" not in sensor.explicit:
-                params["n_ttpf"] = float(johnson.n_ttpf(value))
-            if parts[2] == "task" and "lp_task" not in sensor.explicit:
-                params["lp_task"] = johnson.line_pairs(value)
+            if parts[2] in ("p_desired", "task"):
+                params.update(johnson_derived(params, sensor.explicit))
             sensors[parts[1]] = replace(sensor, params=params, explicit=sensor.explicit | {parts[2]})
     return replace(scenario, target=target, environment=environment, sensors=sensors, explicit=explicit)
 

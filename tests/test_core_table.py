@@ -285,6 +285,7 @@ COVERED_ELSEWHERE = {
     "ranges.scenario_one_at_a_time": "tests/test_sensitivity.py",
     "scenario.check_value": "tests/test_scenario_errors.py",
     "scenario.embedded_scenarios": "tests/test_scenario.py (every embedded scenario evaluates finite)",
+    "scenario.johnson_derived": "tests/test_scenario.py, tests/test_sweep.py (Tables 20, 21)",
     "scenario.load_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
     "scenario.parse_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
     "scenario.plausibility_warnings": "tests/test_range_cli.py (one warning per mistake)",
