@@ -120,7 +120,7 @@ def _source(sensor: SensorSpec, key: str) -> str:
     return f"sensors.{sensor.name}.{key}" + ("" if key in sensor.explicit else " default")
 
 
-def _imaging(scenario, sensor, convention, r):
+def _imaging(scenario, sensor, convention, r, result):
     p, t = sensor.params, scenario.target
     exponent = p["ttpf_exponent"]
     ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
@@ -134,7 +134,7 @@ def _imaging(scenario, sensor, convention, r):
     r50 = johnson.johnson_range_m(t["d_crit_m"], ifov, p["lp_task"], 1.0)
     cutoff = np.inf
     if sensor.modality == "eo":
-        cutoff = float(np.asarray(ADAPTERS["eo"](scenario, sensor, convention).term("contrast_limited_range_m").value))
+        cutoff = float(np.asarray(result.term("contrast_limited_range_m").value))
         notes.append("Pd = 0 beyond the contrast-limited range (Eq. 21)")
     notes.append(f"cycles across d_crit from Eq. 17: x = R50 / R, R50 = {float(r50):.4g} m")
     return detection.imaging_pd(r, r50, exponent, cutoff), notes
@@ -217,37 +217,31 @@ def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | N
         raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))
     sensor = scenario.sensors[sensor_name]
     r = require("range_m", range_m, ge=0)
+    result = ADAPTERS[sensor.modality](scenario, sensor, conv)  # the paper's model, before the horizon
+    deterministic = float(np.asarray(result.range_m))
+    # the grid and the deterministic range in one evaluation (a threshold sensor's margin is read once)
+    at = np.append(r.ravel(), deterministic)
     if sensor.modality in ("eo", "tir"):
-        pd, notes = _imaging(scenario, sensor, conv, r)
+        pd_at, notes = _imaging(scenario, sensor, conv, at, result)
     else:
-        pd, notes = _threshold_pd(scenario, sensor, conv, r)
+        pd_at, notes = _threshold_pd(scenario, sensor, conv, at)
+    pd = np.asarray(pd_at, dtype=float)[:-1].reshape(r.shape)
+    at_deterministic = float(pd_at[-1]) if deterministic > 0 else None  # a zero range crosses no threshold
     horizon = _horizon_m(scenario, sensor)
     if np.isfinite(horizon):
         pd = np.where(r > horizon, 0.0, pd)
         notes.append(f"Pd = 0 beyond the line-of-sight horizon ({horizon / 1000:.3g} km)")
-    deterministic = float(np.asarray(ADAPTERS[sensor.modality](scenario, sensor, conv).range_m))
-    at_deterministic = None  # a zero range has no threshold crossing to read
-    if deterministic > 0:
-        at_deterministic = float(_pd_without_horizon(scenario, sensor, conv, deterministic))
     return PdCurve(
         sensor_name,
         sensor.modality,
         r,
-        np.asarray(pd, dtype=float),
+        pd,
         deterministic,
         at_deterministic,
         notes,
         sensor.params["looks"],
         float(sensor.params["look_rate_hz"]),
     )
-
-
-def _pd_without_horizon(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) -> np.ndarray:
-    """Pd of one resolved sensor at given ranges, without the horizon (used for the deterministic range)."""
-    r = require("range_m", range_m, ge=0)
-    if sensor.modality in ("eo", "tir"):
-        return _imaging(scenario, sensor, convention, r)[0]
-    return _threshold_pd(scenario, sensor, convention, r)[0]
 
 
 def default_range_grid(scenario: Scenario, convention: str | None = None) -> np.ndarray:
