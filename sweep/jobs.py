@@ -91,9 +91,7 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
     codes = []
     for key, values in columns.items():
         if key in EFFECT_PREDICATES:
-            codes.append(np.asarray([EFFECT_PREDICATES[key](float(v)) for v in np.unique(values)])[
-                np.unique(values, return_inverse=True)[1]
-            ].astype(np.int64))  # fmt: skip
+            codes.append(EFFECT_PREDICATES[key](np.asarray(values, float)).astype(np.int64))
         elif _is_scalar(scenario, key):
             codes.append(np.unique(values, return_inverse=True)[1].astype(np.int64))
     if codes:
@@ -164,7 +162,7 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
         )
         for k in keys:
             value = row.get(k)
-            if isinstance(value, (int, float)) and value is not None:
+            if isinstance(value, (int, float)):
                 out[k][i] = value
         out["pixels_on_target_stderr"][i] = row.get("stderr", {}).get("pixels_on_target", np.nan)
     return out

@@ -99,7 +99,7 @@ def _check_state(spec: SweepSpec, out: Path) -> None:
         write_text_atomic(state, json.dumps({"digest": spec.digest}))
 
 
-def _client(scheduler: str, workers: int | None, job: str):
+def _client(scheduler: str, workers: int | None):
     from distributed import Client, LocalCluster
 
     if scheduler == "local":
@@ -155,7 +155,7 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
     else:
         from distributed import as_completed
 
-        client, cluster = _client(scheduler, workers, spec.job)
+        client, cluster = _client(scheduler, workers)
         try:
             info = client.scheduler_info()
             n_workers = len(info.get("workers", {}))

@@ -25,7 +25,7 @@ import hashlib
 import json
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -96,7 +96,6 @@ class SweepSpec:
     chunk_points: int
     recycle_after: int
     digest: str = ""
-    raw: dict = field(default_factory=dict)
 
     @property
     def n_points(self) -> int:
@@ -184,7 +183,7 @@ def _check_axis(job: str, scenario: Scenario, key: str, values: list, errors: li
     return np.asarray(checked, dtype=object if "choices" in spec else float)
 
 
-def parse_spec(data: dict, source: str = "spec") -> SweepSpec:
+def parse_spec(data: dict) -> SweepSpec:
     """Validate a sweep spec's TOML table; every mistake reported at once (exit 2 on the command line)."""
     errors: list[CsuasError] = []
     for key in sorted(set(data) - set(TOP_KEYS)):
@@ -238,9 +237,7 @@ def parse_spec(data: dict, source: str = "spec") -> SweepSpec:
         if isinstance(value, bool) or not isinstance(value, int) or value < 1:
             errors.append(ParameterError(name, value, "a whole number >= 1"))
     raise_all(errors)
-    spec = SweepSpec(
-        job, str(source_name), scenario, int(seed), combine, axes, options, int(chunk), int(recycle), raw=data
-    )
+    spec = SweepSpec(job, str(source_name), scenario, int(seed), combine, axes, options, int(chunk), int(recycle))
     if spec.n_points > MAX_POINTS:
         raise ParameterError("axes", f"{spec.n_points:,} points", f"at most {MAX_POINTS:,} points in one sweep")
     spec.digest = _digest(data, source_name)
@@ -267,4 +264,4 @@ def load_spec(source) -> SweepSpec:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None
-    return parse_spec(data, str(path))
+    return parse_spec(data)

@@ -42,6 +42,11 @@ def simulate_detector(snr_db, pfa, n_pulses, swerling, integration, trials, rng)
         shape = 1.0 if swerling in (1, 2) else 2.0
         rcs = np.repeat(rng.gamma(shape, 1 / shape, size=(trials, draws)), n // draws, axis=1)
     signal = np.sqrt(snr * rcs) * np.exp(2j * np.pi * rng.random((trials, draws)))
+    return _detected_fraction(signal, n, pfa, integration, trials, rng)
+
+
+def _detected_fraction(signal, n: int, pfa: float, integration: str, trials: int, rng) -> tuple[float, float]:
+    """Add unit-power complex noise to ``signal`` (trials, N or 1), detect, and count threshold crossings."""
     noise = (rng.standard_normal((trials, n)) + 1j * rng.standard_normal((trials, n))) / math.sqrt(2)
     if integration == "coherent":
         statistic = np.abs(np.sum(signal + noise, axis=1)) ** 2 / n
@@ -59,7 +64,4 @@ def simulate_over_rcs_samples(snr_db_at_mean, rcs_m2, pfa, n_pulses, trials, rng
     draw = rng.choice(s / s.mean(), size=(trials, 1)) * 10 ** (snr_db_at_mean / 10)
     n = int(n_pulses)
     signal = np.sqrt(draw) * np.exp(2j * np.pi * rng.random((trials, 1)))
-    noise = (rng.standard_normal((trials, n)) + 1j * rng.standard_normal((trials, n))) / math.sqrt(2)
-    statistic = np.sum(np.abs(signal + noise) ** 2, axis=1)
-    fraction = float(np.mean(statistic > special.gammainccinv(n, pfa)))
-    return fraction, math.sqrt(max(fraction * (1 - fraction), 1.0 / trials) / trials)
+    return _detected_fraction(signal, n, pfa, "noncoherent", trials, rng)
