@@ -6,12 +6,18 @@ itself and drop the exception. The handlers installed here also record the signa
 :func:`raise_if_interrupted` raises it again at the next checkpoint: every atomic file write
 (:func:`csuas.base.fileio.atomic_path`) and the end of each command. SIGTERM is raised as
 :class:`Terminated`, a ``KeyboardInterrupt``, so that every clean-up path treats both alike.
+
+A ``KeyboardInterrupt`` raised *inside* the import of a nanobind extension (Mitsuba building its enum
+types, say) is worse than lost: nanobind turns it into a C++ exception that nothing catches, and the
+process aborts (exit -6). :func:`deferred_interrupts` holds the signal while such a module loads and
+delivers it once the import is complete.
 """
 
 from __future__ import annotations
 
 import contextlib
 import signal
+import threading
 
 _received: list[int] = []
 
@@ -27,6 +33,33 @@ def _exception(signum: int) -> KeyboardInterrupt:
 def _handler(signum, frame):
     _received.append(signum)
     raise _exception(signum)
+
+
+@contextlib.contextmanager
+def deferred_interrupts():
+    """Hold SIGINT and SIGTERM while the block runs; deliver the first one held when it ends.
+
+    For imports of C extensions that must not be interrupted half-way. The held signal is raised again
+    with the handlers in force before the block, so it ends the process, raises ``KeyboardInterrupt``
+    or is recorded by :func:`handling_interrupts`, exactly as it would have outside the block. Off the
+    main thread (where Python runs no signal handlers) the block runs unchanged.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+
+    def hold(signum, frame):
+        held.append(signum)
+
+    previous = {sig: signal.signal(sig, hold) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if held:
+            signal.raise_signal(held[0])
 
 
 def pending() -> KeyboardInterrupt | None:

@@ -18,6 +18,7 @@ import os
 import re
 
 from csuas.base.errors import CsuasError
+from csuas.base.interrupts import deferred_interrupts
 
 #: Oldest LLVM major version whose code generation Dr.Jit 1.5 handles here.
 MIN_LLVM_MAJOR = 16
@@ -109,7 +110,8 @@ def cuda_available() -> bool:
     except BackendError:
         pass
     try:
-        import drjit as dr
+        with deferred_interrupts():
+            import drjit as dr
 
         return bool(dr.has_backend(dr.JitBackend.CUDA))
     except Exception:
@@ -133,7 +135,8 @@ def use_variant(family: str = "ad_rgb", variant: str | None = None) -> str:
         The variant now active in Mitsuba.
     """
     ensure_libllvm()
-    import mitsuba as mi
+    with deferred_interrupts():
+        import mitsuba as mi
 
     wanted = variant or os.environ.get("CSUAS_VARIANT")
     available = mi.variants()
@@ -149,6 +152,7 @@ def use_variant(family: str = "ad_rgb", variant: str | None = None) -> str:
     for name in order:
         if name in available:
             if mi.variant() != name:
-                mi.set_variant(name)
+                with deferred_interrupts():
+                    mi.set_variant(name)
             return name
     raise BackendError(f"family={family!r} has no available variant; valid: {', '.join(available)}")

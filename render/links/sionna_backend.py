@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 import sys
 
+from csuas.base.interrupts import deferred_interrupts
 from csuas.render.backend import BackendError, use_variant
 
 #: Mitsuba variant family Sionna RT needs (polarised, monochromatic, differentiable).
@@ -73,7 +74,8 @@ def load_sionna_rt():
         _loaded_variant = current
         return sys.modules["sionna.rt"]
     variant = use_variant(SIONNA_FAMILY, variant=requested)
-    import sionna.rt  # noqa: F401 - the variant chosen above is kept by Sionna
+    with deferred_interrupts():
+        import sionna.rt  # noqa: F401 - the variant chosen above is kept by Sionna
 
     _loaded_variant = variant
     return sys.modules["sionna.rt"]
