@@ -161,14 +161,14 @@ def test_sigterm_ends_a_running_command_like_sigint(tmp_path):
 
 
 @pytest.mark.slow
-def test_an_rcs_below_what_the_grid_resolves_is_flagged_not_floored(capsys):
+def test_an_rcs_far_below_the_optical_region_is_flagged_not_floored(capsys):
+    """ka = 0.05: the grid barely covers the target, but fully lit facets are integrated exactly."""
     assert cli.main(["rcs", "black_hornet_3", "--frequency-ghz", "0.03", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["rays"] < 100
-    assert out["rcs_dbsm"] is None or out["rcs_dbsm"] > -200
-    assert out["error_db"] is None
+    assert -200 < out["rcs_dbsm"] < -60  # PO of a 0.17 m target at 10 m wavelength, far above the floor
     text = " ".join(out["warnings"])
-    assert "ka = " in text and "tubes" in text
+    assert "ka = " in text and "indicative only" in text and "tubes" in text
 
 
 @pytest.mark.slow

@@ -246,12 +246,12 @@ def _validate(args) -> None:
 
 def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int) -> dict:
     """Tubes and time of the whole command, estimated before tracing; refused above ``--max-tubes``."""
-    from csuas.render.rcs.solver import estimate_seconds, estimate_tubes
+    from csuas.render.rcs.solver import REPLICAS, estimate_seconds, estimate_tubes
 
-    per_aspect = estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
-    runs = 1.0 if args.no_error_estimate else 1.25  # the error estimate adds a half-density run
+    runs = 1 if args.no_error_estimate else REPLICAS  # the error estimate traces shifted grid replicas
+    per_aspect = runs * estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
     aspects = 1 + (36 * 12 if args.sphere_average else 0) + (180 if args.plot else 0)
-    tubes = per_aspect * runs * aspects
+    tubes = per_aspect * aspects
     cost = {
         "tubes": tubes,
         "tubes_per_aspect": per_aspect,
@@ -284,8 +284,9 @@ def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bound
         )
     if tubes < MIN_TUBES:
         warnings.append(
-            f"only {tubes} tubes cover the target: the grid is too coarse for a meaningful figure "
-            f"or error estimate; raise --rays-per-wavelength"
+            f"only {tubes} tubes cover the target: multiple reflections and partly shadowed facets "
+            f"are sampled coarsely (single reflections of fully lit facets are exact); "
+            f"raise --rays-per-wavelength"
         )
     ka = 2.0 * math.pi / float(wavelength_m(frequency_ghz)) * bounding_radius_m
     if ka < KA_VALIDITY:
@@ -295,8 +296,8 @@ def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bound
         )
     if error_db is not None and not (math.isfinite(error_db) and error_db <= UNRELIABLE_ERROR_DB):
         warnings.append(
-            f"the error estimate ({error_db:.3g} dB) failed: the half-density run resolves the target "
-            f"too poorly; error_db is withheld"
+            f"the error estimate ({error_db:.3g} dB) failed: the shifted grid replicas disagree by as "
+            f"much as the field itself; error_db is withheld, raise --rays-per-wavelength"
         )
     return warnings
 

@@ -83,3 +83,49 @@ def sphere(radius_m: float, subdivisions: int = 6):
     import trimesh
 
     return trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius_m)
+
+
+#: Length of the NASA almond of the EMCC benchmark suite [m] (9.936 in).
+ALMOND_LENGTH_M = 0.252374
+
+
+def nasa_almond(length_m: float = ALMOND_LENGTH_M, stations: int = 240, sections: int = 96):
+    """The NASA almond (Woo, Wang, Schuh & Sanders, IEEE APM 35(1), 1993), tip toward +x.
+
+    With ``d = length_m`` and ``t`` the position along the axis in units of ``d``:
+    for ``-0.416667 < t < 0`` (the ellipsoidal back)
+    ``y = 0.193333 d sqrt(1 - (t/0.416667)^2) cos(psi)``, ``z = 0.064444 d sqrt(...) sin(psi)``;
+    for ``0 < t < 0.583333`` (the pointed front)
+    ``y = 4.83345 d (sqrt(1 - (t/2.08335)^2) - 0.96) cos(psi)``, ``z = 1.61115 d (...) sin(psi)``.
+    The tip is at ``x = 0.583333 d``, the rounded back at ``x = -0.416667 d``; the mesh is
+    closed with one vertex at each end. ``stations`` rings along x, ``sections`` around.
+    """
+    t_back, t_front = 0.416667, 0.583333
+    # rings clustered toward both ends, where the cross-section changes fastest
+    s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, stations + 2)[1:-1])
+    t = -t_back + (t_back + t_front) * s
+    scale = np.where(
+        t < 0,
+        np.sqrt(np.clip(1 - (t / t_back) ** 2, 0, None)),
+        np.sqrt(np.clip(1 - (t / 2.08335) ** 2, 0, None)) - 0.96,
+    )
+    ry = np.where(t < 0, 0.193333, 4.83345) * scale * length_m
+    rz = np.where(t < 0, 0.064444, 1.61115) * scale * length_m
+    psi = np.linspace(0.0, 2 * np.pi, sections, endpoint=False)
+    x = np.repeat(t * length_m, sections)
+    y = (ry[:, None] * np.cos(psi)[None, :]).ravel()
+    z = (rz[:, None] * np.sin(psi)[None, :]).ravel()
+    ring = np.stack([x, y, z], axis=1)
+    back, tip = len(ring), len(ring) + 1
+    vertices = np.vstack([ring, [[-t_back * length_m, 0, 0], [t_front * length_m, 0, 0]]])
+    faces = []
+    j = np.arange(sections)
+    jn = (j + 1) % sections
+    for i in range(stations - 1):
+        a, b = i * sections + j, (i + 1) * sections + j
+        an, bn = i * sections + jn, (i + 1) * sections + jn
+        faces += [np.stack([a, bn, b], 1), np.stack([a, an, bn], 1)]  # outward normals
+    faces.append(np.stack([np.full(sections, back), jn, j], 1))
+    last = (stations - 1) * sections
+    faces.append(np.stack([np.full(sections, tip), last + j, last + jn], 1))
+    return _mesh(vertices, np.vstack(faces))

@@ -61,7 +61,7 @@ from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
 from csuas.drone_models.geometry import direction_vector
 
-from .geometry import TargetMesh, polarisation_basis
+from .geometry import TargetMesh, closed_faces, face_curvature, polarisation_basis
 
 #: Default tube batch on CPU and on GPU [tubes]; about 200 bytes of state per tube.
 BATCH_SIZE_CPU = 1 << 20
@@ -76,6 +76,15 @@ DEFAULT_GRID_SHIFT = (0.2371, 0.3719)
 #: tubes radiate where they are (reflected branch) or are dropped (transmitted branch). PEC tubes keep
 #: full power and end only at ``max_bounces``; the cut bounds the branching of thin shells.
 POWER_CUTOFF = 1e-3
+
+
+#: Phase error [rad] of extending a facet's plane over a tube footprint (the surface's sag under it) above
+#: which a first-hit tube larger than its facet is split into four, and a tube that can no longer be split
+#: radiates its share of the facet's exact integral instead.
+SAG_PHASE_LIMIT = 0.2
+
+#: Most times a tube is split at its first hit (its side shrinks to 1/2^level of the grid spacing).
+MAX_REFINEMENT_LEVEL = 4
 
 
 @dataclass
@@ -243,7 +252,21 @@ class SbrEngine:
         self.scene = mi.load_dict({"type": "scene", "target": mesh})
         n = np.asarray(target.face_normals, np.float32)
         self._face_normal = mi.Vector3f(mi.Float(n[:, 0]), mi.Float(n[:, 1]), mi.Float(n[:, 2]))
+        # first vertex and the two edges from it of every face, and its area, for the facet integrals
+        tri = np.asarray(target.vertices, float)[np.asarray(target.faces)]
+        self._face_origin, self._face_edge1, self._face_edge2 = (
+            mi.Vector3f(*(mi.Float(np.asarray(x[:, i], np.float32)) for i in range(3)))
+            for x in (tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        )
+        self._face_curvature = mi.Float(
+            np.asarray(face_curvature(target.vertices, target.faces, target.face_normals), np.float32)
+        )
+        self._face_area = mi.Float(
+            np.asarray(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), np.float32)
+        )
         self._face_material = mi.UInt32(np.asarray(target.face_material, np.uint32))
+        self._centroid = tri.mean(axis=1)
+        self._one_sided = closed_faces(target.faces)
         self._radius = 1.01 * target.bounding_radius_m + 1e-3
         self._hull = _hull_points(target.vertices)
         # Without thin shells no tube is ever transmitted, and the kernels leave that branch out.
@@ -319,10 +342,6 @@ class SbrEngine:
 
         return dict(
             k=f32(tab["k"]),
-            d=f32(tab["d"]),
-            nu=mi.UInt32(np.asarray(tab["nu"], np.uint32)),
-            u0=f32(tab["u0"]),
-            v0=f32(tab["v0"]),
             kin=vec(tab["kin"]),
             e1=vec(tab["e1"]),
             e2=vec(tab["e2"]),
@@ -340,7 +359,12 @@ class SbrEngine:
 
     # ------------------------------------------------------------------ launch
     def trace(
-        self, jobs: Jobs, max_bounces: int = 5, radiate: str = "exit", power_cutoff: float = POWER_CUTOFF
+        self,
+        jobs: Jobs,
+        max_bounces: int = 5,
+        radiate: str = "exit",
+        power_cutoff: float = POWER_CUTOFF,
+        exact_first_hits: bool = True,
     ) -> TraceResult:
         """Trace every job's tubes and return the scattered far-field amplitudes.
 
@@ -357,6 +381,9 @@ class SbrEngine:
         power_cutoff : float
             Tubes weaker than this fraction of the incident tube power stop
             (:data:`POWER_CUTOFF`); 0 follows every tube to ``max_bounces``.
+        exact_first_hits : bool
+            Integrate the single reflection of every fully lit facet exactly (:meth:`_exact_first_hits`);
+            False radiates every first hit from its tube footprint, as Ling et al.
 
         Returns
         -------
@@ -386,26 +413,50 @@ class SbrEngine:
         offsets = np.concatenate([[0], np.cumsum(tab["tubes"])])
         total = int(offsets[-1])
         stats = {"casts": 0, "trace_s": 0.0, "exits": np.zeros(max_bounces + 1, np.int64)}
+        dev["clean"] = None
+        if exact_first_hits:
+            escape_needed = radiate == "exit" and max_bounces > 1
+            dev["clean"] = self._exact_first_hits(dev, tab, n_obs, escape_needed, acc, stats)
+        leaves = np.asarray(tab["tubes"], np.int64).copy()
+        refined: list[tuple] = []  # tubes split at their first hit, waiting to be traced as four children
         for lo in range(0, total, self.batch_size):
-            hi = min(total, lo + self.batch_size)
-            g = np.arange(lo, hi, dtype=np.int64)
+            g = np.arange(lo, min(total, lo + self.batch_size), dtype=np.int64)
             job = np.searchsorted(offsets, g, side="right") - 1
-            local = (g - offsets[job]).astype(np.uint32)
-            self._trace_batch(dev, job.astype(np.uint32), local, n_obs, max_bounces, radiate, acc, stats)
+            local = g - offsets[job]
+            nu = np.maximum(tab["nu"][job], 1)
+            tubes = (job, tab["u0"][job] + (local % nu) * tab["d"][job], tab["v0"][job] + (local // nu) * tab["d"][job])
+            refined.append(
+                self._trace_batch(
+                    dev, *tubes, tab["d"][job], np.zeros(len(g), np.int8), n_obs, max_bounces, radiate, acc, stats
+                )
+            )
+        while refined:
+            parents = [np.concatenate(x) for x in zip(*refined)]
+            refined = []
+            np.add.at(leaves, parents[0], 3)
+            children = _children(*parents)
+            for lo in range(0, len(children[0]), self.batch_size):
+                refined.append(
+                    self._trace_batch(
+                        dev, *(x[lo : lo + self.batch_size] for x in children), n_obs, max_bounces, radiate, acc, stats
+                    )
+                )
+            refined = [r for r in refined if len(r[0])]
         sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)  # (job, obs, tx, rx, re/im)
         amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)  # -> (job, obs, rx, tx)
         return TraceResult(
-            amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
+            amplitude, leaves, stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
         )
 
-    def _trace_batch(self, dev, job_np, local_np, n_obs, max_bounces, radiate, acc, stats):
+    def _trace_batch(self, dev, job_np, u_np, v_np, d_np, level_np, n_obs, max_bounces, radiate, acc, stats):
+        """Trace one batch of tubes (job, centre u, v and size d on the launch plane, refinement level).
+
+        Returns the tubes split at their first hit (same fields), which the caller traces as children.
+        """
         mi, dr = self.mi, self.dr
         Float, UInt, V3 = mi.Float, mi.UInt32, mi.Vector3f
-        job, local = UInt(job_np), UInt(local_np)
-        nu = dr.maximum(dr.gather(UInt, dev["nu"], job), 1)  # >= 1 in every SIMD lane (udiv traps on 0)
-        d = dr.gather(Float, dev["d"], job)
-        u = dr.gather(Float, dev["u0"], job) + Float(local % nu) * d
-        v = dr.gather(Float, dev["v0"], job) + Float(local // nu) * d
+        job = UInt(np.asarray(job_np, np.uint32))
+        u, v, d = (Float(np.asarray(x, np.float32)) for x in (u_np, v_np, d_np))
         e1, e2 = dr.gather(V3, dev["e1"], job), dr.gather(V3, dev["e2"], job)
         kin = dr.gather(V3, dev["kin"], job)
         radius = dr.gather(Float, dev["radius"], UInt(0))
@@ -433,6 +484,17 @@ class SbrEngine:
         # width) and transmitted branch ``states[1]`` (indices from its width on), read by the kernels
         # that need them (see _fetch). None: every tube of ``states[0]`` in order.
         states, contribs, ref = [st], None, None
+        refined = tuple(
+            np.zeros(0, x.dtype)
+            for x in (
+                np.asarray(job_np),
+                np.asarray(u_np, float),
+                np.asarray(v_np, float),
+                np.asarray(d_np, float),
+                np.asarray(level_np),
+            )
+        )
+        n_split = 0
         for bounce in range(1, max_bounces + 1):
             dr.sync_thread()  # launches are asynchronous; time the intersection alone
             t0 = time.perf_counter()
@@ -443,8 +505,17 @@ class SbrEngine:
             dr.eval(hit, pi.t, pi.prim_index)
             dr.sync_thread()
             stats["trace_s"] += time.perf_counter() - t0
-            n_rays, n_hit = dr.width(hit), count(hit)
+            n_rays = dr.width(hit)
             stats["casts"] += n_rays
+            if bounce == 1:
+                split_now = self._needs_refinement(dev, st, pi, hit, level_np)
+                hit &= ~split_now
+                n_split = count(split_now)
+                if n_split:
+                    chosen = np.asarray(split_now)
+                    refined = tuple(np.asarray(x)[chosen] for x in (job_np, u_np, v_np, d_np, level_np))
+            n_hit = count(hit)
+            n_rays -= n_split if bounce == 1 else 0
             stats["exits"][bounce - 1] += n_rays - n_hit
             if contribs is not None and n_hit < n_rays:  # tubes that left after their previous hit radiate there
                 out = _split_ref(dr, states, _select(dr, ref, dr.compress(~hit)))
@@ -458,7 +529,10 @@ class SbrEngine:
             st = {key: _fetch(dr, states, ref_hit, key) for key in states[0]}
             t = dr.gather(Float, pi.t, idx)
             prim = dr.gather(UInt, pi.prim_index, idx)
-            contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs)
+            silent = None
+            if bounce == 1 and dev["clean"] is not None:
+                silent = dr.gather(mi.Bool, dev["clean"], st["job"] * dr.opaque(UInt, len(self.target.faces)) + prim)
+            contrib, st_r, contrib_t, st_t, has_t, keep = self._interact(dev, st, t, prim, n_obs, silent=silent)
             dr.eval(contrib, st_r, contrib_t, st_t, has_t, keep)  # (the *_t are empty without shells)
             last = bounce == max_bounces
             n_keep, n_through = count(keep), (count(has_t) if self._has_shells else 0)
@@ -488,7 +562,128 @@ class SbrEngine:
             if radiate == "all":
                 contribs = None
 
-    def _interact(self, dev, st, t, prim, n_obs):
+        return refined
+
+    def _exact_first_hits(self, dev, tab, n_obs, escape_needed, acc, stats):
+        """Add the exact single-reflection PO of every fully lit facet; return which facets those are.
+
+        A facet is *fully lit* for a job when its three vertices see the transmitter (a ray from each
+        toward it hits nothing), when it faces the transmitter if it belongs to a closed surface
+        (:func:`closed_faces`), and, where tubes radiate at their exit point only, when the ray
+        reflected from its centroid escapes. Its reflection's PO integral over the whole facet is
+        added in closed form (plane-wave incidence, :func:`_simplex_phase_integral`), however few
+        tubes hit it: grazing facets near a shadow boundary, which a tube grid samples badly and
+        whose currents make the small-ka oscillation of a sphere's RCS, count in full. The tubes
+        that hit these facets still reflect on, but their first-hit radiation is left out.
+
+        Returns
+        -------
+        mi.Bool (J * F,)
+            True for (job, facet) pairs integrated here, index ``job * F + facet``.
+        """
+        mi, dr = self.mi, self.dr
+        Float, UInt, V3 = mi.Float, mi.UInt32, mi.Vector3f
+        n_faces = len(self.target.faces)
+        vertices, faces, normals = self.target.vertices, self.target.faces, self.target.face_normals
+        # Jobs that differ only in their grid offset (the replicas of an error estimate) share the result.
+        key = np.column_stack([tab["kin"], tab["k"], tab["s"].reshape(len(tab["k"]), -1)])
+        _, first, which = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        which = which.ravel()
+        n_jobs = len(first)
+        toward = -np.asarray(tab["kin"], float)[first]  # (U, 3) from the target toward the transmitter
+        nudge = 2e-5 * self._radius
+        clean = np.zeros((n_jobs, n_faces), bool)
+        per = max(1, self.batch_size // max(len(vertices), n_faces))
+        for j0 in range(0, n_jobs, per):
+            js = np.arange(j0, min(n_jobs, j0 + per))
+            w = toward[js]  # (Jc, 3)
+            origin = (vertices[None, :, :] + nudge * w[:, None, :]).reshape(-1, 3)
+            seen = ~self._occluded(origin, np.repeat(w, len(vertices), axis=0), stats).reshape(len(js), -1)
+            cos_w = w @ normals.T  # (Jc, F)
+            lit = seen[:, faces].all(axis=2) & (np.abs(cos_w) > 1e-6) & (~self._one_sided[None, :] | (cos_w > 0))
+            if escape_needed:
+                facing = np.where(cos_w[..., None] > 0, normals[None], -normals[None])  # (Jc, F, 3)
+                reflected = 2.0 * np.abs(cos_w)[..., None] * facing - w[:, None, :]
+                start = (self._centroid[None] + nudge * facing).reshape(-1, 3)
+                escapes = ~self._occluded(start, reflected.reshape(-1, 3), stats).reshape(len(js), -1)
+                lit &= escapes
+            clean[js] = lit
+        unique_acc = np.zeros((n_jobs, acc.shape[1]))
+        unique_job, facet = np.nonzero(clean)  # job-major, as _accumulate wants
+        for lo in range(0, len(unique_job), self.batch_size):
+            u = unique_job[lo : lo + self.batch_size]
+            j, f = UInt(first[u].astype(np.uint32)), facet[lo : lo + self.batch_size]
+            centre = V3(*(Float(np.asarray(self._centroid[f, i], np.float32)) for i in range(3)))
+            kin = dr.gather(V3, dev["kin"], j)
+            zero = V3(0.0)
+            st = {
+                "job": j,
+                "o": centre,
+                "dir": kin,
+                "a1": zero,
+                "a2": zero,
+                "phase_len": dr.dot(kin, centre),
+                "ev_re": dr.gather(V3, dev["pol_v"], j),
+                "ev_im": zero + 0.0,
+                "eh_re": dr.gather(V3, dev["pol_h"], j),
+                "eh_im": zero + 0.0,
+            }
+            prim = UInt(f.astype(np.uint32))
+            contrib = self._interact(
+                dev, st, Float(0.0), prim, n_obs, exact_area=dr.gather(Float, self._face_area, prim)
+            )[0]
+            self._accumulate(unique_acc, UInt(u.astype(np.uint32)), contrib)
+        acc += unique_acc[which]
+        return mi.Bool(clean[which].ravel())
+
+    def _occluded(self, origin: np.ndarray, direction: np.ndarray, stats) -> np.ndarray:
+        """Whether rays (NumPy (R, 3) origins and directions) hit the target, in batches."""
+        mi, dr = self.mi, self.dr
+        out = np.empty(len(origin), bool)
+        for lo in range(0, len(origin), self.batch_size):
+            o, d = origin[lo : lo + self.batch_size], direction[lo : lo + self.batch_size]
+            ray = mi.Ray3f(
+                mi.Point3f(*(mi.Float(np.asarray(o[:, i], np.float32)) for i in range(3))),
+                mi.Vector3f(*(mi.Float(np.asarray(d[:, i], np.float32)) for i in range(3))),
+            )
+            blocked = self.scene.ray_test(ray)
+            dr.eval(blocked)
+            out[lo : lo + len(o)] = np.asarray(blocked)
+        stats["casts"] += len(origin)
+        return out
+
+    def _footprint(self, st, direction, n, cos_i):
+        """The tube's footprint on the facet plane: its two edges and its area [m^2]."""
+        dr = self.dr
+        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction
+        f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
+        return f1, f2, dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
+
+    def _plane_too_far(self, k, prim, f1, f2, area):
+        """Where a footprint is larger than its facet and extending the facet's plane over it costs phase.
+
+        The phase error is the surface's sag under the footprint, curvature * diagonal^2 / 8, times the
+        largest phase gradient 2k; :data:`SAG_PHASE_LIMIT` bounds it.
+        """
+        dr, Float = self.dr, self.mi.Float
+        sag_phase = (
+            k * dr.gather(Float, self._face_curvature, prim) * (dr.squared_norm(f1) + dr.squared_norm(f2)) * 0.25
+        )
+        return (dr.gather(Float, self._face_area, prim) < area) & (sag_phase > SAG_PHASE_LIMIT)
+
+    def _needs_refinement(self, dev, st, pi, hit, level_np):
+        """First hits whose tube is split into four (:data:`MAX_REFINEMENT_LEVEL` levels at most)."""
+        mi, dr = self.mi, self.dr
+        prim = dr.select(hit, pi.prim_index, 0)
+        n = dr.gather(mi.Vector3f, self._face_normal, prim)
+        cos_i = dr.maximum(dr.abs(dr.dot(st["dir"], n)), 1e-6)
+        f1, f2, area = self._footprint(st, st["dir"], n, cos_i)
+        k = dr.gather(mi.Float, dev["k"], st["job"])
+        split = hit & mi.Bool(np.asarray(level_np) < MAX_REFINEMENT_LEVEL) & self._plane_too_far(k, prim, f1, f2, area)
+        dr.eval(split)
+        return split
+
+    def _interact(self, dev, st, t, prim, n_obs, exact_area=None, silent=None):
         """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
 
         Returns ``(contrib_r, state_r, contrib_t, state_t, has_t, keep_r)``:
@@ -577,9 +772,17 @@ class SbrEngine:
             # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
             trans.append((dr.cross(direction, u_re), dr.cross(direction, u_im), u_re, u_im, u_re, u_im))
 
-        area = dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
-        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction  # footprint edges on the facet
-        f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
+        f1, f2, area = self._footprint(st, direction, n, cos_i)
+        if exact_area is not None:  # the whole facet, lit by the incident plane wave
+            area = exact_area
+        # A footprint larger than its curved facet (after the first hit's refinement, or on a later
+        # bounce): the tube stands for its share of the whole facet (footprint area / facet area) and
+        # radiates the facet's exact integral instead of extending the facet's plane (module docstring).
+        whole_facet = mi.Bool(True) if exact_area is not None else self._plane_too_far(k, prim, f1, f2, area)
+        # the reflection's PO of a facet integrated exactly elsewhere (:meth:`_exact_first_hits`) is left out
+        audible = Float(1.0) if silent is None else dr.select(silent, 0.0, 1.0)
+        rel0 = dr.gather(V3, self._face_origin, prim) - p
+        edge1, edge2 = dr.gather(V3, self._face_edge1, prim), dr.gather(V3, self._face_edge2, prim)
         contrib_r, contrib_t = [], []
         sides = ((refl, n, contrib_r), (trans, -n, contrib_t)) if self._has_shells else ((refl, n, contrib_r),)
         for m in range(n_obs):
@@ -587,13 +790,22 @@ class SbrEngine:
             s = dr.gather(V3, dev["s"], o_idx)
             th, ph = dr.gather(V3, dev["s_theta"], o_idx), dr.gather(V3, dev["s_phi"], o_idx)
             q = s - direction
-            foot = area * _sinc(dr, 0.5 * k * dr.dot(q, f1)) * _sinc(dr, 0.5 * k * dr.dot(q, f2))
+            # footprint integral of exp(j k q.(r - p)) [m^2]: the tube's parallelogram, or its share of the facet
+            foot_re = area * _sinc(dr, 0.5 * k * dr.dot(q, f1)) * _sinc(dr, 0.5 * k * dr.dot(q, f2))
+            g_re, g_im = _simplex_phase_integral(dr, k * dr.dot(q, edge1), k * dr.dot(q, edge2))
+            s0, c0 = dr.sincos(k * dr.dot(q, rel0))
+            foot_re = dr.select(whole_facet, 2.0 * area * (c0 * g_re - s0 * g_im), foot_re)
+            foot_im = dr.select(whole_facet, 2.0 * area * (c0 * g_im + s0 * g_re), 0.0)
             psi = k * (dr.dot(s, p) - phase_len)
             sin_psi, cos_psi = dr.sincos(psi)
-            amp = k * foot * (1.0 / (4.0 * math.pi))
-            f_re, f_im = amp * sin_psi, -amp * cos_psi  # -j k A S e^{j psi} / (4 pi)
+            amp = k * (1.0 / (4.0 * math.pi))
+            # -j k (foot e^{j psi}) / (4 pi)
+            f_re = amp * (foot_re * sin_psi + foot_im * cos_psi)
+            f_im = -amp * (foot_re * cos_psi - foot_im * sin_psi)
             for fields, normal, out in sides:
                 tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
+                if out is contrib_r:
+                    f_re, f_im = f_re * audible, f_im * audible
                 for x_re, x_im, y_re, y_im, _, _ in fields:
                     # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
                     vt_re = dr.dot(x_re, tn) - dr.dot(y_re, pn)
@@ -663,6 +875,18 @@ class SbrEngine:
         np.add.at(acc, job_np[starts], sums)
 
 
+def _children(job, u, v, d, level):
+    """The four tubes of half the size that tile each parent tube (NumPy arrays of equal length)."""
+    offsets = np.array([[-0.25, -0.25], [0.25, -0.25], [-0.25, 0.25], [0.25, 0.25]])
+    return (
+        np.repeat(job, 4),
+        (u[:, None] + offsets[:, 0] * d[:, None]).ravel(),
+        (v[:, None] + offsets[:, 1] * d[:, None]).ravel(),
+        np.repeat(0.5 * d, 4),
+        np.repeat(level + 1, 4).astype(np.int8),
+    )
+
+
 def _select(dr, ref, index):
     """``ref[index]`` for tube references (``ref`` None: the identity)."""
     return index if ref is None else dr.gather(type(ref), ref, index)
@@ -713,6 +937,43 @@ def _sinc(dr, x):
     """sin(x)/x, 1 at x = 0."""
     small = dr.abs(x) < 1e-4
     return dr.select(small, 1.0 - x * x * (1.0 / 6.0), dr.sin(x) / dr.select(small, 1.0, x))
+
+
+def _phase_mean(dr, x):
+    """E(x) = (exp(jx) - 1)/(jx), the mean of exp(j x t) over t in [0, 1], as (re, im): (sinc x, x/2 sinc^2(x/2))."""
+    half = _sinc(dr, 0.5 * x)
+    return _sinc(dr, x), 0.5 * x * half * half
+
+
+def _phase_mean_slope(dr, x):
+    """dE/dx = j * mean of t exp(j x t) over [0, 1], as (re, im); Taylor series below |x| = 0.1."""
+    small = dr.abs(x) < 0.1
+    xs = dr.select(small, 1.0, x)
+    sin_x, cos_x = dr.sincos(xs)
+    # j [exp(jx)/(jx) - (exp(jx) - 1)/(jx)^2] = [exp(jx) x + j (exp(jx) - 1)] / x^2 ... written out:
+    exact_re = (cos_x * xs - sin_x) / (xs * xs)
+    exact_im = (sin_x * xs + cos_x - 1.0) / (xs * xs)
+    x2 = x * x
+    series_re = -x / 3.0 + x2 * x / 30.0
+    series_im = 0.5 - x2 / 8.0 + x2 * x2 / 144.0
+    return dr.select(small, series_re, exact_re), dr.select(small, series_im, exact_im)
+
+
+def _simplex_phase_integral(dr, a, b):
+    """Integral of exp(j(a u + b v)) over the unit simplex (1/2 at a = b = 0), as (re, im).
+
+    The second divided difference of exp(jx) (Hermite-Genocchi): -j (E(a) - E(b)) / (a - b), and
+    -j dE/dx at the midpoint when |a - b| < 0.01 (float32 cancellation); E from :func:`_phase_mean`.
+    """
+    ea_re, ea_im = _phase_mean(dr, a)
+    eb_re, eb_im = _phase_mean(dr, b)
+    diff = a - b
+    close = dr.abs(diff) < 0.01
+    inv = 1.0 / dr.select(close, 1.0, diff)
+    slope_re, slope_im = _phase_mean_slope(dr, 0.5 * (a + b))
+    d_re = dr.select(close, slope_re, (ea_re - eb_re) * inv)
+    d_im = dr.select(close, slope_im, (ea_im - eb_im) * inv)
+    return d_im, -d_re  # -j (d_re + j d_im)
 
 
 def _hull_points(vertices: np.ndarray) -> np.ndarray:
