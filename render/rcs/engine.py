@@ -61,7 +61,7 @@ from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
 from csuas.drone_models.geometry import direction_vector
 
-from .geometry import TargetMesh, closed_faces, face_curvature, polarisation_basis
+from .geometry import TargetMesh, closed_faces, polarisation_basis
 
 #: Default tube batch on CPU and on GPU [tubes]; about 200 bytes of state per tube.
 BATCH_SIZE_CPU = 1 << 20
@@ -76,15 +76,6 @@ DEFAULT_GRID_SHIFT = (0.2371, 0.3719)
 #: tubes radiate where they are (reflected branch) or are dropped (transmitted branch). PEC tubes keep
 #: full power and end only at ``max_bounces``; the cut bounds the branching of thin shells.
 POWER_CUTOFF = 1e-3
-
-
-#: Phase error [rad] of extending a facet's plane over a tube footprint (the surface's sag under it) above
-#: which a first-hit tube larger than its facet is split into four, and a tube that can no longer be split
-#: radiates its share of the facet's exact integral instead.
-SAG_PHASE_LIMIT = 0.2
-
-#: Most times a tube is split at its first hit (its side shrinks to 1/2^level of the grid spacing).
-MAX_REFINEMENT_LEVEL = 4
 
 
 @dataclass
@@ -258,9 +249,6 @@ class SbrEngine:
             mi.Vector3f(*(mi.Float(np.asarray(x[:, i], np.float32)) for i in range(3)))
             for x in (tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         )
-        self._face_curvature = mi.Float(
-            np.asarray(face_curvature(target.vertices, target.faces, target.face_normals), np.float32)
-        )
         self._face_area = mi.Float(
             np.asarray(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), np.float32)
         )
@@ -342,6 +330,10 @@ class SbrEngine:
 
         return dict(
             k=f32(tab["k"]),
+            d=f32(tab["d"]),
+            nu=mi.UInt32(np.asarray(tab["nu"], np.uint32)),
+            u0=f32(tab["u0"]),
+            v0=f32(tab["v0"]),
             kin=vec(tab["kin"]),
             e1=vec(tab["e1"]),
             e2=vec(tab["e2"]),
@@ -417,46 +409,26 @@ class SbrEngine:
         if exact_first_hits:
             escape_needed = radiate == "exit" and max_bounces > 1
             dev["clean"] = self._exact_first_hits(dev, tab, n_obs, escape_needed, acc, stats)
-        leaves = np.asarray(tab["tubes"], np.int64).copy()
-        refined: list[tuple] = []  # tubes split at their first hit, waiting to be traced as four children
         for lo in range(0, total, self.batch_size):
-            g = np.arange(lo, min(total, lo + self.batch_size), dtype=np.int64)
+            hi = min(total, lo + self.batch_size)
+            g = np.arange(lo, hi, dtype=np.int64)
             job = np.searchsorted(offsets, g, side="right") - 1
-            local = g - offsets[job]
-            nu = np.maximum(tab["nu"][job], 1)
-            tubes = (job, tab["u0"][job] + (local % nu) * tab["d"][job], tab["v0"][job] + (local // nu) * tab["d"][job])
-            refined.append(
-                self._trace_batch(
-                    dev, *tubes, tab["d"][job], np.zeros(len(g), np.int8), n_obs, max_bounces, radiate, acc, stats
-                )
-            )
-        while refined:
-            parents = [np.concatenate(x) for x in zip(*refined)]
-            refined = []
-            np.add.at(leaves, parents[0], 3)
-            children = _children(*parents)
-            for lo in range(0, len(children[0]), self.batch_size):
-                refined.append(
-                    self._trace_batch(
-                        dev, *(x[lo : lo + self.batch_size] for x in children), n_obs, max_bounces, radiate, acc, stats
-                    )
-                )
-            refined = [r for r in refined if len(r[0])]
+            local = (g - offsets[job]).astype(np.uint32)
+            self._trace_batch(dev, job.astype(np.uint32), local, n_obs, max_bounces, radiate, acc, stats)
         sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)  # (job, obs, tx, rx, re/im)
         amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)  # -> (job, obs, rx, tx)
         return TraceResult(
-            amplitude, leaves, stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
+            amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
         )
 
-    def _trace_batch(self, dev, job_np, u_np, v_np, d_np, level_np, n_obs, max_bounces, radiate, acc, stats):
-        """Trace one batch of tubes (job, centre u, v and size d on the launch plane, refinement level).
-
-        Returns the tubes split at their first hit (same fields), which the caller traces as children.
-        """
+    def _trace_batch(self, dev, job_np, local_np, n_obs, max_bounces, radiate, acc, stats):
         mi, dr = self.mi, self.dr
         Float, UInt, V3 = mi.Float, mi.UInt32, mi.Vector3f
-        job = UInt(np.asarray(job_np, np.uint32))
-        u, v, d = (Float(np.asarray(x, np.float32)) for x in (u_np, v_np, d_np))
+        job, local = UInt(job_np), UInt(local_np)
+        nu = dr.maximum(dr.gather(UInt, dev["nu"], job), 1)  # >= 1 in every SIMD lane (udiv traps on 0)
+        d = dr.gather(Float, dev["d"], job)
+        u = dr.gather(Float, dev["u0"], job) + Float(local % nu) * d
+        v = dr.gather(Float, dev["v0"], job) + Float(local // nu) * d
         e1, e2 = dr.gather(V3, dev["e1"], job), dr.gather(V3, dev["e2"], job)
         kin = dr.gather(V3, dev["kin"], job)
         radius = dr.gather(Float, dev["radius"], UInt(0))
@@ -484,17 +456,6 @@ class SbrEngine:
         # width) and transmitted branch ``states[1]`` (indices from its width on), read by the kernels
         # that need them (see _fetch). None: every tube of ``states[0]`` in order.
         states, contribs, ref = [st], None, None
-        refined = tuple(
-            np.zeros(0, x.dtype)
-            for x in (
-                np.asarray(job_np),
-                np.asarray(u_np, float),
-                np.asarray(v_np, float),
-                np.asarray(d_np, float),
-                np.asarray(level_np),
-            )
-        )
-        n_split = 0
         for bounce in range(1, max_bounces + 1):
             dr.sync_thread()  # launches are asynchronous; time the intersection alone
             t0 = time.perf_counter()
@@ -505,17 +466,8 @@ class SbrEngine:
             dr.eval(hit, pi.t, pi.prim_index)
             dr.sync_thread()
             stats["trace_s"] += time.perf_counter() - t0
-            n_rays = dr.width(hit)
+            n_rays, n_hit = dr.width(hit), count(hit)
             stats["casts"] += n_rays
-            if bounce == 1:
-                split_now = self._needs_refinement(dev, st, pi, hit, level_np)
-                hit &= ~split_now
-                n_split = count(split_now)
-                if n_split:
-                    chosen = np.asarray(split_now)
-                    refined = tuple(np.asarray(x)[chosen] for x in (job_np, u_np, v_np, d_np, level_np))
-            n_hit = count(hit)
-            n_rays -= n_split if bounce == 1 else 0
             stats["exits"][bounce - 1] += n_rays - n_hit
             if contribs is not None and n_hit < n_rays:  # tubes that left after their previous hit radiate there
                 out = _split_ref(dr, states, _select(dr, ref, dr.compress(~hit)))
@@ -561,8 +513,6 @@ class SbrEngine:
                 ref = _concat(dr, ref, dr.compress(has_t) + dr.opaque(UInt, n_hit))
             if radiate == "all":
                 contribs = None
-
-        return refined
 
     def _exact_first_hits(self, dev, tab, n_obs, escape_needed, acc, stats):
         """Add the exact single-reflection PO of every fully lit facet; return which facets those are.
@@ -651,37 +601,6 @@ class SbrEngine:
             out[lo : lo + len(o)] = np.asarray(blocked)
         stats["casts"] += len(origin)
         return out
-
-    def _footprint(self, st, direction, n, cos_i):
-        """The tube's footprint on the facet plane: its two edges and its area [m^2]."""
-        dr = self.dr
-        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction
-        f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
-        return f1, f2, dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
-
-    def _plane_too_far(self, k, prim, f1, f2, area):
-        """Where a footprint is larger than its facet and extending the facet's plane over it costs phase.
-
-        The phase error is the surface's sag under the footprint, curvature * diagonal^2 / 8, times the
-        largest phase gradient 2k; :data:`SAG_PHASE_LIMIT` bounds it.
-        """
-        dr, Float = self.dr, self.mi.Float
-        sag_phase = (
-            k * dr.gather(Float, self._face_curvature, prim) * (dr.squared_norm(f1) + dr.squared_norm(f2)) * 0.25
-        )
-        return (dr.gather(Float, self._face_area, prim) < area) & (sag_phase > SAG_PHASE_LIMIT)
-
-    def _needs_refinement(self, dev, st, pi, hit, level_np):
-        """First hits whose tube is split into four (:data:`MAX_REFINEMENT_LEVEL` levels at most)."""
-        mi, dr = self.mi, self.dr
-        prim = dr.select(hit, pi.prim_index, 0)
-        n = dr.gather(mi.Vector3f, self._face_normal, prim)
-        cos_i = dr.maximum(dr.abs(dr.dot(st["dir"], n)), 1e-6)
-        f1, f2, area = self._footprint(st, st["dir"], n, cos_i)
-        k = dr.gather(mi.Float, dev["k"], st["job"])
-        split = hit & mi.Bool(np.asarray(level_np) < MAX_REFINEMENT_LEVEL) & self._plane_too_far(k, prim, f1, f2, area)
-        dr.eval(split)
-        return split
 
     def _interact(self, dev, st, t, prim, n_obs, exact_area=None, silent=None):
         """Hit-point physics: PO contributions and the reflected (and transmitted) tubes.
@@ -772,17 +691,14 @@ class SbrEngine:
             # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
             trans.append((dr.cross(direction, u_re), dr.cross(direction, u_im), u_re, u_im, u_re, u_im))
 
-        f1, f2, area = self._footprint(st, direction, n, cos_i)
+        area = dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
+        f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction  # footprint edges on the facet
+        f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
         if exact_area is not None:  # the whole facet, lit by the incident plane wave
-            area = exact_area
-        # A footprint larger than its curved facet (after the first hit's refinement, or on a later
-        # bounce): the tube stands for its share of the whole facet (footprint area / facet area) and
-        # radiates the facet's exact integral instead of extending the facet's plane (module docstring).
-        whole_facet = mi.Bool(True) if exact_area is not None else self._plane_too_far(k, prim, f1, f2, area)
+            rel0 = dr.gather(V3, self._face_origin, prim) - p
+            edge1, edge2 = dr.gather(V3, self._face_edge1, prim), dr.gather(V3, self._face_edge2, prim)
         # the reflection's PO of a facet integrated exactly elsewhere (:meth:`_exact_first_hits`) is left out
         audible = Float(1.0) if silent is None else dr.select(silent, 0.0, 1.0)
-        rel0 = dr.gather(V3, self._face_origin, prim) - p
-        edge1, edge2 = dr.gather(V3, self._face_edge1, prim), dr.gather(V3, self._face_edge2, prim)
         contrib_r, contrib_t = [], []
         sides = ((refl, n, contrib_r), (trans, -n, contrib_t)) if self._has_shells else ((refl, n, contrib_r),)
         for m in range(n_obs):
@@ -790,12 +706,15 @@ class SbrEngine:
             s = dr.gather(V3, dev["s"], o_idx)
             th, ph = dr.gather(V3, dev["s_theta"], o_idx), dr.gather(V3, dev["s_phi"], o_idx)
             q = s - direction
-            # footprint integral of exp(j k q.(r - p)) [m^2]: the tube's parallelogram, or its share of the facet
-            foot_re = area * _sinc(dr, 0.5 * k * dr.dot(q, f1)) * _sinc(dr, 0.5 * k * dr.dot(q, f2))
-            g_re, g_im = _simplex_phase_integral(dr, k * dr.dot(q, edge1), k * dr.dot(q, edge2))
-            s0, c0 = dr.sincos(k * dr.dot(q, rel0))
-            foot_re = dr.select(whole_facet, 2.0 * area * (c0 * g_re - s0 * g_im), foot_re)
-            foot_im = dr.select(whole_facet, 2.0 * area * (c0 * g_im + s0 * g_re), 0.0)
+            # integral of exp(j k q.(r - p)) [m^2] over the tube's footprint (a parallelogram) or the facet
+            if exact_area is None:
+                foot_re = area * _sinc(dr, 0.5 * k * dr.dot(q, f1)) * _sinc(dr, 0.5 * k * dr.dot(q, f2))
+                foot_im = Float(0.0)
+            else:
+                g_re, g_im = _simplex_phase_integral(dr, k * dr.dot(q, edge1), k * dr.dot(q, edge2))
+                s0, c0 = dr.sincos(k * dr.dot(q, rel0))
+                foot_re = 2.0 * exact_area * (c0 * g_re - s0 * g_im)
+                foot_im = 2.0 * exact_area * (c0 * g_im + s0 * g_re)
             psi = k * (dr.dot(s, p) - phase_len)
             sin_psi, cos_psi = dr.sincos(psi)
             amp = k * (1.0 / (4.0 * math.pi))
@@ -804,8 +723,7 @@ class SbrEngine:
             f_im = -amp * (foot_re * cos_psi - foot_im * sin_psi)
             for fields, normal, out in sides:
                 tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
-                if out is contrib_r:
-                    f_re, f_im = f_re * audible, f_im * audible
+                w_re, w_im = (f_re * audible, f_im * audible) if out is contrib_r else (f_re, f_im)
                 for x_re, x_im, y_re, y_im, _, _ in fields:
                     # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
                     vt_re = dr.dot(x_re, tn) - dr.dot(y_re, pn)
@@ -813,10 +731,10 @@ class SbrEngine:
                     vp_re = dr.dot(x_re, pn) + dr.dot(y_re, tn)
                     vp_im = dr.dot(x_im, pn) + dr.dot(y_im, tn)
                     out += [
-                        f_re * vt_re - f_im * vt_im,
-                        f_re * vt_im + f_im * vt_re,
-                        f_re * vp_re - f_im * vp_im,
-                        f_re * vp_im + f_im * vp_re,
+                        w_re * vt_re - w_im * vt_im,
+                        w_re * vt_im + w_im * vt_re,
+                        w_re * vp_re - w_im * vp_im,
+                        w_re * vp_im + w_im * vp_re,
                     ]
 
         def power(fields):
@@ -873,18 +791,6 @@ class SbrEngine:
         # columns: receiver, tx (V, H), rx (theta, phi), re/im; one float32 row at a time, summed in float64
         sums = np.stack([np.add.reduceat(np.asarray(v), starts, dtype=np.float64) for v in parts], axis=1)
         np.add.at(acc, job_np[starts], sums)
-
-
-def _children(job, u, v, d, level):
-    """The four tubes of half the size that tile each parent tube (NumPy arrays of equal length)."""
-    offsets = np.array([[-0.25, -0.25], [0.25, -0.25], [-0.25, 0.25], [0.25, 0.25]])
-    return (
-        np.repeat(job, 4),
-        (u[:, None] + offsets[:, 0] * d[:, None]).ravel(),
-        (v[:, None] + offsets[:, 1] * d[:, None]).ravel(),
-        np.repeat(0.5 * d, 4),
-        np.repeat(level + 1, 4).astype(np.int8),
-    )
 
 
 def _select(dr, ref, index):

@@ -116,31 +116,6 @@ class TargetMesh:
         )
 
 
-def face_curvature(vertices: np.ndarray, faces: np.ndarray, face_normals: np.ndarray) -> np.ndarray:
-    """Largest turning rate of the surface from each face to its edge neighbours [1/m].
-
-    For every pair of faces sharing an edge (the same two vertex indices), the angle between
-    their normals (sign ignored, so that sheets of either winding count alike) divided by the
-    distance between their centroids; per face the largest over its neighbours, 0 for a face
-    without neighbours. On a faceted sphere of radius a this is about 1/a.
-    """
-    faces = np.asarray(faces, np.int64)
-    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    owner = np.repeat(np.arange(len(faces)), 3)
-    order = np.lexsort((edges[:, 1], edges[:, 0]))
-    edges, owner = edges[order], owner[order]
-    shared = np.flatnonzero((edges[1:] == edges[:-1]).all(axis=1))
-    first, second = owner[shared], owner[shared + 1]
-    cosine = np.abs(np.einsum("ij,ij->i", face_normals[first], face_normals[second]))
-    centroid = np.asarray(vertices, float)[faces].mean(axis=1)
-    distance = np.linalg.norm(centroid[first] - centroid[second], axis=1)
-    rate = np.arccos(np.clip(cosine, 0.0, 1.0)) / np.maximum(distance, 1e-300)
-    curvature = np.zeros(len(faces))
-    np.maximum.at(curvature, first, rate)
-    np.maximum.at(curvature, second, rate)
-    return curvature
-
-
 def closed_faces(faces: np.ndarray) -> np.ndarray:
     """Whether each face lies on a closed, consistently wound surface (its normal points outward).
 
