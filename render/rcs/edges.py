@@ -218,7 +218,10 @@ def find_edges(target: TargetMesh, min_turn_deg: float = MIN_TURN_DEG) -> Edges:
     ParameterError
         ``min_turn_deg`` outside (0, 180).
     """
-    turn = float(min_turn_deg) if np.isscalar(min_turn_deg) else math.nan
+    try:
+        turn = float(min_turn_deg)
+    except (TypeError, ValueError):
+        turn = math.nan
     if not (0.0 < turn < 180.0):
         raise ParameterError("min_turn_deg", min_turn_deg, "0 < x < 180 deg")
     v = np.asarray(target.vertices, float)
