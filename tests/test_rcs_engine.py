@@ -244,7 +244,9 @@ def test_conductor_behind_a_radome_sheet_multiple_reflections():
     mesh = trimesh.util.concatenate([sheet, conductor])
     target = prepare_mesh(mesh.vertices, mesh.faces, [0, 0, 1, 1], [eps, "pec"]).with_shells(h)
     pec = compute_rcs(canonical.plate(0.1), f_ghz, 0.0, 90.0, error_estimate=False).rcs_m2("HH")[0, 0, 0]
-    res = compute_rcs(target, f_ghz, 0.0, 90.0, max_bounces=16, power_cutoff=1e-6, error_estimate=False)
+    res = compute_rcs(
+        target, f_ghz, 0.0, 90.0, rays_per_wavelength=10, max_bounces=16, power_cutoff=1e-6, error_estimate=False
+    )
     assert res.rcs_m2("HH")[0, 0, 0] / pec == pytest.approx(abs(r) ** 2, rel=0.03)
     assert res.exits_by_bounce[5:].sum() > 0  # several round trips were traced
 

@@ -51,6 +51,7 @@ toward a bistatic observer.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -259,6 +260,13 @@ class SbrEngine:
         self._hull = _hull_points(target.vertices)
         # Without thin shells no tube is ever transmitted, and the kernels leave that branch out.
         self._has_shells = any(m.thickness_m for m in target.materials if not m.is_pec)
+
+    @functools.cached_property
+    def edges(self):
+        """The target's diffracting edges (:func:`csuas.render.rcs.edges.find_edges`), found once."""
+        from .edges import find_edges
+
+        return find_edges(self.target)
 
     # ------------------------------------------------------------------ set-up
     def _job_tables(self, jobs: Jobs):

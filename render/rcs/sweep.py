@@ -1,15 +1,25 @@
-"""Aspect sweeps, polar plots and the sphere-averaged RCS of Eq. 6.
+"""Aspect sweeps, polar plots and the sphere-averaged RCS of Eq. 6, to a stated accuracy.
 
 Eq. 6 of the paper averages the RCS over all directions with the solid-angle
 weight ``cos(phi)`` (phi the elevation):
 
-    sigma_mean = 1/(4 pi) * int_0^{2 pi} int_{-pi/2}^{pi/2} sigma(theta, phi) cos(phi) dphi dtheta.
+    sigma_mean = 1/(4 pi) * int_0^{2 pi} int_{-pi/2}^{pi/2} sigma(theta, phi) cos(phi) dphi dtheta,
 
-Substituting ``mu = sin(phi)`` turns the weight into ``dmu``, so the average is
-evaluated exactly for band-limited patterns by Gauss-Legendre nodes in ``mu``
-and equally spaced azimuths (trapezoidal rule, spectrally accurate for a
-periodic integrand). Its sampling error is estimated by repeating the sum with
-every other azimuth and half the elevation nodes.
+the mean over directions uniform on the sphere. :func:`sphere_average` estimates
+it by randomised quasi-Monte Carlo, the design of every sphere average in csuas
+(:func:`csuas.drone_models.geometry.rotated_lattices`): ``R`` replicates of a
+Fibonacci lattice of equal-area points, each under an independent uniform random
+rotation, so that each replicate mean is unbiased and independent of the others
+(Owen, *Monte Carlo theory, methods and examples*, ch. 17). The result is the
+mean of the replicate means; with ``SE`` their standard error and ``t`` Student's
+97.5 % quantile for ``R - 1`` degrees of freedom, the error bound of the mean is
+
+    error_db = -10 log10(1 - t SE / mean)      (the larger side of the 95 % interval).
+
+Batches of replicates are added until ``error_db`` meets the requested accuracy
+(default :data:`SPHERE_AVERAGE_ACCURACY_DB`) at every frequency, or the aspect
+budget is spent. The SBR noise of each aspect is part of the replicate spread,
+so each aspect is traced on one tube grid.
 """
 
 from __future__ import annotations
@@ -21,6 +31,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path
 
+from .aspect_sampling import flash_proposal, uniform_weight
 from .solver import compute_rcs, get_engine, to_dbsm
 
 #: The paper's radar bands [GHz] (Section 4.8: 2.4 GHz to Ka band).
@@ -152,85 +163,154 @@ def plot_polar(azimuth_deg, curves_dbsm: dict, path, *, title: str = "", floor_d
     return path
 
 
-def _quadrature(n_azimuth: int, n_elevation: int):
-    mu, weights = np.polynomial.legendre.leggauss(n_elevation)
-    azimuth = np.arange(n_azimuth) * 360.0 / n_azimuth
-    elevation = np.degrees(np.arcsin(mu))
-    az, el = np.meshgrid(azimuth, elevation, indexing="ij")  # (n_az, n_el)
-    w = np.broadcast_to(weights[None, :] * (2.0 * np.pi / n_azimuth) / (4.0 * np.pi), az.shape)
-    return az, el, w
+#: Default accuracy of :func:`sphere_average`: the bound on its mean [dB] (module docstring).
+SPHERE_AVERAGE_ACCURACY_DB = 0.5
+
+#: Default aspect budget of :func:`sphere_average` per frequency.
+SPHERE_AVERAGE_MAX_ASPECTS = 4096
+
+
+def _polarised(result, polarisation: str) -> np.ndarray:
+    """RCS (F, A, M) [m^2] of one polarisation, or of the VV/HH mean for ``"mean"``."""
+    if polarisation.lower() == "mean":
+        return 0.5 * (result.rcs_m2("VV") + result.rcs_m2("HH"))
+    return result.rcs_m2(polarisation)
+
+
+def _average_bound_db(replicate_means: np.ndarray) -> np.ndarray:
+    """Upper side of the 95 % Student-t interval of the mean of replicate means (R, F), in dB (F,)."""
+    from scipy.stats import t
+
+    r = replicate_means.shape[0]
+    mean = replicate_means.mean(axis=0)
+    half = t.ppf(0.975, r - 1) * replicate_means.std(axis=0, ddof=1) / np.sqrt(r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = half / mean
+    return np.where(relative < 1.0, -10.0 * np.log10(1.0 - np.minimum(relative, 0.999999)), np.inf)
 
 
 def sphere_average(
-    target, frequency_ghz, *, n_azimuth: int = 72, n_elevation: int = 24, polarisation: str = "VV", **kwargs
+    target,
+    frequency_ghz,
+    *,
+    accuracy_db: float = SPHERE_AVERAGE_ACCURACY_DB,
+    polarisation: str = "VV",
+    replicates: int = 8,
+    aspects_per_replicate: int = 16,
+    max_aspects: int = SPHERE_AVERAGE_MAX_ASPECTS,
+    seed: int = 0,
+    **kwargs,
 ) -> dict:
-    """Sphere-averaged monostatic RCS by Eq. 6 (cos-weighted), with its sampling error.
+    """Sphere-averaged monostatic RCS by Eq. 6 to a stated accuracy, and the aspect distribution.
 
     Parameters
     ----------
     target : mesh, file, preset name or SbrEngine
     frequency_ghz : float or array_like (F,)
-    n_azimuth : int
-        Equally spaced azimuths (>= 4, even).
-    n_elevation : int
-        Gauss-Legendre nodes in sin(elevation) (>= 2, even).
+        Radar frequencies [GHz].
+    accuracy_db : float
+        Stop when the 95 % bound of the mean is within this [dB] at every frequency (> 0).
     polarisation : str
-        "VV", "HH", "HV", "VH", or "mean" (average of VV and HH).
+        "VV", "HH", "HV", "VH", or "mean" (average of VV and HH): the one averaged and judged.
+    replicates : int
+        Randomly rotated lattices added per batch (>= 2).
+    aspects_per_replicate : int
+        Points of each Fibonacci lattice (>= 4).
+    max_aspects : int
+        Aspect budget per frequency; reaching it ends the average unconverged.
+    seed : int
+        Seed of the rotations (batch ``i`` uses ``seed + i``): results are reproducible.
     **kwargs
         Passed to :func:`compute_rcs`; ``error_estimate`` defaults to False.
 
     Returns
     -------
     dict
-        Per frequency (arrays of shape (F,)): ``mean_m2`` (Eq. 6),
-        ``mean_dbsm`` (10 log10 of it), ``mean_of_dbsm`` and ``std_of_dbsm``
-        (moments of the RCS in dB over the sphere, the statistics of 3GPP
-        TR 38.901's log-normal UAV model), ``median_m2``,
-        ``quadrature_error_rel`` (|full - half rule| / full), and
-        ``rays``, ``time_s``, ``n_aspects``.
+        Per frequency (arrays of shape (F,)): ``mean_m2`` (Eq. 6), ``mean_dbsm``, ``error_db``
+        (the bound of the module docstring), ``quadrature_error_rel`` (its relative half-width),
+        ``mean_of_dbsm`` and ``std_of_dbsm`` (moments of the RCS in dB, the statistics of 3GPP
+        TR 38.901's log-normal UAV model), ``median_m2``; ``converged`` (bool), ``n_aspects``,
+        ``replicates``, ``accuracy_db``, ``samples_m2`` (polarisation -> (F, n_aspects) for VV,
+        HH and the judged one), ``directions`` (n_aspects, 3), and ``rays``, ``time_s``.
+
+    Raises
+    ------
+    ParameterError
+        ``accuracy_db <= 0``, ``replicates < 2``, ``aspects_per_replicate < 4`` or ``max_aspects``
+        below one batch.
     """
-    if int(n_azimuth) != n_azimuth or n_azimuth < 4 or n_azimuth % 2:
-        raise ParameterError("n_azimuth", n_azimuth, "even integer >= 4")
-    if int(n_elevation) != n_elevation or n_elevation < 2 or n_elevation % 2:
-        raise ParameterError("n_elevation", n_elevation, "even integer >= 2")
+    from csuas.base.errors import InputErrors
+    from csuas.drone_models.geometry import direction_angles, rotated_lattices
+
+    problems = []
+    if not (np.isfinite(accuracy_db) and accuracy_db > 0):
+        problems.append(ParameterError("accuracy_db", accuracy_db, "0 < x dB"))
+    if int(replicates) != replicates or replicates < 2:
+        problems.append(ParameterError("replicates", replicates, "integer >= 2"))
+    if int(aspects_per_replicate) != aspects_per_replicate or aspects_per_replicate < 4:
+        problems.append(ParameterError("aspects_per_replicate", aspects_per_replicate, "integer >= 4"))
+    if not problems and max_aspects < replicates * aspects_per_replicate:
+        problems.append(
+            ParameterError("max_aspects", max_aspects, f">= one batch of {replicates * aspects_per_replicate} aspects")
+        )
+    if problems:
+        raise InputErrors(problems)
     kwargs.setdefault("error_estimate", False)
-    az, el, w = _quadrature(int(n_azimuth), int(n_elevation))
+    engine = get_engine(target, kwargs.pop("material", None), shell_thickness_m=kwargs.pop("shell_thickness_m", None))
     start = time.perf_counter()
-    result = compute_rcs(target, frequency_ghz, az.ravel(), el.ravel(), **kwargs)
-    if str(polarisation).lower() == "mean":
-        sigma = 0.5 * (result.rcs_m2("VV") + result.rcs_m2("HH"))[..., 0]
-    else:
-        sigma = result.rcs_m2(polarisation)[..., 0]
-    sigma = sigma.reshape((-1,) + az.shape)  # (F, n_az, n_el)
-    mean = (sigma * w).sum(axis=(1, 2))
-    az_h, el_h, w_h = _quadrature(int(n_azimuth) // 2, max(2, int(n_elevation) // 2))
-    engine = get_engine(target, kwargs.get("material"), shell_thickness_m=kwargs.get("shell_thickness_m"))
-    coarse = compute_rcs(
-        engine,
-        frequency_ghz,
-        az_h.ravel(),
-        el_h.ravel(),
-        **{k: v for k, v in kwargs.items() if k not in ("material", "shell_thickness_m")},
-    )
-    sig_h = (
-        0.5 * (coarse.rcs_m2("VV") + coarse.rcs_m2("HH"))
-        if str(polarisation).lower() == "mean"
-        else coarse.rcs_m2(polarisation)
-    )[..., 0].reshape((-1,) + az_h.shape)
-    mean_h = (sig_h * w_h).sum(axis=(1, 2))
+    judged = str(polarisation)
+    frequencies = np.atleast_1d(np.asarray(frequency_ghz, float))
+    proposals = [flash_proposal(engine.target, f) for f in frequencies]
+    n_r, half = int(replicates), int(aspects_per_replicate)
+    samples, directions, estimates, rays, batch = {"VV": [], "HH": [], judged: []}, [], [], 0, 0
+    while True:
+        # per replicate: a rotated lattice (the uniform half, also the aspect distribution's sample) and
+        # as many flash-drawn aspects, all weighted by the balance heuristic (aspect_sampling)
+        rng = np.random.default_rng([seed, batch])
+        lattice = rotated_lattices(n_r, half, seed + batch)  # (R, n, 3)
+        for f_index, (f, proposal) in enumerate(zip(frequencies, proposals)):
+            flashes = proposal.sample(n_r * half, rng).reshape(n_r, half, 3)
+            both = np.concatenate([lattice, flashes], axis=1).reshape(-1, 3)
+            az, el = direction_angles(both)
+            result = compute_rcs(engine, f, az, el, **kwargs)
+            rays += result.tubes
+            sigma_all = {pol: _polarised(result, pol)[0, :, 0].reshape(n_r, 2 * half) for pol in samples}
+            weighted = sigma_all[judged] * uniform_weight(both, proposal).reshape(n_r, 2 * half)
+            estimates.append((f_index, weighted.mean(axis=1)))  # one unbiased estimate per replicate
+            for pol in samples:
+                samples[pol].append((f_index, sigma_all[pol][:, :half].ravel()))
+        directions.append(lattice.reshape(-1, 3))
+        batch += 1
+        per_replicate = np.stack(
+            [np.concatenate([e for i, e in estimates if i == f_index]) for f_index in range(len(frequencies))], axis=1
+        )  # (R, F)
+        error_db = _average_bound_db(per_replicate)
+        next_total = 2 * half * (per_replicate.shape[0] + n_r)
+        if np.all(error_db <= accuracy_db) or next_total > max_aspects:
+            break
+    mean = per_replicate.mean(axis=0)
+    stacked = {
+        pol: np.stack([np.concatenate([v for i, v in chunks if i == f_index]) for f_index in range(len(frequencies))])
+        for pol, chunks in samples.items()
+    }
+    sigma = stacked[judged]  # (F, uniform aspects)
     db = to_dbsm(sigma)
-    mean_db = (db * w).sum(axis=(1, 2))
-    std_db = np.sqrt(np.maximum(((db - mean_db[:, None, None]) ** 2 * w).sum(axis=(1, 2)), 0.0))
     return {
-        "frequency_ghz": result.frequency_ghz,
+        "frequency_ghz": frequencies,
         "mean_m2": mean,
         "mean_dbsm": to_dbsm(mean),
-        "mean_of_dbsm": mean_db,
-        "std_of_dbsm": std_db,
-        "median_m2": np.median(sigma.reshape(len(mean), -1), axis=1),
-        "quadrature_error_rel": np.abs(mean - mean_h) / np.maximum(mean, 1e-300),
-        "n_aspects": az.size,
-        "rays": result.tubes + coarse.tubes,
+        "error_db": error_db,
+        "quadrature_error_rel": 1.0 - 10.0 ** (-error_db / 10.0),
+        "mean_of_dbsm": db.mean(axis=1),
+        "std_of_dbsm": db.std(axis=1),
+        "median_m2": np.median(sigma, axis=1),
+        "converged": bool(np.all(error_db <= accuracy_db)),
+        "accuracy_db": float(accuracy_db),
+        "n_aspects": int(2 * sigma.shape[1]),
+        "replicates": int(per_replicate.shape[0]),
+        "samples_m2": stacked,
+        "directions": np.concatenate(directions),
+        "rays": rays,
         "rays_per_wavelength": result.rays_per_wavelength,
         "max_bounces": result.max_bounces,
         "time_s": time.perf_counter() - start,
@@ -242,8 +322,7 @@ def band_sweep(
     target,
     bands_ghz=PAPER_BANDS_GHZ,
     *,
-    n_azimuth: int = 36,
-    n_elevation: int = 12,
+    accuracy_db: float = SPHERE_AVERAGE_ACCURACY_DB,
     cut_step_deg: float = 2.0,
     **kwargs,
 ) -> list[dict]:
@@ -254,8 +333,8 @@ def band_sweep(
     target : mesh, file, preset name or SbrEngine
     bands_ghz : sequence of float
         Frequencies [GHz]; default the paper's 2.4, 8, 12, 18, 24, 35 GHz.
-    n_azimuth, n_elevation : int
-        Quadrature of the sphere average (:func:`sphere_average`).
+    accuracy_db : float
+        Accuracy of the sphere average (:func:`sphere_average`) [dB].
     cut_step_deg : float
         Step of the azimuth cut (elevation 0) and elevation cut (azimuth 0) [deg].
     **kwargs
@@ -281,7 +360,7 @@ def band_sweep(
         start = time.perf_counter()
         azs = aspect_sweep(engine, f, az_cut, 0.0, error_estimate=False, **kwargs)
         els = aspect_sweep(engine, f, 0.0, el_cut, error_estimate=False, **kwargs)
-        avg = sphere_average(engine, f, n_azimuth=n_azimuth, n_elevation=n_elevation, polarisation="mean", **kwargs)
+        avg = sphere_average(engine, f, accuracy_db=accuracy_db, polarisation="mean", **kwargs)
         out.append(
             {
                 "frequency_ghz": float(f),
@@ -298,7 +377,7 @@ def band_sweep(
                 **{
                     k: (v[0] if isinstance(v, np.ndarray) and v.shape == (1,) else v)
                     for k, v in avg.items()
-                    if k != "frequency_ghz"
+                    if k not in ("frequency_ghz", "samples_m2", "directions")
                 },
                 "time_s": time.perf_counter() - start,
             }

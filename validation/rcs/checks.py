@@ -37,10 +37,9 @@ from csuas.core.units import C_LIGHT
 CHECK_SETTINGS = {
     "preset": "dji_mini_4_pro",
     "frequency_ghz": C_LIGHT / 0.0125 / 1e9,
-    "rays_per_wavelength": 3.0,
+    "rays_per_wavelength": 2.0,
     "max_bounces": 3,
-    "n_azimuth": 24,
-    "n_elevation": 8,
+    "accuracy_db": 0.5,
 }
 
 TABLE8_SIGMA_M2 = 0.01
@@ -58,14 +57,13 @@ _WHY_HIGH = (
 
 
 @functools.lru_cache(maxsize=4)
-def _drone_average(preset: str, frequency_ghz: float, n: float, bounces: int, n_az: int, n_el: int) -> dict:
+def _drone_average(preset: str, frequency_ghz: float, n: float, bounces: int, accuracy_db: float) -> dict:
     from csuas.render.rcs.sweep import sphere_average
 
     return sphere_average(
         preset,
         frequency_ghz,
-        n_azimuth=n_az,
-        n_elevation=n_el,
+        accuracy_db=accuracy_db,
         polarisation="mean",
         rays_per_wavelength=n,
         max_bounces=bounces,
@@ -79,7 +77,7 @@ def default_checks(settings: dict | None = None) -> list[Check]:
     ----------
     settings : dict, optional
         Overrides of :data:`CHECK_SETTINGS` (preset, frequency_ghz,
-        rays_per_wavelength, max_bounces, n_azimuth, n_elevation).
+        rays_per_wavelength, max_bounces, accuracy_db).
 
     Returns
     -------
@@ -91,8 +89,7 @@ def default_checks(settings: dict | None = None) -> list[Check]:
         float(s["frequency_ghz"]),
         float(s["rays_per_wavelength"]),
         int(s["max_bounces"]),
-        int(s["n_azimuth"]),
-        int(s["n_elevation"]),
+        float(s["accuracy_db"]),
     )
     mean_dbsm = float(avg["mean_dbsm"][0])
     mean_of_db = float(avg["mean_of_dbsm"][0])
@@ -102,6 +99,8 @@ def default_checks(settings: dict | None = None) -> list[Check]:
         "max_bounces": int(s["max_bounces"]),
         "n_aspects": int(avg["n_aspects"]),
         "quadrature_error_rel": float(avg["quadrature_error_rel"][0]),
+        "error_db": float(avg["error_db"][0]),
+        "converged": avg["converged"],
         "rays": int(avg["rays"]),
         "time_s": float(avg["time_s"]),
         "mean_m2": float(avg["mean_m2"][0]),
@@ -110,7 +109,8 @@ def default_checks(settings: dict | None = None) -> list[Check]:
     }
     method = (
         f"SBR-PO RCS of the {s['preset']} mesh with its part materials at {s['frequency_ghz']:.2f} GHz, "
-        f"mean of VV and HH, {int(s['n_azimuth'])} x {int(s['n_elevation'])} Gauss-Legendre aspects"
+        f"mean of VV and HH over {int(avg['n_aspects'])} aspects of randomly rotated Fibonacci lattices "
+        f"(adaptive to {float(s['accuracy_db']):g} dB at 95 %)"
     )
     table8 = Check.of_paper(
         name=f"rcs.{s['preset']}.mean_dbsm.table8",

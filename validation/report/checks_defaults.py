@@ -17,16 +17,14 @@ Tolerances of the printed numbers: half a unit of the last printed digit.
 
 from __future__ import annotations
 
-import math
-
 from csuas.base.checks import Check
 from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: Settings of the drone RCS check per report quality (see csuas.validation.rcs.checks for the quick ones' accuracy).
 RCS_SETTINGS = {
-    "quick": {"rays_per_wavelength": 3.0, "max_bounces": 3, "n_azimuth": 24, "n_elevation": 8},
-    "full": {"rays_per_wavelength": 6.0, "max_bounces": 5, "n_azimuth": 48, "n_elevation": 16},
+    "quick": {"rays_per_wavelength": 2.0, "max_bounces": 3, "accuracy_db": 0.5},
+    "full": {"rays_per_wavelength": 5.0, "max_bounces": 5, "accuracy_db": 0.25},
 }
 
 
@@ -61,9 +59,8 @@ def rcs_defaults(settings: dict) -> Section:
 
     outcomes = _from_checks(default_checks, settings)
     for o in outcomes:
-        rel = o.details.get("quadrature_error_rel")
-        if rel is not None:  # relative quadrature error -> dB
-            o.error_estimate = 10.0 * math.log10(1.0 + float(rel))
+        if o.details.get("error_db") is not None:  # the sphere average's 95 % bound
+            o.error_estimate = float(o.details["error_db"])
     return Section(outcomes=outcomes)
 
 
