@@ -177,6 +177,11 @@ def _polarised(result, polarisation: str) -> np.ndarray:
     return result.rcs_m2(polarisation)
 
 
+def _by_frequency(chunks: list, n_frequencies: int) -> np.ndarray:
+    """(frequency index, values) chunks joined per frequency into an array (F, n)."""
+    return np.stack([np.concatenate([v for i, v in chunks if i == f]) for f in range(n_frequencies)])
+
+
 def _average_bound_db(replicate_means: np.ndarray) -> np.ndarray:
     """Upper side of the 95 % Student-t interval of the mean of replicate means (R, F), in dB (F,)."""
     from scipy.stats import t
@@ -230,8 +235,10 @@ def sphere_average(
         (the bound of the module docstring), ``quadrature_error_rel`` (its relative half-width),
         ``mean_of_dbsm`` and ``std_of_dbsm`` (moments of the RCS in dB, the statistics of 3GPP
         TR 38.901's log-normal UAV model), ``median_m2``; ``converged`` (bool), ``n_aspects``,
-        ``replicates``, ``accuracy_db``, ``samples_m2`` (polarisation -> (F, n_aspects) for VV,
-        HH and the judged one), ``directions`` (n_aspects, 3), and ``rays``, ``time_s``.
+        ``replicates``, ``accuracy_db``, ``samples_m2`` (polarisation -> (F, n) at the n uniform
+        aspects, for VV, HH and the judged one), ``directions`` (n, 3) of those,
+        ``mean_m2_by_polarisation`` and ``error_db_by_polarisation`` (the same three), and ``rays``,
+        ``time_s``. ``n_aspects`` counts the flash-drawn aspects too (2n).
 
     Raises
     ------
@@ -262,7 +269,9 @@ def sphere_average(
     frequencies = np.atleast_1d(np.asarray(frequency_ghz, float))
     proposals = [flash_proposal(engine.target, f) for f in frequencies]
     n_r, half = int(replicates), int(aspects_per_replicate)
-    samples, directions, estimates, rays, batch = {"VV": [], "HH": [], judged: []}, [], [], 0, 0
+    samples = {"VV": [], "HH": [], judged: []}
+    estimates = {pol: [] for pol in samples}
+    directions, rays, batch = [], 0, 0
     while True:
         # per replicate: a rotated lattice (the uniform half, also the aspect distribution's sample) and
         # as many flash-drawn aspects, all weighted by the balance heuristic (aspect_sampling)
@@ -274,25 +283,20 @@ def sphere_average(
             az, el = direction_angles(both)
             result = compute_rcs(engine, f, az, el, **kwargs)
             rays += result.tubes
-            sigma_all = {pol: _polarised(result, pol)[0, :, 0].reshape(n_r, 2 * half) for pol in samples}
-            weighted = sigma_all[judged] * uniform_weight(both, proposal).reshape(n_r, 2 * half)
-            estimates.append((f_index, weighted.mean(axis=1)))  # one unbiased estimate per replicate
+            weight = uniform_weight(both, proposal).reshape(n_r, 2 * half)
             for pol in samples:
-                samples[pol].append((f_index, sigma_all[pol][:, :half].ravel()))
+                sigma_pol = _polarised(result, pol)[0, :, 0].reshape(n_r, 2 * half)
+                estimates[pol].append((f_index, (sigma_pol * weight).mean(axis=1)))  # one estimate per replicate
+                samples[pol].append((f_index, sigma_pol[:, :half].ravel()))
         directions.append(lattice.reshape(-1, 3))
         batch += 1
-        per_replicate = np.stack(
-            [np.concatenate([e for i, e in estimates if i == f_index]) for f_index in range(len(frequencies))], axis=1
-        )  # (R, F)
-        error_db = _average_bound_db(per_replicate)
-        next_total = 2 * half * (per_replicate.shape[0] + n_r)
+        per_replicate = {pol: _by_frequency(chunks, len(frequencies)).T for pol, chunks in estimates.items()}  # (R, F)
+        error_db = _average_bound_db(per_replicate[judged])
+        next_total = 2 * half * (per_replicate[judged].shape[0] + n_r)
         if np.all(error_db <= accuracy_db) or next_total > max_aspects:
             break
-    mean = per_replicate.mean(axis=0)
-    stacked = {
-        pol: np.stack([np.concatenate([v for i, v in chunks if i == f_index]) for f_index in range(len(frequencies))])
-        for pol, chunks in samples.items()
-    }
+    mean = per_replicate[judged].mean(axis=0)
+    stacked = {pol: _by_frequency(chunks, len(frequencies)) for pol, chunks in samples.items()}
     sigma = stacked[judged]  # (F, uniform aspects)
     db = to_dbsm(sigma)
     return {
@@ -307,8 +311,10 @@ def sphere_average(
         "converged": bool(np.all(error_db <= accuracy_db)),
         "accuracy_db": float(accuracy_db),
         "n_aspects": int(2 * sigma.shape[1]),
-        "replicates": int(per_replicate.shape[0]),
+        "replicates": int(per_replicate[judged].shape[0]),
         "samples_m2": stacked,
+        "mean_m2_by_polarisation": {pol: r.mean(axis=0) for pol, r in per_replicate.items()},
+        "error_db_by_polarisation": {pol: _average_bound_db(r) for pol, r in per_replicate.items()},
         "directions": np.concatenate(directions),
         "rays": rays,
         "rays_per_wavelength": result.rays_per_wavelength,
