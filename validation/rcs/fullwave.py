@@ -355,7 +355,7 @@ def monostatic_rcs_efie(
     rwg = bempp.function_space(grid, "RWG", 0)
     snc = bempp.function_space(grid, "SNC", 0)
     operator = bempp.operators.boundary.maxwell.electric_field(rwg, rwg, snc, k)
-    matrix = np.asarray(operator.weak_form().A)
+    matrix = np.asarray(operator.weak_form().to_dense())
     lu = linalg.lu_factor(matrix) if solver == "lu" else None
     assembly_s = time.perf_counter() - t0
 
@@ -528,9 +528,13 @@ def _disc_cap(radius: float, z: float, n_rim: int, h: float, up: bool):
         pts.append(np.stack([r * np.cos(phi), r * np.sin(phi)], axis=1))
     p2 = np.concatenate(pts)
     tri = Delaunay(p2).simplices
-    area = np.cross(p2[tri[:, 1]] - p2[tri[:, 0]], p2[tri[:, 2]] - p2[tri[:, 0]])
-    tri = tri[np.abs(area) > 1e-12 * radius * radius]
-    wrong = (np.cross(p2[tri[:, 1]] - p2[tri[:, 0]], p2[tri[:, 2]] - p2[tri[:, 0]]) > 0) != up
+
+    def signed_area(t):
+        e1, e2 = p2[t[:, 1]] - p2[t[:, 0]], p2[t[:, 2]] - p2[t[:, 0]]
+        return e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+
+    tri = tri[np.abs(signed_area(tri)) > 1e-12 * radius * radius]
+    wrong = (signed_area(tri) > 0) != up
     tri[wrong] = tri[wrong][:, ::-1]
     return np.column_stack([p2, np.full(len(p2), z)]), tri
 
@@ -629,4 +633,138 @@ def arm_motor_mesh(h_m: float, gap_m: float = ARM_MOTOR_GAP_M):
         np.concatenate([motor.vertices, arm.vertices]),
         np.concatenate([motor.faces, arm.faces + len(motor.vertices)]),
         merge=False,
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# SBR-PO against the EFIE on the same mesh.
+# --------------------------------------------------------------------------------------------
+
+#: Oracle cases of :func:`case_mesh`: sizes in wavelengths (sphere: ka), quick (CI) and full.
+CASES = {
+    "sphere": {"quick": {"ka": 1.0, "subdivisions": 2}, "full": {"ka": 2.0, "subdivisions": 3}},
+    "plate": {"quick": {"side_wavelengths": 1.0}, "full": {"side_wavelengths": 2.5}},
+    "cylinder": {
+        "quick": {"radius_wavelengths": 1.0 / 3.0, "length_wavelengths": 1.0},
+        "full": {"radius_wavelengths": 0.5, "length_wavelengths": 2.0},
+    },
+    "arm_motor": {"quick": {}, "full": {}},
+}
+
+
+def case_mesh(case: str, frequency_ghz: float, edges_per_wavelength: float = EDGES_PER_WAVELENGTH, full: bool = False):
+    """The mesh of an oracle case of :data:`CASES` at a frequency [GHz].
+
+    ``sphere``: icosphere of radius ka / k; ``plate``: square plate (normal +z) of the given
+    side; ``cylinder``: closed cylinder, axis z; ``arm_motor``: :func:`arm_motor_mesh` (its
+    size is the drone's, not scaled with the wavelength). Edges about lambda /
+    ``edges_per_wavelength``.
+    """
+    if case not in CASES:
+        raise ParameterError("case", case, ", ".join(CASES))
+    lam = wavelength_m(_positive_frequency(frequency_ghz))
+    h = mesh_size_m(frequency_ghz, edges_per_wavelength)
+    size = CASES[case]["full" if full else "quick"]
+    if case == "sphere":
+        return sphere_mesh(size["ka"] * lam / (2 * math.pi), size["subdivisions"])
+    if case == "plate":
+        return plate_mesh(size["side_wavelengths"] * lam, h)
+    if case == "cylinder":
+        return cylinder_mesh(size["radius_wavelengths"] * lam, size["length_wavelengths"] * lam, h)
+    return arm_motor_mesh(h)
+
+
+@dataclass
+class Comparison:
+    """SBR-PO against the EFIE on one mesh, per aspect and polarisation.
+
+    Attributes
+    ----------
+    efie_dbsm, sbr_dbsm, difference_db : dict of str -> ndarray (A,)
+        RCS [dBsm] by polarisation; difference = SBR - EFIE [dB].
+    sbr_error_db : dict of str -> ndarray (A,)
+        SBR's own discretisation error estimate [dB] (:func:`compute_rcs`).
+    azimuth_deg, elevation_deg : ndarray (A,)
+    frequency_ghz : float
+    elements : int
+    efie : FullWaveResult
+    efie_s, sbr_s : float
+        Wall times [s] of the two computations.
+    """
+
+    efie_dbsm: dict
+    sbr_dbsm: dict
+    difference_db: dict
+    sbr_error_db: dict
+    azimuth_deg: np.ndarray
+    elevation_deg: np.ndarray
+    frequency_ghz: float
+    elements: int
+    efie: FullWaveResult
+    efie_s: float
+    sbr_s: float
+
+
+def compare_sbr_to_fullwave(
+    case,
+    frequency_ghz: float,
+    aspects,
+    *,
+    polarisations=("VV", "HH"),
+    edges_per_wavelength: float = EDGES_PER_WAVELENGTH,
+    full: bool = False,
+    sbr_quality: str = "reference",
+    solver: str = "gmres",
+) -> Comparison:
+    """Run :func:`csuas.render.rcs.solver.compute_rcs` (PEC) and the EFIE on the same mesh.
+
+    Parameters
+    ----------
+    case : str or trimesh.Trimesh
+        A case of :data:`CASES` (meshed by :func:`case_mesh`) or a mesh [m].
+    frequency_ghz : float
+        Frequency [GHz].
+    aspects : array_like (A, 2)
+        (azimuth_deg, elevation_deg) pairs [deg], toward the radar.
+    polarisations : sequence of {"VV", "HH", "VH", "HV"}
+    edges_per_wavelength, full : float, bool
+        Mesh density and case size (:func:`case_mesh`).
+    sbr_quality : str
+        :data:`csuas.render.rcs.solver.QUALITY_PRESETS` name.
+    solver : {"gmres", "lu"}
+        EFIE solver.
+
+    Returns
+    -------
+    Comparison
+    """
+    from csuas.render.rcs.solver import compute_rcs
+
+    mesh = case_mesh(case, frequency_ghz, edges_per_wavelength, full) if isinstance(case, str) else case
+    asp = np.asarray(aspects, dtype=float)
+    if asp.ndim == 1 and asp.shape == (2,):
+        asp = asp[None, :]
+    if asp.ndim != 2 or asp.shape[1] != 2 or len(asp) == 0:
+        raise ParameterError("aspects", f"array of shape {asp.shape}", "(A, 2) pairs of azimuth, elevation [deg]")
+    pols = [str(p).upper() for p in polarisations]
+    for p in pols:
+        _polarisation(p)
+    efie = monostatic_rcs_efie(mesh.vertices, mesh.faces, frequency_ghz, asp[:, 0], asp[:, 1], pols[0], solver=solver)
+    t = time.perf_counter()
+    sbr = compute_rcs(mesh, frequency_ghz, asp[:, 0], asp[:, 1], material="pec", quality=sbr_quality)
+    sbr_s = time.perf_counter() - t
+    e_db = {p: efie.rcs_dbsm(p) for p in pols}
+    s_db = {p: sbr.rcs_dbsm(p)[0, :, 0] for p in pols}
+    return Comparison(
+        efie_dbsm=e_db,
+        sbr_dbsm=s_db,
+        difference_db={p: s_db[p] - e_db[p] for p in pols},
+        sbr_error_db={p: sbr.error_estimate_db(p)[0, :, 0] for p in pols},
+        azimuth_deg=asp[:, 0],
+        elevation_deg=asp[:, 1],
+        frequency_ghz=float(frequency_ghz),
+        elements=efie.elements,
+        efie=efie,
+        efie_s=efie.time_s,
+        sbr_s=sbr_s,
     )
