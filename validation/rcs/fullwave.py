@@ -717,6 +717,7 @@ def compare_sbr_to_fullwave(
     full: bool = False,
     sbr_quality: str = "reference",
     solver: str = "gmres",
+    edge_diffraction: bool = False,
 ) -> Comparison:
     """Run :func:`csuas.render.rcs.solver.compute_rcs` (PEC) and the EFIE on the same mesh.
 
@@ -735,6 +736,8 @@ def compare_sbr_to_fullwave(
         :data:`csuas.render.rcs.solver.QUALITY_PRESETS` name.
     solver : {"gmres", "lu"}
         EFIE solver.
+    edge_diffraction : bool
+        Add the PTD fringe field to the SBR-PO result (:mod:`csuas.render.rcs.edges`).
 
     Returns
     -------
@@ -753,7 +756,9 @@ def compare_sbr_to_fullwave(
         _polarisation(p)
     efie = monostatic_rcs_efie(mesh.vertices, mesh.faces, frequency_ghz, asp[:, 0], asp[:, 1], pols[0], solver=solver)
     t = time.perf_counter()
-    sbr = compute_rcs(mesh, frequency_ghz, asp[:, 0], asp[:, 1], material="pec", quality=sbr_quality)
+    sbr = compute_rcs(
+        mesh, frequency_ghz, asp[:, 0], asp[:, 1], material="pec", quality=sbr_quality, edge_diffraction=edge_diffraction
+    )
     sbr_s = time.perf_counter() - t
     e_db = {p: efie.rcs_dbsm(p) for p in pols}
     s_db = {p: sbr.rcs_dbsm(p)[0, :, 0] for p in pols}
