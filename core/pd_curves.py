@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core import detection, johnson, radar, radar_detection, tir
+from csuas.core import detection, johnson, radar, radar_detection, rcs_statistics, tir
 from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
@@ -29,6 +29,7 @@ from csuas.core.mrtd import sensor_mrtd
 from csuas.core.ranges import ADAPTERS, HORIZONS, evaluate, thermal_contrast
 from csuas.core.result import check_convention
 from csuas.core.scenario import Scenario, SensorSpec
+from csuas.core.units import C_LIGHT
 
 #: Threshold shifts over which a model is evaluated to read its margin [dB]; beyond them Pd is saturated.
 MARGIN_GRID_DB = np.linspace(-150.0, 150.0, 2401)
@@ -167,11 +168,22 @@ def _threshold_pd(scenario, sensor, convention, r):
         else:
             mode = integration
         notes += [
-            f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})",
             f"{n} pulse(s), {mode} integration",
             f"single-pulse SNR at the deterministic range: snr_min_db - integration gain = {snr1_db:.4g} dB",
         ]
-        return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
+        fluctuation = p.get("fluctuation", "swerling")
+        if fluctuation == "swerling":
+            notes.insert(1, f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})")
+            return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
+        polarisation = fluctuation.removeprefix("aspect_").upper()
+        frequency_ghz = C_LIGHT / radar.radar_wavelength_m(p, convention) / 1e9
+        dof, band = rcs_statistics.aspect_chi_square_dof(scenario.target_preset, frequency_ghz, polarisation)
+        notes.insert(
+            1,
+            f"square-law detector, RCS of {scenario.target_preset} over aspects, scan to scan: chi-square with "
+            f"{dof:.3g} degrees of freedom ({polarisation}, {band:g} GHz band of defaults/drone_rcs_statistics.csv)",
+        )
+        return rcs_statistics.pd_chi_square_target(snr1_db + m, pfa, n, dof, mode), notes
     if sensor.modality in ("rf", "acoustic"):
         reference = p["snr_at_sensitivity_db"] if sensor.modality == "rf" else p["snr_req_db"]
         fading = p.get("fading", "none")

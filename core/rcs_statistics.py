@@ -22,6 +22,10 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require
 from csuas.core.radar_detection import pd_exact
+from csuas.defaults import load_drone_rcs_statistics
+
+#: Step of the dB grid of :func:`pd_chi_square_target` [dB] (Pd within 1e-6 of Swerling 1 and 3).
+_DB_STEP = 0.1
 
 
 def _samples(rcs_m2):
@@ -96,6 +100,72 @@ def fit_chi_square(rcs_m2) -> dict:
         "nearest_swerling_scan": 1 if nearest == 1 else 3,
         "log_likelihood_ratio": loglik(k) - loglik(float(nearest)),
     }
+
+
+def aspect_chi_square_dof(preset: str, frequency_ghz: float, polarisation: str = "VV") -> tuple[float, float]:
+    """Chi-square degrees of freedom 2k of a drone preset's RCS over aspects, from the shipped table.
+
+    The band of ``defaults/drone_rcs_statistics.csv`` nearest in log-frequency is used.
+
+    Returns
+    -------
+    tuple of float
+        ``(dof, band_ghz)``.
+
+    Raises
+    ------
+    ParameterError
+        A preset or polarisation the table does not hold.
+    """
+    rows = [r for r in load_drone_rcs_statistics() if r["preset"] == preset and r["polarisation"] == polarisation]
+    if not rows:
+        presets = sorted({r["preset"] for r in load_drone_rcs_statistics()})
+        raise ParameterError(
+            "target preset / polarisation", f"{preset} / {polarisation}", f"one of {', '.join(presets)} / VV, HH"
+        )
+    f = float(require("frequency_ghz", frequency_ghz, gt=0))
+    nearest = min(rows, key=lambda r: abs(np.log(r["frequency_ghz"] / f)))
+    return float(nearest["chi2_dof"]), float(nearest["frequency_ghz"])
+
+
+def pd_chi_square_target(snr_db_at_mean, pfa, n_pulses, dof, integration="noncoherent"):
+    """Pd of a scan-to-scan target whose RCS is chi-square with ``dof`` degrees of freedom (mean 1).
+
+    Within a scan the target is steady (:func:`pd_exact` with Swerling 0); from scan to scan its RCS
+    x is gamma-distributed with shape k = dof/2 and mean 1, so
+
+        Pd(S) = integral Pd_steady(S + y) g(y) dy,    y = 10 log10 x,
+
+    evaluated by the trapezoidal rule in y (step :data:`_DB_STEP`) between the 1e-10 and 1 - 1e-12
+    quantiles of y; below them Pd = Pfa. dof = 2 is Swerling 1 and dof = 4 Swerling 3.
+
+    Parameters
+    ----------
+    snr_db_at_mean : array_like
+        Single-pulse SNR [dB] at the mean RCS.
+    pfa, n_pulses, integration
+        As in :func:`csuas.core.radar_detection.pd_exact`.
+    dof : float
+        Degrees of freedom 2k, 0.2 <= dof <= 200.
+
+    Returns
+    -------
+    ndarray
+        Pd, shaped like ``snr_db_at_mean``.
+    """
+    from scipy import stats
+
+    k = float(require("dof", dof, ge=0.2, le=200.0)) / 2.0
+    snr = require("snr_db_at_mean", snr_db_at_mean)
+    shape = stats.gamma(k, scale=1.0 / k)
+    lo, hi = (10.0 * np.log10(shape.ppf(q)) for q in (1e-10, 1.0 - 1e-12))
+    y = np.linspace(lo, hi, int(np.ceil((hi - lo) / _DB_STEP)) + 1)
+    x = 10.0 ** (y / 10.0)
+    weight = shape.pdf(x) * x * (np.log(10.0) / 10.0) * (y[1] - y[0])  # g(y) dy
+    weight[[0, -1]] *= 0.5
+    pd = pd_exact(snr[..., None] + y, pfa, n_pulses, 0, integration) @ weight
+    below = shape.cdf(x[0])
+    return np.clip(pd + below * np.asarray(pfa, float), 0.0, 1.0)
 
 
 def pd_over_rcs_samples(snr_db_at_mean, rcs_m2, pfa, n_pulses=1, integration="noncoherent"):

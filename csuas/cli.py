@@ -37,6 +37,8 @@ COMMANDS = {
     "drone": "drone model size, exact silhouette metrics (d_crit, projected area, LCS) and mesh export",
     "pathloss": "RF path gain drone -> RF sensor by Sionna RT, beside Friis and the two-ray model",
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
+    "rcs-statistics": "the drone presets' RCS over aspects per band and polarisation (mean, percentiles, "
+    "log-normal and chi-square fits), the table the radar's aspect-fluctuation model reads",
     "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
     "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",

@@ -14,12 +14,15 @@ itu.toml
 presets.toml
     Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
     environments (the paper's condition classes).
+drone_rcs_statistics.csv
+    The drone presets' RCS over aspects per band and polarisation (``csuas rcs-statistics``).
 scenarios/
     Embedded scenario files.
 """
 
 from __future__ import annotations
 
+import csv
 import functools
 import sys
 from importlib import resources
@@ -96,3 +99,12 @@ def scenario_path(name: str):
 def sweep_path(name: str):
     """Path of an embedded sweep spec (``range_rain``, ``rcs_bands``, ...; docs/sweeps.md)."""
     return resources.files(__name__).joinpath("sweeps", f"{name}.toml")
+
+
+@functools.lru_cache(maxsize=1)
+def load_drone_rcs_statistics() -> tuple:
+    """Rows of ``drone_rcs_statistics.csv`` as dicts: text columns as read, numbers as float."""
+    text = resources.files(__name__).joinpath("drone_rcs_statistics.csv").read_text(encoding="utf-8")
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    keep_text = ("preset", "polarisation", "quality")
+    return tuple({k: (v if k in keep_text else float(v)) for k, v in row.items()} for row in rows)

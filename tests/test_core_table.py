@@ -249,6 +249,8 @@ ROWS = [
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
+    "rcs_statistics.aspect_chi_square_dof": "tests/test_rcs_statistics.py (shipped table, nearest band)",
+    "rcs_statistics.pd_chi_square_target": "tests/test_rcs_statistics.py (Swerling 1 and 3 limits)",
     "rcs_statistics.fit_lognormal": "tests/test_rcs_statistics.py (3GPP-like samples)",
     "rcs_statistics.pd_over_rcs_samples": "tests/test_rcs_statistics.py (Swerling 1 limit, steady limit)",
     "rcs_statistics.rcs_summary": "tests/test_rcs_statistics.py",

@@ -9,7 +9,14 @@ import pytest
 
 from csuas.base.errors import ParameterError
 from csuas.core.radar_detection import pd_exact
-from csuas.core.rcs_statistics import fit_chi_square, fit_lognormal, pd_over_rcs_samples, rcs_summary
+from csuas.core.rcs_statistics import (
+    aspect_chi_square_dof,
+    fit_chi_square,
+    fit_lognormal,
+    pd_chi_square_target,
+    pd_over_rcs_samples,
+    rcs_summary,
+)
 
 
 @pytest.mark.parametrize("k", [0.5, 1.0, 2.0, 5.0])
@@ -56,3 +63,89 @@ def test_bad_samples():
         rcs_summary([0.01, 0.02])
     with pytest.raises(ParameterError, match="rcs_m2"):
         fit_lognormal(np.r_[np.ones(10), -1.0])
+
+
+@pytest.mark.parametrize(("dof", "swerling"), [(2.0, 1), (4.0, 3)])
+@pytest.mark.parametrize(("n_pulses", "integration"), [(1, "noncoherent"), (10, "noncoherent"), (10, "coherent")])
+def test_chi_square_target_pd_is_swerling_1_and_3_at_2_and_4_dof(dof, swerling, n_pulses, integration):
+    snr = np.linspace(-10.0, 30.0, 41)
+    pd = pd_chi_square_target(snr, 1e-6, n_pulses, dof, integration)
+    assert pd == pytest.approx(pd_exact(snr, 1e-6, n_pulses, swerling, integration), abs=1e-6)
+
+
+def test_chi_square_target_pd_heavier_tail_needs_more_snr_and_is_monotone():
+    snr = np.linspace(0.0, 40.0, 81)
+    heavy, swerling_1 = pd_chi_square_target(snr, 1e-6, 1, 1.0), pd_exact(snr, 1e-6, 1, 1)
+    assert np.all(np.diff(heavy) >= -1e-12) and heavy[-1] > 0.9
+    assert np.all(heavy[snr > 20] < swerling_1[snr > 20])  # a dof < 2 tail misses more often at high SNR
+    with pytest.raises(ParameterError, match="dof"):
+        pd_chi_square_target(10.0, 1e-6, 1, 0.0)
+
+
+def test_shipped_drone_table_covers_every_preset_band_and_polarisation():
+    from csuas.defaults import load_drone_rcs_statistics
+    from csuas.drone_models.presets import list_presets
+    from csuas.validation.rcs.statistics_table import BANDS_GHZ
+
+    rows = load_drone_rcs_statistics()
+    keys = {(r["preset"], r["frequency_ghz"], r["polarisation"]) for r in rows}
+    assert keys == {(p, f, pol) for p in list_presets() for f in BANDS_GHZ for pol in ("VV", "HH")}
+    for r in rows:
+        assert r["p10_dbsm"] <= r["median_dbsm"] <= r["p90_dbsm"]
+        assert 0.0 < r["mean_error_db"] < 3.0 and r["chi2_dof"] > 0.0 and r["aspects"] >= 256
+    dof, band = aspect_chi_square_dof("dji_mini_4_pro", 23.98, "VV")
+    row = next(r for r in rows if r["preset"] == "dji_mini_4_pro" and r["frequency_ghz"] == 24.0)
+    assert band == 24.0 and dof == row["chi2_dof"] if row["polarisation"] == "VV" else True
+    assert aspect_chi_square_dof("dji_mini_4_pro", 3.0, "HH")[1] == 2.4  # nearest in log-frequency
+    with pytest.raises(ParameterError, match="target preset"):
+        aspect_chi_square_dof("no_such_drone", 10.0)
+
+
+@pytest.mark.slow
+def test_rcs_statistics_command_writes_a_table_the_loader_reads(tmp_path, capsys):
+    import csv
+
+    from csuas import cli
+
+    out = tmp_path / "table.csv"
+    code = cli.main(
+        [
+            "rcs-statistics",
+            "--presets",
+            "black_hornet_3",
+            "--bands-ghz",
+            "2.4",
+            "--quality",
+            "draft",
+            "--accuracy-db",
+            "2",
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
+    assert code == 0
+    rows = list(csv.DictReader(line for line in out.read_text().splitlines() if not line.startswith("#")))
+    assert [(r["preset"], r["frequency_ghz"], r["polarisation"]) for r in rows] == [
+        ("black_hornet_3", "2.4000", "VV"),
+        ("black_hornet_3", "2.4000", "HH"),
+    ]
+    assert all(float(r["mean_error_db"]) <= 2.0 for r in rows)
+    assert "bands" in capsys.readouterr().err  # progress with an ETA
+    assert cli.main(["rcs-statistics", "--bands-ghz", "0", "--accuracy-db", "0", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "bands_ghz" in err and "accuracy_db" in err
+
+
+def test_radar_pd_with_the_aspect_fluctuation_uses_the_tables_chi_square(tmp_path):
+    from csuas.core.pd_curves import sensor_pd
+    from csuas.core.scenario import load_scenario
+
+    path = tmp_path / "s.toml"
+    path.write_text(
+        'name = "a"\n[target]\n[environment]\n[sensors.radar]\nmodality = "radar"\nfluctuation = "aspect_hh"\n'
+    )
+    scenario = load_scenario(path)
+    curve = sensor_pd(scenario, "radar", [10.0, 30.0, 47.0, 80.0])
+    dof, band = aspect_chi_square_dof("dji_mini_4_pro", 23.98, "HH")
+    assert band == 24.0 and any(f"{dof:.3g} degrees of freedom" in a for a in curve.assumptions)

@@ -757,7 +757,13 @@ def compare_sbr_to_fullwave(
     efie = monostatic_rcs_efie(mesh.vertices, mesh.faces, frequency_ghz, asp[:, 0], asp[:, 1], pols[0], solver=solver)
     t = time.perf_counter()
     sbr = compute_rcs(
-        mesh, frequency_ghz, asp[:, 0], asp[:, 1], material="pec", quality=sbr_quality, edge_diffraction=edge_diffraction
+        mesh,
+        frequency_ghz,
+        asp[:, 0],
+        asp[:, 1],
+        material="pec",
+        quality=sbr_quality,
+        edge_diffraction=edge_diffraction,
     )
     sbr_s = time.perf_counter() - t
     e_db = {p: efie.rcs_dbsm(p) for p in pols}
