@@ -13,6 +13,7 @@ SUITES = {
     "drone_silhouette": "csuas.validation.drone.bench:bench_silhouette",
     "rcs_sbr": "csuas.validation.rcs.bench:bench_sbr",
     "rcs_memory": "csuas.validation.rcs.bench:bench_memory",
+    "rcs_po_accuracy": "csuas.validation.rcs.bench:bench_po_accuracy",
     "sionna_links": "csuas.validation.links.bench:bench_links",
     "lidar_lcs": "csuas.validation.lidar.bench:bench",
     "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",
