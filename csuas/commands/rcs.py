@@ -185,7 +185,11 @@ def run(args) -> dict:
             "bounding_radius_m": target.bounding_radius_m,
         },
         "variant": res.variant,
-        "method": "SBR-PO (Ling, Chou & Lee 1989) with per-tube footprint sinc factors (Bhalla & Ling 1995)",
+        "method": "SBR-PO (Ling, Chou & Lee 1989) with per-tube footprint sinc factors (Bhalla & Ling 1995), "
+        "exact single reflections of fully lit facets"
+        + (", PTD fringe currents of conducting edges (Michaeli 1984)" if args.edge_diffraction else ""),
+        "edge_diffraction": bool(args.edge_diffraction),
+        "replicas": res.replicas,
     }
     if args.sphere_average:
         from csuas.render.rcs.sweep import sphere_average
