@@ -190,7 +190,7 @@ def bench_po_accuracy(max_error_db: float = 0.5, densities=(5, 10, 20, 40, 80, 1
         engine = SbrEngine(load_target(mesh))
         exact = facet_po_sigma_m2(mesh.vertices, mesh.faces, f, az, el)
 
-        def measure(n, exact_first_hits, engine=engine, f=f, exact=exact):
+        def measure(n, exact_first_hits, engine=engine, f=f, exact=exact, name=name):
             jobs = Jobs.build(az, el, f, float(n))
             engine.trace(jobs, 1, exact_first_hits=exact_first_hits)  # warm: kernels compiled
             res = engine.trace(jobs, 1, exact_first_hits=exact_first_hits)
