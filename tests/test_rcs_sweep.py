@@ -19,7 +19,6 @@ from csuas.render.rcs.convergence import (
     silhouette_perimeter_area,
 )
 from csuas.render.rcs.sweep import aspect_sweep, band_sweep, plot_polar, sphere_average
-from csuas.validation.rcs.facet_po import facet_po_sigma_m2
 
 C = 299_792_458.0
 
@@ -37,22 +36,27 @@ def test_sphere_average_of_an_isotropic_target_equals_its_rcs():
 
 
 def _plate_sphere_mean_m2(a_m, f_ghz):
-    """Eq. 6 of a square plate's PO RCS by a dense Gauss-Legendre x trapezoid rule on the faceted-PO oracle."""
-    mu, w = np.polynomial.legendre.leggauss(400)
-    az = np.arange(720) * 0.5
-    el = np.degrees(np.arcsin(mu))
-    grid_az, grid_el = np.meshgrid(az, el, indexing="ij")
-    plate = canonical.plate(a_m)
-    sigma = facet_po_sigma_m2(plate.vertices, plate.faces, f_ghz, grid_az.ravel(), grid_el.ravel())
-    sigma += facet_po_sigma_m2(plate.vertices, plate.faces[:, ::-1], f_ghz, grid_az.ravel(), grid_el.ravel())
-    return float((sigma.reshape(grid_az.shape) * w[None, :]).sum() / (2 * len(az)))
+    """Eq. 6 of a square plate's PO RCS (closed form, both sides) by a dense Gauss-Legendre x trapezoid rule.
+
+    sigma = 4 pi A^2 cos^2(t) / lambda^2 * sinc^2(k a u) * sinc^2(k a v), with (u, v, cos t) the
+    direction's components (Knott et al., ch. 5; docs/validation.md).
+    """
+    lam = C / (f_ghz * 1e9)
+    k = 2 * math.pi / lam
+    mu, w = np.polynomial.legendre.leggauss(2000)  # mu = cos(t), the component along the normal
+    phi = (np.arange(2000) + 0.5) * 2 * math.pi / 2000
+    sin_t = np.sqrt(1 - mu**2)[:, None]
+    u, v = sin_t * np.cos(phi)[None, :], sin_t * np.sin(phi)[None, :]
+    sigma = 4 * math.pi * a_m**4 * mu[:, None] ** 2 / lam**2 * np.sinc(k * a_m * u / math.pi) ** 2
+    sigma *= np.sinc(k * a_m * v / math.pi) ** 2
+    return float((sigma.mean(axis=1) * w).sum() / 2)
 
 
 @pytest.mark.slow
 def test_sphere_average_of_a_plate_meets_its_accuracy():
     """A plate's RCS is one narrow flash per side: the adaptive average keeps adding aspects until the
-    95 % bound meets the request, and the bound holds against a dense quadrature of the PO oracle
-    (about A/2 by Parseval's theorem for a two-sided plate, 0.005 m^2 here)."""
+    95 % bound meets the request, and the bound holds against a dense quadrature of the plate's PO
+    closed form (about A/2 by Parseval's theorem for a two-sided plate, 0.005 m^2 here)."""
     exact = _plate_sphere_mean_m2(0.1, 10.0)
     assert exact == pytest.approx(0.01 / 2, rel=0.1)
     avg = sphere_average(canonical.plate(0.1), 10.0, accuracy_db=1.0, rays_per_wavelength=4)
