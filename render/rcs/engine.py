@@ -31,22 +31,32 @@ The method of Ling, Chou & Lee (IEEE Trans. Antennas Propag. 37(2), 1989):
        E_s r e^{jkr} = -jk/(4 pi) * A * S * e^{j psi} * [eta J_perp + M x s]
 
    are summed in float64 per job; ``sigma = 4 pi |E_s|^2 / |E_i|^2``.
+5. *Exact first hits.* The single reflection of every fully lit facet (its
+   vertices see the transmitter, it faces it on a closed surface, and its
+   reflection escapes) is integrated over the whole facet in closed form,
+   ``2 A exp(j phi_0) G(a, b)`` with ``G`` the second divided difference of
+   ``exp(jx)`` at the vertex phases (Gordon, IEEE TAP 23(4), 1975, in its
+   Hermite-Genocchi form), and the first-hit radiation of the tubes that hit
+   those facets is left out (:meth:`SbrEngine._exact_first_hits`). Grazing
+   facets near a shadow boundary, which a tube grid samples badly and whose
+   currents make a sphere's small-ka oscillation, so count in full.
 
 A "job" is one incidence direction and frequency with ``M`` observation
 directions (``M = 1`` and ``s = d_inc`` for monostatic). Many jobs share one
 launch: every tube carries its job index, and tubes are traced in batches of
 at most ``batch_size`` so memory stays bounded whatever the total count.
 
-Limitations (documented, not hidden): no edge diffraction (PTD) and no
-creeping waves, so RCS far from specular directions and at small ka is
-under-estimated; a dielectric is a half-space (transmitted wave absorbed) or
-a thin shell without refraction offset, never a thick refracting body; tubes
-do not diverge on curved (faceted) surfaces, and point-sampled tubes do not
-resolve the shadow-boundary term of smooth curved bodies (a relative error
-of order 2/(2ka) on a sphere); tubes straddling a facet edge count entirely
-for the facet their centre hits (error proportional to perimeter * d / area,
-see :mod:`csuas.render.rcs.convergence`); no shadow test from exit points
-toward a bistatic observer.
+Limitations (documented, not hidden): no edge diffraction here (PTD is the
+optional :mod:`csuas.render.rcs.edges`) and no creeping waves, so RCS far from
+specular directions and at small ka is under-estimated; a dielectric is a
+half-space (transmitted wave absorbed) or a thin shell without refraction
+offset, never a thick refracting body; tubes do not diverge on curved
+(faceted) surfaces; where tubes radiate (multiple reflections, partly
+shadowed facets) a tube straddling a facet edge counts entirely for the facet
+its centre hits (error proportional to perimeter * d / area, see
+:mod:`csuas.render.rcs.convergence`); a facet whose vertices all see the
+transmitter counts as fully lit even if a small occluder shades its middle;
+no shadow test from exit points toward a bistatic observer.
 """
 
 from __future__ import annotations
