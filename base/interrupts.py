@@ -36,6 +36,17 @@ def _handler(signum, frame):
 
 
 @contextlib.contextmanager
+def _handlers(handler):
+    """``handler`` for SIGINT and SIGTERM while the block runs; the previous handlers afterwards."""
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+@contextlib.contextmanager
 def deferred_interrupts():
     """Hold SIGINT and SIGTERM while the block runs; deliver the first one held when it ends.
 
@@ -52,12 +63,10 @@ def deferred_interrupts():
     def hold(signum, frame):
         held.append(signum)
 
-    previous = {sig: signal.signal(sig, hold) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        yield
+        with _handlers(hold):
+            yield
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
         if held:
             signal.raise_signal(held[0])
 
@@ -81,9 +90,5 @@ def raise_if_interrupted() -> None:
 def handling_interrupts():
     """Record SIGINT and SIGTERM while the block runs; restore the previous handlers afterwards."""
     _received.clear()
-    previous = {sig: signal.signal(sig, _handler) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
+    with _handlers(_handler):
         yield
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)

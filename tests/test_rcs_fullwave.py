@@ -17,23 +17,13 @@ import math
 
 import numpy as np
 import pytest
-from scipy import special
+from test_rcs_oracles import mie_pec_over_pia2  # the independent Mie series of the SBR oracle tests
 
 from csuas.base.errors import ParameterError
 from csuas.validation.rcs import fullwave as fw
 from csuas.validation.rcs import fullwave_checks as fwc
 
 C = 299_792_458.0
-
-
-def mie_pec_over_pia2(ka: float) -> float:
-    """Exact monostatic RCS / (pi a^2) of a PEC sphere (docs/validation.md series)."""
-    x = float(ka)
-    n = np.arange(1, int(x + 4 * x ** (1 / 3) + 15))
-    j, y = special.spherical_jn(n, x), special.spherical_yn(n, x)
-    jp, yp = special.spherical_jn(n, x, derivative=True), special.spherical_yn(n, x, derivative=True)
-    h, hp = j + 1j * y, jp + 1j * yp
-    return abs(np.sum((-1.0) ** n * (2 * n + 1) * (j / h - (j + x * jp) / (h + x * hp)))) ** 2 / x**2
 
 
 def db(x):
