@@ -152,7 +152,9 @@ PO_TOLERANCE_DB = 0.5
 #: Sphere sizes and almond frequencies of :func:`po_oracle`.
 PO_SPHERES_KA = (3.0, 5.0, 10.0, 20.0, 50.0)
 PO_ALMOND = {"frequency_ghz": (1.19, 7.0, 9.92), "azimuth_deg": (0.0, 30.0, 90.0, 150.0, 180.0)}
-#: Full-wave comparisons per report quality (None: not run, with a note).
+#: Full-wave comparisons per report quality (None: not run, with a note). --full runs the sizes the tests
+#: run (76 s on 2 CPU cores, 35 s of it numba compilation); fullwave_checks' larger ``full`` sizes are not
+#: run by the report.
 FULLWAVE = {"quick": None, "full": {"full": False}}
 #: Published means at 24 GHz of Phantom 3, Bebop, Solo, Mavic Pro and Matrice 600 [dBsm]
 #: (IEICE Communications Express 9(7), 2020), and 3GPP TR 38.901 v19 Table 7.9.2.1-1's small UAV.
