@@ -247,10 +247,38 @@ def lidar_pd_gaussian(snr_db, pfa):
     pfa : array_like
         Probability of false alarm per range cell, 0 < Pfa < 1.
     """
-    snr_db_arr, p = require_all(("snr_db", snr_db, {}), ("pfa", pfa, {"gt": 0, "lt": 1}))
+    snr_db_arr = require("snr_db", snr_db)
+    return gaussian_pd(10.0 ** (np.clip(snr_db_arr, -300.0, 300.0) / 20.0), pfa)
+
+
+def gaussian_pd(amplitude_snr, pfa):
+    """Pd of a threshold on a signal amplitude in zero-mean Gaussian noise: Q(Q^-1(Pfa) - a).
+
+    Parameters
+    ----------
+    amplitude_snr : array_like
+        Signal amplitude in noise standard deviations, a >= 0 (the square root of the power SNR).
+    pfa : array_like
+        Probability of false alarm, 0 < Pfa < 1.
+
+    Returns
+    -------
+    ndarray
+        Pd in [Pfa, 1] (Richards, *Fundamentals of Radar Signal Processing*, 2014, Eq. 6.23).
+    """
+    a, p = require_all(("amplitude_snr", amplitude_snr, {"ge": 0}), ("pfa", pfa, {"gt": 0, "lt": 1}))
     _, stats = _special()
-    amplitude = 10.0 ** (np.clip(snr_db_arr, -300.0, 300.0) / 20.0)
-    return np.maximum(stats.norm.sf(stats.norm.isf(p) - amplitude), p)
+    return np.maximum(stats.norm.sf(stats.norm.isf(p) - a), p)
+
+
+def gaussian_required_snr(pd, pfa):
+    """Amplitude SNR a Gaussian threshold detector needs for ``pd`` at ``pfa``: Q^-1(Pfa) - Q^-1(Pd).
+
+    The inverse of :func:`gaussian_pd` (clipped at 0 where Pd <= Pfa needs no signal).
+    """
+    d, p = require_all(("pd", pd, {"gt": 0, "lt": 1}), ("pfa", pfa, {"gt": 0, "lt": 1}))
+    _, stats = _special()
+    return np.maximum(stats.norm.isf(p) - stats.norm.isf(d), 0.0)
 
 
 def photon_counting_threshold(noise_photons, pfa):

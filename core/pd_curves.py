@@ -126,6 +126,16 @@ def _imaging(scenario, sensor, convention, r, result):
     exponent = p["ttpf_exponent"]
     ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
     notes = [f"target transfer probability function, exponent {exponent} ({_source(sensor, 'ttpf_exponent')})"]
+    if sensor.modality == "tir" and p["model"] == "netd":
+        dt0, extra = thermal_contrast(scenario, sensor, convention)
+        dt = tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra)
+        snr = tir.netd_snr(dt, p["netd_mk"] / 1000.0, tir.target_pixels(t["projected_area_m2"], ifov, r))
+        notes = [
+            f"blob detection in temporal noise: SNR = |Delta T(R)| sqrt(pixels) / NETD, NETD {p['netd_mk']:g} mK "
+            f"({_source(sensor, 'netd_mk')}), below a pixel |Delta T| pixels / NETD",
+            f"Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')}): Pd = Q(Q^-1(Pfa) - SNR)",
+        ]
+        return detection.gaussian_pd(np.where(np.isinf(snr), 1e6, snr), p["pfa"]), notes
     if sensor.modality == "tir" and p["model"] == "mrtd":
         pd = _mrtd_pd(scenario, sensor, convention, r)
         notes.append(

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, raise_all
-from csuas.core import acoustic, eo, lidar, radar, rf, tir
+from csuas.core import acoustic, detection, eo, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
@@ -65,6 +65,17 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"], lp_task=p["lp_task"], n_ttpf=p["n_ttpf"]
         )
     dt0, extra = thermal_contrast(sc, s, convention)
+    if p["model"] == "netd":
+        return tir.tir_netd_range(
+            projected_area_m2=t["projected_area_m2"],
+            ifov_rad_=johnson.ifov_rad(p["hfov_deg"], p["n_h"]),
+            netd_mk=p["netd_mk"],
+            required_snr=detection.gaussian_required_snr(p["p_desired"], p["pfa"]),
+            delta_t0_k=dt0,
+            extinction_db_km=p["extinction_db_km"],
+            convention=convention,
+            **extra,
+        )
     return tir.tir_mrtd_range(
         mrtd=sensor_mrtd(p),
         d_crit_m=t["d_crit_m"],

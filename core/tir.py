@@ -1,4 +1,12 @@
-"""Thermal-infrared detection range: Johnson (Eqs. 22-23) and MRTD with attenuation (Eqs. 24-31).
+"""Thermal-infrared detection range: Johnson (Eqs. 22-23), MRTD with attenuation (Eqs. 24-31), and NETD.
+
+The NETD model (an extension, ``tir.model = "netd"``) detects the target as a blob of pixels in
+temporal noise: its apparent Delta T summed over the n pixels it covers gives the single-frame SNR
+|Delta T| sqrt(n) / NETD (a matched sum of n pixels of white noise), and |Delta T| n / NETD below a
+pixel, where the pixel sees only the fraction n of the target (Holst, *Electro-Optical Imaging System
+Performance*, 5th ed., 2008, ch. 21; Driggers, Friedman & Nichols, *Introduction to Infrared and
+Electro-Optical Systems*, 2nd ed., 2012, ch. 12). A threshold set for Pfa on Gaussian noise detects it
+with Pd = Q(Q^-1(Pfa) - SNR); the range is where Pd reaches ``p_desired``.
 
 Conventions (docs/conventions.md point 2):
 
@@ -175,3 +183,126 @@ def tir_mrtd_range(
         dt_r = np.where(r > 0, mrtd(cycles_per_m * r), 0.0)
         terms.append(Term("mrtd_at_range_k", dt_r, "K", "Eq. 27"))
     return RangeResult(r, "tir", "mrtd (Eqs. 24-31)", terms, reason)
+
+
+def target_pixels(projected_area_m2, ifov_rad_, range_m):
+    """Pixels the target covers at a range: A / (IFOV R)^2 [px] (inf at R = 0).
+
+    Parameters
+    ----------
+    projected_area_m2 : array_like
+        Projected area of the target [m^2].
+    ifov_rad_ : array_like
+        Instantaneous field of view of one pixel [rad].
+    range_m : array_like
+        Slant range [m].
+    """
+    a = require("projected_area_m2", projected_area_m2, ge=0)
+    w = require("ifov_rad", ifov_rad_, gt=0)
+    r = require("range_m", range_m, ge=0)
+    with np.errstate(divide="ignore"):
+        return np.where(r > 0, a / np.square(w * np.where(r > 0, r, 1.0)), np.inf)
+
+
+def netd_snr(delta_t_k, netd_k, pixels):
+    """Single-frame SNR of a thermal blob: |Delta T| sqrt(n) / NETD for n >= 1, |Delta T| n / NETD below.
+
+    Parameters
+    ----------
+    delta_t_k : array_like
+        Apparent temperature difference at the sensor [K].
+    netd_k : array_like
+        Noise-equivalent temperature difference of one pixel [K], > 0.
+    pixels : array_like
+        Pixels covered, n >= 0 (:func:`target_pixels`).
+    """
+    dt = np.abs(require("delta_t_k", delta_t_k))
+    netd = require("netd_k", netd_k, gt=0)
+    n = require("pixels", pixels, ge=0, allow_inf=True)
+    gain = np.where(n >= 1.0, np.sqrt(n), n)
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isinf(n), np.where(dt > 0, np.inf, 0.0), dt * gain / netd)
+
+
+def tir_netd_range(
+    *,
+    projected_area_m2,
+    ifov_rad_,
+    netd_mk,
+    required_snr,
+    delta_t0_k,
+    extinction_db_km,
+    convention="paper",
+    t_bg_app_k=None,
+    air_temperature_k=None,
+    band="lwir",
+) -> RangeResult:
+    """NETD-limited TIR range: where the blob's SNR (:func:`netd_snr`) falls to ``required_snr``.
+
+    Unattenuated it has a closed form in each regime: R0 = |Delta T0| sqrt(A) / (NETD IFOV SNR_req)
+    while the target covers a pixel or more, R0 = sqrt(|Delta T0| A / (NETD SNR_req)) / IFOV below;
+    with path attenuation the SNR falls faster and the range is the bracketed root in [0, R0].
+
+    Parameters
+    ----------
+    projected_area_m2 : array_like
+        Projected area of the target [m^2].
+    ifov_rad_ : array_like
+        Pixel IFOV [rad] (pitch / focal length).
+    netd_mk : array_like
+        NETD [mK], > 0.
+    required_snr : array_like
+        SNR the detection needs, > 0 (Q^-1(Pfa) - Q^-1(p_desired) for a Gaussian threshold).
+    delta_t0_k, extinction_db_km, convention, t_bg_app_k, air_temperature_k, band
+        As in :func:`tir_mrtd_range`.
+    """
+    check_convention(convention)
+    a = require("projected_area_m2", projected_area_m2, ge=0)
+    w = require("ifov_rad", ifov_rad_, gt=0)
+    netd = require("netd_mk", netd_mk, gt=0) / 1000.0
+    snr_req = require("required_snr", required_snr, gt=0)
+    sigma = require("extinction_db_km", extinction_db_km, ge=0)
+    signed_dt0 = require("delta_t0_k", delta_t0_k)
+    shape = np.broadcast_shapes(a.shape, w.shape, netd.shape, snr_req.shape, sigma.shape, signed_dt0.shape)
+    a, w, netd, snr_req, sigma, signed_dt0 = (
+        np.broadcast_to(v, shape).ravel() for v in (a, w, netd, snr_req, sigma, signed_dt0)
+    )
+    dt0 = np.abs(signed_dt0)
+    resolved = dt0 * np.sqrt(a) / (netd * w * snr_req)
+    r0 = np.where(a / np.square(w * np.where(resolved > 0, resolved, 1.0)) >= 1.0, resolved, 0.0)
+    sub_pixel = np.sqrt(dt0 * a / (netd * snr_req)) / w
+    r0 = np.where(r0 > 0, r0, sub_pixel)
+    r = r0.copy()
+    attenuated = (sigma > 0) & (r0 > 0)
+    if np.any(attenuated):
+        sign = np.where(signed_dt0 < 0, -1.0, 1.0)[attenuated]
+        kwargs = {}
+        if convention == "physical":
+            kwargs = dict(
+                t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[attenuated],
+                air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[attenuated],
+                band=band,
+            )
+
+        def residual(rr):
+            dt = attenuated_delta_t(sign * dt0[attenuated], rr, sigma[attenuated], convention, **kwargs)
+            pixels = target_pixels(a[attenuated], w[attenuated], rr)
+            return netd_snr(dt, netd[attenuated], pixels) - snr_req[attenuated]
+
+        root, found = bracketed_root(residual, np.full(int(attenuated.sum()), 1e-9), r0[attenuated], rtol=1e-12)
+        r[attenuated] = np.where(found, root, r0[attenuated])
+    r, r0 = r.reshape(shape), r0.reshape(shape)
+    reason = np.where(r <= 0, "never detectable: no Delta T or no target area", "NETD-limited (blob SNR)")
+    terms = [
+        Term(
+            "delta_t0_k",
+            np.asarray(delta_t0_k, dtype=float),
+            "K",
+            "Eq. 26" if convention == "paper" else "band radiometry",
+        ),
+        Term("required_snr", snr_req.reshape(shape), "-", "Gaussian threshold: Q^-1(Pfa) - Q^-1(p_desired)"),
+        Term("netd_range_unattenuated_m", r0, "m", "|Delta T0| sqrt(A) / (NETD IFOV SNR)"),
+    ]
+    if np.any(sigma > 0):
+        terms.append(Term("extinction_db_km", sigma.reshape(shape), "dB/km", "Eq. 31 (Table 27)"))
+    return RangeResult(r, "tir", "netd (blob SNR, extension)", terms, reason)

@@ -249,6 +249,11 @@ ROWS = [
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
+    "tir.target_pixels": "tests/test_tir_netd.py (closed form)",
+    "tir.netd_snr": "tests/test_tir_netd.py (both regimes, continuity)",
+    "tir.tir_netd_range": "tests/test_tir_netd.py (closed forms of both regimes, attenuated root)",
+    "detection.gaussian_pd": "tests/test_tir_netd.py (normal quantiles, A&S Table 26.5)",
+    "detection.gaussian_required_snr": "tests/test_tir_netd.py (normal quantiles)",
     "rcs_statistics.aspect_chi_square_dof": "tests/test_rcs_statistics.py (shipped table, nearest band)",
     "rcs_statistics.pd_chi_square_target": "tests/test_rcs_statistics.py (Swerling 1 and 3 limits)",
     "rcs_statistics.fit_lognormal": "tests/test_rcs_statistics.py (3GPP-like samples)",
