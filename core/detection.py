@@ -271,6 +271,31 @@ def gaussian_pd(amplitude_snr, pfa):
     return np.maximum(stats.norm.sf(stats.norm.isf(p) - a), p)
 
 
+def blob_snr(signal, noise_sd, pixels):
+    """SNR of a uniform blob summed over its pixels in white noise: |s| sqrt(n) / sigma, |s| n / sigma below a pixel.
+
+    A matched sum of n pixels each carrying the excess ``signal`` over noise of standard deviation
+    ``noise_sd`` (Holst 2008, ch. 21); a target smaller than a pixel puts the fraction n of its excess
+    into one pixel. Continuous at n = 1; infinite pixels (zero range) give an infinite SNR for any
+    signal.
+
+    Parameters
+    ----------
+    signal : array_like
+        Excess of the target over the background per fully covered pixel (any unit).
+    noise_sd : array_like
+        Temporal noise of one pixel, same unit, > 0.
+    pixels : array_like
+        Pixels covered, n >= 0 (may be inf).
+    """
+    s = np.abs(require("signal", signal))
+    sigma = require("noise_sd", noise_sd, gt=0)
+    n = require("pixels", pixels, ge=0, allow_inf=True)
+    gain = np.where(n >= 1.0, np.sqrt(n), n)
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isinf(n), np.where(s > 0, np.inf, 0.0), s * gain / sigma)
+
+
 def gaussian_required_snr(pd, pfa):
     """Amplitude SNR a Gaussian threshold detector needs for ``pd`` at ``pfa``: Q^-1(Pfa) - Q^-1(Pd).
 

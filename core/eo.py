@@ -1,16 +1,20 @@
-"""Electro-optical detection range: Johnson/TTPF (Eq. 18) limited by contrast (Eq. 21).
+"""Electro-optical detection range: Johnson/TTPF (Eq. 18) limited by contrast (Eq. 21) and by light.
 
 The paper's procedure (Section 4.3.3) starts from the Johnson range and
 reduces it until the attenuated contrast C0 tau(R) reaches C_min. Its exact
 solution is the minimum of the Johnson range and the contrast-limited range
-where C0 tau(R) = C_min, which has a closed form for both conventions.
+where C0 tau(R) = C_min, which has a closed form for both conventions. In the
+physical convention a camera given as a radiometric instrument
+(:mod:`csuas.core.camera`) adds the light-limited range, so the illuminance of
+Tables 10-11 changes the EO range.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.atmosphere import extinction_per_km, range_for_transmittance
+from csuas.core.atmosphere import extinction_per_km, range_for_transmittance, transmittance
+from csuas.core.camera import light_limited_range_m
 from csuas.core.checks import require
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.result import RangeResult, Term, check_convention
@@ -49,7 +53,18 @@ EXTINCTION_SOURCE = {
 
 
 def eo_range(
-    *, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf, c_eo, c_min, wavelength_nm, visibility_km, convention="paper"
+    *,
+    d_crit_m,
+    hfov_deg,
+    n_h,
+    lp_task,
+    n_ttpf,
+    c_eo,
+    c_min,
+    wavelength_nm,
+    visibility_km,
+    convention="paper",
+    camera=None,
 ) -> RangeResult:
     """EO detection range: min(Johnson/TTPF, contrast limit) (Eqs. 15-21).
 
@@ -68,6 +83,10 @@ def eo_range(
         (Eqs. 19-20); in fog, the fog visibility.
     convention : {"paper", "physical"}
         How the Kruse coefficient enters Beer-Lambert (docs/conventions.md point 1).
+    camera : dict, optional
+        Physical convention only: the keyword arguments of
+        :func:`csuas.core.camera.light_limited_range_m` other than ``c_eo``, ``ifov_rad_`` and
+        ``transmittance_at``; adds the light-limited range (scalar inputs).
 
     Returns
     -------
@@ -93,4 +112,21 @@ def eo_range(
         Term("kruse_extinction", sigma, unit, EXTINCTION_SOURCE[convention]),
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
-    return RangeResult(r, "eo", "johnson_ttpf+contrast (Eqs. 18, 21)", terms, reason)
+    model = "johnson_ttpf+contrast (Eqs. 18, 21)"
+    if camera is not None and convention == "physical":
+        r_light, chain = light_limited_range_m(
+            c_eo=c_eo,
+            ifov_rad_=float(ifov),
+            transmittance_at=lambda rr: transmittance(sigma, rr, convention),
+            **camera,
+        )
+        reason = np.where((r_light < r) | ((r_light <= 0) & (r_contrast > 0)), "light-limited (camera noise)", reason)
+        r = np.minimum(r, r_light)
+        terms += [
+            Term("background_electrons", chain["background_e"], "e", "camera equation, auto-exposure"),
+            Term("exposure_s", chain["exposure_s"], "s", "auto-exposure (half full well, max_exposure_ms)"),
+            Term("pixel_noise_electrons", chain["noise_e"], "e", "shot + dark + read (EMVA 1288)"),
+            Term("light_limited_range_m", r_light, "m", "blob SNR = Q^-1(Pfa) - Q^-1(p_desired)"),
+        ]
+        model = "johnson_ttpf+contrast+light (Eqs. 18, 21; camera chain)"
+    return RangeResult(r, "eo", model, terms, reason)

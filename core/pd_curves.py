@@ -22,6 +22,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core import detection, johnson, radar, radar_detection, rcs_statistics, tir
+from csuas.core.atmosphere import transmittance
 from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
@@ -129,7 +130,7 @@ def _imaging(scenario, sensor, convention, r, result):
     if sensor.modality == "tir" and p["model"] == "netd":
         dt0, extra = thermal_contrast(scenario, sensor, convention)
         dt = tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra)
-        snr = tir.netd_snr(dt, p["netd_mk"] / 1000.0, tir.target_pixels(t["projected_area_m2"], ifov, r))
+        snr = detection.blob_snr(dt, p["netd_mk"] / 1000.0, tir.target_pixels(t["projected_area_m2"], ifov, r))
         notes = [
             f"blob detection in temporal noise: SNR = |Delta T(R)| sqrt(pixels) / NETD, NETD {p['netd_mk']:g} mK "
             f"({_source(sensor, 'netd_mk')}), below a pixel |Delta T| pixels / NETD",
@@ -148,7 +149,18 @@ def _imaging(scenario, sensor, convention, r, result):
         cutoff = float(np.asarray(result.term("contrast_limited_range_m").value))
         notes.append("Pd = 0 beyond the contrast-limited range (Eq. 21)")
     notes.append(f"cycles across d_crit from Eq. 17: x = R50 / R, R50 = {float(r50):.4g} m")
-    return detection.imaging_pd(r, r50, exponent, cutoff), notes
+    pd = detection.imaging_pd(r, r50, exponent, cutoff)
+    if sensor.modality == "eo" and convention == "physical":
+        noise = float(np.asarray(result.term("pixel_noise_electrons").value))
+        excess = abs(t["c_eo"]) * float(np.asarray(result.term("background_electrons").value))
+        tau = transmittance(float(np.asarray(result.term("kruse_extinction").value)), r, convention)
+        snr = detection.blob_snr(excess * tau, noise, tir.target_pixels(t["projected_area_m2"], ifov, r))
+        pd = pd * detection.gaussian_pd(np.where(np.isinf(snr), 1e6, snr), p["pfa"])
+        notes.append(
+            f"times the camera's detection above noise: blob SNR of {excess:.3g} e excess per pixel over "
+            f"{noise:.3g} e noise, Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')})"
+        )
+    return pd, notes
 
 
 def _mrtd_pd(scenario, sensor, convention, r):

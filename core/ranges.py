@@ -24,6 +24,22 @@ from csuas.defaults import load_parameters
 
 def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p = s.params
+    camera = None
+    if convention == "physical":
+        camera = dict(
+            illuminance_lx=sc.environment["illuminance_lx"],
+            background_reflectance=sc.environment["background_reflectance"],
+            projected_area_m2=sc.target["projected_area_m2"],
+            f_number=p["f_number"],
+            optics_transmittance=p["optics_transmittance"],
+            pixel_pitch_um=p["pixel_pitch_um"],
+            quantum_efficiency=p["quantum_efficiency"],
+            max_exposure_ms=p["max_exposure_ms"],
+            full_well_e=p["full_well_e"],
+            read_noise_e=p["read_noise_e"],
+            dark_current_e_s=p["dark_current_e_s"],
+            required_snr=float(detection.gaussian_required_snr(p["p_desired"], p["pfa"])),
+        )
     return eo.eo_range(
         d_crit_m=sc.target["d_crit_m"],
         hfov_deg=p["hfov_deg"],
@@ -35,6 +51,7 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         wavelength_nm=p["wavelength_nm"],
         visibility_km=sc.optical_visibility_km,
         convention=convention,
+        camera=camera,
     )
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.checks import require
+from csuas.core.detection import blob_snr
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, graybody_apparent_temperature, radiance_temperature
 from csuas.core.result import RangeResult, Term, check_convention
@@ -204,26 +205,6 @@ def target_pixels(projected_area_m2, ifov_rad_, range_m):
         return np.where(r > 0, a / np.square(w * np.where(r > 0, r, 1.0)), np.inf)
 
 
-def netd_snr(delta_t_k, netd_k, pixels):
-    """Single-frame SNR of a thermal blob: |Delta T| sqrt(n) / NETD for n >= 1, |Delta T| n / NETD below.
-
-    Parameters
-    ----------
-    delta_t_k : array_like
-        Apparent temperature difference at the sensor [K].
-    netd_k : array_like
-        Noise-equivalent temperature difference of one pixel [K], > 0.
-    pixels : array_like
-        Pixels covered, n >= 0 (:func:`target_pixels`).
-    """
-    dt = np.abs(require("delta_t_k", delta_t_k))
-    netd = require("netd_k", netd_k, gt=0)
-    n = require("pixels", pixels, ge=0, allow_inf=True)
-    gain = np.where(n >= 1.0, np.sqrt(n), n)
-    with np.errstate(invalid="ignore"):
-        return np.where(np.isinf(n), np.where(dt > 0, np.inf, 0.0), dt * gain / netd)
-
-
 def tir_netd_range(
     *,
     projected_area_m2,
@@ -237,7 +218,9 @@ def tir_netd_range(
     air_temperature_k=None,
     band="lwir",
 ) -> RangeResult:
-    """NETD-limited TIR range: where the blob's SNR (:func:`netd_snr`) falls to ``required_snr``.
+    """NETD-limited TIR range: where the blob SNR with NETD as the noise falls to ``required_snr``.
+
+    The SNR is :func:`csuas.core.detection.blob_snr` of the apparent Delta T over the target's pixels.
 
     Unattenuated it has a closed form in each regime: R0 = |Delta T0| sqrt(A) / (NETD IFOV SNR_req)
     while the target covers a pixel or more, R0 = sqrt(|Delta T0| A / (NETD SNR_req)) / IFOV below;
@@ -287,7 +270,7 @@ def tir_netd_range(
         def residual(rr):
             dt = attenuated_delta_t(sign * dt0[attenuated], rr, sigma[attenuated], convention, **kwargs)
             pixels = target_pixels(a[attenuated], w[attenuated], rr)
-            return netd_snr(dt, netd[attenuated], pixels) - snr_req[attenuated]
+            return blob_snr(dt, netd[attenuated], pixels) - snr_req[attenuated]
 
         root, found = bracketed_root(residual, np.full(int(attenuated.sum()), 1e-9), r0[attenuated], rtol=1e-12)
         r[attenuated] = np.where(found, root, r0[attenuated])

@@ -1,4 +1,4 @@
-"""NETD-limited thermal detection (core.tir: target_pixels, netd_snr, tir_netd_range; core.detection's
+"""NETD-limited thermal detection (core.tir: target_pixels, tir_netd_range; core.detection.blob_snr; core.detection's
 Gaussian threshold), against closed forms written here and the standard normal's published quantiles."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.detection import gaussian_pd, gaussian_required_snr
-from csuas.core.tir import netd_snr, target_pixels, tir_netd_range
+from csuas.core.detection import blob_snr, gaussian_pd, gaussian_required_snr
+from csuas.core.tir import target_pixels, tir_netd_range
 
 
 def test_gaussian_threshold_matches_the_normal_quantiles():
@@ -29,9 +29,9 @@ def test_pixels_and_blob_snr_in_both_regimes():
     # 0.06 m^2 at 0.5 mrad: 240 m gives 0.06 / 0.12^2 = 4.1667 px
     assert target_pixels(0.06, 0.5e-3, 240.0) == pytest.approx(0.06 / 0.12**2)
     assert np.isinf(target_pixels(0.06, 0.5e-3, 0.0))
-    assert netd_snr(2.0, 0.05, 4.0) == pytest.approx(2.0 * 2.0 / 0.05)  # sqrt(4) pixels
-    assert netd_snr(-2.0, 0.05, 0.25) == pytest.approx(2.0 * 0.25 / 0.05)  # a quarter pixel: diluted
-    assert netd_snr(1.0, 0.1, 1.0 - 1e-12) == pytest.approx(netd_snr(1.0, 0.1, 1.0 + 1e-12))  # continuous
+    assert blob_snr(2.0, 0.05, 4.0) == pytest.approx(2.0 * 2.0 / 0.05)  # sqrt(4) pixels
+    assert blob_snr(-2.0, 0.05, 0.25) == pytest.approx(2.0 * 0.25 / 0.05)  # a quarter pixel: diluted
+    assert blob_snr(1.0, 0.1, 1.0 - 1e-12) == pytest.approx(blob_snr(1.0, 0.1, 1.0 + 1e-12))  # continuous
 
 
 def test_unattenuated_range_has_the_closed_form_of_each_regime():

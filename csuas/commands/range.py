@@ -18,10 +18,11 @@ from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario, provenance
 
-#: Effects a scenario may declare that no range model of the paper reads, with the reason.
+#: Effects a scenario may declare that no range model of the paper reads, with the reason (paper convention;
+#: the physical convention's EO camera chain reads the illuminance, docs/detection.md).
 IGNORED_EFFECTS = {
     "night": "no range model of the paper reads illuminance_lx (Table 11): the EO model (Eqs. 18, 21) "
-    "has no light-level term, so night changes no range",
+    "has no light-level term, so night changes no range (the physical convention's EO camera chain reads it)",
 }
 #: Why Table 39's default radar reaches only tens of metres (shown for radars at the default preset).
 DEFAULT_RADAR_NOTE = (
@@ -110,7 +111,7 @@ def run(args) -> dict:
         "target": scenario.target_preset,
         "environment": scenario.environment_preset,
         "effects": effects,
-        "ignored_effects": {e: IGNORED_EFFECTS[e] for e in effects if e in IGNORED_EFFECTS},
+        "ignored_effects": {e: IGNORED_EFFECTS[e] for e in effects if e in IGNORED_EFFECTS and convention == "paper"},
         "warnings": list(scenario.warnings),
         "target_inputs": provenance("target", scenario.target, scenario.origin["target"]),
         "environment_inputs": provenance("environment", scenario.environment, scenario.origin["environment"]),
