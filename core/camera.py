@@ -175,7 +175,7 @@ def light_limited_range_m(
         return blob_snr(excess0 * transmittance_at(r), noise, pixels)
 
     bound = float(range_bound_m)
-    if excess0 <= 0:
+    if excess0 <= 0 or not np.isfinite(required_snr):  # no contrast, or certainty (p_desired = 1)
         return 0.0, chain
     if float(snr(np.array([bound]))[0]) >= required_snr:
         return np.inf, chain

@@ -299,9 +299,10 @@ def blob_snr(signal, noise_sd, pixels):
 def gaussian_required_snr(pd, pfa):
     """Amplitude SNR a Gaussian threshold detector needs for ``pd`` at ``pfa``: Q^-1(Pfa) - Q^-1(Pd).
 
-    The inverse of :func:`gaussian_pd` (clipped at 0 where Pd <= Pfa needs no signal).
+    The inverse of :func:`gaussian_pd`: 0 where Pd <= Pfa needs no signal, +inf for Pd = 1 (never
+    certain in Gaussian noise).
     """
-    d, p = require_all(("pd", pd, {"gt": 0, "lt": 1}), ("pfa", pfa, {"gt": 0, "lt": 1}))
+    d, p = require_all(("pd", pd, {"ge": 0, "le": 1}), ("pfa", pfa, {"gt": 0, "lt": 1}))
     _, stats = _special()
     return np.maximum(stats.norm.isf(p) - stats.norm.isf(d), 0.0)
 

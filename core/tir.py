@@ -235,7 +235,8 @@ def tir_netd_range(
     netd_mk : array_like
         NETD [mK], > 0.
     required_snr : array_like
-        SNR the detection needs, > 0 (Q^-1(Pfa) - Q^-1(p_desired) for a Gaussian threshold).
+        SNR the detection needs, >= 0 (Q^-1(Pfa) - Q^-1(p_desired) for a Gaussian threshold): 0 detects
+        at any range, +inf at none.
     delta_t0_k, extinction_db_km, convention, t_bg_app_k, air_temperature_k, band
         As in :func:`tir_mrtd_range`.
     """
@@ -243,7 +244,7 @@ def tir_netd_range(
     a = require("projected_area_m2", projected_area_m2, ge=0)
     w = require("ifov_rad", ifov_rad_, gt=0)
     netd = require("netd_mk", netd_mk, gt=0) / 1000.0
-    snr_req = require("required_snr", required_snr, gt=0)
+    snr_req = require("required_snr", required_snr, ge=0, allow_inf=True)
     sigma = require("extinction_db_km", extinction_db_km, ge=0)
     signed_dt0 = require("delta_t0_k", delta_t0_k)
     shape = np.broadcast_shapes(a.shape, w.shape, netd.shape, snr_req.shape, sigma.shape, signed_dt0.shape)
@@ -251,12 +252,13 @@ def tir_netd_range(
         np.broadcast_to(v, shape).ravel() for v in (a, w, netd, snr_req, sigma, signed_dt0)
     )
     dt0 = np.abs(signed_dt0)
-    resolved = dt0 * np.sqrt(a) / (netd * w * snr_req)
-    r0 = np.where(a / np.square(w * np.where(resolved > 0, resolved, 1.0)) >= 1.0, resolved, 0.0)
-    sub_pixel = np.sqrt(dt0 * a / (netd * snr_req)) / w
-    r0 = np.where(r0 > 0, r0, sub_pixel)
+    with np.errstate(divide="ignore", invalid="ignore"):  # SNR 0 needed: any range; inf: none
+        resolved = np.where(dt0 * a > 0, dt0 * np.sqrt(a) / (netd * w * snr_req), 0.0)
+        resolved_ok = a / np.square(w * np.where((resolved > 0) & np.isfinite(resolved), resolved, 1.0)) >= 1.0
+        sub_pixel = np.where(dt0 * a > 0, np.sqrt(dt0 * a / (netd * snr_req)) / w, 0.0)
+    r0 = np.where(np.isinf(resolved) | ((resolved > 0) & resolved_ok), resolved, sub_pixel)
     r = r0.copy()
-    attenuated = (sigma > 0) & (r0 > 0)
+    attenuated = (sigma > 0) & (r0 > 0) & np.isfinite(snr_req) & (snr_req > 0)
     if np.any(attenuated):
         sign = np.where(signed_dt0 < 0, -1.0, 1.0)[attenuated]
         kwargs = {}
@@ -275,7 +277,11 @@ def tir_netd_range(
         root, found = bracketed_root(residual, np.full(int(attenuated.sum()), 1e-9), r0[attenuated], rtol=1e-12)
         r[attenuated] = np.where(found, root, r0[attenuated])
     r, r0 = r.reshape(shape), r0.reshape(shape)
-    reason = np.where(r <= 0, "never detectable: no Delta T or no target area", "NETD-limited (blob SNR)")
+    reason = np.where(
+        r <= 0,
+        "never detectable: no Delta T, no target area, or a certainty (p_desired = 1) no noise allows",
+        "NETD-limited (blob SNR)",
+    )
     terms = [
         Term(
             "delta_t0_k",
