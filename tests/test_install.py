@@ -36,6 +36,7 @@ def _third_party_imports(folders) -> dict[str, set[str]]:
     """Top-level module names imported anywhere (also inside functions) -> files importing them."""
     found: dict[str, set[str]] = {}
     for folder in folders:
+        local = {p.stem for p in (ROOT / folder).rglob("*.py")}  # sibling modules (a test's shared oracle)
         for path in (ROOT / folder).rglob("*.py"):
             for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
                 if isinstance(node, ast.Import):
@@ -46,7 +47,7 @@ def _third_party_imports(folders) -> dict[str, set[str]]:
                     continue
                 for name in names:
                     top = name.split(".")[0]
-                    if top not in sys.stdlib_module_names and top not in ("csuas", "__future__"):
+                    if top not in sys.stdlib_module_names and top not in ("csuas", "__future__", *local):
                         found.setdefault(top, set()).add(str(path.relative_to(ROOT)))
     return found
 
