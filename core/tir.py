@@ -97,6 +97,19 @@ def tir_johnson_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf) -> RangeResul
     )
 
 
+def _path_delta_t(signed_dt0, sigma, selected, shape, convention, t_bg_app_k, air_temperature_k, band):
+    """Delta T(R) of the ``selected`` (flattened) elements after their path, as a function of R [m]."""
+    kwargs = {}
+    if convention == "physical":
+        kwargs = dict(
+            t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[selected],
+            air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[selected],
+            band=band,
+        )
+    dt0, extinction = signed_dt0[selected], sigma[selected]
+    return lambda rr: attenuated_delta_t(dt0, rr, extinction, convention, **kwargs)
+
+
 def tir_mrtd_range(
     *,
     mrtd,
@@ -146,18 +159,12 @@ def tir_mrtd_range(
     r = r0.copy()
     attenuated = (sigma > 0) & (r0 > 0) & (d > 0)
     if np.any(attenuated):
-        sign = np.where(signed_dt0 < 0, -1.0, 1.0)[attenuated]
-        kwargs = {}
-        if convention == "physical":
-            kwargs = dict(
-                t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[attenuated],
-                air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[attenuated],
-                band=band,
-            )
+        delta_t_at = _path_delta_t(
+            signed_dt0, sigma, attenuated, shape, convention, t_bg_app_k, air_temperature_k, band
+        )
 
         def residual(rr):
-            dt = np.abs(attenuated_delta_t(sign * dt0[attenuated], rr, sigma[attenuated], convention, **kwargs))
-            return dt - mrtd(cycles_per_m[attenuated] * rr)
+            return np.abs(delta_t_at(rr)) - mrtd(cycles_per_m[attenuated] * rr)
 
         root, found = bracketed_root(residual, np.zeros(int(attenuated.sum())), r0[attenuated], rtol=1e-12)
         # No sign change: Delta T still exceeds the MRTD at R0, where the curve
@@ -260,19 +267,13 @@ def tir_netd_range(
     r = r0.copy()
     attenuated = (sigma > 0) & (r0 > 0) & np.isfinite(snr_req) & (snr_req > 0)
     if np.any(attenuated):
-        sign = np.where(signed_dt0 < 0, -1.0, 1.0)[attenuated]
-        kwargs = {}
-        if convention == "physical":
-            kwargs = dict(
-                t_bg_app_k=np.broadcast_to(t_bg_app_k, shape).ravel()[attenuated],
-                air_temperature_k=np.broadcast_to(air_temperature_k, shape).ravel()[attenuated],
-                band=band,
-            )
+        delta_t_at = _path_delta_t(
+            signed_dt0, sigma, attenuated, shape, convention, t_bg_app_k, air_temperature_k, band
+        )
 
         def residual(rr):
-            dt = attenuated_delta_t(sign * dt0[attenuated], rr, sigma[attenuated], convention, **kwargs)
             pixels = target_pixels(a[attenuated], w[attenuated], rr)
-            return blob_snr(dt, netd[attenuated], pixels) - snr_req[attenuated]
+            return blob_snr(delta_t_at(rr), netd[attenuated], pixels) - snr_req[attenuated]
 
         root, found = bracketed_root(residual, np.full(int(attenuated.sum()), 1e-9), r0[attenuated], rtol=1e-12)
         r[attenuated] = np.where(found, root, r0[attenuated])
