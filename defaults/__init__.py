@@ -96,6 +96,11 @@ def scenario_path(name: str):
     return resources.files(__name__).joinpath("scenarios", f"{name}.toml")
 
 
+def dataset_path(name: str):
+    """Path of an embedded dataset spec (``example``; docs/datasets.md)."""
+    return resources.files(__name__).joinpath("datasets", f"{name}.toml")
+
+
 def sweep_path(name: str):
     """Path of an embedded sweep spec (``range_rain``, ``rcs_bands``, ...; docs/sweeps.md)."""
     return resources.files(__name__).joinpath("sweeps", f"{name}.toml")

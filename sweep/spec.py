@@ -192,7 +192,9 @@ def parse_spec(data: dict) -> SweepSpec:
     if job not in JOBS:
         raise_all([*errors, ParameterError("job", job, ", ".join(JOBS))])
     if job == "dataset":
-        raise ParameterError("job", job, "range, pd, render or rcs: the dataset job needs csuas dataset, not built yet")
+        raise ParameterError(
+            "job", job, "range, pd, render or rcs: datasets are made by csuas dataset SPEC --out DIR (one process)"
+        )
     seed = data.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         errors.append(ParameterError("seed", seed, "a whole number >= 0"))

@@ -1,0 +1,308 @@
+"""Labelled EO datasets: drones x ranges x aspects drawn from a spec, rendered as full frames through the
+sensor chain, with COCO and YOLO labels (``csuas dataset``, docs/datasets.md).
+
+Spec (TOML, public interface)::
+
+    seed = 3
+    count = 20                       # random draws (per point of the list axes)
+    scenario = "default"             # environment and sensors come from a scenario
+    sensor = "eo"                    # which of its sensors takes the images
+    drones = ["dji_mini_4_pro", "black_hornet_3"]
+    range_m = {min = 50.0, max = 800.0}
+    azimuth_deg = {min = 0.0, max = 360.0}
+    elevation_deg = {min = -10.0, max = 30.0}
+    background = "sky"
+    chain = ["psf", "shot_noise", "read_noise", "quantise"]
+
+A table with ``min`` and ``max`` draws uniformly (``drones`` from its list), a list is a grid axis:
+the images are every combination of the list axes, ``count`` random draws each. Optional keys:
+``quality`` (render preset, default ``draft``), ``position`` (``random``: the target anywhere in
+the frame, possibly cut by its edge; ``centre``), ``bits`` (8-16). Image ``i`` draws from the
+seed ``[seed, i]``, so a given spec always gives the same bytes, and an image already on disk is
+not redone.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from csuas.base.errors import InputErrors, ParameterError
+from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+
+#: Axes a spec may draw or list.
+AXES = ("drones", "range_m", "azimuth_deg", "elevation_deg")
+#: Valid range of each numeric axis.
+AXIS_LIMITS = {"range_m": (1.0, 1e5), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)}
+#: Keys a spec may hold.
+SPEC_KEYS = ("seed", "count", "scenario", "sensor", *AXES, "background", "chain", "quality", "position", "bits")
+
+
+@dataclass(frozen=True)
+class DatasetSpec:
+    """A parsed dataset spec (module docstring)."""
+
+    seed: int
+    count: int
+    scenario: str
+    sensor: str | None
+    axes: dict
+    background: object
+    chain: tuple
+    quality: str
+    position: str
+    bits: int
+
+
+def parse_dataset_spec(data: dict) -> DatasetSpec:
+    """Validate a spec's TOML table; every mistake at once (:class:`InputErrors`)."""
+    from csuas.drone_models.presets import list_presets
+    from csuas.render.imaging.sensor_chain import STAGES
+
+    errors = []
+    for key in data:
+        if key not in SPEC_KEYS:
+            errors.append(ParameterError(key, data[key], "a spec key: " + ", ".join(SPEC_KEYS)))
+    seed, count = data.get("seed", 0), data.get("count", 1)
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        errors.append(ParameterError("seed", seed, "a whole number >= 0"))
+    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= 1_000_000:
+        errors.append(ParameterError("count", count, "a whole number 1 to 1,000,000"))
+    axes = {}
+    drones = data.get("drones", ["dji_mini_4_pro"])
+    if not isinstance(drones, list) or not drones or any(d not in list_presets() for d in drones):
+        errors.append(ParameterError("drones", drones, "a list of drone presets: " + ", ".join(list_presets())))
+    axes["drones"] = drones
+    for name, (lo, hi) in AXIS_LIMITS.items():
+        value = data.get(name, {"min": lo, "max": hi} if name != "range_m" else [500.0])
+        values = [value["min"], value["max"]] if isinstance(value, dict) else value
+        if isinstance(value, dict) and set(value) != {"min", "max"}:
+            errors.append(ParameterError(name, value, "{min = ..., max = ...} or a list"))
+        elif (
+            not isinstance(values, list)
+            or not values
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and lo <= v <= hi for v in values)
+        ):
+            errors.append(ParameterError(name, value, f"values from {lo:g} to {hi:g}, as a list or {{min, max}}"))
+        elif isinstance(value, dict) and value["min"] > value["max"]:
+            errors.append(ParameterError(name, value, "min <= max"))
+        axes[name] = value
+    chain = data.get("chain", ["psf", "shot_noise", "read_noise", "quantise"])
+    if not isinstance(chain, list) or any(s not in STAGES for s in chain):
+        errors.append(ParameterError("chain", chain, "a list of stages: " + ", ".join(STAGES)))
+    background = data.get("background", "sky")
+    if not (background == "sky" or (isinstance(background, (int, float)) and 0.0 <= background <= 1.0)):
+        errors.append(ParameterError("background", background, "'sky' or a reflectance 0..1"))
+    quality = data.get("quality", "draft")
+    if quality not in ("draft", "standard", "reference"):
+        errors.append(ParameterError("quality", quality, "draft, standard or reference"))
+    position = data.get("position", "random")
+    if position not in ("random", "centre"):
+        errors.append(ParameterError("position", position, "random or centre"))
+    bits = data.get("bits", 12)
+    if bits not in (8, 10, 12, 14, 16):
+        errors.append(ParameterError("bits", bits, "8, 10, 12, 14 or 16"))
+    scenario, sensor = data.get("scenario", "default"), data.get("sensor")
+    if not isinstance(scenario, str):
+        errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
+    if errors:
+        raise InputErrors(errors)
+    return DatasetSpec(seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits)
+
+
+def load_dataset_spec(source) -> DatasetSpec:
+    """A spec from a TOML file or an embedded spec name (``defaults/datasets``, e.g. ``example``)."""
+    import tomllib
+
+    from csuas.defaults import dataset_path
+
+    path = Path(source)
+    if not path.exists() and not str(source).endswith(".toml"):
+        path = dataset_path(str(source))
+    if not path.is_file():
+        raise ParameterError("spec", str(source), "a dataset spec TOML file or an embedded spec name")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None
+    return parse_dataset_spec(data)
+
+
+def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
+    """Every image's drone, range, aspect and target offset (module docstring), in a fixed order."""
+    listed = [name for name in AXES if not isinstance(spec.axes[name], dict) and name != "drones"]
+    grid = list(itertools.product(*(spec.axes[name] for name in listed)))
+    out = []
+    for point in grid:
+        for _ in range(spec.count):
+            index = len(out)
+            rng = np.random.default_rng([spec.seed, index])
+            item = dict(zip(listed, point))
+            item["drone"] = spec.axes["drones"][int(rng.integers(len(spec.axes["drones"])))]
+            for name in AXES[1:]:
+                axis = spec.axes[name]
+                if isinstance(axis, dict):
+                    item[name] = float(rng.uniform(axis["min"], axis["max"]))
+            width, height = frame_size
+            offset = (0.0, 0.0)
+            if spec.position == "random":
+                offset = (float(rng.uniform(-width / 2, width / 2)), float(rng.uniform(-height / 2, height / 2)))
+            item.update(index=index, target_offset_px=offset, name=f"{index:06d}_{item['drone']}")
+            out.append(item)
+    return out
+
+
+def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
+    """Render every image of the spec not yet on disk; write images, labels and ``annotations.json``.
+
+    Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN), ``labels/NAME.txt`` (YOLO),
+    ``records/NAME.json`` (the image's COCO entries, for resuming) and ``annotations.json`` (COCO).
+
+    Returns
+    -------
+    dict
+        ``images``, ``rendered``, ``resumed``, ``annotations`` (path), ``time_s``.
+    """
+    from csuas.core.scenario import load_scenario
+
+    scenario = load_scenario(spec.scenario)
+    sensor = _eo_sensor(scenario, spec.sensor)
+    out = prepare_output_dir(out_dir)
+    for sub in ("images", "labels", "records"):
+        (out / sub).mkdir(exist_ok=True)
+    items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
+    start, rendered = time.perf_counter(), 0
+    for done, item in enumerate(items, 1):
+        record = out / "records" / f"{item['name']}.json"
+        if not record.exists():
+            _write_image(spec, scenario, sensor, item, out)
+            rendered += 1
+        if progress is not None:
+            elapsed = time.perf_counter() - start
+            eta = elapsed / max(rendered, 1) * sum(1 for i in items[done:]) if rendered else 0.0
+            print(f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress)
+    annotations = _coco(spec, sensor, items, out)
+    return {
+        "images": len(items),
+        "rendered": rendered,
+        "resumed": len(items) - rendered,
+        "annotations": str(annotations),
+        "time_s": time.perf_counter() - start,
+    }
+
+
+def _eo_sensor(scenario, name):
+    candidates = {n: s for n, s in scenario.sensors.items() if s.modality == "eo"}
+    if name is None and candidates:
+        return next(iter(candidates.values()))
+    if name not in candidates:
+        raise ParameterError("sensor", name, f"an EO sensor of the scenario: {', '.join(candidates) or 'none'}")
+    return candidates[name]
+
+
+def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> None:
+    from PIL import Image
+
+    from csuas.core.detection import blob_snr
+    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.labels import yolo_line
+    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.sensor_chain import ChainSettings
+
+    p = sensor.params
+    camera = {
+        k: p[k]
+        for k in (
+            "f_number",
+            "optics_transmittance",
+            "pixel_pitch_um",
+            "quantum_efficiency",
+            "max_exposure_ms",
+            "full_well_e",
+        )
+    }
+    chain = ChainSettings(
+        stages=spec.chain,
+        f_number=p["f_number"],
+        wavelength_um=p["wavelength_nm"] / 1000.0,
+        pixel_pitch_um=p["pixel_pitch_um"],
+        read_noise_e=p["read_noise_e"],
+        dark_current_e_s=p["dark_current_e_s"],
+        bits=spec.bits,
+    )
+    light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
+    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
+    frame = eo_frame(
+        item["drone"],
+        view,
+        EoSensor.from_params(p),
+        light,
+        camera,
+        chain,
+        seed=spec.seed * 1_000_003 + item["index"],
+        quality=spec.quality,
+    )
+    res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
+    width, height = int(p["n_h"]), int(p["n_v"])
+    with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
+        Image.fromarray(dn.astype(np.uint16)).save(tmp, format="PNG")
+    yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
+    write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
+    background_e = float(np.median(frame["electrons"]))
+    mask = frame["electrons"] != background_e
+    noise = float(np.sqrt(background_e + p["read_noise_e"] ** 2))
+    excess = float(np.abs(np.sum(frame["electrons"][mask] - background_e)))
+    pixels = float(max(lab["pixels_on_target"], 1e-12))
+    # the excess summed over the blob against the noise of the pixels it covers (at least one)
+    snr = float(blob_snr(excess / pixels, noise, pixels)) if lab["in_frame"] else 0.0
+    entry = {
+        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
+        "annotation": None,
+    }
+    if lab["in_frame"]:
+        entry["annotation"] = {
+            "category_id": 1,
+            "bbox": lab["bbox"],
+            "area": lab["area"],
+            "segmentation": lab["segmentation"],
+            "iscrowd": 0,
+            "csuas": {
+                "drone": item["drone"],
+                "range_m": item["range_m"],
+                "azimuth_deg": item["azimuth_deg"],
+                "elevation_deg": item["elevation_deg"],
+                "target_center_px": [width / 2 + item["target_offset_px"][0], height / 2 + item["target_offset_px"][1]],
+                "pixels_on_target": lab["pixels_on_target"],
+                "contrast": float(res.values.get("contrast", float("nan"))),
+                "snr": snr,
+                "johnson_cycles": float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0,
+                "clipped": lab["clipped"],
+                "subpixel": lab["subpixel"],
+                "exposure_s": frame["exposure_s"],
+            },
+        }
+    write_text_atomic(out / "records" / f"{item['name']}.json", json.dumps(entry, indent=1))
+
+
+def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
+    p = sensor.params
+    images, annotations = [], []
+    for image_id, item in enumerate(items, 1):
+        entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+        images.append(
+            {"id": image_id, **entry["image"], "csuas": {"hfov_deg": p["hfov_deg"], "vfov_deg": p["vfov_deg"]}}
+        )
+        if entry["annotation"] is not None:
+            annotations.append({"id": len(annotations) + 1, "image_id": image_id, **entry["annotation"]})
+    coco = {
+        "info": {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario},
+        "images": images,
+        "annotations": annotations,
+        "categories": [{"id": 1, "name": "drone"}],
+    }
+    return write_text_atomic(out / "annotations.json", json.dumps(coco, indent=1))

@@ -1,0 +1,65 @@
+"""csuas dataset (render/imaging/dataset.py): spec validation, draws, files, labels, determinism, resume."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from csuas import cli
+from csuas.base.errors import InputErrors
+from csuas.render.imaging.dataset import draws, load_dataset_spec, parse_dataset_spec
+
+
+def test_every_spec_mistake_is_named_at_once():
+    with pytest.raises(InputErrors) as caught:
+        parse_dataset_spec(
+            {"count": 0, "drones": ["no_such"], "range_m": {"min": 900.0, "max": 10.0}, "chain": ["jpeg"], "colour": 1}
+        )
+    text = str(caught.value)
+    for key in ("count", "drones", "range_m", "chain", "colour"):
+        assert key in text
+
+
+def test_list_axes_are_a_grid_and_tables_are_drawn():
+    spec = parse_dataset_spec(
+        {"seed": 5, "count": 3, "range_m": [100.0, 200.0], "azimuth_deg": {"min": 10.0, "max": 20.0}}
+    )
+    items = draws(spec, (1920, 1080))
+    assert [i["range_m"] for i in items] == [100.0] * 3 + [200.0] * 3
+    assert all(10.0 <= i["azimuth_deg"] <= 20.0 for i in items)
+    assert all(abs(i["target_offset_px"][0]) <= 960 and abs(i["target_offset_px"][1]) <= 540 for i in items)
+    assert draws(spec, (1920, 1080)) == items  # the seed fixes every draw
+    example = load_dataset_spec("example")
+    assert example.count == 20 and example.axes["drones"] == ["dji_mini_4_pro", "black_hornet_3"]
+
+
+@pytest.mark.slow
+def test_a_small_dataset_has_images_labels_and_the_same_bytes_for_the_same_seed(tmp_path, capsys):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        'seed = 1\ncount = 2\nscenario = "default"\ndrones = ["dji_mini_4_pro"]\nrange_m = [150.0]\n'
+        'position = "centre"\n'
+    )
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "a"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["images"] == 2 and summary["rendered"] == 2
+    coco = json.loads((tmp_path / "a" / "annotations.json").read_text())
+    assert len(coco["images"]) == 2 and len(coco["annotations"]) == 2
+    first = coco["annotations"][0]
+    x, y, w, h = first["bbox"]
+    assert abs(x + w / 2 - 960) < w and abs(y + h / 2 - 540) < h  # centred target
+    assert not first["csuas"]["clipped"] and first["csuas"]["pixels_on_target"] > 1
+    yolo = (tmp_path / "a" / "labels" / "000000_dji_mini_4_pro.txt").read_text().split()
+    assert float(yolo[1]) == pytest.approx((x + w / 2) / 1920, abs=1e-6)
+    from PIL import Image
+
+    image = np.asarray(Image.open(tmp_path / "a" / "images" / "000000_dji_mini_4_pro.png"))
+    assert image.shape == (1080, 1920) and image.max() < 4096  # 12-bit DN in a 16-bit PNG
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "b")]) == 0
+    for name in ("000000_dji_mini_4_pro.png", "000001_dji_mini_4_pro.png"):
+        assert (tmp_path / "a" / "images" / name).read_bytes() == (tmp_path / "b" / "images" / name).read_bytes()
+    capsys.readouterr()
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "a"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rendered"] == 0  # resumed: nothing redone
