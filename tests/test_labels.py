@@ -50,3 +50,40 @@ def test_bad_coverage_and_frame_are_refused():
         label(np.full((2, 2), np.nan), 0, 0, 10, 10)
     with pytest.raises(ParameterError, match="frame size"):
         label(np.zeros((2, 2)), 0, 0, 0, 10)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("range_m", "azimuth_deg", "elevation_deg", "offset_px"),
+    [(150.0, 30.0, 10.0, (100.0, -50.0)), (60.0, 200.0, -20.0, (0.0, 0.0)), (400.0, 90.0, 45.0, (-300.0, 200.0))],
+)
+def test_rendered_box_matches_the_exact_projection_of_the_mesh(range_m, azimuth_deg, elevation_deg, offset_px):
+    """The label's box against the pinhole projection of every mesh vertex (bbox of a projected polyhedron
+    is the bbox of its projected vertices): camera at range_m along the view direction, image axes h
+    (right) and v (up) of drone_models.geometry.view_basis, principal point at the frame's centre pixel."""
+    import math
+
+    from csuas.drone_models import build_drone
+    from csuas.drone_models.geometry import direction_vector, view_basis
+    from csuas.render.imaging.eo import render_eo
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
+
+    sensor = EoSensor()
+    res = render_eo(
+        "dji_mini_4_pro",
+        View(range_m, azimuth_deg, elevation_deg, offset_px),
+        sensor,
+        Daylight(),
+        settings=RenderSettings("draft", 0),
+    )
+    box = label(res.coverage, res.window.x0, res.window.y0, sensor.n_h, sensor.n_v)["bbox"]
+    vertices = np.vstack([np.asarray(p.mesh.vertices) for p in build_drone("dji_mini_4_pro").parts])
+    d = direction_vector(azimuth_deg, elevation_deg)
+    h, v = view_basis(d, azimuth_deg)
+    depth = range_m - vertices @ d
+    ifov = math.radians(sensor.hfov_deg) / sensor.n_h
+    x = sensor.n_h // 2 + 0.5 + offset_px[0] + (vertices @ h) / (depth * ifov)
+    y = sensor.n_v // 2 + 0.5 + offset_px[1] - (vertices @ v) / (depth * ifov)
+    left, top, right, bottom = (math.floor(value) for value in (x.min(), y.min(), x.max(), y.max()))
+    assert abs(box[0] - left) <= 1 and abs(box[1] - top) <= 1
+    assert abs(box[0] + box[2] - 1 - right) <= 1 and abs(box[1] + box[3] - 1 - bottom) <= 1
