@@ -17,6 +17,7 @@ SUITES = {
     "sionna_links": "csuas.validation.links.bench:bench_links",
     "lidar_lcs": "csuas.validation.lidar.bench:bench",
     "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",
+    "dataset_frames": "csuas.validation.imaging.bench:bench_frames",
     "detection_pd": "csuas.validation.detection.bench:bench_pd",
     "sweep_dask": "csuas.validation.sweep.bench:bench_sweep",
 }

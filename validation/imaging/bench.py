@@ -65,3 +65,43 @@ def bench_window_vs_full_frame(
         "pixels_on_target_full_frame_stderr": sf,
         "difference_sigma": abs(pw - pf) / combined if combined > 0 else (0.0 if pw == pf else math.inf),
     }
+
+
+def bench_frames(n_frames: int = 10, range_m: float = 300.0) -> dict:
+    """Full 1920 x 1080 EO frames with the whole chain at draft quality: frames per second and where time goes.
+
+    Each frame renders the DJI Mini 4 Pro's window at a new aspect (as a dataset does), exposes it and runs
+    the chain (psf, shot noise, dark current, PRNU, DSNU, read noise, quantise); the first frame, which
+    compiles the render kernels, is left out. ``peak_rss_gib`` is the process's high-water mark after the run.
+    """
+    import resource
+    import time
+
+    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.records import Daylight
+    from csuas.render.imaging.sensor_chain import STAGES, ChainSettings
+
+    camera = {
+        "f_number": 2.0,
+        "optics_transmittance": 0.9,
+        "pixel_pitch_um": 2.9,
+        "quantum_efficiency": 0.6,
+        "max_exposure_ms": 33.3,
+        "full_well_e": 10000.0,
+    }
+    chain = ChainSettings(stages=tuple(s for s in STAGES if s != "netd"), prnu=0.005, dsnu_e=1.0)
+    render_s, chain_s = 0.0, 0.0
+    for i in range(int(n_frames) + 1):
+        start = time.perf_counter()
+        out = eo_frame("dji_mini_4_pro", View(range_m, 37.0 * i, 5.0), EoSensor(), Daylight(), camera, chain, seed=i)
+        total = time.perf_counter() - start
+        if i:
+            render_s += out["result"].time_s
+            chain_s += total - out["result"].time_s
+    return {
+        "frames": int(n_frames),
+        "frames_per_s": n_frames / (render_s + chain_s),
+        "render_s_per_frame": render_s / n_frames,
+        "camera_and_chain_s_per_frame": chain_s / n_frames,
+        "peak_rss_gib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20,
+    }
