@@ -93,7 +93,9 @@ def bench_frames(n_frames: int = 10, range_m: float = 300.0) -> dict:
     render_s, chain_s = 0.0, 0.0
     for i in range(int(n_frames) + 1):
         start = time.perf_counter()
-        out = eo_frame("dji_mini_4_pro", View(range_m, 37.0 * i, 5.0), EoSensor(), Daylight(), camera, chain, seed=i)
+        out = eo_frame(
+            "dji_mini_4_pro", View(range_m, (37.0 * i) % 360.0, 5.0), EoSensor(), Daylight(), camera, chain, seed=i
+        )
         total = time.perf_counter() - start
         if i:
             render_s += out["result"].time_s
