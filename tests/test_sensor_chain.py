@@ -1,70 +1,35 @@
 """The sensor chain (render/imaging/sensor_chain.py) by independent methods: a photon-transfer curve
 (EMVA 1288) returns the configured gain and read noise, a slanted edge (ISO 12233) returns the analytic
-MTF, flat thermal frames return the NETD."""
+MTF, flat thermal frames return the NETD (the procedures: validation/imaging/chain_checks.py)."""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
 
 from csuas.base.errors import InputErrors
-from csuas.render.imaging.sensor_chain import ChainSettings, apply_chain, chain_mtf
+from csuas.render.imaging.sensor_chain import ChainSettings, apply_chain
+from csuas.validation.imaging.chain_checks import flat_field_netd, photon_transfer, slanted_edge_mtf
 
 
 def test_photon_transfer_curve_returns_the_gain_and_read_noise():
     settings = ChainSettings(stages=("shot_noise", "read_noise", "quantise"), read_noise_e=6.0, bits=12)
-    means, variances = [], []
-    for level in np.geomspace(20.0, 8000.0, 10):
-        flat = np.full((256, 256), level)
-        a = apply_chain(flat, settings, seed=1)["dn"].astype(float)
-        b = apply_chain(flat, settings, seed=2)["dn"].astype(float)
-        means.append(0.5 * (a.mean() + b.mean()))
-        variances.append(np.var(a - b) / 2.0)  # the difference of two frames: temporal noise only (EMVA 1288)
-    slope, intercept = np.polyfit(means, variances, 1)
-    gain = settings.gain_e_per_dn
-    assert 1.0 / slope == pytest.approx(gain, rel=0.02)
-    read_e = math.sqrt(max(intercept - 1.0 / 12.0, 0.0)) * gain  # minus the quantisation noise, 1/12 DN^2
-    assert read_e == pytest.approx(6.0, rel=0.1)
-
-
-def _edge(size=128, angle_deg=5.0, supersample=32):
-    """A dark-to-bright half-plane box-filtered by square pixels (supersampled), and its normal."""
-    theta = math.radians(angle_deg)
-    normal = np.array([math.cos(theta), math.sin(theta)])
-    sub = (np.arange(size * supersample) + 0.5) / supersample - size / 2.0
-    x, y = np.meshgrid(sub, sub, indexing="xy")
-    bright = (x * normal[0] + y * normal[1] > 0.0).astype(float)
-    return bright.reshape(size, supersample, size, supersample).mean(axis=(1, 3)), normal
+    measured = photon_transfer(settings)
+    assert measured["gain_e_per_dn"] == pytest.approx(settings.gain_e_per_dn, rel=0.02)
+    assert measured["read_noise_e"] == pytest.approx(6.0, rel=0.1)
 
 
 def test_slanted_edge_mtf_equals_the_chains_analytic_mtf():
     settings = ChainSettings(stages=("psf",), f_number=8.0, wavelength_um=0.55, pixel_pitch_um=2.9, jitter_px=0.3)
-    edge, normal = _edge()
-    image = apply_chain(1000.0 * edge, settings, seed=0)["signal"].astype(float)
-    centre = (np.arange(128) + 0.5) - 64.0
-    x, y = np.meshgrid(centre, centre, indexing="xy")
-    distance = (x * normal[0] + y * normal[1]).ravel()
-    near = np.abs(distance) < 16.0
-    step = 0.25  # super-resolved edge spread function in quarter-pixel bins (ISO 12233)
-    bins = np.floor(distance[near] / step).astype(int)
-    bins -= bins.min()
-    esf = np.bincount(bins, weights=image.ravel()[near]) / np.bincount(bins)
-    lsf = np.gradient(esf, step)
-    spectrum = np.abs(np.fft.rfft(lsf))
-    freq = np.fft.rfftfreq(len(lsf), d=step)  # cycles per pixel
-    measured = spectrum / spectrum[0]
-    # the binning and the central difference multiply the measured MTF by sinc(nu d) sinc(2 nu d)
-    measured = measured / (np.sinc(freq * step) * np.sinc(2 * freq * step))
-    up_to_nyquist = freq <= 0.5
-    assert np.max(np.abs(measured[up_to_nyquist] - chain_mtf(freq[up_to_nyquist], settings))) < 0.03
+    mtf = slanted_edge_mtf(settings)
+    assert mtf["max_abs_difference"] < 0.02  # measured 0.012
+    assert mtf["analytic"][-1] < 0.1 < mtf["analytic"][len(mtf["analytic"]) // 2]  # a real fall to Nyquist
 
 
 def test_flat_thermal_frames_show_the_netd():
     settings = ChainSettings(stages=("netd", "quantise"), netd_k=0.05, t_min_k=280.0, t_max_k=320.0, bits=14)
+    assert flat_field_netd(settings) == pytest.approx(0.05, rel=0.02)
     out = apply_chain(np.full((256, 256), 300.0), settings, seed=4, thermal=True)
-    assert np.std(out["signal"]) == pytest.approx(0.05, rel=0.02)
     scale = (settings.t_max_k - settings.t_min_k) / (2**14 - 1)
     assert np.std(out["dn"] * scale) == pytest.approx(0.05, rel=0.03)
 

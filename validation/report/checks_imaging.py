@@ -250,6 +250,91 @@ GAUSSIAN_ALLOWANCE = 0.06
 JUDGED_FROM_PD = 0.5
 
 
+#: The sensor-chain cameras of the report: optics for the slanted edge, detector for the photon transfer.
+CHAIN_EDGE = {"f_number": 8.0, "wavelength_um": 0.55, "pixel_pitch_um": 2.9, "jitter_px": 0.3}
+CHAIN_DETECTOR = {"read_noise_e": 6.0, "bits": 12}
+CHAIN_NETD_K = 0.05
+
+
+def sensor_chain(_knob=None) -> Section:
+    """Slanted-edge MTF, photon-transfer gain and read noise, and flat-field NETD of the sensor chain."""
+    from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.validation.imaging.chain_checks import flat_field_netd, photon_transfer, slanted_edge_mtf
+
+    s = Section()
+    edge_settings = ChainSettings(stages=("psf",), **CHAIN_EDGE)
+    mtf, t_mtf = timed(slanted_edge_mtf, edge_settings)
+    quarter = int(np.argmin(np.abs(mtf["frequency_cy_px"] - 0.25)))
+    s.outcomes.append(
+        Check(
+            "imaging.sensor_chain.slanted_edge.mtf_at_quarter_cycle",
+            float(mtf["analytic"][quarter]),
+            float(mtf["measured"][quarter]),
+            0.02,
+            "-",
+            time_s=t_mtf,
+            source="analytic MTF: diffraction (Goodman Eq. 6-31) x jitter x pixel footprint sinc",
+            method="ISO 12233 slanted edge (5 deg, quarter-pixel bins), f/8, 2.9 um, 0.3 px jitter, at 0.25 cy/px",
+            tolerance_source="0.02 absolute in MTF (the binning's residual)",
+            details={"max_abs_difference_to_nyquist": mtf["max_abs_difference"]},
+        )
+    )
+    detector = ChainSettings(stages=("shot_noise", "read_noise", "quantise"), **CHAIN_DETECTOR)
+    ptc, t_ptc = timed(photon_transfer, detector)
+    s.outcomes += [
+        Check(
+            "imaging.sensor_chain.photon_transfer.gain_e_per_dn",
+            detector.gain_e_per_dn,
+            ptc["gain_e_per_dn"],
+            0.02 * detector.gain_e_per_dn,
+            "e/DN",
+            time_s=t_ptc / 2,
+            source="the configured conversion gain (full well / 4095)",
+            method="EMVA 1288 photon transfer: variance of two-frame differences vs mean, ten levels, 256 x 256",
+            tolerance_source="2 %: the variance estimates of 65 536 pixels per level (0.6 % each)",
+        ),
+        Check(
+            "imaging.sensor_chain.photon_transfer.read_noise_e",
+            CHAIN_DETECTOR["read_noise_e"],
+            ptc["read_noise_e"],
+            0.1 * CHAIN_DETECTOR["read_noise_e"],
+            "e",
+            time_s=t_ptc / 2,
+            source="the configured read noise",
+            method="the photon-transfer intercept less 1/12 DN^2 of quantisation",
+            tolerance_source="10 %: the intercept of a fit dominated by shot noise",
+        ),
+    ]
+    thermal = ChainSettings(stages=("netd",), netd_k=CHAIN_NETD_K)
+    netd, t_netd = timed(flat_field_netd, thermal)
+    s.outcomes.append(
+        Check(
+            "imaging.sensor_chain.flat_field.netd_k",
+            CHAIN_NETD_K,
+            netd,
+            0.02 * CHAIN_NETD_K,
+            "K",
+            time_s=t_netd,
+            source="the configured NETD",
+            method="temporal standard deviation of a flat 300 K frame, 256 x 256",
+            tolerance_source="2 %: the standard deviation of 65 536 samples (0.3 %)",
+        )
+    )
+    f = mtf["frequency_cy_px"]
+    s.figures.append(
+        curves(
+            "imaging_sensor_chain_mtf",
+            "Sensor chain MTF: slanted edge against the analytic chain",
+            x_label="spatial frequency [cycles / pixel]",
+            y_label="MTF",
+            lines=[("analytic: diffraction x jitter x pixel", f, mtf["analytic"])],
+            points=[("slanted edge (ISO 12233)", f, mtf["measured"], None)],
+            caption="f/8 at 0.55 um on 2.9 um pixels, 0.3 px rms jitter.",
+        )
+    )
+    return s
+
+
 def closed_loop(settings: dict) -> Section:
     """A matched filter on rendered noisy frames: empirical Pd beside its Gaussian prediction, the core's
     light-limited blob model and the TTPF."""
@@ -336,6 +421,17 @@ SPECS = [
             "full": {"quality": "reference", "n_sides": SPP_SWEEP["full"]},
         },
         True,
+    ),
+    CheckSpec(
+        "imaging.sensor_chain",
+        "Sensor chain: slanted-edge MTF, photon transfer, flat-field NETD",
+        "imaging",
+        "the chain's measured MTF, conversion gain, read noise and NETD vs its configured and analytic values",
+        "0.02 in MTF; 2 % gain; 10 % read noise; 2 % NETD",
+        sensor_chain,
+        None,
+        {},
+        False,
     ),
     CheckSpec(
         "imaging.closed_loop",
