@@ -96,8 +96,8 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
     if not isinstance(chain, list) or any(s not in STAGES for s in chain):
         errors.append(ParameterError("chain", chain, "a list of stages: " + ", ".join(STAGES)))
     background = data.get("background", "sky")
-    if not (background == "sky" or (isinstance(background, (int, float)) and 0.0 <= background <= 1.0)):
-        errors.append(ParameterError("background", background, "'sky' or a reflectance 0..1"))
+    if not (background in ("sky", "clear_sky") or (isinstance(background, (int, float)) and 0 <= background <= 1)):
+        errors.append(ParameterError("background", background, "'sky', 'clear_sky' or a reflectance 0..1"))
     quality = data.get("quality", "draft")
     if quality not in ("draft", "standard", "reference"):
         errors.append(ParameterError("quality", quality, "draft, standard or reference"))

@@ -3,8 +3,9 @@ it, the camera's radiometry (:mod:`csuas.core.camera`), the sensor chain
 (:mod:`csuas.render.imaging.sensor_chain`) and the target's label (:mod:`csuas.render.imaging.labels`).
 
 The target is rendered in its window only (range-normalised, exact geometry,
-:func:`csuas.render.imaging.eo.render_eo`); the rest of the frame is the background's luminance,
-uniform: the horizon sky of the render or a Lambertian background. Luminance becomes mean
+:func:`csuas.render.imaging.eo.render_eo`); the rest of the frame is the background's luminance:
+uniform (the horizon sky of the render or a Lambertian background) or the CIE clear sky with the
+ground below the horizon (:mod:`csuas.render.imaging.background`). Luminance becomes mean
 photoelectrons through the camera equation and the exposure that auto-exposure sets on the
 background; the chain then adds blur, noise and quantisation.
 """
@@ -16,7 +17,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
+from csuas.render.imaging.background import clear_sky_frame
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
 from csuas.render.imaging.labels import label
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
@@ -42,7 +45,9 @@ def eo_frame(
     target : str or Drone
         Drone preset or model.
     view, sensor, light
-        As :func:`csuas.render.imaging.eo.render_eo`.
+        As :func:`csuas.render.imaging.eo.render_eo`; ``light.background`` may also be ``"clear_sky"``: the
+        CIE clear sky's gradient from the sun and the ground below the horizon
+        (:mod:`csuas.render.imaging.background`), without atmosphere.
     camera : dict
         ``f_number``, ``optics_transmittance``, ``pixel_pitch_um``, ``quantum_efficiency``,
         ``max_exposure_ms``, ``full_well_e`` (a scenario's EO parameters).
@@ -60,18 +65,43 @@ def eo_frame(
     dict
         ``result`` (the window's ImagingResult), ``luminance`` (frame, cd/m^2), ``electrons`` (mean
         signal), ``chain`` (:func:`apply_chain`'s output), ``label``, ``exposure_s`` and
-        ``background_luminance``.
+        ``background_luminance`` (the uniform background, or the gradient frame's median, which the
+        auto-exposure uses).
     """
-    res = render_eo(target, view, sensor, light, atmosphere=atmosphere, settings=RenderSettings(quality, seed))
-    if light.background == "sky":
+    gradient = light.background == "clear_sky"
+    if gradient and atmosphere:
+        raise ParameterError("background", "clear_sky", "'sky' or a reflectance when the atmosphere is on")
+    lit = replace(light, background="sky") if gradient else light
+    res = render_eo(target, view, sensor, lit, atmosphere=atmosphere, settings=RenderSettings(quality, seed))
+    if lit.background == "sky":
         background = float(res.values["sky_radiance"])
     else:
-        background = float(light.background) * light.illuminance_lx / math.pi
-    frame = np.full((sensor.n_v, sensor.n_h), background)
+        background = float(lit.background) * light.illuminance_lx / math.pi
     window = res.window
-    frame[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = np.tensordot(
-        LUMINANCE_WEIGHTS, res.image, axes=1
-    )
+    rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
+    if gradient:
+        frame = clear_sky_frame(
+            sensor.n_h,
+            sensor.n_v,
+            res.ifov_rad,
+            view.azimuth_deg,
+            view.elevation_deg,
+            view.target_offset_px,
+            diffuse_illuminance_lx=light.diffuse_fraction * light.illuminance_lx,
+            illuminance_lx=light.illuminance_lx,
+            sun_azimuth_deg=view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg,
+            sun_elevation_deg=light.sun_elevation_deg,
+            ground_reflectance=light.ground_reflectance,
+        )
+        rows = slice(window.y0, window.y0 + window.height)
+        cols = slice(window.x0, window.x0 + window.width)
+        uncovered = 1.0 - res.coverage
+        # the render's uniform sky leaves the target's own light; the gradient fills what it does not cover
+        frame[rows, cols] = rendered - uncovered * background + uncovered * frame[rows, cols]
+        background = float(np.median(frame))
+    else:
+        frame = np.full((sensor.n_v, sensor.n_h), background)
+        frame[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = rendered
     per_lux = electron_rate(1.0, camera["pixel_pitch_um"], camera["quantum_efficiency"], photons_per_lumen())
     rate = per_lux * focal_plane_illuminance_lx(frame, camera["f_number"], camera["optics_transmittance"])
     background_rate = per_lux * focal_plane_illuminance_lx(

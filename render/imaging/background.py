@@ -1,0 +1,93 @@
+"""Backgrounds of a full EO frame: the CIE clear sky with its gradient from the sun, and the ground below the horizon.
+
+Sky luminance follows the CIE standard general sky, type 12 "CIE standard clear sky, low
+luminance turbidity" (ISO 15469:2004 / CIE S 011/E:2003):
+
+    L(Z, chi) / L_z = f(chi) phi(Z) / (f(Z_s) phi(0)),
+    phi(Z) = 1 + a exp(b / cos Z),   f(chi) = 1 + c (exp(d chi) - exp(d pi / 2)) + e cos^2 chi,
+    a = -1, b = -0.32, c = 10, d = -3, e = 0.45,
+
+with Z the zenith angle of the viewing direction, chi its angle from the sun and Z_s the sun's zenith
+angle. The zenith luminance L_z is set so that the sky gives the horizontal diffuse illuminance of the
+render's daylight (``integral L cos Z dOmega`` over the sky hemisphere). Below the horizon the frame
+sees Lambertian ground of luminance rho_g E_v / pi. Directions are in the drone's body frame (z up,
+docs/command-line.md); the camera looks from the sensor toward the target, its image axes those of
+:func:`csuas.drone_models.geometry.view_basis`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from csuas.drone_models.geometry import direction_vector, view_basis
+
+#: CIE standard general sky type 12 (clear sky, low turbidity): gradation a, b and indicatrix c, d, e.
+CIE_CLEAR_SKY = {"a": -1.0, "b": -0.32, "c": 10.0, "d": -3.0, "e": 0.45}
+
+
+def _gradation(zenith_rad, p=CIE_CLEAR_SKY):
+    cos_z = np.maximum(np.cos(zenith_rad), 1e-6)
+    return 1.0 + p["a"] * np.exp(p["b"] / cos_z)
+
+
+def _indicatrix(chi_rad, p=CIE_CLEAR_SKY):
+    return 1.0 + p["c"] * (np.exp(p["d"] * chi_rad) - math.exp(p["d"] * math.pi / 2)) + p["e"] * np.cos(chi_rad) ** 2
+
+
+def relative_sky_luminance(zenith_rad, sun_angle_rad, sun_zenith_rad):
+    """L / L_z of the CIE clear sky (module docstring) [-]: 1 at the zenith."""
+    return (
+        _indicatrix(np.asarray(sun_angle_rad, float))
+        * _gradation(np.asarray(zenith_rad, float))
+        / (_indicatrix(sun_zenith_rad) * _gradation(0.0))
+    )
+
+
+def zenith_luminance(diffuse_illuminance_lx: float, sun_zenith_rad: float, samples: int = 400) -> float:
+    """L_z [cd/m^2] whose clear sky gives ``diffuse_illuminance_lx`` on a horizontal plane (midpoint rule)."""
+    z = (np.arange(samples) + 0.5) * (math.pi / 2) / samples
+    phi = (np.arange(2 * samples) + 0.5) * (2 * math.pi) / (2 * samples)
+    zz, pp = np.meshgrid(z, phi, indexing="ij")
+    # angle to the sun (at azimuth 0): cos chi = cos Z cos Zs + sin Z sin Zs cos phi
+    cos_chi = np.cos(zz) * math.cos(sun_zenith_rad) + np.sin(zz) * math.sin(sun_zenith_rad) * np.cos(pp)
+    rel = relative_sky_luminance(zz, np.arccos(np.clip(cos_chi, -1.0, 1.0)), sun_zenith_rad)
+    d_omega = np.sin(zz) * (math.pi / 2 / samples) * (2 * math.pi / (2 * samples))
+    return float(diffuse_illuminance_lx / np.sum(rel * np.cos(zz) * d_omega))
+
+
+def clear_sky_frame(
+    n_h: int,
+    n_v: int,
+    ifov_rad: float,
+    azimuth_deg: float,
+    elevation_deg: float,
+    target_offset_px,
+    *,
+    diffuse_illuminance_lx: float,
+    illuminance_lx: float,
+    sun_azimuth_deg: float,
+    sun_elevation_deg: float,
+    ground_reflectance: float,
+) -> np.ndarray:
+    """Background luminance [cd/m^2] of every pixel of a frame looking at the target (module docstring).
+
+    The target lies at pixel (n_h // 2 + 0.5, n_v // 2 + 0.5) + ``target_offset_px`` of the frame;
+    ``azimuth_deg``/``elevation_deg`` give the direction from the target toward the sensor.
+    """
+    d = direction_vector(azimuth_deg, elevation_deg)
+    h, v = view_basis(d, azimuth_deg)
+    cx = n_h // 2 + 0.5 + float(target_offset_px[0])
+    cy = n_v // 2 + 0.5 + float(target_offset_px[1])
+    x = (np.arange(n_h) + 0.5 - cx) * ifov_rad
+    y = (np.arange(n_v) + 0.5 - cy) * ifov_rad
+    rays = -d[None, None, :] + x[None, :, None] * h[None, None, :] - y[:, None, None] * v[None, None, :]
+    rays /= np.linalg.norm(rays, axis=2, keepdims=True)
+    sun = direction_vector(sun_azimuth_deg, sun_elevation_deg)
+    sun_zenith = math.radians(90.0 - sun_elevation_deg)
+    zenith = np.arccos(np.clip(rays[..., 2], -1.0, 1.0))
+    chi = np.arccos(np.clip(rays @ sun, -1.0, 1.0))
+    sky = zenith_luminance(diffuse_illuminance_lx, sun_zenith) * relative_sky_luminance(zenith, chi, sun_zenith)
+    ground = ground_reflectance * illuminance_lx / math.pi
+    return np.where(rays[..., 2] > 0.0, sky, ground)

@@ -1,0 +1,70 @@
+"""Frame backgrounds (render/imaging/background.py): the CIE clear sky and the horizon."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from csuas.render.imaging.background import clear_sky_frame, relative_sky_luminance, zenith_luminance
+
+
+def _cie12(z, chi, zs):
+    """ISO 15469 type 12 written out: (1 + 10 (e^-3chi - e^-1.5pi) + 0.45 cos^2 chi)(1 - e^(-0.32/cos Z))."""
+
+    def f(x):
+        return 1 + 10 * (math.exp(-3 * x) - math.exp(-1.5 * math.pi)) + 0.45 * math.cos(x) ** 2
+
+    def phi(x):
+        return 1 - math.exp(-0.32 / math.cos(x))
+
+    return f(chi) * phi(z) / (f(zs) * phi(0.0))
+
+
+def test_clear_sky_luminance_follows_the_cie_formula():
+    zs = math.radians(30.0)
+    for z_deg, chi_deg in ((0.0, 30.0), (60.0, 90.0), (85.0, 5.0), (45.0, 150.0)):
+        z, chi = math.radians(z_deg), math.radians(chi_deg)
+        assert relative_sky_luminance(z, chi, zs) == pytest.approx(_cie12(z, chi, zs), rel=1e-12)
+    # brighter toward the sun than away from it, at the same height
+    assert relative_sky_luminance(math.radians(60), math.radians(10), zs) > relative_sky_luminance(
+        math.radians(60), math.radians(120), zs
+    )
+
+
+def test_zenith_luminance_gives_the_diffuse_illuminance():
+    zs = math.radians(45.0)
+    lz = zenith_luminance(10500.0, zs)
+
+    def integrand(z, phi):
+        chi = math.acos(math.cos(z) * math.cos(zs) + math.sin(z) * math.sin(zs) * math.cos(phi))
+        return lz * _cie12(z, chi, zs) * math.cos(z) * math.sin(z)
+
+    e, _ = integrate.dblquad(integrand, 0, 2 * math.pi, 0, math.pi / 2, epsrel=1e-6)
+    assert e == pytest.approx(10500.0, rel=1e-4)
+
+
+def test_the_horizon_lies_where_the_view_ray_turns_level():
+    ifov = math.radians(40.0) / 1920
+    frame = clear_sky_frame(
+        1920,
+        1080,
+        ifov,
+        30.0,
+        5.0,
+        (0.0, 300.0),
+        diffuse_illuminance_lx=10500.0,
+        illuminance_lx=70000.0,
+        sun_azimuth_deg=100.0,
+        sun_elevation_deg=25.0,
+        ground_reflectance=0.2,
+    )
+    ground = 0.2 * 70000.0 / math.pi
+    column = frame[:, 960]
+    first_ground = int(np.argmax(column == ground))
+    # looking down 5 deg at the target (row 840.5): level rays lie tan(5 deg) / ifov rows above it
+    expected = 1080 // 2 + 0.5 + 300.0 - math.tan(math.radians(5.0)) / ifov
+    assert abs(first_ground - expected) <= 1.0
+    assert np.all(column[:first_ground] != ground) and np.all(column[first_ground:] == ground)
