@@ -40,7 +40,7 @@ def test_a_small_dataset_has_images_labels_and_the_same_bytes_for_the_same_seed(
     spec = tmp_path / "spec.toml"
     spec.write_text(
         'seed = 1\ncount = 2\nscenario = "default"\ndrones = ["dji_mini_4_pro"]\nrange_m = [150.0]\n'
-        'position = "centre"\n'
+        'position = "centre"\nexr = true\n'
     )
     assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "a"), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
@@ -51,6 +51,14 @@ def test_a_small_dataset_has_images_labels_and_the_same_bytes_for_the_same_seed(
     x, y, w, h = first["bbox"]
     assert abs(x + w / 2 - 960) < w and abs(y + h / 2 - 540) < h  # centred target
     assert not first["csuas"]["clipped"] and first["csuas"]["pixels_on_target"] > 1
+    cycles = first["csuas"]["johnson_cycles"]
+    table_20 = [("identification", 8.0), ("recognition", 4.0), ("detection", 1.0)]  # line pairs, standard column
+    assert first["csuas"]["dri"] == next((task for task, pairs in table_20 if cycles >= pairs), "none")
+    import OpenEXR
+
+    with OpenEXR.File(str(tmp_path / "a" / "images" / "000000_dji_mini_4_pro.exr")) as exr:
+        signal, units = exr.channels()["Y"].pixels, exr.header()["csuas_units"]
+    assert signal.shape == (1080, 1920) and signal.dtype == np.float32 and units == "electrons"
     yolo = (tmp_path / "a" / "labels" / "000000_dji_mini_4_pro.txt").read_text().split()
     assert float(yolo[1]) == pytest.approx((x + w / 2) / 1920, abs=1e-6)
     from PIL import Image

@@ -57,3 +57,45 @@ def test_saturation_zero_light_and_bad_settings():
         apply_chain(np.ones((4, 4)), ChainSettings(stages=("blur",), f_number=0.0, bits=9), seed=0)
     text = str(caught.value)
     assert "stages" in text and "f_number" in text and "bits" in text
+
+
+def _second_moments(image):
+    y, x = np.indices(image.shape, dtype=float)
+    w = image / image.sum()
+    mx, my = (w * x).sum(), (w * y).sum()
+    return (w * (x - mx) ** 2).sum(), (w * (y - my) ** 2).sum(), (w * (x - mx) * (y - my)).sum()
+
+
+def test_defocus_and_motion_blur_spread_a_point_as_a_disk_and_a_line():
+    point = np.zeros((256, 256))
+    point[128, 128] = 1000.0
+    # (as a thermal frame: an EO frame clips the band-limited blur's negative ringing, which moves the moments)
+    # a uniform disk of diameter b has the variance b^2 / 16 along each axis
+    disk = apply_chain(point, ChainSettings(stages=("defocus",), defocus_px=8.0), seed=0, thermal=True)
+    disk = disk["signal"].astype(float)
+    vx, vy, cxy = _second_moments(disk)
+    assert vx == pytest.approx(64.0 / 16.0, rel=0.002) and vy == pytest.approx(4.0, rel=0.002) and abs(cxy) < 0.01
+    # a uniform segment of length L along x has the variance L^2 / 12 along it and none across
+    line = apply_chain(point, ChainSettings(stages=("motion",), motion_px=12.0), seed=0, thermal=True)
+    line = line["signal"].astype(float)
+    vx, vy, _ = _second_moments(line)
+    assert vx == pytest.approx(144.0 / 12.0, rel=0.002) and vy < 0.01
+    assert disk.sum() == pytest.approx(1000.0, rel=1e-3) and line.sum() == pytest.approx(1000.0, rel=1e-3)
+
+
+def test_agc_puts_the_chosen_percentile_at_the_chosen_level_and_jpeg_stays_close():
+    rng = np.random.default_rng(0)
+    scene = 50.0 + 20.0 * rng.random((64, 64))  # a dim frame: 50-70 electrons
+    settings = ChainSettings(stages=("agc", "quantise"), agc_percentile=99.0, agc_level=0.8, bits=12)
+    out = apply_chain(scene, settings, seed=0)
+    assert np.percentile(out["dn"], 99.0) == pytest.approx(0.8 * 4095, abs=2.0)
+    smooth = 2000.0 + 1000.0 * np.sin(np.linspace(0, np.pi, 64))[None, :] * np.ones((64, 1))
+    eight = ChainSettings(stages=("quantise",), bits=8, full_well_e=4000.0)
+    plain = apply_chain(smooth, eight, seed=0)["dn"].astype(float)
+    compressed = apply_chain(
+        smooth, ChainSettings(stages=("quantise", "jpeg"), bits=8, full_well_e=4000.0, jpeg_quality=85), seed=0
+    )["dn"].astype(float)
+    psnr = 10 * np.log10(255.0**2 / np.mean((plain - compressed) ** 2 + 1e-12))
+    assert 35.0 < psnr < 200.0  # lossy, but close on a smooth frame
+    with pytest.raises(InputErrors, match="jpeg"):
+        apply_chain(smooth, ChainSettings(stages=("quantise", "jpeg"), bits=12), seed=0)

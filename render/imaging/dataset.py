@@ -17,7 +17,8 @@ Spec (TOML, public interface)::
 A table with ``min`` and ``max`` draws uniformly (``drones`` from its list), a list is a grid axis:
 the images are every combination of the list axes, ``count`` random draws each. Optional keys:
 ``quality`` (render preset, default ``draft``), ``position`` (``random``: the target anywhere in
-the frame, possibly cut by its edge; ``centre``), ``bits`` (8-16). Image ``i`` draws from the
+the frame, possibly cut by its edge; ``centre``), ``bits`` (8-16), ``exr`` (also write the signal
+before quantisation, in electrons, as a float32 EXR beside each image). Image ``i`` draws from the
 seed ``[seed, i]``, so a given spec always gives the same bytes, and an image already on disk is
 not redone.
 """
@@ -40,7 +41,21 @@ AXES = ("drones", "range_m", "azimuth_deg", "elevation_deg")
 #: Valid range of each numeric axis.
 AXIS_LIMITS = {"range_m": (1.0, 1e5), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)}
 #: Keys a spec may hold.
-SPEC_KEYS = ("seed", "count", "scenario", "sensor", *AXES, "background", "chain", "quality", "position", "bits")
+SPEC_KEYS = (
+    "seed",
+    "count",
+    "scenario",
+    "sensor",
+    *AXES,
+    "background",
+    "chain",
+    "quality",
+    "position",
+    "bits",
+    "exr",
+)
+#: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
+DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
 
 @dataclass(frozen=True)
@@ -57,6 +72,7 @@ class DatasetSpec:
     quality: str
     position: str
     bits: int
+    exr: bool = False
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -107,12 +123,15 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
     bits = data.get("bits", 12)
     if bits not in (8, 10, 12, 14, 16):
         errors.append(ParameterError("bits", bits, "8, 10, 12, 14 or 16"))
+    exr = data.get("exr", False)
+    if not isinstance(exr, bool):
+        errors.append(ParameterError("exr", exr, "true or false"))
     scenario, sensor = data.get("scenario", "default"), data.get("sensor")
     if not isinstance(scenario, str):
         errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
     if errors:
         raise InputErrors(errors)
-    return DatasetSpec(seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits)
+    return DatasetSpec(seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits, exr)
 
 
 def load_dataset_spec(source) -> DatasetSpec:
@@ -250,7 +269,10 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
     with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
-        Image.fromarray(dn.astype(np.uint16)).save(tmp, format="PNG")
+        pixels = dn.astype(np.uint8) if spec.bits == 8 else dn.astype(np.uint16)
+        Image.fromarray(pixels).save(tmp, format="PNG")
+    if spec.exr:
+        _write_signal_exr(out / "images" / f"{item['name']}.exr", frame["chain"]["signal"], item)
     yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
     write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
     background_e = float(np.median(frame["electrons"]))
@@ -260,6 +282,7 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
     pixels = float(max(lab["pixels_on_target"], 1e-12))
     # the excess summed over the blob against the noise of the pixels it covers (at least one)
     snr = float(blob_snr(excess / pixels, noise, pixels)) if lab["in_frame"] else 0.0
+    cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     entry = {
         "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
         "annotation": None,
@@ -280,13 +303,32 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
                 "pixels_on_target": lab["pixels_on_target"],
                 "contrast": float(res.values.get("contrast", float("nan"))),
                 "snr": snr,
-                "johnson_cycles": float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0,
+                "johnson_cycles": cycles,
+                "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
                 "clipped": lab["clipped"],
                 "subpixel": lab["subpixel"],
                 "exposure_s": frame["exposure_s"],
             },
         }
     write_text_atomic(out / "records" / f"{item['name']}.json", json.dumps(entry, indent=1))
+
+
+def _write_signal_exr(path: Path, signal: np.ndarray, item: dict) -> None:
+    """The frame's signal before quantisation [electrons] as a one-channel float32 EXR, with its draw."""
+    import OpenEXR
+
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        "csuas_units": "electrons",
+        "csuas_drone": str(item["drone"]),
+        "csuas_range_m": float(item["range_m"]),
+        "csuas_azimuth_deg": float(item["azimuth_deg"]),
+        "csuas_elevation_deg": float(item["elevation_deg"]),
+    }
+    with atomic_path(path) as tmp:
+        with OpenEXR.File(header, {"Y": np.ascontiguousarray(signal, dtype=np.float32)}) as exr:
+            exr.write(str(tmp))
 
 
 def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:

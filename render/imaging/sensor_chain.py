@@ -11,6 +11,11 @@ thermal frames. Only the stages named in ``stages`` run, in this order:
     Fourier Optics*, 3rd ed., 2005, Eq. 6-31), and Gaussian line-of-sight jitter of ``jitter_px``
     rms, MTF exp(-2 pi^2 sigma^2 nu^2) (Holst 2008, ch. 10); applied by FFT on the pixel grid
     (periodic boundaries).
+``defocus``
+    A uniform blur disk of ``defocus_px`` diameter (geometric defocus), MTF 2 J1(pi b nu) / (pi b nu).
+``motion``
+    Linear motion of ``motion_px`` during the exposure along ``motion_angle_deg`` (from +x toward +y,
+    the image's rows downward), MTF sinc(L nu . u).
 ``shot_noise``
     Poisson photoelectrons (EO).
 ``dark_current``
@@ -21,10 +26,16 @@ thermal frames. Only the stages named in ``stages`` run, in this order:
 ``read_noise``
     Gaussian read noise of ``read_noise_e`` rms (EO); for thermal frames ``netd``: Gaussian temporal
     noise of ``netd_k`` rms on the temperature.
+``agc``
+    Automatic gain: the signal is scaled so that its ``agc_percentile`` reaches ``agc_level`` of the DN
+    range (EO: in electrons of the conversion gain; thermal: the span is set to the frame's 1st to
+    ``agc_percentile``-th percentile).
 ``quantise``
     EO: the conversion gain ``full_well_e / (2^bits - 1)`` electrons per DN, clipped at full well
     (saturation) and rounded to ``bits`` bits; thermal: the span ``t_min_k`` to ``t_max_k`` over the
     DN range.
+``jpeg``
+    Lossy compression of the 8-bit image through Pillow's JPEG codec at ``jpeg_quality`` (``bits`` = 8).
 
 The chain's analytic MTF (:func:`chain_mtf`) is the product of the optics and jitter MTFs and the
 pixel footprint's sinc; tests measure it on a slanted edge (ISO 12233) and the noise stages by a
@@ -36,11 +47,25 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 from csuas.base.errors import InputErrors, ParameterError
 
 #: Stage names in the order they run.
-STAGES = ("psf", "shot_noise", "dark_current", "prnu", "dsnu", "read_noise", "netd", "quantise")
+STAGES = (
+    "psf",
+    "defocus",
+    "motion",
+    "shot_noise",
+    "dark_current",
+    "prnu",
+    "dsnu",
+    "read_noise",
+    "netd",
+    "agc",
+    "quantise",
+    "jpeg",
+)
 
 
 @dataclass(frozen=True)
@@ -77,6 +102,12 @@ class ChainSettings:
     t_min_k: float = 250.0
     t_max_k: float = 350.0
     bits: int = 12
+    defocus_px: float = 0.0
+    motion_px: float = 0.0
+    motion_angle_deg: float = 0.0
+    agc_percentile: float = 99.0
+    agc_level: float = 0.8
+    jpeg_quality: int = 85
 
     def validate(self) -> None:
         """All invalid settings at once, each naming its value and valid range."""
@@ -89,12 +120,29 @@ class ChainSettings:
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 errors.append(ParameterError(name, value, "0 < x < inf"))
-        for name in ("jitter_px", "read_noise_e", "dark_current_e_s", "prnu", "dsnu_e", "netd_k"):
+        for name in (
+            "jitter_px",
+            "read_noise_e",
+            "dark_current_e_s",
+            "prnu",
+            "dsnu_e",
+            "netd_k",
+            "defocus_px",
+            "motion_px",
+        ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 errors.append(ParameterError(name, value, "0 <= x < inf"))
         if self.bits not in (8, 10, 12, 14, 16):
             errors.append(ParameterError("bits", self.bits, "8, 10, 12, 14 or 16"))
+        if not (0.0 < self.agc_percentile <= 100.0):
+            errors.append(ParameterError("agc_percentile", self.agc_percentile, "0 < x <= 100"))
+        if not (0.0 < self.agc_level <= 1.0):
+            errors.append(ParameterError("agc_level", self.agc_level, "0 < x <= 1"))
+        if not (isinstance(self.jpeg_quality, int) and 1 <= self.jpeg_quality <= 95):
+            errors.append(ParameterError("jpeg_quality", self.jpeg_quality, "an integer 1 to 95"))
+        if "jpeg" in self.stages and (self.bits != 8 or "quantise" not in self.stages):
+            errors.append(ParameterError("stages", "jpeg", "jpeg after quantise with bits = 8"))
         if not self.t_max_k > self.t_min_k:
             errors.append(ParameterError("t_max_k", self.t_max_k, f"> t_min_k = {self.t_min_k}"))
         if errors:
@@ -122,11 +170,24 @@ def chain_mtf(frequency_cy_px, settings: ChainSettings):
     return optics_mtf(frequency_cy_px, settings) * np.abs(np.sinc(np.asarray(frequency_cy_px, float)))
 
 
-def _blur(image: np.ndarray, settings: ChainSettings) -> np.ndarray:
+def blur_transfer(fx, fy, settings: ChainSettings, stages) -> np.ndarray:
+    """Transfer function of the blur stages among ``stages`` at frequencies (fx, fy) [cycles per pixel]."""
+    radial = np.hypot(fx, fy)
+    transfer = optics_mtf(radial, settings) if "psf" in stages else np.ones_like(radial)
+    if "defocus" in stages and settings.defocus_px > 0:
+        x = np.pi * settings.defocus_px * radial
+        safe = np.where(x > 1e-8, x, 1.0)
+        transfer = transfer * np.where(x > 1e-8, 2.0 * special.j1(safe) / safe, 1.0)
+    if "motion" in stages and settings.motion_px > 0:
+        angle = np.radians(settings.motion_angle_deg)
+        transfer = transfer * np.sinc(settings.motion_px * (fx * np.cos(angle) + fy * np.sin(angle)))
+    return transfer
+
+
+def _blur(image: np.ndarray, settings: ChainSettings, stages) -> np.ndarray:
     fy = np.fft.fftfreq(image.shape[0])[:, None]
     fx = np.fft.rfftfreq(image.shape[1])[None, :]
-    transfer = optics_mtf(np.hypot(fx, fy), settings)
-    return np.fft.irfft2(np.fft.rfft2(image) * transfer, s=image.shape)
+    return np.fft.irfft2(np.fft.rfft2(image) * blur_transfer(fx, fy, settings, stages), s=image.shape)
 
 
 def fixed_pattern(shape, camera_seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -164,8 +225,8 @@ def apply_chain(
         raise ParameterError("signal", f"array of shape {image.shape}", "a finite 2-D frame, >= 0 for EO")
     rng = np.random.default_rng([int(seed), 0])
     stages = set(settings.stages)
-    if "psf" in stages:
-        image = _blur(image, settings)
+    if stages & {"psf", "defocus", "motion"}:
+        image = _blur(image, settings, stages)
         if not thermal:
             image = np.maximum(image, 0.0)  # ringing of the band-limited blur below zero
     if thermal:
@@ -184,12 +245,32 @@ def apply_chain(
         if "read_noise" in stages:
             image = image + settings.read_noise_e * rng.standard_normal(image.shape)
     out = {"signal": image.astype(np.float32)}
-    if "quantise" in stages:
-        top = 2**settings.bits - 1
+    top = 2**settings.bits - 1
+    t_min, t_max, gain = settings.t_min_k, settings.t_max_k, settings.gain_e_per_dn
+    if "agc" in stages:
+        high = float(np.percentile(image, settings.agc_percentile))
         if thermal:
-            scaled = (image - settings.t_min_k) / (settings.t_max_k - settings.t_min_k) * top
+            t_min = float(np.percentile(image, 1.0))
+            t_max = t_min + max(high - t_min, 1e-9) / settings.agc_level
         else:
-            scaled = image / settings.gain_e_per_dn
+            gain = max(high, 1e-9) / (settings.agc_level * top)
+        out["agc_gain"] = gain if not thermal else (t_max - t_min) / top
+    if "quantise" in stages:
+        scaled = (image - t_min) / (t_max - t_min) * top if thermal else image / gain
         out["saturated"] = float(np.mean(scaled > top))
         out["dn"] = np.clip(np.rint(scaled), 0, top).astype(np.uint16)
+    if "jpeg" in stages:
+        out["dn"] = _jpeg(out["dn"].astype(np.uint8), settings.jpeg_quality)
     return out
+
+
+def _jpeg(image: np.ndarray, quality: int) -> np.ndarray:
+    """An 8-bit image after a round trip through Pillow's JPEG codec (baseline, 4:4:4 grey)."""
+    import io
+
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(image).save(buffer, format="JPEG", quality=int(quality))
+    buffer.seek(0)
+    return np.asarray(Image.open(buffer)).astype(np.uint16)
