@@ -71,3 +71,21 @@ def test_a_small_dataset_has_images_labels_and_the_same_bytes_for_the_same_seed(
     capsys.readouterr()
     assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "a"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["rendered"] == 0  # resumed: nothing redone
+
+
+@pytest.mark.slow
+def test_a_thermal_dataset_labels_the_drone_in_temperature_frames(tmp_path, capsys):
+    spec = tmp_path / "tir.toml"
+    spec.write_text(
+        'seed = 2\ncount = 1\nscenario = "default"\nsensor = "tir"\ndrones = ["dji_mini_4_pro"]\n'
+        'range_m = [120.0]\nposition = "centre"\nchain = ["psf", "netd", "quantise"]\nbits = 14\nexr = true\n'
+    )
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "t"), "--json"]) == 0
+    coco = json.loads((tmp_path / "t" / "annotations.json").read_text())
+    block = coco["annotations"][0]["csuas"]
+    assert block["modality"] == "tir" and abs(block["delta_t_k"]) > 0.5 and block["snr"] > 5.0
+    import OpenEXR
+
+    with OpenEXR.File(str(tmp_path / "t" / "images" / "000000_dji_mini_4_pro.exr")) as exr:
+        kelvin, units = exr.channels()["Y"].pixels, exr.header()["csuas_units"]
+    assert units == "K" and kelvin.shape == (720, 1280) and 250.0 < float(np.median(kelvin)) < 330.0

@@ -190,7 +190,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     from csuas.core.scenario import load_scenario
 
     scenario = load_scenario(spec.scenario)
-    sensor = _eo_sensor(scenario, spec.sensor)
+    sensor = _imaging_sensor(scenario, spec.sensor)
     out = prepare_output_dir(out_dir)
     for sub in ("images", "labels", "records"):
         (out / sub).mkdir(exist_ok=True)
@@ -215,74 +215,40 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     }
 
 
-def _eo_sensor(scenario, name):
-    candidates = {n: s for n, s in scenario.sensors.items() if s.modality == "eo"}
+def _imaging_sensor(scenario, name):
+    candidates = {n: s for n, s in scenario.sensors.items() if s.modality in ("eo", "tir")}
     if name is None and candidates:
         return next(iter(candidates.values()))
     if name not in candidates:
-        raise ParameterError("sensor", name, f"an EO sensor of the scenario: {', '.join(candidates) or 'none'}")
+        found = ", ".join(candidates) or "none"
+        raise ParameterError("sensor", name, f"an EO or thermal sensor of the scenario: {found}")
     return candidates[name]
 
 
 def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> None:
     from PIL import Image
 
-    from csuas.core.detection import blob_snr
-    from csuas.render.imaging.frame import eo_frame
     from csuas.render.imaging.labels import yolo_line
-    from csuas.render.imaging.records import Daylight, EoSensor, View
-    from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.render.imaging.records import View
 
     p = sensor.params
-    camera = {
-        k: p[k]
-        for k in (
-            "f_number",
-            "optics_transmittance",
-            "pixel_pitch_um",
-            "quantum_efficiency",
-            "max_exposure_ms",
-            "full_well_e",
-        )
-    }
-    chain = ChainSettings(
-        stages=spec.chain,
-        f_number=p["f_number"],
-        wavelength_um=p["wavelength_nm"] / 1000.0,
-        pixel_pitch_um=p["pixel_pitch_um"],
-        read_noise_e=p["read_noise_e"],
-        dark_current_e_s=p["dark_current_e_s"],
-        bits=spec.bits,
-    )
-    light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
     view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
-    frame = eo_frame(
-        item["drone"],
-        view,
-        EoSensor.from_params(p),
-        light,
-        camera,
-        chain,
-        seed=spec.seed * 1_000_003 + item["index"],
-        quality=spec.quality,
-    )
+    seed = spec.seed * 1_000_003 + item["index"]
+    thermal = sensor.modality == "tir"
+    frame = (_thermal if thermal else _visible)(spec, scenario, p, item, view, seed)
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
     with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
         pixels = dn.astype(np.uint8) if spec.bits == 8 else dn.astype(np.uint16)
         Image.fromarray(pixels).save(tmp, format="PNG")
     if spec.exr:
-        _write_signal_exr(out / "images" / f"{item['name']}.exr", frame["chain"]["signal"], item)
+        unit = "K" if thermal else "electrons"
+        _write_signal_exr(out / "images" / f"{item['name']}.exr", frame["chain"]["signal"], item, unit)
     yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
     write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
-    background_e = float(np.median(frame["electrons"]))
-    mask = frame["electrons"] != background_e
-    noise = float(np.sqrt(background_e + p["read_noise_e"] ** 2))
-    excess = float(np.abs(np.sum(frame["electrons"][mask] - background_e)))
-    pixels = float(max(lab["pixels_on_target"], 1e-12))
-    # the excess summed over the blob against the noise of the pixels it covers (at least one)
-    snr = float(blob_snr(excess / pixels, noise, pixels)) if lab["in_frame"] else 0.0
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
+    contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
+    contrast_value = float(res.values.get(contrast_key, float("nan")))
     entry = {
         "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
         "annotation": None,
@@ -296,31 +262,99 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
             "iscrowd": 0,
             "csuas": {
                 "drone": item["drone"],
+                "modality": sensor.modality,
                 "range_m": item["range_m"],
                 "azimuth_deg": item["azimuth_deg"],
                 "elevation_deg": item["elevation_deg"],
                 "target_center_px": [width / 2 + item["target_offset_px"][0], height / 2 + item["target_offset_px"][1]],
                 "pixels_on_target": lab["pixels_on_target"],
-                "contrast": float(res.values.get("contrast", float("nan"))),
-                "snr": snr,
+                contrast_key: contrast_value,
+                "snr": frame["snr"],
                 "johnson_cycles": cycles,
                 "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
                 "clipped": lab["clipped"],
                 "subpixel": lab["subpixel"],
-                "exposure_s": frame["exposure_s"],
+                "exposure_s": frame.get("exposure_s"),
             },
         }
     write_text_atomic(out / "records" / f"{item['name']}.json", json.dumps(entry, indent=1))
 
 
-def _write_signal_exr(path: Path, signal: np.ndarray, item: dict) -> None:
-    """The frame's signal before quantisation [electrons] as a one-channel float32 EXR, with its draw."""
+def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
+    """An EO frame of the draw, with the target's blob SNR against shot and read noise."""
+    from csuas.core.detection import blob_snr
+    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.records import Daylight, EoSensor
+    from csuas.render.imaging.sensor_chain import ChainSettings
+
+    keys = (
+        "f_number",
+        "optics_transmittance",
+        "pixel_pitch_um",
+        "quantum_efficiency",
+        "max_exposure_ms",
+        "full_well_e",
+    )
+    chain = ChainSettings(
+        stages=spec.chain,
+        f_number=p["f_number"],
+        wavelength_um=p["wavelength_nm"] / 1000.0,
+        pixel_pitch_um=p["pixel_pitch_um"],
+        read_noise_e=p["read_noise_e"],
+        dark_current_e_s=p["dark_current_e_s"],
+        bits=spec.bits,
+    )
+    light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
+    frame = eo_frame(
+        item["drone"],
+        view,
+        EoSensor.from_params(p),
+        light,
+        {k: p[k] for k in keys},
+        chain,
+        seed=seed,
+        quality=spec.quality,
+    )
+    background = float(np.median(frame["electrons"]))
+    excess = float(np.abs(np.sum(frame["electrons"][frame["electrons"] != background] - background)))
+    pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
+    # the excess summed over the blob against the noise of the pixels it covers (at least one)
+    frame["snr"] = float(blob_snr(excess / pixels, np.sqrt(background + p["read_noise_e"] ** 2), pixels))
+    return frame
+
+
+def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
+    """A thermal frame of the draw (the chain's thermal stages), with the target's blob SNR against the NETD."""
+    from csuas.core.detection import blob_snr
+    from csuas.render.imaging.frame import tir_frame
+    from csuas.render.imaging.records import ThermalScene, ThermalSensor
+    from csuas.render.imaging.sensor_chain import ChainSettings
+
+    env = scenario.environment
+    chain = ChainSettings(
+        stages=tuple(s for s in spec.chain if s in ("psf", "defocus", "motion", "netd", "agc", "quantise")),
+        f_number=p["f_number"],
+        wavelength_um=10.0 if p["band"] == "lwir" else 4.0,
+        pixel_pitch_um=p["pitch_um"],
+        netd_k=p["netd_mk"] / 1000.0,
+        bits=spec.bits,
+    )
+    scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
+    frame = tir_frame(item["drone"], view, ThermalSensor.from_params(p), scene, chain, seed=seed, quality=spec.quality)
+    excess = float(np.abs(np.sum(frame["temperature"] - frame["background_k"])))
+    pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
+    frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))
+    return frame
+
+
+def _write_signal_exr(path: Path, signal: np.ndarray, item: dict, unit: str) -> None:
+    """The frame's signal before quantisation (electrons or kelvin) as a one-channel float32 EXR, with its draw."""
     import OpenEXR
 
     header = {
         "compression": OpenEXR.ZIP_COMPRESSION,
         "type": OpenEXR.scanlineimage,
-        "csuas_units": "electrons",
+        "csuas_units": unit,
         "csuas_drone": str(item["drone"]),
         "csuas_range_m": float(item["range_m"]),
         "csuas_azimuth_deg": float(item["azimuth_deg"]),

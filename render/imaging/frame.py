@@ -119,3 +119,53 @@ def eo_frame(
         "exposure_s": exposure,
         "background_luminance": background,
     }
+
+
+def tir_frame(
+    target,
+    view: View,
+    sensor,
+    scene,
+    chain: ChainSettings,
+    *,
+    seed: int,
+    quality: str = "draft",
+    reflected_surroundings: bool = True,
+) -> dict:
+    """Render, degrade and label one full thermal frame (apparent temperature through the chain).
+
+    The window's band radiance (:func:`csuas.render.imaging.tir.render_tir`) is pasted on the
+    background's (the window's uncovered pixels, uniform), turned into apparent temperature
+    (:func:`csuas.core.radiometry.radiance_temperature`) and passed through the chain's thermal stages
+    (``psf`` at the chain's wavelength, ``netd``, ``agc``, ``quantise``).
+
+    Returns
+    -------
+    dict
+        ``result``, ``temperature`` (frame [K]), ``chain``, ``label``, ``background_k``.
+    """
+    from csuas.core.radiometry import radiance_temperature
+    from csuas.render.imaging.tir import render_tir
+
+    res = render_tir(
+        target,
+        view,
+        sensor,
+        scene,
+        reflected_surroundings=reflected_surroundings,
+        settings=RenderSettings(quality, seed),
+    )
+    radiance = res.image[0]
+    uncovered = res.coverage == 0
+    background = float(np.median(radiance[uncovered])) if uncovered.any() else float(np.median(radiance))
+    frame = np.full((sensor.n_v, sensor.n_h), background)
+    window = res.window
+    frame[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = radiance
+    temperature = radiance_temperature(frame, sensor.band)
+    return {
+        "result": res,
+        "temperature": temperature,
+        "chain": apply_chain(temperature, chain, seed, thermal=True),
+        "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
+        "background_k": float(radiance_temperature(background, sensor.band)),
+    }
