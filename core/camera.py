@@ -3,8 +3,9 @@
 Chain (physical convention, an extension of the paper's EO model, Section 4.3):
 
 1. *Scene.* Illuminance E_v [lx] lights a Lambertian background of reflectance rho_b, of luminance
-   L_b = rho_b E_v / pi [cd/m^2]; the target differs from it by the inherent contrast C0, and the
-   path attenuates that difference as the paper's contrast (Eq. 21): Delta L(R) = C0 tau(R) L_b.
+   L_b = rho_b E_v / pi [cd/m^2]; the target's luminance follows from the paper's Michelson contrast
+   C0 = (L_t - L_b) / (L_t + L_b) (Eq. 3): L_t - L_b = 2 C0 / (1 - C0) L_b, and the path attenuates that
+   difference by the transmittance, as the airlight adds to target and background alike (Eq. 21).
 2. *Optics.* A distant extended source of luminance L gives the focal-plane illuminance
    E_fp = pi L tau_o / (4 N^2) [lx] (the camera equation, on axis; Holst, *Electro-Optical Imaging
    System Performance*, 5th ed., 2008, Eq. 12-5), N the f-number and tau_o the optics' transmittance.
@@ -71,6 +72,19 @@ def photons_per_lumen(colour_temperature_k=DAYLIGHT_K, band_nm=(400.0, 700.0), s
     band = np.linspace(band_nm[0] * 1e-9, band_nm[1] * 1e-9, int(samples))
     luminous = K_M * np.trapezoid(planck(visible) * photopic_efficiency(visible * 1e6), visible)
     return float(np.trapezoid(planck(band) * band / (H_PLANCK * C_LIGHT), band) / luminous)
+
+
+def luminance_excess(c_eo):
+    """(L_t - L_b) / L_b of the paper's Michelson contrast C = (L_t - L_b) / (L_t + L_b) (Eq. 3): 2C / (1 - C).
+
+    Parameters
+    ----------
+    c_eo : array_like
+        Inherent contrast, -1 <= C <= 1; C = 1 (a black background) gives an infinite excess.
+    """
+    c = require("c_eo", c_eo, ge=-1, le=1)
+    with np.errstate(divide="ignore"):
+        return np.where(c < 1.0, 2.0 * c / np.where(c < 1.0, 1.0 - c, 1.0), np.inf)
 
 
 def focal_plane_illuminance_lx(luminance_cd_m2, f_number, transmittance):
@@ -162,7 +176,7 @@ def light_limited_range_m(
     t_exp = auto_exposure_s(rate_b, full_well_e, max_exposure_ms / 1000.0)
     s_b = rate_b * t_exp
     noise = pixel_noise_e(s_b, dark_current_e_s * t_exp, read_noise_e)
-    excess0 = np.abs(require("c_eo", c_eo, ge=-1, le=1)) * s_b  # target minus background, per pixel, R = 0
+    excess0 = np.abs(luminance_excess(c_eo)) * s_b  # target minus background, per pixel, R = 0
     chain = {
         "background_e": float(s_b),
         "exposure_s": float(t_exp),

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core import detection, johnson, radar, radar_detection, rcs_statistics, tir
+from csuas.core import camera, detection, johnson, radar, radar_detection, rcs_statistics, tir
 from csuas.core.atmosphere import transmittance
 from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
@@ -152,7 +152,9 @@ def _imaging(scenario, sensor, convention, r, result):
     pd = detection.imaging_pd(r, r50, exponent, cutoff)
     if sensor.modality == "eo" and convention == "physical":
         noise = float(np.asarray(result.term("pixel_noise_electrons").value))
-        excess = abs(t["c_eo"]) * float(np.asarray(result.term("background_electrons").value))
+        excess = abs(float(camera.luminance_excess(t["c_eo"]))) * float(
+            np.asarray(result.term("background_electrons").value)
+        )
         tau = transmittance(float(np.asarray(result.term("kruse_extinction").value)), r, convention)
         snr = detection.blob_snr(excess * tau, noise, tir.target_pixels(t["projected_area_m2"], ifov, r))
         pd = pd * detection.gaussian_pd(np.where(np.isinf(snr), 1e6, snr), p["pfa"])

@@ -250,6 +250,7 @@ ROWS = [
 COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
     "tir.target_pixels": "tests/test_tir_netd.py (closed form)",
+    "camera.luminance_excess": "tests/test_camera.py (Eq. 3 inverted)",
     "camera.photopic_efficiency": "tests/test_camera.py (inside the photon conversion's quadrature)",
     "camera.photons_per_lumen": "tests/test_camera.py (independent quadrature)",
     "camera.focal_plane_illuminance_lx": "tests/test_camera.py (camera equation)",
