@@ -128,8 +128,9 @@ def closed_loop_pd(
             )
         )
         pixels = float(res.values["pixels_on_target"])
-        contrast = abs(float(res.values.get("contrast_inherent", res.values["contrast"])))
-        snr_core = float(detection.blob_snr(contrast * b, math.sqrt(b + read**2), pixels))
+        contrast = float(res.values.get("contrast_inherent", res.values["contrast"]))  # Michelson (Eq. 3)
+        excess = abs(float(camera.luminance_excess(contrast))) * b
+        snr_core = float(detection.blob_snr(excess, math.sqrt(b + read**2), pixels))
         ifov = math.radians(sensor.hfov_deg) / sensor.n_h
         r50 = 0.101 / (ifov * 2.0)  # Table 8's d_crit, 1 lp of 2 px (Eq. 17 at n_TTPF = 1)
         rows.append(
