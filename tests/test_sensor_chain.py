@@ -99,3 +99,14 @@ def test_agc_puts_the_chosen_percentile_at_the_chosen_level_and_jpeg_stays_close
     assert 35.0 < psnr < 200.0  # lossy, but close on a smooth frame
     with pytest.raises(InputErrors, match="jpeg"):
         apply_chain(smooth, ChainSettings(stages=("quantise", "jpeg"), bits=12), seed=0)
+
+
+@pytest.mark.slow
+def test_rendered_snr_equals_the_core_camera_model_by_day_twilight_and_night():
+    from csuas.validation.imaging.chain_checks import rendered_snr_against_core
+
+    rows = rendered_snr_against_core()
+    for row in rows:
+        assert row["background_e_rendered"] == pytest.approx(row["background_e_core"], rel=1e-6)
+        assert row["snr_rendered"] == pytest.approx(row["snr_core"], rel=0.01)
+    assert rows[0]["snr_rendered"] > rows[1]["snr_rendered"] > rows[2]["snr_rendered"]  # light decides

@@ -77,3 +77,66 @@ def photon_transfer(settings: ChainSettings, levels_e=None, size: int = 256) -> 
 def flat_field_netd(settings: ChainSettings, temperature_k: float = 300.0, size: int = 256) -> float:
     """Temporal noise [K] of a flat thermal frame through the chain."""
     return float(np.std(apply_chain(np.full((size, size), temperature_k), settings, seed=4, thermal=True)["signal"]))
+
+
+def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: float = 300.0) -> list[dict]:
+    """The target's blob SNR measured on rendered full frames against the core's camera model, per light level.
+
+    Rendered: the DJI Mini 4 Pro's frame in mean photoelectrons (:func:`csuas.render.imaging.frame.eo_frame`,
+    default camera), its electrons above the background summed over the frame, against the
+    background pixel's shot and read noise (:func:`csuas.core.detection.blob_snr`). Core: the same
+    camera's background electrons from :mod:`csuas.core.camera` (camera equation, photons per lumen,
+    auto-exposure) and the render's Michelson contrast and pixels on target (Eq. 3 inverted).
+
+    Returns
+    -------
+    list of dict
+        ``illuminance_lx``, ``snr_rendered``, ``snr_core``, ``background_e_rendered``, ``background_e_core``.
+    """
+    from csuas.core import camera, detection
+    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.records import Daylight, EoSensor, View
+
+    settings = {
+        "f_number": 2.0,
+        "optics_transmittance": 0.9,
+        "pixel_pitch_um": 2.9,
+        "quantum_efficiency": 0.6,
+        "max_exposure_ms": 33.3,
+        "full_well_e": 10000.0,
+    }
+    read = 2.0
+    rows = []
+    for lux in illuminances_lx:
+        light = Daylight(illuminance_lx=float(lux), background=0.3)
+        frame = eo_frame(
+            "dji_mini_4_pro", View(range_m, 30.0, 10.0), EoSensor(), light, settings, ChainSettings(stages=()), seed=0
+        )
+        electrons = frame["electrons"]
+        background = float(np.median(electrons))
+        pixels = float(frame["label"]["pixels_on_target"])
+        excess = float(np.sum(electrons - background))
+        rendered = float(detection.blob_snr(excess / pixels, math.sqrt(background + read**2), pixels))
+        luminance = 0.3 * float(lux) / math.pi
+        rate = camera.electron_rate(
+            camera.focal_plane_illuminance_lx(luminance, settings["f_number"], settings["optics_transmittance"]),
+            settings["pixel_pitch_um"],
+            settings["quantum_efficiency"],
+            camera.photons_per_lumen(),
+        )
+        exposure = camera.auto_exposure_s(rate, settings["full_well_e"], settings["max_exposure_ms"] / 1000.0)
+        s_b = float(rate * exposure)
+        contrast = float(frame["result"].values["contrast"])
+        core = float(
+            detection.blob_snr(abs(float(camera.luminance_excess(contrast))) * s_b, math.sqrt(s_b + read**2), pixels)
+        )
+        rows.append(
+            {
+                "illuminance_lx": float(lux),
+                "snr_rendered": rendered,
+                "snr_core": core,
+                "background_e_rendered": background,
+                "background_e_core": s_b,
+            }
+        )
+    return rows

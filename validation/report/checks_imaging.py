@@ -259,7 +259,12 @@ CHAIN_NETD_K = 0.05
 def sensor_chain(_knob=None) -> Section:
     """Slanted-edge MTF, photon-transfer gain and read noise, and flat-field NETD of the sensor chain."""
     from csuas.render.imaging.sensor_chain import ChainSettings
-    from csuas.validation.imaging.chain_checks import flat_field_netd, photon_transfer, slanted_edge_mtf
+    from csuas.validation.imaging.chain_checks import (
+        flat_field_netd,
+        photon_transfer,
+        rendered_snr_against_core,
+        slanted_edge_mtf,
+    )
 
     s = Section()
     edge_settings = ChainSettings(stages=("psf",), **CHAIN_EDGE)
@@ -320,6 +325,22 @@ def sensor_chain(_knob=None) -> Section:
             tolerance_source="2 %: the standard deviation of 65 536 samples (0.3 %)",
         )
     )
+    rows, t_snr = timed(rendered_snr_against_core)
+    for row in rows:
+        s.outcomes.append(
+            Check(
+                f"imaging.sensor_chain.rendered_snr.{row['illuminance_lx']:g}lx",
+                row["snr_core"],
+                row["snr_rendered"],
+                0.01 * row["snr_core"],
+                "-",
+                time_s=t_snr / len(rows),
+                source="core.camera: camera equation, photons per lumen, auto-exposure, Michelson excess (Eq. 3)",
+                method="blob SNR of the DJI Mini 4 Pro's rendered full frame at 300 m (Lambertian 0.3 background)",
+                tolerance_source="1 %: the two paths compute the same radiometry (float32 render images)",
+                details={"background_e": row["background_e_rendered"]},
+            )
+        )
     f = mtf["frequency_cy_px"]
     s.figures.append(
         curves(
@@ -424,10 +445,11 @@ SPECS = [
     ),
     CheckSpec(
         "imaging.sensor_chain",
-        "Sensor chain: slanted-edge MTF, photon transfer, flat-field NETD",
+        "Sensor chain: slanted-edge MTF, photon transfer, flat-field NETD, rendered SNR vs the core",
         "imaging",
-        "the chain's measured MTF, conversion gain, read noise and NETD vs its configured and analytic values",
-        "0.02 in MTF; 2 % gain; 10 % read noise; 2 % NETD",
+        "the chain's measured MTF, conversion gain, read noise and NETD vs its configured and analytic values; the "
+        "rendered frame's target SNR by day, twilight and night vs the core's camera model",
+        "0.02 in MTF; 2 % gain; 10 % read noise; 2 % NETD; 1 % SNR",
         sensor_chain,
         None,
         {},
