@@ -185,3 +185,33 @@ def to_jsonable(obj):
 def dumps(obj) -> str:
     """JSON text of ``obj`` after :func:`to_jsonable`."""
     return json.dumps(to_jsonable(obj), indent=2, sort_keys=False)
+
+
+def read_spec(source, embedded, what: str) -> dict:
+    """The TOML table of a spec file, or of an embedded spec when ``source`` names no file.
+
+    Parameters
+    ----------
+    source : str or path-like
+        A TOML file, or a name that ``embedded(name)`` turns into the path of a packaged spec.
+    embedded : callable
+        Name -> path of the embedded spec of that name.
+    what : str
+        What the spec is, for the error message ("sweep spec", "dataset spec").
+
+    Raises
+    ------
+    ParameterError
+        No such file or embedded spec, or not valid UTF-8 TOML.
+    """
+    import tomllib
+
+    path = Path(source)
+    if not path.exists() and not str(source).endswith(".toml"):
+        path = embedded(str(source))
+    if not path.is_file():
+        raise ParameterError("spec", str(source), f"a {what} TOML file or an embedded spec name")
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
-    import tomllib
+    pass
 else:  # pragma: no cover
-    import tomli as tomllib
+    pass
 
 import numpy as np
 
@@ -255,15 +255,8 @@ def _digest(data: dict, scenario_source: str) -> str:
 
 def load_spec(source) -> SweepSpec:
     """Load and validate a sweep spec from a TOML file or an embedded spec name (``defaults/sweeps``)."""
+    from csuas.base.fileio import read_spec
     from csuas.defaults import sweep_path
 
-    path = Path(source)
-    if not path.exists() and not str(source).endswith(".toml"):
-        path = sweep_path(str(source))
-    if not path.is_file():
-        raise ParameterError("spec", str(source), "a sweep spec TOML file or an embedded spec name")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None
+    data = read_spec(source, sweep_path, "sweep spec")
     return parse_spec(data)

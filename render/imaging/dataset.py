@@ -136,20 +136,10 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
 
 def load_dataset_spec(source) -> DatasetSpec:
     """A spec from a TOML file or an embedded spec name (``defaults/datasets``, e.g. ``example``)."""
-    import tomllib
-
+    from csuas.base.fileio import read_spec
     from csuas.defaults import dataset_path
 
-    path = Path(source)
-    if not path.exists() and not str(source).endswith(".toml"):
-        path = dataset_path(str(source))
-    if not path.is_file():
-        raise ParameterError("spec", str(source), "a dataset spec TOML file or an embedded spec name")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None
-    return parse_dataset_spec(data)
+    return parse_dataset_spec(read_spec(source, dataset_path, "dataset spec"))
 
 
 def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
@@ -283,18 +273,10 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
 def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
     """An EO frame of the draw, with the target's blob SNR against shot and read noise."""
     from csuas.core.detection import blob_snr
-    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.frame import camera_from_params, eo_frame
     from csuas.render.imaging.records import Daylight, EoSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
 
-    keys = (
-        "f_number",
-        "optics_transmittance",
-        "pixel_pitch_um",
-        "quantum_efficiency",
-        "max_exposure_ms",
-        "full_well_e",
-    )
     chain = ChainSettings(
         stages=spec.chain,
         f_number=p["f_number"],
@@ -310,7 +292,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         view,
         EoSensor.from_params(p),
         light,
-        {k: p[k] for k in keys},
+        camera_from_params(p),
         chain,
         seed=seed,
         quality=spec.quality,

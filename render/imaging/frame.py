@@ -25,6 +25,24 @@ from csuas.render.imaging.labels import label
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.sensor_chain import ChainSettings, apply_chain
 
+#: The EO parameters of the camera's radiometry (defaults/parameters.toml, section eo).
+CAMERA_KEYS = (
+    "f_number",
+    "optics_transmittance",
+    "pixel_pitch_um",
+    "quantum_efficiency",
+    "max_exposure_ms",
+    "full_well_e",
+)
+
+
+def camera_from_params(params: dict | None = None) -> dict:
+    """The ``camera`` argument of :func:`eo_frame` from a scenario's EO parameters (default: the defaults)."""
+    from csuas.defaults import default_values
+
+    source = default_values("eo") if params is None else params
+    return {key: source[key] for key in CAMERA_KEYS}
+
 
 def eo_frame(
     target,

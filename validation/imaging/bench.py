@@ -77,18 +77,11 @@ def bench_frames(n_frames: int = 10, range_m: float = 300.0) -> dict:
     import resource
     import time
 
-    from csuas.render.imaging.frame import eo_frame
+    from csuas.render.imaging.frame import camera_from_params, eo_frame
     from csuas.render.imaging.records import Daylight
     from csuas.render.imaging.sensor_chain import STAGES, ChainSettings
 
-    camera = {
-        "f_number": 2.0,
-        "optics_transmittance": 0.9,
-        "pixel_pitch_um": 2.9,
-        "quantum_efficiency": 0.6,
-        "max_exposure_ms": 33.3,
-        "full_well_e": 10000.0,
-    }
+    camera = camera_from_params()
     chain = ChainSettings(stages=tuple(s for s in STAGES if s != "netd"), prnu=0.005, dsnu_e=1.0)
     render_s, chain_s = 0.0, 0.0
     for i in range(int(n_frames) + 1):

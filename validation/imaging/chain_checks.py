@@ -94,18 +94,12 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
         ``illuminance_lx``, ``snr_rendered``, ``snr_core``, ``background_e_rendered``, ``background_e_core``.
     """
     from csuas.core import camera, detection
-    from csuas.render.imaging.frame import eo_frame
+    from csuas.defaults import default_values
+    from csuas.render.imaging.frame import camera_from_params, eo_frame
     from csuas.render.imaging.records import Daylight, EoSensor, View
 
-    settings = {
-        "f_number": 2.0,
-        "optics_transmittance": 0.9,
-        "pixel_pitch_um": 2.9,
-        "quantum_efficiency": 0.6,
-        "max_exposure_ms": 33.3,
-        "full_well_e": 10000.0,
-    }
-    read = 2.0
+    settings = camera_from_params()
+    read = float(default_values("eo")["read_noise_e"])
     rows = []
     for lux in illuminances_lx:
         light = Daylight(illuminance_lx=float(lux), background=0.3)

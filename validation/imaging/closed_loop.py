@@ -24,20 +24,14 @@ import math
 import numpy as np
 
 from csuas.core import camera, detection
+from csuas.defaults import default_values
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
+from csuas.render.imaging.frame import camera_from_params
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.sensor_chain import ChainSettings, apply_chain
 
-#: The default camera of the closed loop (the defaults of defaults/parameters.toml's eo section).
-CAMERA = {
-    "f_number": 2.0,
-    "optics_transmittance": 0.9,
-    "pixel_pitch_um": 2.9,
-    "quantum_efficiency": 0.6,
-    "max_exposure_ms": 33.3,
-    "full_well_e": 10000.0,
-    "read_noise_e": 2.0,
-}
+#: The default camera of the closed loop (defaults/parameters.toml's eo section), with its read noise.
+CAMERA = {**camera_from_params(), "read_noise_e": float(default_values("eo")["read_noise_e"])}
 
 
 def _matched_filter(rng, mean, background, template, read_noise, count):
