@@ -89,3 +89,13 @@ def test_a_thermal_dataset_labels_the_drone_in_temperature_frames(tmp_path, caps
     with OpenEXR.File(str(tmp_path / "t" / "images" / "000000_dji_mini_4_pro.exr")) as exr:
         kelvin, units = exr.channels()["Y"].pixels, exr.header()["csuas_units"]
     assert units == "K" and kelvin.shape == (720, 1280) and 250.0 < float(np.median(kelvin)) < 330.0
+
+
+@pytest.mark.slow
+def test_the_frame_bench_times_render_and_chain_separately():
+    from csuas.validation.imaging.bench import bench_frames
+
+    out = bench_frames(2)
+    assert out["frames"] == 2 and out["frames_per_s"] > 0
+    assert out["render_s_per_frame"] > 0 and out["camera_and_chain_s_per_frame"] > 0
+    assert out["peak_rss_gib"] > out["peak_rss_growth_gib"] >= 0
