@@ -68,3 +68,37 @@ def test_the_horizon_lies_where_the_view_ray_turns_level():
     expected = 1080 // 2 + 0.5 + 300.0 - math.tan(math.radians(5.0)) / ifov
     assert abs(first_ground - expected) <= 1.0
     assert np.all(column[:first_ground] != ground) and np.all(column[first_ground:] == ground)
+
+
+def test_clouds_cover_the_share_asked_with_a_fractal_spectrum_and_a_seed():
+    from csuas.render.imaging.background import CLOUD_SPECTRUM_EXPONENT, cloud_field, cloud_opacity
+
+    opacity = cloud_opacity(512, 512, 0.4, seed=3, scale_px=512.0)
+    assert np.mean(opacity > 0.5) == pytest.approx(0.4, abs=0.01)
+    assert np.array_equal(opacity, cloud_opacity(512, 512, 0.4, seed=3, scale_px=512.0))
+    assert not np.array_equal(opacity, cloud_opacity(512, 512, 0.4, seed=4, scale_px=512.0))
+    # the field's power falls as f^-3 above the largest features: the slope of its radially averaged spectrum
+    field = cloud_field(512, 512, seed=7, scale_px=512.0)
+    power = np.abs(np.fft.rfft2(field)) ** 2
+    radius = np.hypot(np.fft.rfftfreq(512)[None, :], np.fft.fftfreq(512)[:, None])
+    bands = np.geomspace(0.01, 0.3, 12)
+    mean_power = [power[(radius >= lo) & (radius < hi)].mean() for lo, hi in zip(bands[:-1], bands[1:])]
+    centres = np.sqrt(bands[:-1] * bands[1:])
+    slope = np.polyfit(np.log(centres), np.log(mean_power), 1)[0]
+    assert slope == pytest.approx(-CLOUD_SPECTRUM_EXPONENT, abs=0.15)
+
+
+def test_clouds_stay_in_the_sky():
+    ifov = math.radians(40.0) / 1920
+    common = dict(
+        diffuse_illuminance_lx=10500.0,
+        illuminance_lx=70000.0,
+        sun_azimuth_deg=100.0,
+        sun_elevation_deg=25.0,
+        ground_reflectance=0.2,
+    )
+    clear = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), **common)
+    cloudy = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), cloud_cover=0.5, seed=1, **common)
+    ground = clear == 0.2 * 70000.0 / math.pi
+    assert np.array_equal(cloudy[ground], clear[ground]) and not np.array_equal(cloudy[~ground], clear[~ground])
+    assert cloudy[~ground].max() <= 70000.0 / math.pi + 1e-9

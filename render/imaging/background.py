@@ -1,4 +1,4 @@
-"""Backgrounds of a full EO frame: the CIE clear sky with its gradient from the sun, and the ground below the horizon.
+"""Backgrounds of a full EO frame: the CIE clear sky with its gradient from the sun, clouds, and the ground.
 
 Sky luminance follows the CIE standard general sky, type 12 "CIE standard clear sky, low
 luminance turbidity" (ISO 15469:2004 / CIE S 011/E:2003):
@@ -70,11 +70,15 @@ def clear_sky_frame(
     sun_azimuth_deg: float,
     sun_elevation_deg: float,
     ground_reflectance: float,
+    cloud_cover: float = 0.0,
+    seed: int = 0,
 ) -> np.ndarray:
     """Background luminance [cd/m^2] of every pixel of a frame looking at the target (module docstring).
 
     The target lies at pixel (n_h // 2 + 0.5, n_v // 2 + 0.5) + ``target_offset_px`` of the frame;
-    ``azimuth_deg``/``elevation_deg`` give the direction from the target toward the sensor.
+    ``azimuth_deg``/``elevation_deg`` give the direction from the target toward the sensor. With
+    ``cloud_cover`` > 0 the sky carries seeded clouds (:func:`cloud_opacity`) as bright as a white
+    Lambertian sheet under the scene illuminance, E_v / pi.
     """
     d = direction_vector(azimuth_deg, elevation_deg)
     h, v = view_basis(d, azimuth_deg)
@@ -90,4 +94,49 @@ def clear_sky_frame(
     chi = np.arccos(np.clip(rays @ sun, -1.0, 1.0))
     sky = zenith_luminance(diffuse_illuminance_lx, sun_zenith) * relative_sky_luminance(zenith, chi, sun_zenith)
     ground = ground_reflectance * illuminance_lx / math.pi
-    return np.where(rays[..., 2] > 0.0, sky, ground)
+    is_sky = rays[..., 2] > 0.0
+    frame = np.where(is_sky, sky, ground)
+    if cloud_cover > 0.0:
+        frame = with_clouds(frame, is_sky, cloud_opacity(n_v, n_h, cloud_cover, seed), illuminance_lx / math.pi)
+    return frame
+
+
+#: Power-spectrum exponent of the cloud field: P(f) ~ f^-beta (beta = 3, the 2-D fractional Brownian surface
+#: of Hurst exponent 0.5 often used for cloud fields; Cahalan et al., J. Atmos. Sci. 51(16), 1994).
+CLOUD_SPECTRUM_EXPONENT = 3.0
+
+
+def cloud_field(n_v: int, n_h: int, seed: int, scale_px: float = 400.0) -> np.ndarray:
+    """A seeded Gaussian field (n_v, n_h) of power f^-beta above 1 / ``scale_px`` (flat below), by FFT synthesis."""
+    rng = np.random.default_rng([int(seed), 2])
+    fy = np.fft.fftfreq(n_v)[:, None]
+    fx = np.fft.rfftfreq(n_h)[None, :]
+    f = np.maximum(np.hypot(fx, fy), 1.0 / scale_px)
+    noise = rng.standard_normal((n_v, n_h // 2 + 1)) + 1j * rng.standard_normal((n_v, n_h // 2 + 1))
+    return np.fft.irfft2(noise * f ** (-CLOUD_SPECTRUM_EXPONENT / 2.0), s=(n_v, n_h))
+
+
+def cloud_opacity(n_v: int, n_h: int, cover: float, seed: int, scale_px: float = 400.0) -> np.ndarray:
+    """A seeded cloud opacity field (n_v, n_h) in [0, 1] covering about ``cover`` of the frame.
+
+    :func:`cloud_field` (largest features ``scale_px``), thresholded at its ``1 - cover`` quantile with
+    a soft edge of a tenth of the field's spread.
+    """
+    if not 0.0 <= cover <= 1.0:
+        from csuas.base.errors import ParameterError
+
+        raise ParameterError("cloud_cover", cover, "0 <= x <= 1")
+    field = cloud_field(n_v, n_h, seed, scale_px)
+    if cover <= 0.0:
+        return np.zeros_like(field)
+    if cover >= 1.0:
+        return np.ones_like(field)
+    edge = np.quantile(field, 1.0 - cover)
+    width = 0.1 * float(np.std(field))
+    return np.clip((field - edge) / width + 0.5, 0.0, 1.0)
+
+
+def with_clouds(sky_frame: np.ndarray, is_sky: np.ndarray, opacity: np.ndarray, cloud_luminance: float) -> np.ndarray:
+    """The sky's pixels seen through clouds of ``cloud_luminance`` [cd/m^2] and ``opacity``; the ground unchanged."""
+    alpha = np.where(is_sky, opacity, 0.0)
+    return (1.0 - alpha) * sky_frame + alpha * cloud_luminance

@@ -18,7 +18,8 @@ A table with ``min`` and ``max`` draws uniformly (``drones`` from its list), a l
 the images are every combination of the list axes, ``count`` random draws each. Optional keys:
 ``quality`` (render preset, default ``draft``), ``position`` (``random``: the target anywhere in
 the frame, possibly cut by its edge; ``centre``), ``bits`` (8-16), ``exr`` (also write the signal
-before quantisation, in electrons, as a float32 EXR beside each image). Image ``i`` draws from the
+before quantisation, in electrons, as a float32 EXR beside each image), ``cloud_cover`` (0..1, the
+share of a ``clear_sky`` background under seeded clouds). Image ``i`` draws from the
 seed ``[seed, i]``, so a given spec always gives the same bytes, and an image already on disk is
 not redone.
 """
@@ -53,6 +54,7 @@ SPEC_KEYS = (
     "position",
     "bits",
     "exr",
+    "cloud_cover",
 )
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
@@ -73,6 +75,7 @@ class DatasetSpec:
     position: str
     bits: int
     exr: bool = False
+    cloud_cover: float = 0.0
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -126,12 +129,19 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
     exr = data.get("exr", False)
     if not isinstance(exr, bool):
         errors.append(ParameterError("exr", exr, "true or false"))
+    cloud_cover = data.get("cloud_cover", 0.0)
+    if not (isinstance(cloud_cover, (int, float)) and 0.0 <= cloud_cover <= 1.0) or (
+        cloud_cover and background != "clear_sky"
+    ):
+        errors.append(ParameterError("cloud_cover", cloud_cover, "0..1, with background = 'clear_sky'"))
     scenario, sensor = data.get("scenario", "default"), data.get("sensor")
     if not isinstance(scenario, str):
         errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
     if errors:
         raise InputErrors(errors)
-    return DatasetSpec(seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits, exr)
+    return DatasetSpec(
+        seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits, exr, float(cloud_cover)
+    )
 
 
 def load_dataset_spec(source) -> DatasetSpec:
@@ -296,6 +306,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         chain,
         seed=seed,
         quality=spec.quality,
+        cloud_cover=spec.cloud_cover,
     )
     background = float(np.median(frame["electrons"]))
     excess = float(np.abs(np.sum(frame["electrons"][frame["electrons"] != background] - background)))

@@ -55,6 +55,7 @@ def eo_frame(
     seed: int,
     quality: str = "draft",
     atmosphere: bool = False,
+    cloud_cover: float = 0.0,
 ) -> dict:
     """Render, expose, degrade and label one full EO frame.
 
@@ -77,6 +78,8 @@ def eo_frame(
         Render quality preset.
     atmosphere : bool
         Koschmieder path of the render.
+    cloud_cover : float
+        Share of a ``"clear_sky"`` background's sky under seeded clouds (0..1).
 
     Returns
     -------
@@ -110,6 +113,8 @@ def eo_frame(
             sun_azimuth_deg=view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg,
             sun_elevation_deg=light.sun_elevation_deg,
             ground_reflectance=light.ground_reflectance,
+            cloud_cover=cloud_cover,
+            seed=seed,
         )
         rows = slice(window.y0, window.y0 + window.height)
         cols = slice(window.x0, window.x0 + window.width)
