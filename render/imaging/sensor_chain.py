@@ -237,11 +237,12 @@ def apply_chain(
             image = rng.poisson(image).astype(float)
         if "dark_current" in stages:
             image = image + rng.poisson(settings.dark_current_e_s * settings.exposure_s, image.shape)
-        gain_pattern, offset_pattern = fixed_pattern(image.shape, camera_seed)
-        if "prnu" in stages:
-            image = image * (1.0 + settings.prnu * gain_pattern)
-        if "dsnu" in stages:
-            image = image + settings.dsnu_e * offset_pattern
+        if stages & {"prnu", "dsnu"}:
+            gain_pattern, offset_pattern = fixed_pattern(image.shape, camera_seed)
+            if "prnu" in stages:
+                image = image * (1.0 + settings.prnu * gain_pattern)
+            if "dsnu" in stages:
+                image = image + settings.dsnu_e * offset_pattern
         if "read_noise" in stages:
             image = image + settings.read_noise_e * rng.standard_normal(image.shape)
     out = {"signal": image.astype(np.float32)}
