@@ -250,6 +250,8 @@ ROWS = [
 COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
     "tir.target_pixels": "tests/test_tir_netd.py (closed form)",
+    "terrain.curvature_drop_m": "tests/test_terrain.py (closed form)",
+    "terrain.viewshed": "tests/test_terrain.py (smooth-Earth horizons, a ridge's shadow)",
     "camera.luminance_excess": "tests/test_camera.py (Eq. 3 inverted)",
     "camera.photopic_efficiency": "tests/test_camera.py (inside the photon conversion's quadrature)",
     "camera.photons_per_lumen": "tests/test_camera.py (independent quadrature)",

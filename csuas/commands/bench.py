@@ -10,6 +10,7 @@ from csuas.base.registry import resolve
 SUITES = {
     "core_models": "csuas.validation.core.bench:bench_models",
     "core_iterative": "csuas.validation.core.bench:bench_iterative",
+    "terrain_viewshed": "csuas.validation.core.bench:bench_viewshed",
     "drone_silhouette": "csuas.validation.drone.bench:bench_silhouette",
     "rcs_sbr": "csuas.validation.rcs.bench:bench_sbr",
     "rcs_memory": "csuas.validation.rcs.bench:bench_memory",

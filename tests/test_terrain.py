@@ -1,0 +1,62 @@
+"""Line of sight over terrain (core/terrain.py) against closed-form horizons and shadows."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from csuas.base.errors import ParameterError
+from csuas.core.terrain import curvature_drop_m, viewshed
+
+
+def test_curvature_drop_is_the_effective_earths_sag():
+    # d^2 / (2 k R): 10 km at k = 4/3, R = 6371 km -> 5.886 m
+    assert curvature_drop_m(10_000.0, 4.0 / 3.0) == pytest.approx(1e8 / (2 * 4 / 3 * 6_371_000.0))
+
+
+def test_flat_earth_is_seen_to_the_two_horizons():
+    """Smooth Earth: visible out to sqrt(2 k R h_s) + sqrt(2 k R h_t) (10 m mast, 30 m target: 35.60 km)."""
+    cell = 100.0
+    dem = np.zeros((801, 801))
+    visible = viewshed(dem, cell, 400.0, 400.0, 10.0, 30.0)
+    k, r_e = 4.0 / 3.0, 6_371_000.0
+    limit = math.sqrt(2 * k * r_e * 10.0) + math.sqrt(2 * k * r_e * 30.0)
+    rr, cc = np.indices(dem.shape)
+    distance = np.hypot(rr - 400.0, cc - 400.0) * cell
+    clear = np.abs(distance - limit) > 1.5 * cell  # the method's cells within 1.5 cells of the horizon may graze
+    assert np.array_equal(visible[clear], (distance <= limit)[clear])
+
+
+def test_a_ridge_casts_the_shadow_of_its_crest():
+    """A wall of height H at column 50 (no curvature): a target at x beyond it is seen when the straight line
+    from the eye clears the crest, h_s + (h_t - h_s) D / x >= H: a 100 m target is seen close behind a 40 m
+    wall and hidden from D (h_t - h_s) / (H - h_s) = 1357 m on."""
+    cell, h_s, h_t, height = 10.0, 5.0, 100.0, 40.0
+    dem = np.zeros((101, 301))
+    dem[:, 50] = height
+    visible = viewshed(dem, cell, 50.0, 0.0, h_s, h_t, k_factor=1e12)
+    x = np.arange(301) * cell
+    crest = 50 * cell
+    with np.errstate(divide="ignore", invalid="ignore"):
+        seen = np.where(x > crest, h_s + (h_t - h_s) * crest / np.where(x > 0, x, 1.0) >= height, True)
+    # along the row of the sensor (the ridge is uniform across), away from the shadow's edge by 2 cells
+    expected_edge = crest * (h_t - h_s) / (height - h_s)  # where the line through the crest meets h_t: 1357 m
+    clear = np.abs(x - expected_edge) > 2 * cell
+    clear &= np.abs(x - crest) > 2 * cell
+    assert np.array_equal(visible[50][clear], seen[clear])
+    assert visible[50, 70] and visible[50, 130] and not visible[50, 140] and not visible[50, 250]
+
+
+def test_a_rough_dem_and_bad_input():
+    rng = np.random.default_rng(1)
+    dem = np.cumsum(np.cumsum(rng.normal(0, 0.5, (300, 300)), 0), 1) * 0.01
+    visible = viewshed(dem, 30.0, 150.0, 150.0, 10.0, 50.0)
+    assert visible.shape == (300, 300) and visible[150, 150]
+    # raising the flight level never hides a cell
+    assert np.all(viewshed(dem, 30.0, 150.0, 150.0, 10.0, 500.0) >= visible)
+    with pytest.raises(ParameterError, match="sensor position"):
+        viewshed(dem, 30.0, -1.0, 500.0, 10.0, 50.0)
+    with pytest.raises(ParameterError, match="dem_m"):
+        viewshed(np.full((3, 3), np.nan), 30.0, 1.0, 1.0, 10.0, 50.0)
