@@ -45,6 +45,8 @@ COMMANDS = {
     "pd": "probability of detection against range for every sensor of a scenario, fused, and along an approach",
     "pd-radar": "probability of detection of a radar detector (Swerling 0-4), or the SNR a Pd needs",
     "sweep": "a sweep over scenario parameters or simulator settings, in one process or on a Dask cluster",
+    "coverage": "where each sensor of a site sees and detects a drone over terrain, per flight level and fused "
+    "(GeoTIFF, PNG, coverage.json)",
     "dataset": "labelled EO frames (16-bit PNG, COCO and YOLO) of drones at drawn ranges and aspects, through the "
     "sensor chain",
 }

@@ -101,6 +101,11 @@ def dataset_path(name: str):
     return resources.files(__name__).joinpath("datasets", f"{name}.toml")
 
 
+def site_path(name: str):
+    """Path of an embedded coverage site (``demo``; docs/coverage.md)."""
+    return resources.files(__name__).joinpath("sites", f"{name}.toml")
+
+
 def sweep_path(name: str):
     """Path of an embedded sweep spec (``range_rain``, ``rcs_bands``, ...; docs/sweeps.md)."""
     return resources.files(__name__).joinpath("sweeps", f"{name}.toml")

@@ -1,0 +1,238 @@
+"""``csuas coverage SITE --out DIR``: where each sensor of a site sees and detects a drone, with terrain.
+
+The site (TOML, public interface; docs/coverage.md) names a DEM (a GeoTIFF in a projected CRS, metres;
+omitted: the embedded synthetic demo terrain), a scenario, the flight levels ``altitudes_agl_m`` and,
+per sensor of the scenario, its position ``x``, ``y`` in the DEM's CRS and ``mast_m``. Writes
+``DIR/coverage.json`` (every layer with ``sensor``, ``altitude_m``, ``kind`` and ``path``, and the
+area covered), a GeoTIFF per layer in the DEM's CRS and transform, and PNG maps over a hillshade.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from csuas.base.errors import ParameterError, raise_all
+from csuas.base.fileio import atomic_path, prepare_output_dir, read_spec, write_text_atomic
+
+#: Keys a site may hold; and of each sensor table.
+SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "sensors")
+SENSOR_KEYS = ("x", "y", "mast_m")
+#: The embedded demo terrain: cells, cell size [m], origin of its transform and CRS.
+DEMO = {"cells": 400, "cell_m": 25.0, "origin": (500_000.0, 5_000_000.0), "crs": "EPSG:32633"}
+
+
+def add_arguments(parser):
+    """Declare the options of ``csuas coverage``."""
+    parser.add_argument("site", help="site TOML file, or an embedded site (demo)")
+    parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
+
+
+def demo_dem() -> np.ndarray:
+    """The demo terrain [m]: seeded Gaussian hills up to about 120 m over a 10 km square."""
+    n, cell = DEMO["cells"], DEMO["cell_m"]
+    rng = np.random.default_rng(7)
+    y, x = np.indices((n, n)) * cell
+    dem = np.zeros((n, n))
+    for cx, cy, height, width in zip(
+        rng.uniform(0, n * cell, 12), rng.uniform(0, n * cell, 12), rng.uniform(20, 120, 12), rng.uniform(400, 1500, 12)
+    ):
+        dem += height * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * width**2))
+    return dem
+
+
+def _load_dem(site: dict, site_path):
+    """(heights, transform, crs, cell size) of the site's DEM or the demo terrain."""
+    from rasterio.transform import from_origin
+
+    if "dem" not in site:
+        x0, y0 = DEMO["origin"]
+        top = y0 + DEMO["cells"] * DEMO["cell_m"]
+        return demo_dem(), from_origin(x0, top, DEMO["cell_m"], DEMO["cell_m"]), DEMO["crs"], DEMO["cell_m"]
+    import rasterio
+
+    path = Path(site["dem"])
+    if not path.is_absolute() and site_path is not None:
+        path = Path(site_path).parent / path
+    if not path.is_file():
+        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF file")
+    with rasterio.open(path) as src:
+        dem = src.read(1, masked=True).astype(float)
+        transform, crs = src.transform, src.crs
+    if crs is None or not crs.is_projected:
+        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF in a projected CRS (metres)")
+    if abs(abs(transform.a) - abs(transform.e)) > 1e-6 * abs(transform.a):
+        raise ParameterError("dem", str(site["dem"]), "square cells")
+    if np.ma.is_masked(dem):  # nodata holes: the lowest valid height, so they hide nothing
+        dem = dem.filled(float(dem.min()))
+    return np.asarray(dem), transform, str(crs), abs(transform.a)
+
+
+def _validate(site: dict, scenario) -> list:
+    errors = [
+        ParameterError(key, site[key], "a site key: " + ", ".join(SITE_KEYS)) for key in site if key not in SITE_KEYS
+    ]
+    altitudes = site.get("altitudes_agl_m", [30.0, 120.0])
+    if (
+        not isinstance(altitudes, list)
+        or not altitudes
+        or not all(isinstance(a, (int, float)) and 0.0 <= a <= 10_000.0 for a in altitudes)
+    ):
+        errors.append(ParameterError("altitudes_agl_m", altitudes, "a list of heights 0 to 10000 m above the terrain"))
+    sensors = site.get("sensors", {})
+    if not sensors:
+        errors.append(ParameterError("sensors", sensors, "at least one [sensors.NAME] of the scenario"))
+    for name, table in sensors.items():
+        if name not in scenario.sensors:
+            errors.append(
+                ParameterError(f"sensors.{name}", name, "a sensor of the scenario: " + ", ".join(scenario.sensors))
+            )
+        for key in table:
+            if key not in SENSOR_KEYS:
+                errors.append(ParameterError(f"sensors.{name}.{key}", table[key], ", ".join(SENSOR_KEYS)))
+        for key in ("x", "y"):
+            if not isinstance(table.get(key), (int, float)):
+                errors.append(
+                    ParameterError(f"sensors.{name}.{key}", table.get(key), "a coordinate in the DEM's CRS [m]")
+                )
+        mast = table.get("mast_m", 10.0)
+        if not (isinstance(mast, (int, float)) and 0.0 <= mast <= 1000.0):
+            errors.append(ParameterError(f"sensors.{name}.mast_m", mast, "0 to 1000 m"))
+    return errors
+
+
+def run(args) -> dict:
+    """Compute and write every layer of the site."""
+    from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
+    from csuas.core.scenario import load_scenario
+    from csuas.defaults import site_path
+
+    source = Path(args.site)
+    site = read_spec(args.site, site_path, "site")
+    scenario = load_scenario(site.get("scenario", "default"))
+    raise_all(_validate(site, scenario))
+    dem, transform, crs, cell = _load_dem(site, source if source.is_file() else None)
+    inverse = ~transform
+    sited, outside = {}, []
+    for name, table in site["sensors"].items():
+        col, row = inverse @ (float(table["x"]), float(table["y"]))
+        col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
+        if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
+            outside.append(ParameterError(f"sensors.{name}", (table["x"], table["y"]), "a position inside the DEM"))
+        sited[name] = SitedSensor(name, row, col, float(table.get("mast_m", 10.0)))
+    raise_all(outside)
+    altitudes = [float(a) for a in site.get("altitudes_agl_m", [30.0, 120.0])]
+    out = prepare_output_dir(args.out)
+    layers, per_sensor = [], {}
+    for name, placed in sited.items():
+        print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
+        per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
+    fused = fused_layers(per_sensor)
+    hillshade = _hillshade(dem, cell)
+    cell_km2 = cell * cell / 1e6
+    for name, grids in per_sensor.items():
+        for i, altitude in enumerate(altitudes):
+            for kind in ("visible", "detected", "pd"):
+                grid = grids[kind][i].astype(np.float32)
+                layers.append(_layer(out, name, altitude, kind, grid, transform, crs, hillshade, sited, cell_km2))
+        min_alt = grids["min_altitude_m"].astype(np.float32)
+        layers.append(_layer(out, name, None, "min_altitude", min_alt, transform, crs, hillshade, sited, cell_km2))
+    for i, altitude in enumerate(altitudes):
+        for kind in ("count", "detected", "pd"):
+            grid = fused[kind][i].astype(np.float32)
+            layers.append(
+                _layer(out, "fused", altitude, f"fused_{kind}", grid, transform, crs, hillshade, sited, cell_km2)
+            )
+    summary = {
+        "site": str(args.site),
+        "crs": crs,
+        "cell_m": cell,
+        "altitudes_agl_m": altitudes,
+        "sensors": {
+            n: {"range_m": g["range_m"], "row": sited[n].row, "col": sited[n].col} for n, g in per_sensor.items()
+        },
+        "layers": layers,
+    }
+    write_text_atomic(out / "coverage.json", json.dumps(summary, indent=1))
+    summary["out"] = str(out)
+    return summary
+
+
+def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
+    """Lambertian hillshade (sun from the north-west, 45 degrees up), 0..1."""
+    gy, gx = np.gradient(dem, cell)
+    normal = np.stack([-gx, gy, np.ones_like(dem)])
+    normal /= np.linalg.norm(normal, axis=0)
+    sun = np.array(
+        [
+            -math.cos(math.radians(45)) * math.sin(math.radians(45)),
+            math.cos(math.radians(45)) ** 2,
+            math.sin(math.radians(45)),
+        ]
+    )
+    return np.clip(np.tensordot(sun, normal, axes=1), 0.0, 1.0)
+
+
+def _layer(out: Path, sensor: str, altitude, kind: str, grid, transform, crs, hillshade, sited, cell_km2) -> dict:
+    import rasterio
+
+    stem = f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
+    tif, png = out / f"{stem}.tif", out / f"{stem}.png"
+    profile = {
+        "driver": "GTiff",
+        "height": grid.shape[0],
+        "width": grid.shape[1],
+        "count": 1,
+        "dtype": "float32",
+        "crs": crs,
+        "transform": transform,
+        "nodata": float("nan"),
+    }
+    with atomic_path(tif) as tmp:
+        with rasterio.open(tmp, "w", **profile) as dst:
+            dst.write(grid, 1)
+    _map(png, grid, hillshade, f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL"), sited)
+    covered = np.nan_to_num(grid) > 0 if kind != "min_altitude" else np.isfinite(grid)
+    return {
+        "sensor": sensor,
+        "altitude_m": altitude,
+        "kind": kind,
+        "path": tif.name,
+        "png": png.name,
+        "area_km2": float(covered.sum() * cell_km2),
+    }
+
+
+def _map(path: Path, grid, hillshade, title: str, sited) -> None:
+    from csuas.base.plots import _pyplot
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(5.5, 5.0))
+    ax.imshow(hillshade, cmap="gray", vmin=0, vmax=1)
+    shown = np.ma.masked_where(~np.isfinite(grid) | (grid <= 0), grid)
+    image = ax.imshow(shown, cmap="viridis", alpha=0.6)
+    for name, s in sited.items():
+        ax.plot(s.col, s.row, "r^", ms=7)
+        ax.annotate(name, (s.col, s.row), color="red", fontsize=8, xytext=(4, 4), textcoords="offset points")
+    ax.set_title(title, fontsize=10)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    fig.colorbar(image, ax=ax, fraction=0.046)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
+    plt.close(fig)
+
+
+def render_text(result: dict) -> str:
+    """Each sensor's range and the area it covers per flight level."""
+    lines = [f"coverage of {result['site']} ({result['crs']}, {result['cell_m']:g} m cells): {result['out']}"]
+    for layer in result["layers"]:
+        if layer["kind"] in ("detected", "fused_detected"):
+            lines.append(
+                f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2"
+            )
+    return "\n".join(lines)
