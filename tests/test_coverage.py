@@ -39,11 +39,13 @@ def test_the_demo_site_writes_every_layer_with_the_dems_crs(tmp_path, capsys):
     summary = json.loads((tmp_path / "c" / "coverage.json").read_text())
     kinds = {(layer["sensor"], layer["kind"], layer["altitude_m"]) for layer in summary["layers"]}
     assert ("radar", "visible", 30.0) in kinds and ("eo", "min_altitude", None) in kinds
-    assert ("fused", "fused_count", 120.0) in kinds and out["crs"] == "EPSG:32633"
+    assert ("fused", "fused", 120.0) in kinds and out["crs"] == "EPSG:32633"
+    quantities = {layer.get("quantity") for layer in summary["layers"] if layer["kind"] == "fused"}
+    assert quantities == {"count", "detected", "pd"}
     with (
         rasterio.open(tmp_path / "c" / "rf_visible_30m.tif") as visible,
         rasterio.open(tmp_path / "c" / "rf_detected_30m.tif") as detected,
-        rasterio.open(tmp_path / "c" / "fused_fused_detected_30m.tif") as fused,
+        rasterio.open(tmp_path / "c" / "fused_detected_30m.tif") as fused,
     ):
         assert str(visible.crs) == "EPSG:32633" and visible.transform.a == 25.0
         v, d, f = visible.read(1), detected.read(1), fused.read(1)

@@ -142,11 +142,10 @@ def run(args) -> dict:
         min_alt = grids["min_altitude_m"].astype(np.float32)
         layers.append(_layer(out, name, None, "min_altitude", min_alt, transform, crs, hillshade, sited, cell_km2))
     for i, altitude in enumerate(altitudes):
-        for kind in ("count", "detected", "pd"):
-            grid = fused[kind][i].astype(np.float32)
-            layers.append(
-                _layer(out, "fused", altitude, f"fused_{kind}", grid, transform, crs, hillshade, sited, cell_km2)
-            )
+        for quantity in ("count", "detected", "pd"):
+            grid = fused[quantity][i].astype(np.float32)
+            layer = _layer(out, "fused", altitude, quantity, grid, transform, crs, hillshade, sited, cell_km2)
+            layers.append({**layer, "kind": "fused", "quantity": quantity})
     summary = {
         "site": str(args.site),
         "crs": crs,
@@ -231,7 +230,7 @@ def render_text(result: dict) -> str:
     """Each sensor's range and the area it covers per flight level."""
     lines = [f"coverage of {result['site']} ({result['crs']}, {result['cell_m']:g} m cells): {result['out']}"]
     for layer in result["layers"]:
-        if layer["kind"] in ("detected", "fused_detected"):
+        if layer["kind"] == "detected" or layer.get("quantity") == "detected":
             lines.append(
                 f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2"
             )
