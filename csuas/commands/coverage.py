@@ -220,7 +220,8 @@ def _map(path: Path, grid, hillshade, title: str, sited) -> None:
     ax.set_title(title, fontsize=10)
     ax.set_xticks([])
     ax.set_yticks([])
-    fig.colorbar(image, ax=ax, fraction=0.046)
+    if np.unique(grid[np.isfinite(grid)]).size > 2:  # yes/no layers need no scale
+        fig.colorbar(image, ax=ax, fraction=0.046)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
     plt.close(fig)
