@@ -219,7 +219,17 @@ def test_registry_declares_every_check():
     names = [s.name for s in specs]
     assert len(names) == len(set(names))
     groups = {s.group for s in specs}
-    assert groups == {"defaults", "worked_numbers", "conventions", "links", "rcs", "lidar", "imaging", "detection"}
+    assert groups == {
+        "defaults",
+        "worked_numbers",
+        "conventions",
+        "links",
+        "rcs",
+        "lidar",
+        "imaging",
+        "detection",
+        "terrain",
+    }
     assert {f"conv.{n}" for n in range(1, 11)} <= set(names)
     for s in specs:
         assert s.compares and s.tolerance_why and callable(s.run)

@@ -28,6 +28,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_lidar:SPECS",
     "csuas.validation.report.checks_imaging:SPECS",
     "csuas.validation.report.checks_detection:SPECS",
+    "csuas.validation.report.checks_terrain:SPECS",
 )
 
 
