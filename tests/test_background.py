@@ -102,3 +102,33 @@ def test_clouds_stay_in_the_sky():
     ground = clear == 0.2 * 70000.0 / math.pi
     assert np.array_equal(cloudy[ground], clear[ground]) and not np.array_equal(cloudy[~ground], clear[~ground])
     assert cloudy[~ground].max() <= 70000.0 / math.pi + 1e-9
+
+
+@pytest.mark.slow
+def test_the_targets_excess_is_taken_against_the_background_behind_it():
+    """Seen from below against the sky: on a uniform sky the excess equals the whole frame's electrons over its
+    background; on the clear sky's gradient it stays the target's own (the frame's median would count the
+    whole gradient)."""
+    from csuas.render.imaging.frame import camera_from_params, eo_frame
+    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.sensor_chain import ChainSettings
+
+    def frame(background):
+        return eo_frame(
+            "dji_mini_4_pro",
+            View(300.0, 30.0, -10.0),
+            EoSensor(),
+            Daylight(background=background),
+            camera_from_params(),
+            ChainSettings(stages=()),
+            seed=0,
+        )
+
+    uniform = frame("sky")
+    electrons = uniform["electrons"]
+    assert uniform["target_excess_e"] == pytest.approx(float(np.sum(electrons - np.median(electrons))), rel=1e-6)
+    gradient = frame("clear_sky")
+    electrons = gradient["electrons"]
+    whole_frame = abs(float(np.sum(electrons - np.median(electrons))))
+    assert 0.5 < gradient["target_excess_e"] / uniform["target_excess_e"] < 2.0
+    assert whole_frame > 100 * abs(gradient["target_excess_e"])

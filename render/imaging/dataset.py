@@ -283,8 +283,7 @@ def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> 
 
 def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
     """An EO frame of the draw, with the target's blob SNR against shot and read noise."""
-    from csuas.core.detection import blob_snr
-    from csuas.render.imaging.frame import camera_from_params, eo_frame
+    from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
 
@@ -309,11 +308,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         quality=spec.quality,
         cloud_cover=spec.cloud_cover,
     )
-    background = float(np.median(frame["electrons"]))
-    excess = float(np.abs(np.sum(frame["electrons"][frame["electrons"] != background] - background)))
-    pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
-    # the excess summed over the blob against the noise of the pixels it covers (at least one)
-    frame["snr"] = float(blob_snr(excess / pixels, np.sqrt(background + p["read_noise_e"] ** 2), pixels))
+    frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
 
 

@@ -85,9 +85,10 @@ def eo_frame(
     -------
     dict
         ``result`` (the window's ImagingResult), ``luminance`` (frame, cd/m^2), ``electrons`` (mean
-        signal), ``chain`` (:func:`apply_chain`'s output), ``label``, ``exposure_s`` and
-        ``background_luminance`` (the uniform background, or the gradient frame's median, which the
-        auto-exposure uses).
+        signal), ``target_excess_e`` (the target's electrons over the background behind it, summed),
+        ``background_behind_e`` (the mean background electrons of the target's window), ``chain``
+        (:func:`apply_chain`'s output), ``label``, ``exposure_s`` and ``background_luminance`` (the
+        uniform background, or the gradient frame's median, which the auto-exposure uses).
     """
     gradient = light.background == "clear_sky"
     if gradient and atmosphere:
@@ -99,6 +100,8 @@ def eo_frame(
     else:
         background = float(lit.background) * light.illuminance_lx / math.pi
     window = res.window
+    rows = slice(window.y0, window.y0 + window.height)
+    cols = slice(window.x0, window.x0 + window.width)
     rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
     if gradient:
         frame = clear_sky_frame(
@@ -116,15 +119,15 @@ def eo_frame(
             cloud_cover=cloud_cover,
             seed=seed,
         )
-        rows = slice(window.y0, window.y0 + window.height)
-        cols = slice(window.x0, window.x0 + window.width)
+        behind = frame[rows, cols].copy()
         uncovered = 1.0 - res.coverage
         # the render's uniform sky leaves the target's own light; the gradient fills what it does not cover
-        frame[rows, cols] = rendered - uncovered * background + uncovered * frame[rows, cols]
+        frame[rows, cols] = rendered - uncovered * background + uncovered * behind
         background = float(np.median(frame))
     else:
         frame = np.full((sensor.n_v, sensor.n_h), background)
-        frame[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = rendered
+        behind = np.full(rendered.shape, background)
+        frame[rows, cols] = rendered
     per_lux = electron_rate(1.0, camera["pixel_pitch_um"], camera["quantum_efficiency"], photons_per_lumen())
     rate = per_lux * focal_plane_illuminance_lx(frame, camera["f_number"], camera["optics_transmittance"])
     background_rate = per_lux * focal_plane_illuminance_lx(
@@ -132,16 +135,31 @@ def eo_frame(
     )
     exposure = float(auto_exposure_s(background_rate, camera["full_well_e"], camera["max_exposure_ms"] / 1000.0))
     electrons = rate * exposure
+    electrons_per_nit = float(
+        per_lux * focal_plane_illuminance_lx(1.0, camera["f_number"], camera["optics_transmittance"])
+    )
     settings = replace(chain, exposure_s=exposure, full_well_e=camera["full_well_e"])
     return {
         "result": res,
         "luminance": frame,
         "electrons": electrons,
+        "target_excess_e": float(np.sum(frame[rows, cols] - behind)) * electrons_per_nit * exposure,
+        "background_behind_e": float(np.mean(behind)) * electrons_per_nit * exposure,
         "chain": apply_chain(electrons, settings, seed),
         "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
         "exposure_s": exposure,
         "background_luminance": background,
     }
+
+
+def target_snr(frame: dict, read_noise_e: float) -> float:
+    """Blob SNR of an :func:`eo_frame`'s target: its excess electrons over the pixels it covers (at least one)
+    against the shot noise of the background behind it and the read noise (:func:`csuas.core.detection.blob_snr`)."""
+    from csuas.core.detection import blob_snr
+
+    pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
+    noise = math.sqrt(frame["background_behind_e"] + read_noise_e**2)
+    return float(blob_snr(abs(frame["target_excess_e"]) / pixels, noise, pixels))
 
 
 def tir_frame(

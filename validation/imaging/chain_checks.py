@@ -83,8 +83,8 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
     """The target's blob SNR measured on rendered full frames against the core's camera model, per light level.
 
     Rendered: the DJI Mini 4 Pro's frame in mean photoelectrons (:func:`csuas.render.imaging.frame.eo_frame`,
-    default camera), its electrons above the background summed over the frame, against the
-    background pixel's shot and read noise (:func:`csuas.core.detection.blob_snr`). Core: the same
+    default camera), its electrons above the background behind it summed over its window, against
+    that background's shot and read noise (:func:`csuas.render.imaging.frame.target_snr`). Core: the same
     camera's background electrons from :mod:`csuas.core.camera` (camera equation, photons per lumen,
     auto-exposure) and the render's Michelson contrast and pixels on target (Eq. 3 inverted).
 
@@ -95,7 +95,7 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
     """
     from csuas.core import camera, detection
     from csuas.defaults import default_values
-    from csuas.render.imaging.frame import camera_from_params, eo_frame
+    from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor, View
 
     settings = camera_from_params()
@@ -106,11 +106,9 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
         frame = eo_frame(
             "dji_mini_4_pro", View(range_m, 30.0, 10.0), EoSensor(), light, settings, ChainSettings(stages=()), seed=0
         )
-        electrons = frame["electrons"]
-        background = float(np.median(electrons))
+        background = frame["background_behind_e"]
         pixels = float(frame["label"]["pixels_on_target"])
-        excess = float(np.sum(electrons - background))
-        rendered = float(detection.blob_snr(excess / pixels, math.sqrt(background + read**2), pixels))
+        rendered = target_snr(frame, read)
         luminance = 0.3 * float(lux) / math.pi
         rate = camera.electron_rate(
             camera.focal_plane_illuminance_lx(luminance, settings["f_number"], settings["optics_transmittance"]),
