@@ -83,8 +83,18 @@ def coverage_factor(replicas: int) -> float:
     return float(np.sqrt(f.ppf(BOUND_LEVEL, 2, 2 * (replicas - 1))))
 
 
+def lower_side_db(relative, db_per_decade: float):
+    """The larger side of an error bound in dB: -X log10(1 - e) for a relative half-width e, inf from e >= 1.
+
+    ``db_per_decade`` X is 20 for a bound on an amplitude, 10 for one on a power.
+    """
+    e = np.asarray(relative, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(e < 1.0, -db_per_decade * np.log10(1.0 - np.minimum(e, 0.999999)), np.inf)
+
+
 def replica_error_db(amplitudes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Mean amplitude and the 95 % error bound of its power [dB] from replicas on axis 0.
+    """Mean amplitude and the error bound of its power [dB] (at :data:`BOUND_LEVEL`) from replicas on axis 0.
 
     Parameters
     ----------
@@ -102,8 +112,7 @@ def replica_error_db(amplitudes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     mean = amplitudes.mean(axis=0)
     spread = np.sqrt(np.sum(np.abs(amplitudes - mean) ** 2, axis=0) / (k - 1))
     with np.errstate(divide="ignore", invalid="ignore"):
-        relative = coverage_factor(k) * spread / np.sqrt(k) / np.abs(mean)
-        error = np.where(relative < 1.0, -20.0 * np.log10(1.0 - np.minimum(relative, 0.999999)), np.inf)
+        error = lower_side_db(coverage_factor(k) * spread / np.sqrt(k) / np.abs(mean), 20.0)
     # replicas that agree exactly (a field of exactly integrated facets only, or none) carry no grid error
     error = np.where(spread == 0.0, 0.0, error)
     return mean, np.maximum(error, ERROR_FLOOR_DB)

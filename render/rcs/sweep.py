@@ -32,7 +32,7 @@ from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path
 
 from .aspect_sampling import flash_proposal, uniform_weight
-from .solver import compute_rcs, get_engine, to_dbsm
+from .solver import compute_rcs, get_engine, lower_side_db, to_dbsm
 
 #: The paper's radar bands [GHz] (Section 4.8: 2.4 GHz to Ka band).
 PAPER_BANDS_GHZ = (2.4, 8.0, 12.0, 18.0, 24.0, 35.0)
@@ -190,8 +190,7 @@ def _average_bound_db(replicate_means: np.ndarray) -> np.ndarray:
     mean = replicate_means.mean(axis=0)
     half = t.ppf(0.975, r - 1) * replicate_means.std(axis=0, ddof=1) / np.sqrt(r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        relative = half / mean
-    return np.where(relative < 1.0, -10.0 * np.log10(1.0 - np.minimum(relative, 0.999999)), np.inf)
+        return lower_side_db(half / mean, 10.0)
 
 
 def sphere_average(
@@ -256,10 +255,9 @@ def sphere_average(
         problems.append(ParameterError("replicates", replicates, "integer >= 2"))
     if int(aspects_per_replicate) != aspects_per_replicate or aspects_per_replicate < 4:
         problems.append(ParameterError("aspects_per_replicate", aspects_per_replicate, "integer >= 4"))
-    if not problems and max_aspects < replicates * aspects_per_replicate:
-        problems.append(
-            ParameterError("max_aspects", max_aspects, f">= one batch of {replicates * aspects_per_replicate} aspects")
-        )
+    batch_aspects = 2 * replicates * aspects_per_replicate  # the lattices and as many flash-drawn aspects
+    if not problems and max_aspects < batch_aspects:
+        problems.append(ParameterError("max_aspects", max_aspects, f">= one batch of {batch_aspects} aspects"))
     if problems:
         raise InputErrors(problems)
     kwargs.setdefault("error_estimate", False)
