@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.checks import require
-from csuas.core.detection import blob_snr
+from csuas.core.detection import blob_snr, target_pixels
 from csuas.core.solve import bracketed_root
 from csuas.core.units import C_LIGHT
 
@@ -185,8 +185,7 @@ def light_limited_range_m(
     }
 
     def snr(r):
-        pixels = projected_area_m2 / np.square(ifov_rad_ * r)
-        return blob_snr(excess0 * transmittance_at(r), noise, pixels)
+        return blob_snr(excess0 * transmittance_at(r), noise, target_pixels(projected_area_m2, ifov_rad_, r))
 
     bound = float(range_bound_m)
     if excess0 <= 0 or not np.isfinite(required_snr):  # no contrast, or certainty (p_desired = 1)

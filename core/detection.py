@@ -257,7 +257,8 @@ def gaussian_pd(amplitude_snr, pfa):
     Parameters
     ----------
     amplitude_snr : array_like
-        Signal amplitude in noise standard deviations, a >= 0 (the square root of the power SNR).
+        Signal amplitude in noise standard deviations, a >= 0 (the square root of the power SNR); inf
+        (a target at zero range) gives Pd = 1.
     pfa : array_like
         Probability of false alarm, 0 < Pfa < 1.
 
@@ -266,9 +267,28 @@ def gaussian_pd(amplitude_snr, pfa):
     ndarray
         Pd in [Pfa, 1] (Richards, *Fundamentals of Radar Signal Processing*, 2014, Eq. 6.23).
     """
-    a, p = require_all(("amplitude_snr", amplitude_snr, {"ge": 0}), ("pfa", pfa, {"gt": 0, "lt": 1}))
+    a, p = require_all(("amplitude_snr", amplitude_snr, {"ge": 0, "allow_inf": True}), ("pfa", pfa, {"gt": 0, "lt": 1}))
     _, stats = _special()
     return np.maximum(stats.norm.sf(stats.norm.isf(p) - a), p)
+
+
+def target_pixels(projected_area_m2, ifov_rad_, range_m):
+    """Pixels the target covers at a range: A / (IFOV R)^2 [px] (inf at R = 0).
+
+    Parameters
+    ----------
+    projected_area_m2 : array_like
+        Projected area of the target [m^2].
+    ifov_rad_ : array_like
+        Instantaneous field of view of one pixel [rad].
+    range_m : array_like
+        Slant range [m].
+    """
+    a = require("projected_area_m2", projected_area_m2, ge=0)
+    w = require("ifov_rad", ifov_rad_, gt=0)
+    r = require("range_m", range_m, ge=0)
+    with np.errstate(divide="ignore"):
+        return np.where(r > 0, a / np.square(w * np.where(r > 0, r, 1.0)), np.inf)
 
 
 def blob_snr(signal, noise_sd, pixels):

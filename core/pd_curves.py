@@ -130,13 +130,13 @@ def _imaging(scenario, sensor, convention, r, result):
     if sensor.modality == "tir" and p["model"] == "netd":
         dt0, extra = thermal_contrast(scenario, sensor, convention)
         dt = tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra)
-        snr = detection.blob_snr(dt, p["netd_mk"] / 1000.0, tir.target_pixels(t["projected_area_m2"], ifov, r))
+        snr = detection.blob_snr(dt, p["netd_mk"] / 1000.0, detection.target_pixels(t["projected_area_m2"], ifov, r))
         notes = [
             f"blob detection in temporal noise: SNR = |Delta T(R)| sqrt(pixels) / NETD, NETD {p['netd_mk']:g} mK "
             f"({_source(sensor, 'netd_mk')}), below a pixel |Delta T| pixels / NETD",
             f"Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')}): Pd = Q(Q^-1(Pfa) - SNR)",
         ]
-        return detection.gaussian_pd(np.where(np.isinf(snr), 1e6, snr), p["pfa"]), notes
+        return detection.gaussian_pd(snr, p["pfa"]), notes
     if sensor.modality == "tir" and p["model"] == "mrtd":
         pd = _mrtd_pd(scenario, sensor, convention, r)
         notes.append(
@@ -156,8 +156,8 @@ def _imaging(scenario, sensor, convention, r, result):
             np.asarray(result.term("background_electrons").value)
         )
         tau = transmittance(float(np.asarray(result.term("kruse_extinction").value)), r, convention)
-        snr = detection.blob_snr(excess * tau, noise, tir.target_pixels(t["projected_area_m2"], ifov, r))
-        pd = pd * detection.gaussian_pd(np.where(np.isinf(snr), 1e6, snr), p["pfa"])
+        snr = detection.blob_snr(excess * tau, noise, detection.target_pixels(t["projected_area_m2"], ifov, r))
+        pd = pd * detection.gaussian_pd(snr, p["pfa"])
         notes.append(
             f"times the camera's detection above noise: blob SNR of {excess:.3g} e excess per pixel over "
             f"{noise:.3g} e noise, Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')})"

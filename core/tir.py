@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.checks import require
-from csuas.core.detection import blob_snr
+from csuas.core.detection import blob_snr, target_pixels
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, graybody_apparent_temperature, radiance_temperature
 from csuas.core.result import RangeResult, Term, check_convention
@@ -191,25 +191,6 @@ def tir_mrtd_range(
         dt_r = np.where(r > 0, mrtd(cycles_per_m * r), 0.0)
         terms.append(Term("mrtd_at_range_k", dt_r, "K", "Eq. 27"))
     return RangeResult(r, "tir", "mrtd (Eqs. 24-31)", terms, reason)
-
-
-def target_pixels(projected_area_m2, ifov_rad_, range_m):
-    """Pixels the target covers at a range: A / (IFOV R)^2 [px] (inf at R = 0).
-
-    Parameters
-    ----------
-    projected_area_m2 : array_like
-        Projected area of the target [m^2].
-    ifov_rad_ : array_like
-        Instantaneous field of view of one pixel [rad].
-    range_m : array_like
-        Slant range [m].
-    """
-    a = require("projected_area_m2", projected_area_m2, ge=0)
-    w = require("ifov_rad", ifov_rad_, gt=0)
-    r = require("range_m", range_m, ge=0)
-    with np.errstate(divide="ignore"):
-        return np.where(r > 0, a / np.square(w * np.where(r > 0, r, 1.0)), np.inf)
 
 
 def tir_netd_range(

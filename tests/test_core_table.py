@@ -249,7 +249,7 @@ ROWS = [
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
-    "tir.target_pixels": "tests/test_tir_netd.py (closed form)",
+    "detection.target_pixels": "tests/test_tir_netd.py (closed form)",
     "terrain.curvature_drop_m": "tests/test_terrain.py (closed form)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",
     "coverage.fused_layers": "tests/test_coverage.py (the OR covers each sensor)",

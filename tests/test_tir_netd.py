@@ -1,4 +1,4 @@
-"""NETD-limited thermal detection (core.tir: target_pixels, tir_netd_range; core.detection.blob_snr; core.detection's
+"""NETD-limited thermal detection (core.tir.tir_netd_range; core.detection.target_pixels and blob_snr; core.detection's
 Gaussian threshold), against closed forms written here and the standard normal's published quantiles."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.detection import blob_snr, gaussian_pd, gaussian_required_snr
-from csuas.core.tir import target_pixels, tir_netd_range
+from csuas.core.detection import blob_snr, gaussian_pd, gaussian_required_snr, target_pixels
+from csuas.core.tir import tir_netd_range
 
 
 def test_gaussian_threshold_matches_the_normal_quantiles():
