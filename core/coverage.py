@@ -23,7 +23,7 @@ from csuas.core.horizon import K_OPTICAL, K_RADIO
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import viewshed
+from csuas.core.terrain import height_at, viewshed
 
 #: Effective Earth-radius factor of each modality's line of sight.
 K_FACTOR = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL, "acoustic": 1.0}
@@ -52,7 +52,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     reach = float(np.asarray(evaluate(scenario)[sited.name].range_m))
     rows, cols = np.indices(dem_m.shape)
     ground = np.hypot(rows - sited.row, cols - sited.col) * cell_m
-    eye = float(dem_m[int(round(sited.row)), int(round(sited.col))]) + sited.mast_m
+    eye = float(height_at(dem_m, np.array([sited.row]), np.array([sited.col]))[0]) + sited.mast_m  # as the viewshed
     visible, detected, pd = [], [], []
     for altitude in altitudes_m:
         seen = viewshed(dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, K_FACTOR[spec.modality])

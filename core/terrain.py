@@ -31,8 +31,8 @@ def curvature_drop_m(distance_m, k_factor):
     return d * d / (2.0 * k * EARTH_RADIUS_M)
 
 
-def _bilinear(dem: np.ndarray, rows, cols) -> np.ndarray:
-    """DEM heights at fractional (row, col) positions, clamped to the grid."""
+def height_at(dem: np.ndarray, rows, cols) -> np.ndarray:
+    """DEM heights [m] at fractional (row, col) cell positions, bilinear, clamped to the grid."""
     n_r, n_c = dem.shape
     r = np.clip(rows, 0.0, n_r - 1.0)
     c = np.clip(cols, 0.0, n_c - 1.0)
@@ -89,7 +89,7 @@ def viewshed(
             "sensor position", (sensor_row, sensor_col), f"inside the grid 0..{n_r - 1} x 0..{n_c - 1}"
         )
     h_target = np.broadcast_to(require("target_height_m", target_height_m, ge=0), dem.shape)
-    eye = float(_bilinear(dem, np.array([sensor_row]), np.array([sensor_col]))[0]) + float(
+    eye = float(height_at(dem, np.array([sensor_row]), np.array([sensor_col]))[0]) + float(
         require("sensor_height_m", sensor_height_m, ge=0)
     )
     # rays toward every boundary cell, sampled every half cell out to the farthest corner
@@ -108,7 +108,7 @@ def viewshed(
     cols = sensor_col + np.cos(angle)[:, None] * steps[None, :]
     distance = steps * cell
     drop = curvature_drop_m(distance, k_factor)
-    terrain = _bilinear(dem, rows, cols) - drop[None, :]
+    terrain = height_at(dem, rows, cols) - drop[None, :]
     slope = (terrain - eye) / distance[None, :]  # tangent of the terrain's elevation angle
     horizon = np.maximum.accumulate(slope, axis=1)
     before = np.concatenate([np.full((len(angle), 1), -np.inf), horizon[:, :-1]], axis=1)  # what a sample must clear

@@ -251,6 +251,7 @@ COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
     "detection.target_pixels": "tests/test_tir_netd.py (closed form)",
     "terrain.curvature_drop_m": "tests/test_terrain.py (closed form)",
+    "terrain.height_at": "tests/test_terrain.py and tests/test_coverage.py (flat and ridged DEMs)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",
     "coverage.fused_layers": "tests/test_coverage.py (the OR covers each sensor)",
     "terrain.viewshed": "tests/test_terrain.py (smooth-Earth horizons, a ridge's shadow)",

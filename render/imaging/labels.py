@@ -74,7 +74,7 @@ def label(coverage: np.ndarray, x0: int, y0: int, frame_width: int, frame_height
     covered = float(values.sum())
     return {
         "bbox": bbox,
-        "area": int(mask.sum()),
+        "area": int(rows.size),
         "pixels_on_target": covered,
         "segmentation": run_length(mask),
         "clipped": clipped,
