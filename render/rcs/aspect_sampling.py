@@ -86,10 +86,9 @@ def flat_panels(target: TargetMesh) -> tuple[np.ndarray, np.ndarray]:
     Faces are coplanar when their normals agree to 1e-3 (either orientation) and their planes'
     offsets to 1e-4 of the bounding radius.
     """
-    tri = target.vertices[target.faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    area = target.face_areas_m2
     n = target.face_normals * np.where(target.face_normals @ [0.5773, 0.5774, 0.5775] < 0, -1.0, 1.0)[:, None]
-    offset = np.einsum("ij,ij->i", n, tri[:, 0])
+    offset = np.einsum("ij,ij->i", n, target.vertices[target.faces[:, 0]])
     key = np.column_stack([np.round(n * 1e3), np.round(offset / (1e-4 * max(target.bounding_radius_m, 1e-9)))])
     _, panel = np.unique(key.astype(np.int64), axis=0, return_inverse=True)
     panel = panel.ravel()

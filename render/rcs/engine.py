@@ -260,9 +260,7 @@ class SbrEngine:
             mi.Vector3f(*(mi.Float(np.asarray(x[:, i], np.float32)) for i in range(3)))
             for x in (tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         )
-        self._face_area = mi.Float(
-            np.asarray(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1), np.float32)
-        )
+        self._face_area = mi.Float(np.asarray(target.face_areas_m2, np.float32))
         self._face_material = mi.UInt32(np.asarray(target.face_material, np.uint32))
         self._centroid = tri.mean(axis=1)
         self._one_sided = closed_faces(target.faces)
@@ -874,7 +872,7 @@ def _phase_mean_slope(dr, x):
     small = dr.abs(x) < 0.1
     xs = dr.select(small, 1.0, x)
     sin_x, cos_x = dr.sincos(xs)
-    # j [exp(jx)/(jx) - (exp(jx) - 1)/(jx)^2] = [exp(jx) x + j (exp(jx) - 1)] / x^2 ... written out:
+    # j [exp(jx)/(jx) - (exp(jx) - 1)/(jx)^2] = [x exp(jx) + j (exp(jx) - 1)] / x^2, in real and imaginary parts:
     exact_re = (cos_x * xs - sin_x) / (xs * xs)
     exact_im = (sin_x * xs + cos_x - 1.0) / (xs * xs)
     x2 = x * x

@@ -80,10 +80,15 @@ class TargetMesh:
         return float(np.sqrt((self.vertices**2).sum(axis=1).max()))
 
     @property
+    def face_areas_m2(self) -> np.ndarray:
+        """Area of each face [m^2]."""
+        tri = self.vertices[self.faces]
+        return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+
+    @property
     def surface_area_m2(self) -> float:
         """Total area of the faces [m^2]."""
-        tri = self.vertices[self.faces]
-        return float(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())
+        return float(self.face_areas_m2.sum())
 
     def with_material(self, material) -> TargetMesh:
         """A copy whose faces are all of one material."""
