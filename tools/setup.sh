@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set-up of a fresh machine, run by `make report` and `make test`:
-#   1. libLLVM 19 for Dr.Jit's LLVM back-end (Debian's LLVM 14/15 crash it);
+#   1. Debian packages: libLLVM 19 for Dr.Jit's LLVM back-end (Debian's LLVM 14/15 crash it) and
+#      gdal-bin (GDAL's gdal_viewshed, the independent reference of the line-of-sight checks);
 #   2. a virtual environment of csuas's own (CSUAS_VENV, default .venv), created when missing,
 #      because Debian's system Python refuses `pip install` (PEP 668);
 #   3. csuas with its test extras, editable, into that environment; skipped when pyproject.toml
@@ -12,12 +13,19 @@ venv="${CSUAS_VENV:-.venv}"
 say() { printf 'setup: %s\n' "$*" >&2; }
 started=$(date +%s)
 
+# Debian packages: libLLVM 19 for Dr.Jit, GDAL's programs for the viewshed cross-check (tests, report)
+missing=()
 if ! ls /usr/lib/*/libLLVM-19.so* >/dev/null 2>&1 && ! ls /usr/lib/libLLVM-19.so* >/dev/null 2>&1; then
+  missing+=(libllvm19)
+fi
+command -v gdal_viewshed >/dev/null 2>&1 || missing+=(gdal-bin)
+if [ ${#missing[@]} -gt 0 ]; then
   if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-    say "installing Debian's libllvm19 for Dr.Jit (about 30 s)"
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null
+    say "installing Debian's ${missing[*]} (about 30 s)"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
   else
-    say "libLLVM 19 not found; install it (apt-get install libllvm19) or set DRJIT_LIBLLVM_PATH"
+    say "missing Debian packages ${missing[*]}: install them (apt-get install ${missing[*]}); without libllvm19"
+    say "set DRJIT_LIBLLVM_PATH to a libLLVM 19; without gdal-bin the GDAL viewshed cross-checks are skipped"
   fi
 fi
 
