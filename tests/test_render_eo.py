@@ -341,3 +341,32 @@ def test_same_seed_same_result_other_seed_other_noise():
     assert a.values == b.values
     np.testing.assert_array_equal(a.image, b.image)
     assert a.values["pixels_on_target"] != c.values["pixels_on_target"]
+
+
+def test_new_ranges_aspects_and_seeds_reuse_the_compiled_path_tracer(drone):
+    """Only the padded wavefront size makes Dr.Jit compile the path tracer again (issue 12, section 6).
+
+    Range, seed and aspect reach the kernels as data, not as compiled constants: over views that
+    differ in all three, the path tracer's kernels (over 1000 operations) have exactly one hash per
+    launch size (:func:`csuas.render.imaging.trace.padded_wavefront`, powers of two).
+    """
+    import drjit as dr
+
+    views = [(500.0, 30.0, 10.0, 1), (520.0, 35.0, 12.0, 2), (700.0, 200.0, -5.0, 3), (480.0, 95.0, 25.0, 4)]
+    views += [(505.0, 31.0, 10.5, 5), (690.0, 210.0, -4.0, 6)]
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    try:
+        dr.kernel_history()
+        for range_m, azimuth_deg, elevation_deg, seed in views:
+            render_eo(
+                drone,
+                View(range_m=range_m, azimuth_deg=azimuth_deg, elevation_deg=elevation_deg),
+                settings=RenderSettings(quality="draft", seed=seed),
+            )
+        tracers = [k for k in dr.kernel_history() if k["type"] == dr.KernelType.JIT and k["operation_count"] > 1000]
+    finally:
+        dr.set_flag(dr.JitFlag.KernelHistory, False)
+    assert len(tracers) == len(views)
+    sizes = {k["size"] for k in tracers}
+    assert all(size & (size - 1) == 0 for size in sizes)
+    assert len({k["hash"] for k in tracers}) == len(sizes) < len(views)

@@ -120,6 +120,21 @@ def normalise_target(target, azimuth_deg: float, elevation_deg: float) -> Normal
     return NormalisedTarget(out, radius, rotation)
 
 
+def bounding_frame():
+    """A mesh of two zero-area triangles at the corners (-1, -1, -1) and (1, 1, 1) of the render frame.
+
+    No ray hits it, but it fixes the scene's bounding box to the cube around the unit sphere that
+    holds every normalised target. Mitsuba compiles the scene's bounding sphere into its emitters'
+    sampling code, so without the frame every aspect (every rotation of the target) would build the
+    path tracer anew (0.14 s of LLVM compilation on 2 cores, against 0.02 s of tracing at draft).
+    """
+    import mitsuba as mi
+
+    corners = np.repeat(np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]), 3, axis=0)
+    part = RenderPart("frame", corners, np.arange(6).reshape(2, 3), None)
+    return mitsuba_mesh(part, mi.load_dict({"type": "diffuse"}))
+
+
 def mitsuba_mesh(part: RenderPart, bsdf, emitter=None, exterior=None):
     """A Mitsuba mesh of ``part`` with its BSDF, optional area emitter and optional exterior medium."""
     import mitsuba as mi
@@ -208,7 +223,7 @@ def build_eo_scene(
     """
     import mitsuba as mi
 
-    scene = {"type": "scene"}
+    scene = {"type": "scene", "frame": bounding_frame()}
     for i, part in enumerate(target.parts):
         scene[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material))
     if sun_irradiance > 0:
@@ -243,7 +258,7 @@ def build_tir_scene(target: NormalisedTarget, *, band: str, surroundings_radianc
 
     from csuas.core.radiometry import band_radiance
 
-    scene = {"type": "scene"}
+    scene = {"type": "scene", "frame": bounding_frame()}
     for i, part in enumerate(target.parts):
         eps = float(getattr(part.material, f"emissivity_{band}"))
         bsdf = mi.load_dict({"type": "diffuse", "reflectance": 1.0 - eps})

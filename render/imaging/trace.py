@@ -28,6 +28,43 @@ MAX_LAUNCH = 1 << 21
 #: A target's box gets at least the samples of a target this many pixels in area (per batch,
 #: times n_side**2): sub-pixel targets keep the precision of an 8 x 8 px image.
 MIN_BOX_PIXELS = 64
+#: Alignment Dr.Jit's LLVM kernels assume of an input that allows it [bytes].
+JIT_ALIGNMENT_BYTES = 64
+
+
+def _aligned_copy(values: np.ndarray) -> np.ndarray:
+    """A float32 copy of ``values`` whose buffer starts on a 64-byte boundary."""
+    buffer = np.empty(values.size + JIT_ALIGNMENT_BYTES // 4, dtype=np.float32)
+    start = (-buffer.ctypes.data % JIT_ALIGNMENT_BYTES) // 4
+    out = buffer[start : start + values.size]
+    out[:] = values
+    return out
+
+
+def padded_wavefront(size: int) -> int:
+    """The number of rays a shading launch of ``size`` rays is padded to: the next power of two.
+
+    Mitsuba's sampler compiles its wavefront size into the kernel, so launches of as many sizes as
+    there are hit counts would each build the path tracer anew; padded, a whole data set needs a few.
+    """
+    return 1 << max(int(size) - 1, 0).bit_length()
+
+
+def camera_rays(camera_distance: float, directions: np.ndarray):
+    """Mitsuba rays from the camera at (0, 0, distance) of the render frame along ``directions`` (3, n).
+
+    Built so that every render reuses the kernels Dr.Jit has already compiled: the camera's
+    position is an opaque input rather than a constant of the kernel, and the directions, which
+    Dr.Jit maps from NumPy without a copy, sit on 64-byte boundaries, since Dr.Jit compiles a
+    kernel for each alignment of its inputs (with :func:`padded_wavefront` for the sampler's size).
+    Otherwise a new range or an unlucky allocation builds the path tracer anew: about 0.14 s of LLVM
+    compilation on 2 cores, against 0.02 s of tracing at draft quality.
+    """
+    import drjit as dr
+    import mitsuba as mi
+
+    origin = dr.opaque(mi.Point3f, [0.0, 0.0, float(camera_distance)])
+    return mi.Ray3f(origin, mi.Vector3f(*(_aligned_copy(c) for c in directions)))
 
 
 @dataclass
@@ -136,7 +173,6 @@ def trace_window(
     anchors = np.full((n_batches, 4, 2), np.nan)
     sides = ((0, -1.0), (0, 1.0), (1, -1.0), (1, 1.0))  # (axis, sign)
     nonfinite = 0
-    origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     geometry = scene if geometry is None else geometry
     sampler = mi.load_dict({"type": "independent"})
     rngs = [np.random.default_rng([int(seed), b]) for b in range(n_batches)]
@@ -164,15 +200,14 @@ def trace_window(
             batches.append(np.full(x.size, b))
         x, y, weight, owner, batch = (np.concatenate(v) for v in (xs, ys, areas, owners, batches))
         d = ray_directions(x, y, sensor, target_px).astype(np.float32)
-        ray = mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))
-        hit = np.array(geometry.ray_intersect(ray).is_valid(), dtype=bool)
+        hit = np.array(geometry.ray_intersect(camera_rays(camera_distance, d)).is_valid(), dtype=bool)
         idx = np.flatnonzero(hit)
         if idx.size:
             coverage += np.bincount(owner[idx], weights=weight[idx], minlength=n_batches * n_px)
-            hit_ray = mi.Ray3f(origin, mi.Vector3f(d[0][idx], d[1][idx], d[2][idx]))
-            sampler.seed(int(shade_rng.integers(1 << 31)), idx.size)
-            value, _, _ = integrator.sample(scene, sampler, hit_ray, medium)
-            value = np.array(value, dtype=float).reshape(-1, idx.size)[:channels]
+            shaded = np.resize(idx, padded_wavefront(idx.size))  # repeats the first hits up to the padded size
+            sampler.seed(dr.opaque(mi.UInt32, int(shade_rng.integers(1 << 31))), shaded.size)
+            value, _, _ = integrator.sample(scene, sampler, camera_rays(camera_distance, d[:, shaded]), medium)
+            value = np.array(value, dtype=float).reshape(-1, shaded.size)[:channels, : idx.size]
             bad = ~np.isfinite(value)
             if np.any(bad):
                 nonfinite += int(np.any(bad, axis=0).sum())
@@ -247,9 +282,6 @@ def refine_extremes(
     ndarray, shape (m,)
         Refined extreme coordinate of each point along its side's axis [film px].
     """
-    import mitsuba as mi
-
-    origin = mi.Point3f(0.0, 0.0, float(camera_distance))
     u = (np.arange(grid) + 0.5) / grid
     best = np.array(points, dtype=float)
     m = len(best)
@@ -264,9 +296,7 @@ def refine_extremes(
         c = np.tile(across, (1, grid))
         pts = np.where((axis == 0)[:, None, None], np.stack([a, c], axis=1), np.stack([c, a], axis=1))  # (m, 2, n)
         d = ray_directions(pts[:, 0].ravel(), pts[:, 1].ravel(), sensor, target_px).astype(np.float32)
-        hit = np.array(
-            scene.ray_intersect(mi.Ray3f(origin, mi.Vector3f(d[0], d[1], d[2]))).is_valid(), dtype=bool
-        ).reshape(m, -1)
+        hit = np.array(scene.ray_intersect(camera_rays(camera_distance, d)).is_valid(), dtype=bool).reshape(m, -1)
         coord = pts[rows, axis]  # (m, n)
         score = np.where(hit, sign[:, None] * coord, -np.inf)
         k = np.argmax(score, axis=1)
