@@ -22,6 +22,7 @@ applied analytically afterwards (:mod:`csuas.render.imaging.path`).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,6 +72,14 @@ class NormalisedTarget:
         return self.rotation @ np.asarray(body_vector, dtype=float)
 
 
+@functools.lru_cache(maxsize=8)
+def _preset(name: str):
+    """A drone preset's model, built once per process (its meshes take about 20 ms to generate)."""
+    from csuas.drone_models import build_drone
+
+    return build_drone(name)
+
+
 def target_parts(target) -> list:
     """Parts of a target: a preset name, a :class:`~csuas.drone_models.Drone` or a list of parts.
 
@@ -79,9 +88,7 @@ def target_parts(target) -> list:
     and ``.material``.
     """
     if isinstance(target, str):
-        from csuas.drone_models import build_drone
-
-        target = build_drone(target)
+        target = _preset(target)
     parts = list(getattr(target, "parts", target))
     if not parts:
         raise ParameterError("target", target, "a drone preset, a Drone or a non-empty list of parts")

@@ -44,6 +44,7 @@ photon-transfer curve (EMVA 1288).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -184,16 +185,31 @@ def blur_transfer(fx, fy, settings: ChainSettings, stages) -> np.ndarray:
     return transfer
 
 
+@functools.lru_cache(maxsize=4)
+def _frame_transfer(shape: tuple, settings: ChainSettings, stages: frozenset) -> np.ndarray:
+    """:func:`blur_transfer` on the real-FFT grid of a frame, computed once per frame shape and chain."""
+    fy = np.fft.fftfreq(shape[0])[:, None]
+    fx = np.fft.rfftfreq(shape[1])[None, :]
+    transfer = blur_transfer(fx, fy, settings, stages)
+    transfer.flags.writeable = False
+    return transfer
+
+
 def _blur(image: np.ndarray, settings: ChainSettings, stages) -> np.ndarray:
-    fy = np.fft.fftfreq(image.shape[0])[:, None]
-    fx = np.fft.rfftfreq(image.shape[1])[None, :]
-    return np.fft.irfft2(np.fft.rfft2(image) * blur_transfer(fx, fy, settings, stages), s=image.shape)
+    transfer = _frame_transfer(image.shape, settings, frozenset(stages))
+    return np.fft.irfft2(np.fft.rfft2(image) * transfer, s=image.shape)
 
 
-def fixed_pattern(shape, camera_seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """The camera's per-pixel gain and offset patterns, standard normal, from the camera's own stream."""
+@functools.lru_cache(maxsize=2)
+def fixed_pattern(shape: tuple, camera_seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """The camera's per-pixel gain and offset patterns, standard normal, from the camera's own stream.
+
+    Drawn once per camera (shape and seed) and kept, read-only: every frame of the camera shares them.
+    """
     rng = np.random.default_rng([int(camera_seed), 1])
-    return rng.standard_normal(shape), rng.standard_normal(shape)
+    gain, offset = rng.standard_normal(shape), rng.standard_normal(shape)
+    gain.flags.writeable = offset.flags.writeable = False
+    return gain, offset
 
 
 def apply_chain(
@@ -233,12 +249,13 @@ def apply_chain(
         if "netd" in stages:
             image = image + settings.netd_k * rng.standard_normal(image.shape)
     else:
-        if "shot_noise" in stages:
-            image = rng.poisson(image).astype(float)
-        if "dark_current" in stages:
-            image = image + rng.poisson(settings.dark_current_e_s * settings.exposure_s, image.shape)
+        dark_e = settings.dark_current_e_s * settings.exposure_s if "dark_current" in stages else 0.0
+        if "shot_noise" in stages:  # the photon and dark counts together: Poisson(a) + Poisson(b) = Poisson(a + b)
+            image = rng.poisson(image + dark_e).astype(float)
+        elif dark_e > 0:
+            image = image + rng.poisson(dark_e, image.shape)
         if stages & {"prnu", "dsnu"}:
-            gain_pattern, offset_pattern = fixed_pattern(image.shape, camera_seed)
+            gain_pattern, offset_pattern = fixed_pattern(image.shape, int(camera_seed))
             if "prnu" in stages:
                 image = image * (1.0 + settings.prnu * gain_pattern)
             if "dsnu" in stages:
