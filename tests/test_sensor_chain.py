@@ -110,3 +110,15 @@ def test_rendered_snr_equals_the_core_camera_model_by_day_twilight_and_night():
         assert row["background_e_rendered"] == pytest.approx(row["background_e_core"], rel=1e-6)
         assert row["snr_rendered"] == pytest.approx(row["snr_core"], rel=0.01)
     assert rows[0]["snr_rendered"] > rows[1]["snr_rendered"] > rows[2]["snr_rendered"]  # light decides
+
+
+@pytest.mark.slow
+def test_rendered_light_limited_range_equals_the_core_camera_model():
+    """Day (sub-pixel at 5.4 km), twilight and night (38 m): within 3 standard errors (measured 0.5-2 %)."""
+    from csuas.validation.imaging.chain_checks import rendered_light_limited_range
+
+    rows = rendered_light_limited_range(illuminances_lx=(70000.0, 0.01))
+    for row in rows:
+        assert row["relative_stderr"] < 0.05
+        assert row["range_rendered_m"] == pytest.approx(row["range_core_m"], rel=3 * row["relative_stderr"])
+    assert rows[0]["range_core_m"] > 100 * rows[1]["range_core_m"]  # light decides

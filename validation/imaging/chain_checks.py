@@ -7,6 +7,8 @@
 * :func:`photon_transfer` -- EMVA 1288: flat fields at ten levels, the variance of the difference of
   two frames against the mean; the slope is 1/gain, the intercept the read noise plus 1/12 DN^2.
 * :func:`flat_field_netd` -- the temporal standard deviation of a flat thermal frame.
+* :func:`rendered_snr_against_core` and :func:`rendered_light_limited_range` -- rendered full frames'
+  target SNR, and the range where it meets the detection threshold, against the core's camera model.
 """
 
 from __future__ import annotations
@@ -129,6 +131,98 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
                 "snr_core": core,
                 "background_e_rendered": background,
                 "background_e_core": s_b,
+            }
+        )
+    return rows
+
+
+def _relative_stderr(result) -> float:
+    """Relative standard error of a render's blob SNR: those of its pixels on target and contrast combined."""
+    values, stderr = result.values, result.stderr
+    return math.hypot(
+        stderr["pixels_on_target"] / values["pixels_on_target"], stderr["contrast"] / abs(values["contrast"])
+    )
+
+
+def rendered_light_limited_range(
+    illuminances_lx=(70000.0, 3.0, 0.01), quality: str = "standard", reference_range_m: float = 300.0
+) -> list[dict]:
+    """The range where rendered frames' target SNR falls to the detection threshold, against the core's.
+
+    Rendered: :func:`csuas.render.imaging.frame.target_snr` of the DJI Mini 4 Pro's full frames (default
+    camera, 30 deg azimuth, 10 deg elevation, Lambertian 0.3 background, no atmosphere) at ranges found
+    by bisection in log range until the SNR meets Q^-1(Pfa) - Q^-1(p_desired) of the scenario's EO
+    (0.01 % in range). Core: :func:`csuas.core.camera.light_limited_range_m` given the render's inherent
+    Michelson contrast and projected area (pixels on target times the pixel footprint at
+    ``reference_range_m``), no transmittance loss, and no dark current (the frame's SNR counts shot and
+    read noise only). The render's pixels and contrast enter both, so what is compared is how the
+    frame's SNR falls with range: resolved blobs, sub-pixel dilution and the frame assembly.
+
+    Returns
+    -------
+    list of dict
+        ``illuminance_lx``, ``range_rendered_m``, ``range_core_m``, ``required_snr``,
+        ``relative_stderr`` (of the rendered SNR at its range and of the reference render's, which
+        the core is given: their Monte Carlo errors of pixels on target and contrast combined),
+        ``renders``.
+    """
+    from csuas.core import camera, detection
+    from csuas.defaults import default_values
+    from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
+    from csuas.render.imaging.records import Daylight, EoSensor, View
+
+    settings = camera_from_params()
+    eo = default_values("eo")
+    read = float(eo["read_noise_e"])
+    required = float(detection.gaussian_required_snr(eo["p_desired"], eo["pfa"]))
+    rows = []
+    for lux in illuminances_lx:
+        light = Daylight(illuminance_lx=float(lux), background=0.3)
+
+        def frame_at(range_m, light=light):
+            view = View(float(range_m), 30.0, 10.0)
+            return eo_frame(
+                "dji_mini_4_pro", view, EoSensor(), light, settings, ChainSettings(stages=()), seed=0, quality=quality
+            )
+
+        reference = frame_at(reference_range_m)["result"]
+        ifov = reference.ifov_rad
+        area = reference.values["pixels_on_target"] * (reference_range_m * ifov) ** 2
+        core, _ = camera.light_limited_range_m(
+            illuminance_lx=float(lux),
+            background_reflectance=0.3,
+            c_eo=float(reference.values["contrast"]),
+            transmittance_at=np.ones_like,
+            projected_area_m2=area,
+            ifov_rad_=ifov,
+            f_number=settings["f_number"],
+            optics_transmittance=settings["optics_transmittance"],
+            pixel_pitch_um=settings["pixel_pitch_um"],
+            quantum_efficiency=settings["quantum_efficiency"],
+            max_exposure_ms=settings["max_exposure_ms"],
+            full_well_e=settings["full_well_e"],
+            read_noise_e=read,
+            dark_current_e_s=0.0,
+            required_snr=required,
+        )
+        low, high, renders = math.log(core / 2.0), math.log(core * 2.0), 0
+        while high - low > 1e-4:
+            middle = 0.5 * (low + high)
+            renders += 1
+            if target_snr(frame_at(math.exp(middle)), read) >= required:
+                low = middle
+            else:
+                high = middle
+        at_root = frame_at(math.exp(0.5 * (low + high)))["result"]
+        relative = math.hypot(_relative_stderr(at_root), _relative_stderr(reference))
+        rows.append(
+            {
+                "illuminance_lx": float(lux),
+                "range_rendered_m": math.exp(0.5 * (low + high)),
+                "range_core_m": float(core),
+                "required_snr": required,
+                "relative_stderr": relative,
+                "renders": renders + 2,
             }
         )
     return rows

@@ -262,6 +262,7 @@ def sensor_chain(_knob=None) -> Section:
     from csuas.validation.imaging.chain_checks import (
         flat_field_netd,
         photon_transfer,
+        rendered_light_limited_range,
         rendered_snr_against_core,
         slanted_edge_mtf,
     )
@@ -339,6 +340,23 @@ def sensor_chain(_knob=None) -> Section:
                 method="blob SNR of the DJI Mini 4 Pro's rendered full frame at 300 m (Lambertian 0.3 background)",
                 tolerance_source="1 %: the two paths compute the same radiometry (float32 render images)",
                 details={"background_e": row["background_e_rendered"]},
+            )
+        )
+    ranges, t_range = timed(rendered_light_limited_range)
+    for row in ranges:
+        s.outcomes.append(
+            Check(
+                f"imaging.sensor_chain.light_limited_range.{row['illuminance_lx']:g}lx",
+                row["range_core_m"],
+                row["range_rendered_m"],
+                3.0 * row["relative_stderr"] * row["range_core_m"],
+                "m",
+                time_s=t_range / len(ranges),
+                source="core.camera.light_limited_range_m given the render's contrast and projected area",
+                method=f"bisection on rendered full frames' blob SNR down to {row['required_snr']:.3g} "
+                f"(Pfa 1e-6, Pd 0.5), standard quality, {row['renders']} renders",
+                tolerance_source="3 standard errors of the rendered SNR (pixels on target and contrast, at the "
+                "root and at the 300 m reference); the range moves by at most the SNR's relative error",
             )
         )
     f = mtf["frequency_cy_px"]
