@@ -4,13 +4,22 @@ For a sensor on a mast at a DEM cell and a drone at ``altitude`` above the terra
 
 * *visible*: line of sight over the terrain with the Earth's curvature and the modality's refraction
   (:func:`csuas.core.terrain.viewshed`; k = 4/3 for radio and radar, the optical value for EO,
-  thermal and lidar, 1 for sound, whose refraction the model leaves out);
-* *detected*: visible and within the sensor's predicted detection range (:mod:`csuas.core.ranges`) at
-  the slant distance from its eye to the drone;
+  thermal and lidar, 1 for sound, whose refraction the model leaves out), traced only out to the
+  sensor's mapped reach (:func:`mapped_reach_m`);
+* *in its field of regard*: inside the azimuth sector around the sensor's boresight, between its
+  elevation limits (the upper one leaves the overhead dead zone, the "cone of silence") and beyond
+  its minimum slant range (the near-range dead zone);
+* *detected*: visible, in the field of regard and within the sensor's predicted detection range
+  (:mod:`csuas.core.ranges`) at the slant distance from its eye to the drone;
 * *Pd*: the sensor's probability of detection at that slant distance (:mod:`csuas.core.pd_curves`),
-  0 where hidden;
+  0 where hidden or outside the field of regard;
 * per sensor, the *minimum detectable altitude* of each cell (the lowest flight level detected);
-* fused: the number of sensors detecting each cell, their OR, and the OR of their Pd.
+* fused: the number of sensors detecting each cell, their OR, the OR of their Pd and, given k, the
+  cells detected by at least k sensors and the probability that at least k of the n independent
+  sensors detect (the Poisson-binomial tail, :func:`csuas.core.fusion.fuse_k_of_n`).
+
+Grid conventions: rows run from north to south and columns from west to east (a north-up raster),
+so a bearing, clockwise from grid north, is atan2(east, north) = atan2(d_col, -d_row).
 """
 
 from __future__ import annotations
@@ -19,48 +28,188 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
+from csuas.core.checks import require_all
+from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.horizon import K_OPTICAL, K_RADIO
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import height_at, viewshed
+from csuas.core.terrain import curvature_drop_m, height_at, viewshed
 
 #: Effective Earth-radius factor of each modality's line of sight.
 K_FACTOR = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL, "acoustic": 1.0}
+#: Pointing and dead-zone settings of a sited sensor: default and allowed domain (:func:`require` bounds).
+POINTING = {
+    "azimuth_deg": (0.0, {"ge": 0.0, "le": 360.0}),
+    "sector_deg": (360.0, {"gt": 0.0, "le": 360.0}),
+    "elevation_min_deg": (-90.0, {"ge": -90.0, "le": 90.0}),
+    "elevation_max_deg": (90.0, {"ge": -90.0, "le": 90.0}),
+    "min_range_m": (0.0, {"ge": 0.0}),
+}
+#: Pd below which a sensor's map ends (the mapped reach): farther cells are not traced and get Pd 0.
+PD_NEGLIGIBLE = 1e-3
+#: Log-spaced slant distances on which the mapped reach is looked up.
+REACH_GRID_POINTS = 512
 
 
 @dataclass(frozen=True)
 class SitedSensor:
-    """A scenario sensor placed on the site: its cell position and mast height."""
+    """A scenario sensor placed on the site: its cell position, mast height, pointing and dead zones.
+
+    Attributes
+    ----------
+    name : str
+        The sensor's key in the scenario.
+    row, col : float
+        Position in (fractional) cell coordinates of the DEM.
+    mast_m : float
+        Eye height above the terrain under it [m].
+    azimuth_deg : float
+        Boresight bearing [deg], clockwise from grid north, 0..360.
+    sector_deg : float
+        Full width of the azimuth sector centred on the boresight [deg], 0 < w <= 360 (360: all round).
+    elevation_min_deg, elevation_max_deg : float
+        Elevation limits of the line of sight from the eye to the drone [deg], -90..90, min < max; the
+        upper limit leaves the overhead dead zone (cone of silence).
+    min_range_m : float
+        Minimum slant range [m], >= 0: the near-range dead zone.
+    """
 
     name: str
     row: float
     col: float
     mast_m: float
+    azimuth_deg: float = POINTING["azimuth_deg"][0]
+    sector_deg: float = POINTING["sector_deg"][0]
+    elevation_min_deg: float = POINTING["elevation_min_deg"][0]
+    elevation_max_deg: float = POINTING["elevation_max_deg"][0]
+    min_range_m: float = POINTING["min_range_m"][0]
+
+    def __post_init__(self):
+        """Every pointing value in its domain (all mistakes at once)."""
+        require_all(
+            *((f"sensors.{self.name}.{key}", getattr(self, key), bounds) for key, (_, bounds) in POINTING.items())
+        )
+        if not self.elevation_min_deg < self.elevation_max_deg:
+            raise ParameterError(
+                f"sensors.{self.name}.elevation_max_deg",
+                self.elevation_max_deg,
+                f"above elevation_min_deg = {self.elevation_min_deg:g}",
+            )
+
+
+def bearing_deg(d_row, d_col):
+    """Bearing of a grid offset, clockwise from grid north (rows run south, columns east) [deg], 0..360."""
+    return np.degrees(np.arctan2(d_col, -np.asarray(d_row, dtype=float))) % 360.0
+
+
+def off_boresight_deg(bearing, azimuth_deg):
+    """Signed azimuth of a bearing from the boresight [deg], wrapped to -180..180 (clockwise positive)."""
+    return (np.asarray(bearing, dtype=float) - azimuth_deg + 180.0) % 360.0 - 180.0
+
+
+def elevation_deg(ground_m, height_m, k_factor):
+    """Elevation angle of the line of sight to a point [deg]: atan((dh - d^2 / (2 k R_E)) / d).
+
+    Parameters
+    ----------
+    ground_m : array_like
+        Ground distance d from the eye [m], >= 0.
+    height_m : array_like
+        Height dh of the point above the eye [m] (negative below it).
+    k_factor : float
+        Effective Earth-radius factor: the point sinks by the curvature drop
+        (:func:`csuas.core.terrain.curvature_drop_m`, as in the viewshed).
+    """
+    drop = curvature_drop_m(ground_m, k_factor)
+    return np.degrees(np.arctan2(np.asarray(height_m, dtype=float) - drop, ground_m))
+
+
+def mapped_reach_m(scenario: Scenario, sensor_name: str, farthest_m: float) -> float:
+    """Farthest slant distance the sensor's map needs [m]: its detection range or where Pd >= PD_NEGLIGIBLE.
+
+    Since the slant distance is at least the ground distance, no cell beyond this ground distance is
+    detected or has Pd >= PD_NEGLIGIBLE (Pd falling with range). Pd is read on REACH_GRID_POINTS
+    log-spaced distances up to ``farthest_m``, and the grid point after the last one still at
+    PD_NEGLIGIBLE is taken (never short of the crossing).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    sensor_name : str
+    farthest_m : float
+        Farthest ground distance of the site from the sensor [m], > 0.
+
+    Returns
+    -------
+    float
+        The reach [m]; inf when the sensor still detects, or its Pd is still PD_NEGLIGIBLE, at ``farthest_m``.
+    """
+    detection = float(np.asarray(evaluate(scenario)[sensor_name].range_m))
+    grid = np.geomspace(1e-3 * farthest_m, farthest_m, REACH_GRID_POINTS)
+    above = np.flatnonzero(sensor_pd(scenario, sensor_name, grid).pd >= PD_NEGLIGIBLE)
+    if detection >= farthest_m or (above.size and above[-1] == grid.size - 1):
+        return float("inf")
+    return max(detection, float(grid[above[-1] + 1 if above.size else 0]))
 
 
 def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: SitedSensor, altitudes_m) -> dict:
     """Visible, detected and Pd grids (altitude, rows, cols) of one sensor, and its minimum detectable altitude.
 
+    Parameters
+    ----------
+    dem_m : ndarray (rows, cols)
+        Terrain heights [m] of a north-up grid of square cells.
+    cell_m : float
+        Cell size [m].
+    scenario : Scenario
+        Where the sensor's range and Pd models come from.
+    sited : SitedSensor
+        The sensor's place, mast, pointing and dead zones.
+    altitudes_m : sequence of float
+        Flight levels above the terrain of each cell [m].
+
     Returns
     -------
     dict
         ``visible`` and ``detected`` (bool), ``pd`` (float), each (A, rows, cols); ``min_altitude_m``
-        (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range).
+        (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
+        ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it, the only
+        ones whose line of sight is traced; ``visible`` is False beyond).
     """
     spec = scenario.sensors[sited.name]
-    reach = float(np.asarray(evaluate(scenario)[sited.name].range_m))
+    k = K_FACTOR[spec.modality]
+    detection = float(np.asarray(evaluate(scenario)[sited.name].range_m))
     rows, cols = np.indices(dem_m.shape)
-    ground = np.hypot(rows - sited.row, cols - sited.col) * cell_m
+    d_row, d_col = rows - sited.row, cols - sited.col
+    ground = np.hypot(d_row, d_col) * cell_m
+    reach = mapped_reach_m(scenario, sited.name, float(ground.max()))
     eye = float(height_at(dem_m, np.array([sited.row]), np.array([sited.col]))[0]) + sited.mast_m  # as the viewshed
+    # the sensor's own cell (the drone overhead) lies in every sector
+    aimed = (np.abs(off_boresight_deg(bearing_deg(d_row, d_col), sited.azimuth_deg)) <= sited.sector_deg / 2) | (
+        ground == 0.0
+    )
     visible, detected, pd = [], [], []
     for altitude in altitudes_m:
-        seen = viewshed(dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, K_FACTOR[spec.modality])
-        slant = np.hypot(ground, dem_m + altitude - eye)
-        prob = sensor_pd(scenario, sited.name, slant.ravel()).pd.reshape(dem_m.shape)
+        seen = viewshed(
+            dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, k, None if np.isinf(reach) else reach
+        )
+        rise = dem_m + altitude - eye
+        slant = np.hypot(ground, rise)
+        elevation = elevation_deg(ground, rise, k)
+        regard = (
+            aimed
+            & (elevation >= sited.elevation_min_deg)
+            & (elevation <= sited.elevation_max_deg)
+            & (slant >= sited.min_range_m)
+        )
+        gate = seen & regard
+        prob = np.zeros(dem_m.shape)
+        prob[gate] = sensor_pd(scenario, sited.name, slant[gate]).pd
         visible.append(seen)
-        detected.append(seen & (slant <= reach))
-        pd.append(np.where(seen, prob, 0.0))
+        detected.append(gate & (slant <= detection))
+        pd.append(prob)
     detected_arr = np.array(detected)
     altitudes = np.asarray(altitudes_m, float)
     first = np.argmax(detected_arr, axis=0)
@@ -70,16 +219,34 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "detected": detected_arr,
         "pd": np.array(pd),
         "min_altitude_m": min_altitude,
-        "range_m": reach,
+        "range_m": detection,
+        "reach_m": reach,
+        "traced": ground <= reach,
     }
 
 
-def fused_layers(per_sensor: dict) -> dict:
-    """Fused grids over sensors (altitude, rows, cols): ``count`` detecting, ``detected`` (OR), ``pd`` (OR of Pd)."""
+def fused_layers(per_sensor: dict, k: int | None = None) -> dict:
+    """Fused grids over sensors (altitude, rows, cols).
+
+    Parameters
+    ----------
+    per_sensor : dict
+        :func:`sensor_layers` of each sensor.
+    k : int, optional
+        Sensors that must detect for the k-of-n layers, 1 <= k <= n.
+
+    Returns
+    -------
+    dict
+        ``count`` detecting, ``detected`` (OR), ``pd`` (OR of independent Pd: 1 - prod(1 - Pd)); given
+        ``k``, also ``k_of_n`` (count >= k) and ``pd_k_of_n`` (at least k of n detect: the exact
+        Poisson-binomial tail).
+    """
     detected = np.array([layers["detected"] for layers in per_sensor.values()])
     pd = np.array([layers["pd"] for layers in per_sensor.values()])
-    return {
-        "count": detected.sum(axis=0),
-        "detected": detected.any(axis=0),
-        "pd": 1.0 - np.prod(1.0 - pd, axis=0),
-    }
+    count = detected.sum(axis=0)
+    fused = {"count": count, "detected": detected.any(axis=0), "pd": fuse_or(pd)}
+    if k is not None:
+        fused["pd_k_of_n"] = fuse_k_of_n(pd, k)
+        fused["k_of_n"] = count >= k
+    return fused

@@ -12,7 +12,9 @@ cell of the DEM, the terrain is sampled along each at half-cell steps (bilinear 
 and the running maximum of the terrain's elevation angle along the ray is the horizon each sample
 must clear. Every cell takes the horizon of the ray sample nearest to it, so a cell is judged
 against the terrain of a path within half a cell of its own line: the method's error is confined to
-cells that graze the horizon. Vectorised over rays and samples with NumPy.
+cells that graze the horizon. Vectorised over rays and samples with NumPy. A maximum distance stops the
+rays there: the horizon being a running maximum from the sensor out, every cell within it is judged
+exactly as without the limit, and only the samples beyond it are saved.
 """
 
 from __future__ import annotations
@@ -56,6 +58,7 @@ def viewshed(
     sensor_height_m: float,
     target_height_m,
     k_factor: float = 4.0 / 3.0,
+    max_distance_m: float | None = None,
 ) -> np.ndarray:
     """Cells of the DEM where a target ``target_height_m`` above the terrain is in the sensor's line of sight.
 
@@ -73,6 +76,11 @@ def viewshed(
         The target's height above the terrain of each cell (the flight level) [m], >= 0.
     k_factor : float
         Effective Earth-radius factor (4/3 radio; 1 / (1 - 0.13) for light).
+    max_distance_m : float, optional
+        Farthest ground distance from the sensor traced [m], > 0: the rays stop there (no sample beyond
+        it is computed) and cells farther away come out not visible. Inside it the result is the
+        untruncated viewshed's, cell for cell (the horizon is a running maximum from the sensor out).
+        None: the whole grid.
 
     Returns
     -------
@@ -92,7 +100,10 @@ def viewshed(
     eye = float(height_at(dem, np.array([sensor_row]), np.array([sensor_col]))[0]) + float(
         require("sensor_height_m", sensor_height_m, ge=0)
     )
-    # rays toward every boundary cell, sampled every half cell out to the farthest corner
+    farthest = np.hypot(max(sensor_row, n_r - 1 - sensor_row), max(sensor_col, n_c - 1 - sensor_col))  # [cells]
+    limit = np.inf if max_distance_m is None else float(require("max_distance_m", max_distance_m, gt=0)) / cell
+    span = min(farthest, limit)  # [cells]
+    # rays toward every boundary cell, sampled every half cell out to the farthest corner or the limit
     boundary = np.concatenate(
         [
             np.stack([np.zeros(n_c), np.arange(n_c)], 1),
@@ -102,8 +113,7 @@ def viewshed(
         ]
     )
     angle = np.unique(np.arctan2(boundary[:, 0] - sensor_row, boundary[:, 1] - sensor_col))
-    reach = np.hypot(max(sensor_row, n_r - 1 - sensor_row), max(sensor_col, n_c - 1 - sensor_col))
-    steps = np.arange(1, int(np.ceil(2 * reach)) + 1) * 0.5  # [cells]
+    steps = np.arange(1, int(np.ceil(2 * span)) + 1) * 0.5  # [cells]
     rows = sensor_row + np.sin(angle)[:, None] * steps[None, :]
     cols = sensor_col + np.cos(angle)[:, None] * steps[None, :]
     distance = steps * cell
@@ -112,8 +122,10 @@ def viewshed(
     slope = (terrain - eye) / distance[None, :]  # tangent of the terrain's elevation angle
     horizon = np.maximum.accumulate(slope, axis=1)
     before = np.concatenate([np.full((len(angle), 1), -np.inf), horizon[:, :-1]], axis=1)  # what a sample must clear
-    # every cell looks up the ray nearest to its bearing and the sample nearest to its distance
-    rr, cc = np.meshgrid(np.arange(n_r), np.arange(n_c), indexing="ij")
+    # every cell within the limit looks up the ray nearest to its bearing and the sample nearest to its distance
+    r_lo, r_hi = max(int(np.floor(sensor_row - span)), 0), min(int(np.ceil(sensor_row + span)) + 1, n_r)
+    c_lo, c_hi = max(int(np.floor(sensor_col - span)), 0), min(int(np.ceil(sensor_col + span)) + 1, n_c)
+    rr, cc = np.meshgrid(np.arange(r_lo, r_hi), np.arange(c_lo, c_hi), indexing="ij")
     dr, dc = rr - sensor_row, cc - sensor_col
     bearing = np.arctan2(dr, dc)
     ray = np.searchsorted(angle, bearing)
@@ -133,6 +145,8 @@ def viewshed(
     reach_cells = np.hypot(dr, dc)
     sample = np.clip(np.rint(reach_cells / 0.5).astype(int) - 1, 0, len(steps) - 1)
     own_distance = np.maximum(reach_cells, 1e-9) * cell
-    own_slope = (dem + h_target - curvature_drop_m(own_distance, k_factor) - eye) / own_distance
-    visible = own_slope >= before[ray, sample]
-    return visible | (reach_cells < 0.5)
+    window = (slice(r_lo, r_hi), slice(c_lo, c_hi))
+    own_slope = (dem[window] + h_target[window] - curvature_drop_m(own_distance, k_factor) - eye) / own_distance
+    visible = np.zeros(dem.shape, dtype=bool)
+    visible[window] = ((own_slope >= before[ray, sample]) & (reach_cells <= limit)) | (reach_cells < 0.5)
+    return visible

@@ -21,7 +21,7 @@ import pytest
 
 import csuas.core
 from csuas.base.errors import ParameterError
-from csuas.core import acoustic, atmosphere, dielectric, eo, horizon, johnson, lidar, radar, rf, tir, units
+from csuas.core import acoustic, atmosphere, coverage, dielectric, eo, horizon, johnson, lidar, radar, rf, tir, units
 
 C = 299_792_458.0
 A = 6_371_000.0
@@ -244,6 +244,22 @@ ROWS = [
         5.0 - 1j * 0.01 / (2 * math.pi * 1e9 * 8.8541878128e-12),
         "frequency_ghz",
     ),
+    # a bearing clockwise from grid north on a north-up grid (rows run south): north-east is 45 degrees
+    ("coverage.bearing_deg", coverage.bearing_deg, {"d_row": -1.0, "d_col": 1.0}, 45.0, "d_col"),
+    (
+        "coverage.off_boresight_deg",
+        coverage.off_boresight_deg,
+        {"bearing": 350.0, "azimuth_deg": 10.0},
+        -20.0,
+        "bearing",
+    ),
+    (
+        "coverage.elevation_deg",
+        coverage.elevation_deg,
+        {"ground_m": 1000.0, "height_m": 100.0, "k_factor": 4.0 / 3.0},
+        math.degrees(math.atan((100.0 - 1000.0**2 / (2 * 4 / 3 * A)) / 1000.0)),
+        "height_m",
+    ),
 ]
 
 #: Public functions whose references live in a dedicated test file.
@@ -254,6 +270,7 @@ COVERED_ELSEWHERE = {
     "terrain.height_at": "tests/test_terrain.py and tests/test_coverage.py (flat and ridged DEMs)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",
     "coverage.fused_layers": "tests/test_coverage.py (the OR covers each sensor)",
+    "coverage.mapped_reach_m": "tests/test_coverage.py (Pd below 0.001 beyond it; the visible layer's nodata)",
     "terrain.viewshed": "tests/test_terrain.py (smooth-Earth horizons, a ridge's shadow)",
     "camera.luminance_excess": "tests/test_camera.py (Eq. 3 inverted)",
     "camera.photopic_efficiency": "tests/test_camera.py (inside the photon conversion's quadrature)",

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
 
 from csuas import cli
+from csuas.base.errors import ParameterError
 
 
 def _write_dem(path, dem, crs="EPSG:32633", nodata=None):
@@ -41,7 +43,11 @@ def test_the_demo_site_writes_every_layer_with_the_dems_crs(tmp_path, capsys):
     assert ("radar", "visible", 30.0) in kinds and ("eo", "min_altitude", None) in kinds
     assert ("fused", "fused", 120.0) in kinds and out["crs"] == "EPSG:32633"
     quantities = {layer.get("quantity") for layer in summary["layers"] if layer["kind"] == "fused"}
-    assert quantities == {"count", "detected", "pd"}
+    assert quantities == {"count", "detected", "pd", "k_of_n", "pd_k_of_n"}  # the demo asks for 2 of 3
+    assert {layer["geojson"] for layer in summary["layers"] if "geojson" in layer} >= {
+        "eo_detected_30m.geojson",
+        "fused_k_of_n_120m.geojson",
+    }
     with (
         rasterio.open(tmp_path / "c" / "rf_visible_30m.tif") as visible,
         rasterio.open(tmp_path / "c" / "rf_detected_30m.tif") as detected,
@@ -92,3 +98,240 @@ def test_bad_sites_are_refused_with_one_line_each(tmp_path, capsys):
     good.write_text(f'dem = "{dem_path.name}"\n[sensors.radar]\nx = 1.0\ny = 2.0\n')
     assert cli.main(["coverage", str(good), "--out", str(tmp_path / "b2")]) == 2
     assert "projected CRS" in capsys.readouterr().err
+
+
+def _flat_layers(altitude_m, **pointing):
+    """The default EO camera (detection range 555.5 m) on a 10 m mast at the centre cell of a flat 1.2 km square of
+    5 m cells: its layers at one flight level, and each cell's ground distance [m] and bearing [deg]."""
+    from csuas.core.coverage import SitedSensor, sensor_layers
+    from csuas.core.scenario import load_scenario
+
+    dem = np.zeros((241, 241))
+    layers = sensor_layers(
+        dem, 5.0, load_scenario("default"), SitedSensor("eo", 120.0, 120.0, 10.0, **pointing), [altitude_m]
+    )
+    rr, cc = np.indices(dem.shape)
+    east, north = (cc - 120.0) * 5.0, (120.0 - rr) * 5.0
+    return layers, np.hypot(east, north), np.degrees(np.arctan2(east, north)) % 360.0
+
+
+def _discretisation_m2(outer_m, inner_m, sector_deg, cell_m):
+    """Largest area error of counting whole cells by their centres inside an annular sector [m^2].
+
+    A point of a cell is classed with the cell's centre, within delta = cell / sqrt(2) of it: a misclassed point
+    lies within delta of the boundary, whose delta-band (two curves at most) covers at most
+    2 delta P + 2 pi delta^2, P = (R + r) theta + 2 (R - r) the perimeter (no radial edges all round).
+    """
+    theta = math.radians(sector_deg)
+    perimeter = (outer_m + inner_m) * theta + (2 * (outer_m - inner_m) if sector_deg < 360 else 0.0)
+    delta = cell_m / math.sqrt(2.0)
+    return 2 * delta * perimeter + 2 * math.pi * delta**2
+
+
+def test_a_sector_with_dead_zones_covers_its_closed_form_annular_sector():
+    """Flat ground, drone h = 50 m above the eye: detected where the slant distance lies between the minimum
+    range (100 m: ground r = sqrt(100^2 - h^2) = 86.6 m) and the detection range (R_g = sqrt(555.5^2 - h^2)),
+    within 45 degrees of the boresight 40 degrees (north-east): cell by cell away from the edges, and in
+    area pi (R_g^2 - r^2) 90 / 360 within the cells' discretisation."""
+    layers, ground, bearing = _flat_layers(60.0, azimuth_deg=40.0, sector_deg=90.0, min_range_m=100.0)
+    reach, h = layers["range_m"], 50.0
+    outer, inner = math.sqrt(reach**2 - h**2), math.sqrt(100.0**2 - h**2)
+    off = np.abs((bearing - 40.0 + 180.0) % 360.0 - 180.0)
+    expected = (ground >= inner) & (ground <= outer) & (off <= 45.0)
+    detected, pd = layers["detected"][0], layers["pd"][0]
+    clear = (np.abs(ground - inner) > 1e-6) & (np.abs(ground - outer) > 1e-6) & (np.abs(off - 45.0) > 1e-6)
+    assert np.array_equal(detected[clear], expected[clear])
+    area, exact = detected.sum() * 25.0, math.pi * (outer**2 - inner**2) * 90.0 / 360.0
+    assert abs(area - exact) <= _discretisation_m2(outer, inner, 90.0, 5.0)  # 234 539 m^2, bound 13 786 m^2
+    assert abs(area - exact) < 0.01 * exact  # in fact: the errors of the edges cancel
+    # Pd is zero outside the sector and in the dead zone; beyond the detection range it is the detector's tail
+    regard = (ground >= inner) & (off <= 45.0)
+    assert np.array_equal(pd[clear] > 0, regard[clear]) and pd[regard & (ground > outer)].max() < 0.5
+    assert layers["visible"][0].all()  # flat ground: the sector, not the terrain, is what limits
+
+
+def test_the_overhead_cone_of_silence_and_the_lower_elevation_limit():
+    """Elevation limits on flat ground, drone h = 50 m above the eye: above elevation_max_deg = 60 the cone of
+    silence reaches out to h / tan(60 deg) = 28.9 m; below elevation_min_deg = 10 the drone is out of the beam
+    beyond h / tan(10 deg) = 283.6 m. The nearest and farthest detected cell centres lie within one cell
+    diagonal outside those radii, and the area is the annulus pi (R^2 - r^2)."""
+    layers, ground, _ = _flat_layers(60.0, elevation_min_deg=10.0, elevation_max_deg=60.0)
+    detected = layers["detected"][0]
+    inner, outer = 50.0 / math.tan(math.radians(60.0)), 50.0 / math.tan(math.radians(10.0))
+    assert inner <= ground[detected].min() <= inner + math.sqrt(2) * 5.0
+    assert outer - math.sqrt(2) * 5.0 <= ground[detected].max() <= outer
+    exact = math.pi * (outer**2 - inner**2)
+    assert abs(detected.sum() * 25.0 - exact) <= _discretisation_m2(outer, inner, 360.0, 5.0)
+    # the default limits (-90, +90) keep the cell under the sensor, a sector covers the drone overhead
+    layers, ground, _ = _flat_layers(60.0, azimuth_deg=200.0, sector_deg=10.0)
+    assert layers["detected"][0][120, 120] and layers["detected"][0][ground > 0].sum() > 0
+
+
+def test_the_boresight_is_a_bearing_clockwise_from_grid_north():
+    for azimuth, toward in ((0.0, (60, 120)), (90.0, (120, 180)), (180.0, (180, 120)), (270.0, (120, 60))):
+        layers, _, bearing = _flat_layers(60.0, azimuth_deg=azimuth, sector_deg=30.0)
+        detected = layers["detected"][0]
+        assert detected[toward] and detected.sum() > 100
+        others = [(60, 120), (120, 180), (180, 120), (120, 60)]
+        assert not any(detected[o] for o in others if o != toward)
+
+
+def test_k_of_n_fusion_against_enumeration_and_the_binomial():
+    """fused_layers' k-of-n Pd against the sum over all 2^n subsets of at least k detecting sensors, and the
+    binomial tail sum_j>=k C(n, j) p^j (1 - p)^(n - j) when every Pd is p; k_of_n is count >= k."""
+    import itertools
+
+    from csuas.core.coverage import fused_layers
+
+    rng = np.random.default_rng(11)
+    n, shape = 4, (2, 5, 7)
+    pd = rng.uniform(0, 1, (n, *shape))
+    pd[:, 0, 0, :2] = [[0.0, 1.0], [1.0, 1.0], [0.0, 0.0], [0.5, 1.0]]  # certain and impossible sensors
+    detected = rng.uniform(0, 1, (n, *shape)) < 0.5
+    per_sensor = {f"s{i}": {"detected": detected[i], "pd": pd[i]} for i in range(n)}
+    for k in range(1, n + 1):
+        fused = fused_layers(per_sensor, k)
+        brute = np.zeros(shape)
+        for chosen in itertools.product((False, True), repeat=n):
+            if sum(chosen) >= k:
+                brute += np.prod([p if c else 1.0 - p for p, c in zip(pd, chosen)], axis=0)
+        np.testing.assert_allclose(fused["pd_k_of_n"], brute, rtol=0, atol=1e-14)
+        assert np.array_equal(fused["k_of_n"], detected.sum(axis=0) >= k)
+    np.testing.assert_allclose(fused_layers(per_sensor, 1)["pd_k_of_n"], fused_layers(per_sensor)["pd"], atol=1e-15)
+    assert "k_of_n" not in fused_layers(per_sensor)
+    p = np.linspace(0.0, 1.0, 11)
+    equal = {f"s{i}": {"detected": p > 0.5, "pd": p} for i in range(5)}
+    for k in range(1, 6):
+        binomial = sum(math.comb(5, j) * p**j * (1 - p) ** (5 - j) for j in range(k, 6))
+        np.testing.assert_allclose(fused_layers(equal, k)["pd_k_of_n"], binomial, rtol=0, atol=1e-15)
+
+
+def test_the_mapped_reach_ends_where_nothing_more_is_detected_or_likely():
+    """Beyond the reach no sensor of the default scenario detects or has Pd >= 0.001 (on a fine grid out to the
+    site's edge); two lookup steps inside it, one of the two still holds (it overshoots by one step at most)."""
+    from csuas.core.coverage import PD_NEGLIGIBLE, REACH_GRID_POINTS, mapped_reach_m
+    from csuas.core.pd_curves import sensor_pd
+    from csuas.core.scenario import load_scenario
+
+    scenario = load_scenario("default")
+    step = 1000.0 ** (1.0 / (REACH_GRID_POINTS - 1))  # the lookup grid's ratio (three decades)
+    for name in scenario.sensors:
+        reach = mapped_reach_m(scenario, name, 20_000.0)
+        detection = float(sensor_pd(scenario, name, [1.0]).deterministic_range_m)
+        if np.isinf(reach):  # detected or likely out to the edge
+            assert detection >= 20_000.0 or sensor_pd(scenario, name, [20_000.0]).pd[0] >= PD_NEGLIGIBLE, name
+            continue
+        beyond = np.linspace(reach, 20_000.0, 4000)
+        assert reach >= detection and (sensor_pd(scenario, name, beyond).pd < PD_NEGLIGIBLE).all(), name
+        inside = reach / step**2
+        assert inside <= detection or sensor_pd(scenario, name, [inside]).pd[0] >= PD_NEGLIGIBLE, name
+
+
+def test_geojson_polygons_cover_exactly_the_detected_cells_and_the_reach_bounds_the_trace(tmp_path, capsys):
+    """Behind a ridge (shadows, holes): each detected layer's GeoJSON polygons, in the DEM's CRS, have the
+    layer's area exactly (the same cells); the visible layer is nodata (NaN) beyond the sensor's mapped reach;
+    the 2-of-2 layer is the cells both sensors detect."""
+    import rasterio
+    import shapely.geometry
+
+    dem = np.full((60, 60), 50.0)
+    dem[20:40, 25] = 75.0  # a wall east of the sensors
+    dem_path = tmp_path / "ridge.tif"
+    _write_dem(dem_path, dem)
+    site = tmp_path / "site.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\naltitudes_agl_m = [10.0]\nfusion_k = 2\n'
+        "[sensors.acoustic]\nx = 401000.0\ny = 5008500.0\nmast_m = 5.0\n"
+        "[sensors.eo]\nx = 401000.0\ny = 5008400.0\nmast_m = 5.0\nazimuth_deg = 90.0\nsector_deg = 120.0\n"
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "g"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    summary = json.loads((tmp_path / "g" / "coverage.json").read_text())
+    polygons = [layer for layer in summary["layers"] if "geojson" in layer]
+    assert {(layer["sensor"], layer.get("quantity", layer["kind"])) for layer in polygons} == {
+        ("acoustic", "detected"),
+        ("eo", "detected"),
+        ("fused", "detected"),
+        ("fused", "k_of_n"),
+    }
+    for layer in polygons:
+        collection = json.loads((tmp_path / "g" / layer["geojson"]).read_text())
+        assert collection["crs"] == {"type": "name", "properties": {"name": "EPSG:32633"}}
+        area = sum(shapely.geometry.shape(f["geometry"]).area for f in collection["features"])
+        assert area / 1e6 == pytest.approx(layer["area_km2"], rel=1e-12) and area > 0
+        with rasterio.open(tmp_path / "g" / layer["path"]) as src:
+            bounds = shapely.geometry.box(*src.bounds)
+        assert all(bounds.covers(shapely.geometry.shape(f["geometry"])) for f in collection["features"])
+    with rasterio.open(tmp_path / "g" / "acoustic_visible_10m.tif") as src:
+        visible = src.read(1)
+    with rasterio.open(tmp_path / "g" / "acoustic_detected_10m.tif") as src:
+        detected = src.read(1)
+    sensor = out["sensors"]["acoustic"]
+    rr, cc = np.indices(visible.shape)
+    ground = np.hypot(rr - sensor["row"], cc - sensor["col"]) * 50.0
+    assert sensor["reach_m"] is not None and sensor["reach_m"] >= sensor["range_m"]
+    assert np.array_equal(np.isnan(visible), ground > sensor["reach_m"]) and (ground > sensor["reach_m"]).any()
+    assert (visible[ground <= sensor["reach_m"]] == 0).any()  # the wall's shadow
+    assert not detected[ground > sensor["range_m"]].any()
+    with (
+        rasterio.open(tmp_path / "g" / "eo_detected_10m.tif") as eo,
+        rasterio.open(tmp_path / "g" / "fused_k_of_n_10m.tif") as both,
+    ):
+        assert np.array_equal(both.read(1) > 0, (eo.read(1) > 0) & (detected > 0))
+
+
+def test_bad_pointing_and_fusion_keys_are_named_all_at_once(tmp_path, capsys):
+    dem_path = tmp_path / "flat.tif"
+    _write_dem(dem_path, np.zeros((10, 10)))
+    site = tmp_path / "bad.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\nfusion_k = 3\n'
+        "[sensors.radar]\nx = 400100.0\ny = 5009900.0\nazimuth_deg = 400.0\nsector_deg = 0.0\nmin_range_m = -1.0\n"
+        "[sensors.eo]\nx = 400100.0\ny = 5009900.0\nelevation_min_deg = 50.0\nelevation_max_deg = 40.0\n"
+        'azimuth_deg = "north"\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    for name in (
+        "fusion_k = 3",
+        "sensors.radar.azimuth_deg = 400.0",
+        "sensors.radar.sector_deg = 0.0",
+        "sensors.radar.min_range_m = -1.0",
+        "sensors.eo.elevation_max_deg = 40.0",
+        "sensors.eo.azimuth_deg = 'north'",
+    ):
+        assert name in err, name
+    assert not (tmp_path / "b" / "coverage.json").exists()
+    # the core's own record refuses the same values, all at once
+    from csuas.base.errors import InputErrors
+    from csuas.core.coverage import SitedSensor
+
+    with pytest.raises(InputErrors, match="sensors.radar.sector_deg") as caught:
+        SitedSensor("radar", 1.0, 1.0, 10.0, azimuth_deg=-1.0, sector_deg=400.0)
+    assert "sensors.radar.azimuth_deg" in str(caught.value)
+    with pytest.raises(ParameterError, match="elevation_max_deg"):
+        SitedSensor("radar", 1.0, 1.0, 10.0, elevation_min_deg=10.0, elevation_max_deg=10.0)
+
+
+def test_a_south_up_dem_is_read_north_up(tmp_path, capsys):
+    """A DEM stored with its rows running north (positive y step) is flipped: the boresight still points north."""
+    import rasterio
+    from rasterio.transform import Affine
+
+    dem_path = tmp_path / "south_up.tif"
+    profile = {"driver": "GTiff", "height": 40, "width": 40, "count": 1, "dtype": "float32", "crs": "EPSG:32633"}
+    with rasterio.open(dem_path, "w", transform=Affine(25.0, 0, 400_000.0, 0, 25.0, 5_000_000.0), **profile) as dst:
+        dst.write(np.zeros((1, 40, 40), np.float32))
+    site = tmp_path / "site.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\naltitudes_agl_m = [30.0]\n'
+        "[sensors.eo]\nx = 400500.0\ny = 5000500.0\nmast_m = 5.0\nazimuth_deg = 0.0\nsector_deg = 20.0\n"
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "s"), "--json"]) == 0
+    capsys.readouterr()
+    with rasterio.open(tmp_path / "s" / "eo_detected_30m.tif") as src:
+        detected, transform = src.read(1) > 0, src.transform
+    assert transform.e < 0  # written north-up
+    rows, cols = np.nonzero(detected)
+    ys = np.array([(transform * (c + 0.5, r + 0.5))[1] for r, c in zip(rows, cols)])
+    assert rows.size > 10 and (ys >= 5_000_500.0 - 12.5).all() and ys.max() > 5_000_800.0

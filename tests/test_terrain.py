@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.terrain import curvature_drop_m, viewshed
+from csuas.core.terrain import curvature_drop_m, height_at, viewshed
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -60,3 +60,34 @@ def test_a_rough_dem_and_bad_input():
         viewshed(dem, 30.0, -1.0, 500.0, 10.0, 50.0)
     with pytest.raises(ParameterError, match="dem_m"):
         viewshed(np.full((3, 3), np.nan), 30.0, 1.0, 1.0, 10.0, 50.0)
+
+
+def test_a_truncated_viewshed_is_the_full_one_inside_its_reach_and_samples_less(monkeypatch):
+    """max_distance_m: cells within it are judged exactly as by the untruncated viewshed (the horizon is a
+    running maximum from the sensor out), cells beyond come out hidden, and the rays sample the terrain
+    only out to it (the number of bilinear samples, not a timing)."""
+    import csuas.core.terrain as terrain
+
+    rr, cc = np.indices((240, 300))
+    dem = 30.0 * np.sin(rr / 9.0) * np.cos(cc / 13.0) + 0.05 * rr  # egg-box hills on a slope: many shadows
+    samples = []
+
+    def counting(grid, rows, cols):
+        samples.append(np.size(rows))
+        return height_at(grid, rows, cols)
+
+    monkeypatch.setattr(terrain, "height_at", counting)
+    full = terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0)
+    full_samples = sum(samples)
+    ground = np.hypot(rr - 100.3, cc - 170.6) * 30.0
+    for limit in (45.0, 1500.0, 2500.0):
+        samples.clear()
+        near = terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, max_distance_m=limit)
+        inside = ground <= limit
+        assert np.array_equal(near[inside], full[inside]) and not near[~inside].any()
+        # one sample for the eye; every ray stops at the first half-cell step at or beyond the limit
+        rays = (full_samples - 1) / int(np.ceil(2 * ground.max() / 30.0))
+        assert sum(samples) - 1 == rays * int(np.ceil(2 * limit / 30.0)) < full_samples - 1
+    assert full[ground > 2500.0].any() and not full[ground <= 2500.0].all()  # cells cut off; shadows inside
+    with pytest.raises(ParameterError, match="max_distance_m"):
+        terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, max_distance_m=0.0)

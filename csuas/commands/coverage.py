@@ -1,10 +1,13 @@
 """``csuas coverage SITE --out DIR``: where each sensor of a site sees and detects a drone, with terrain.
 
 The site (TOML, public interface; docs/coverage.md) names a DEM (a GeoTIFF in a projected CRS, metres;
-omitted: the embedded synthetic demo terrain), a scenario, the flight levels ``altitudes_agl_m`` and,
-per sensor of the scenario, its position ``x``, ``y`` in the DEM's CRS and ``mast_m``. Writes
-``DIR/coverage.json`` (every layer with ``sensor``, ``altitude_m``, ``kind`` and ``path``, and the
-area covered), a GeoTIFF per layer in the DEM's CRS and transform, and PNG maps over a hillshade.
+omitted: the embedded synthetic demo terrain), a scenario, the flight levels ``altitudes_agl_m``, optionally
+``fusion_k`` (the k of the k-of-n fused layers) and, per sensor of the scenario, its position ``x``, ``y``
+in the DEM's CRS, ``mast_m`` and optionally its pointing and dead zones (``azimuth_deg``, ``sector_deg``,
+``elevation_min_deg``, ``elevation_max_deg``, ``min_range_m``). Writes ``DIR/coverage.json`` (every layer
+with ``sensor``, ``altitude_m``, ``kind`` and ``path``, and the area covered), a GeoTIFF per layer in the
+DEM's CRS and transform, PNG maps over a hillshade and, for every detected layer, GeoJSON polygons of the
+covered cells.
 """
 
 from __future__ import annotations
@@ -18,10 +21,11 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import atomic_path, prepare_output_dir, read_spec, write_text_atomic
+from csuas.core.coverage import POINTING
 
 #: Keys a site may hold; and of each sensor table.
-SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "sensors")
-SENSOR_KEYS = ("x", "y", "mast_m")
+SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "fusion_k", "sensors")
+SENSOR_KEYS = ("x", "y", "mast_m", *POINTING)
 #: The embedded demo terrain: cells, cell size [m], origin of its transform and CRS.
 DEMO = {"cells": 400, "cell_m": 25.0, "origin": (500_000.0, 5_000_000.0), "crs": "EPSG:32633"}
 
@@ -65,14 +69,34 @@ def _load_dem(site: dict, site_path):
         transform, crs = src.transform, src.crs
     if crs is None or not crs.is_projected:
         raise ParameterError("dem", str(site["dem"]), "a GeoTIFF in a projected CRS (metres)")
+    if transform.b or transform.d:
+        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF without rotation (rows along the CRS's x axis)")
     if abs(abs(transform.a) - abs(transform.e)) > 1e-6 * abs(transform.a):
         raise ParameterError("dem", str(site["dem"]), "square cells")
+    dem, transform = _north_up(dem, transform)
     if np.ma.is_masked(dem):  # nodata holes: the lowest valid height, so they hide nothing
         dem = dem.filled(float(dem.min()))
     return np.asarray(dem), transform, str(crs), abs(transform.a)
 
 
+def _north_up(dem, transform):
+    """The grid flipped, if need be, so that rows run north to south and columns west to east (bearings)."""
+    from rasterio.transform import Affine
+
+    if transform.e > 0:  # rows run north: the last row is the northern one
+        dem, transform = dem[::-1], transform @ Affine.translation(0, dem.shape[0]) @ Affine.scale(1, -1)
+    if transform.a < 0:  # columns run west
+        dem, transform = dem[:, ::-1], transform @ Affine.translation(dem.shape[1], 0) @ Affine.scale(-1, 1)
+    return dem, transform
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def _validate(site: dict, scenario) -> list:
+    from csuas.core.checks import require
+
     errors = [
         ParameterError(key, site[key], "a site key: " + ", ".join(SITE_KEYS)) for key in site if key not in SITE_KEYS
     ]
@@ -102,6 +126,27 @@ def _validate(site: dict, scenario) -> list:
         mast = table.get("mast_m", 10.0)
         if not (isinstance(mast, (int, float)) and 0.0 <= mast <= 1000.0):
             errors.append(ParameterError(f"sensors.{name}.mast_m", mast, "0 to 1000 m"))
+        for key, (_, bounds) in POINTING.items():
+            if key not in table:
+                continue
+            if not _is_number(table[key]):
+                errors.append(ParameterError(f"sensors.{name}.{key}", table[key], "a number"))
+                continue
+            try:
+                require(f"sensors.{name}.{key}", table[key], **bounds)
+            except ParameterError as exc:
+                errors.append(exc)
+        low, high = (table.get(key, POINTING[key][0]) for key in ("elevation_min_deg", "elevation_max_deg"))
+        if _is_number(low) and _is_number(high) and not low < high:
+            errors.append(
+                ParameterError(f"sensors.{name}.elevation_max_deg", high, f"above elevation_min_deg = {low:g}")
+            )
+    if "fusion_k" in site:
+        k = site["fusion_k"]
+        if not (isinstance(k, int) and not isinstance(k, bool) and 1 <= k <= max(len(sensors), 1)):
+            errors.append(
+                ParameterError("fusion_k", k, f"a whole number 1 to {len(sensors)} (the number of sited sensors)")
+            )
     return errors
 
 
@@ -123,36 +168,50 @@ def run(args) -> dict:
         col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
         if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
             outside.append(ParameterError(f"sensors.{name}", (table["x"], table["y"]), "a position inside the DEM"))
-        sited[name] = SitedSensor(name, row, col, float(table.get("mast_m", 10.0)))
+        pointing = {key: float(table.get(key, default)) for key, (default, _) in POINTING.items()}
+        sited[name] = SitedSensor(name, row, col, float(table.get("mast_m", 10.0)), **pointing)
     raise_all(outside)
     altitudes = [float(a) for a in site.get("altitudes_agl_m", [30.0, 120.0])]
+    k = site.get("fusion_k")
     out = prepare_output_dir(args.out)
     layers, per_sensor = [], {}
     for name, placed in sited.items():
         print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
         per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
-    fused = fused_layers(per_sensor)
+    fused = fused_layers(per_sensor, k)
     hillshade = _hillshade(dem, cell)
-    cell_km2 = cell * cell / 1e6
+    where = {"transform": transform, "crs": crs, "hillshade": hillshade, "sited": sited, "cell_km2": cell * cell / 1e6}
     for name, grids in per_sensor.items():
         for i, altitude in enumerate(altitudes):
             for kind in ("visible", "detected", "pd"):
                 grid = grids[kind][i].astype(np.float32)
-                layers.append(_layer(out, name, altitude, kind, grid, transform, crs, hillshade, sited, cell_km2))
+                if kind == "visible":
+                    grid[~grids["traced"]] = np.nan  # beyond the mapped reach: not traced
+                layers.append(_layer(out, name, altitude, kind, grid, where))
         min_alt = grids["min_altitude_m"].astype(np.float32)
-        layers.append(_layer(out, name, None, "min_altitude", min_alt, transform, crs, hillshade, sited, cell_km2))
+        layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
+    quantities = ("count", "detected", "pd") + (() if k is None else ("k_of_n", "pd_k_of_n"))
     for i, altitude in enumerate(altitudes):
-        for quantity in ("count", "detected", "pd"):
+        for quantity in quantities:
             grid = fused[quantity][i].astype(np.float32)
-            layer = _layer(out, "fused", altitude, quantity, grid, transform, crs, hillshade, sited, cell_km2)
-            layers.append({**layer, "kind": "fused", "quantity": quantity})
+            layer = _layer(out, "fused", altitude, quantity, grid, where)
+            extra = {"k": k, "n": len(sited)} if quantity.endswith("k_of_n") else {}
+            layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
     summary = {
         "site": str(args.site),
         "crs": crs,
         "cell_m": cell,
         "altitudes_agl_m": altitudes,
+        "fusion_k": k,
         "sensors": {
-            n: {"range_m": g["range_m"], "row": sited[n].row, "col": sited[n].col} for n, g in per_sensor.items()
+            n: {
+                "range_m": g["range_m"],
+                "reach_m": None if math.isinf(g["reach_m"]) else g["reach_m"],
+                "row": sited[n].row,
+                "col": sited[n].col,
+                **{key: getattr(sited[n], key) for key in POINTING},
+            }
+            for n, g in per_sensor.items()
         },
         "layers": layers,
     }
@@ -176,7 +235,8 @@ def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
     return np.clip(np.tensordot(sun, normal, axes=1), 0.0, 1.0)
 
 
-def _layer(out: Path, sensor: str, altitude, kind: str, grid, transform, crs, hillshade, sited, cell_km2) -> dict:
+def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> dict:
+    """Write one layer (GeoTIFF, PNG and, for a detected layer, GeoJSON) and describe it for coverage.json."""
     import rasterio
 
     stem = f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
@@ -187,22 +247,50 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, transform, crs, hi
         "width": grid.shape[1],
         "count": 1,
         "dtype": "float32",
-        "crs": crs,
-        "transform": transform,
+        "crs": where["crs"],
+        "transform": where["transform"],
         "nodata": float("nan"),
     }
     with atomic_path(tif) as tmp:
         with rasterio.open(tmp, "w", **profile) as dst:
             dst.write(grid, 1)
-    _map(png, grid, hillshade, f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL"), sited)
+    title = f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL")
+    _map(png, grid, where["hillshade"], title, where["sited"])
     covered = np.nan_to_num(grid) > 0 if kind != "min_altitude" else np.isfinite(grid)
-    return {
+    layer = {
         "sensor": sensor,
         "altitude_m": altitude,
         "kind": kind,
         "path": tif.name,
         "png": png.name,
-        "area_km2": float(covered.sum() * cell_km2),
+        "area_km2": float(covered.sum() * where["cell_km2"]),
+    }
+    if kind in ("detected", "k_of_n"):
+        geojson = out / f"{stem}.geojson"
+        write_text_atomic(
+            geojson,
+            json.dumps(
+                _polygons(
+                    covered, where["transform"], where["crs"], {"sensor": sensor, "altitude_m": altitude, "kind": kind}
+                )
+            ),
+        )
+        layer["geojson"] = geojson.name
+    return layer
+
+
+def _polygons(covered: np.ndarray, transform, crs: str, properties: dict) -> dict:
+    """GeoJSON FeatureCollection of the covered cells: one polygon per 4-connected patch, in the DEM's CRS."""
+    from rasterio.features import shapes
+
+    features = [
+        {"type": "Feature", "geometry": geometry, "properties": properties}
+        for geometry, _ in shapes(covered.astype(np.uint8), mask=covered, transform=transform)
+    ]
+    return {
+        "type": "FeatureCollection",
+        "crs": {"type": "name", "properties": {"name": crs}},
+        "features": features,
     }
 
 
@@ -235,4 +323,7 @@ def render_text(result: dict) -> str:
             lines.append(
                 f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2"
             )
+        elif layer.get("quantity") == "k_of_n":
+            what = f"{layer['k']} of {layer['n']}"
+            lines.append(f"  {what:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2")
     return "\n".join(lines)

@@ -1,13 +1,21 @@
-"""Line of sight over terrain (core/terrain.py) against closed-form horizons and shadows.
+"""Line of sight over terrain (core/terrain.py) and site coverage (core/coverage.py) against closed forms.
 
 * A smooth Earth: the farthest visible cell from a sensor on a mast against the sum of the two
   horizons, sqrt(2 k R h_s) + sqrt(2 k R h_t) (ITU-R P.834-9 Eq. 1), for radio (k = 4/3) and light.
 * A straight wall: the end of its shadow on a target behind it against the straight line through the
   crest, x = D (h_t - h_s) / (H - h_s).
+* Coverage on flat ground with the Earth's curvature: a sensor's detected area at a flight level against
+  the annular sector pi (min(R_g, d_h)^2 - r^2) w / 360 (R_g the detection range on the ground, d_h the
+  two horizons, r the dead zone's radius, w the sector), once limited by the horizon and once by the range
+  with the overhead cone of silence, whose radius h / tan(el_max) is checked too.
+* A cone-shaped hill: where its shadow starts behind it for a drone at height h, against the straight
+  sight line over the apex with the curvature drop d^2 / (2 k R).
+* k-of-n fusion: the Poisson-binomial tail against enumeration of all 2^n subsets and the binomial.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -20,6 +28,8 @@ from csuas.validation.report.registry import CheckSpec, Section, timed
 #: the horizon on a path up to half a cell off their own line.
 SMOOTH_CELL_M = 100.0
 WALL_CELL_M = 10.0
+#: Cells of the coverage checks [m]: the horizon-limited sector, the range-limited one, the cone-shaped hill.
+HORIZON_CELL_M, RANGE_CELL_M, HILL_CELL_M = 100.0, 5.0, 10.0
 
 
 def _farthest_visible_m(visible: np.ndarray, row: float, col: float, cell: float) -> float:
@@ -72,6 +82,163 @@ def terrain(_knob=None) -> Section:
     return s
 
 
+def _annular_sector_km2(outer_m: float, inner_m: float, sector_deg: float) -> float:
+    return math.pi * (outer_m**2 - inner_m**2) * sector_deg / 360.0 / 1e6
+
+
+def _cell_count_error_km2(outer_m: float, inner_m: float, sector_deg: float, cell_m: float) -> float:
+    """Largest error of an annular sector's area counted in whole cells by their centres [km^2].
+
+    A point is classed with its cell's centre, within delta = cell / sqrt(2): a misclassed point lies within
+    delta of the boundary, whose band covers at most 2 delta P + 2 pi delta^2 (P the perimeter).
+    """
+    perimeter = (outer_m + inner_m) * math.radians(sector_deg) + 2 * (outer_m - inner_m)
+    delta = cell_m / math.sqrt(2.0)
+    return (2 * delta * perimeter + 2 * math.pi * delta**2) / 1e6
+
+
+def coverage(_knob=None) -> Section:
+    """Detected areas, a hill's shadow and k-of-n fusion of the coverage layers against closed forms."""
+    from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
+    from csuas.core.scenario import load_scenario
+
+    s = Section()
+    scenario = load_scenario("default")
+    # (a) horizon-limited: the RF detector (range 125 km) on a 10 m mast, 30 m flight level, 120 degree sector
+    # toward 30 degrees, 2 km minimum range
+    cell, mast, flight, sector, min_range = HORIZON_CELL_M, 10.0, 30.0, 120.0, 2000.0
+    sited = SitedSensor("rf", 370.0, 370.0, mast, azimuth_deg=30.0, sector_deg=sector, min_range_m=min_range)
+    layers, elapsed = timed(sensor_layers, np.zeros((741, 741)), cell, scenario, sited, [flight])
+    horizon = math.sqrt(2 * K_RADIO * EARTH_RADIUS_M * mast) + math.sqrt(2 * K_RADIO * EARTH_RADIUS_M * flight)
+    ground_range = math.sqrt(layers["range_m"] ** 2 - (flight - mast) ** 2)
+    outer, inner = min(ground_range, horizon), math.sqrt(min_range**2 - (flight - mast) ** 2)
+    band = 2 * 1.5 * cell * outer * math.radians(sector) / 1e6  # the viewshed's 1.5-cell horizon band
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.flat_horizon_sector.area_km2",
+            _annular_sector_km2(outer, inner, sector),
+            float(layers["detected"][0].sum()) * cell * cell / 1e6,
+            _cell_count_error_km2(outer, inner, sector, cell) + band,
+            "km2",
+            time_s=elapsed,
+            source=f"pi (min(R_g, d_h)^2 - r^2) w / 360: d_h = {horizon / 1000:.4g} km (two horizons, k = 4/3) "
+            f"< R_g = {ground_range / 1000:.4g} km, r = sqrt(r_min^2 - h^2), w = {sector:g} deg",
+            method=f"coverage of the default RF detector on a flat 74 km square in {cell:g} m cells, "
+            f"{mast:g} m mast, {flight:g} m flight level, {min_range / 1000:g} km minimum range",
+            tolerance_source="the cell count's error, 2 delta P + 2 pi delta^2 (delta = cell / sqrt 2, P the "
+            "perimeter), plus the viewshed's 1.5-cell band either side of the horizon arc",
+        )
+    )
+    # (a) range-limited with the overhead cone of silence: the EO camera (range 555.5 m) on a 5 m mast,
+    # 120 m flight level, 90 degree sector toward 200 degrees, blind above 45 degrees
+    cell, mast, flight, sector, el_max = RANGE_CELL_M, 5.0, 120.0, 90.0, 45.0
+    sited = SitedSensor("eo", 120.0, 120.0, mast, azimuth_deg=200.0, sector_deg=sector, elevation_max_deg=el_max)
+    layers, elapsed = timed(sensor_layers, np.zeros((241, 241)), cell, scenario, sited, [flight])
+    rise = flight - mast
+    horizon = math.sqrt(2 * K_OPTICAL * EARTH_RADIUS_M * mast) + math.sqrt(2 * K_OPTICAL * EARTH_RADIUS_M * flight)
+    ground_range = math.sqrt(layers["range_m"] ** 2 - rise**2)
+    outer, inner = min(ground_range, horizon), rise / math.tan(math.radians(el_max))
+    detected = layers["detected"][0]
+    rr, cc = np.indices(detected.shape)
+    ground = np.hypot(rr - 120.0, cc - 120.0) * cell
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.flat_range_sector.area_km2",
+            _annular_sector_km2(outer, inner, sector),
+            float(detected.sum()) * cell * cell / 1e6,
+            _cell_count_error_km2(outer, inner, sector, cell),
+            "km2",
+            time_s=elapsed / 2,
+            source=f"pi (min(R_g, d_h)^2 - r^2) w / 360: R_g = sqrt(R^2 - h^2) = {ground_range:.4g} m < d_h, "
+            f"r = h / tan(el_max) = {inner:.4g} m, w = {sector:g} deg",
+            method=f"coverage of the default EO camera on a flat 1.2 km square in {cell:g} m cells, {mast:g} m "
+            f"mast, {flight:g} m flight level, elevation at most {el_max:g} deg",
+            tolerance_source="the cell count's error, 2 delta P + 2 pi delta^2 (delta = cell / sqrt 2, P the "
+            "perimeter)",
+        )
+    )
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.cone_of_silence.radius_m",
+            inner,
+            float(ground[detected].min()),
+            math.sqrt(2.0) * cell,
+            "m",
+            time_s=elapsed / 2,
+            source=f"h / tan(el_max), h = {rise:g} m above the eye, el_max = {el_max:g} deg",
+            method="the nearest detected cell centre of the same layer",
+            tolerance_source="one cell diagonal: a cell centre lies within cell / sqrt 2 of every point, so the "
+            "nearest one outside the circle is at most a diagonal out",
+        )
+    )
+    # (b) a cone-shaped hill (60 m high, 300 m base radius) 1 km east of the RF detector on a 5 m mast, its apex
+    # on a cell centre of the sensor's row; a 100 m flight level is hidden from where the sight line over the
+    # apex meets it: x^2 / (2 k R) + s_a x - (h - e) = 0, s_a = (H - D^2 / (2 k R) - e) / D
+    cell, eye, flight, height, base, apex = HILL_CELL_M, 5.0, 100.0, 60.0, 300.0, 1000.0
+    rr, cc = np.indices((101, 301))
+    hill = np.clip(height * (1.0 - np.hypot(rr - 50, cc - apex / cell) * cell / base), 0.0, None)
+    layers, elapsed = timed(sensor_layers, hill, cell, scenario, SitedSensor("rf", 50.0, 0.0, eye), [flight])
+    behind = np.flatnonzero(~layers["detected"][0][50, int(apex / cell) + 1 :]) + int(apex / cell) + 1
+    k_r = K_RADIO * EARTH_RADIUS_M
+    slope_apex = (height - apex**2 / (2 * k_r) - eye) / apex
+    expected = k_r * (-slope_apex + math.sqrt(slope_apex**2 + 2 * (flight - eye) / k_r))
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.cone_hill.shadow_start_m",
+            expected,
+            float(behind.min() * cell) if behind.size else float("inf"),
+            2 * cell,
+            "m",
+            time_s=elapsed,
+            source="the sight line over the apex with the curvature drop d^2 / (2 k R), k = 4/3: "
+            "x = k R (-s_a + sqrt(s_a^2 + 2 (h - e) / (k R)))",
+            method=f"coverage of the default RF detector behind a {height:g} m cone of {base:g} m base radius "
+            f"{apex:g} m away in {cell:g} m cells, {eye:g} m eye, {flight:g} m flight level",
+            tolerance_source="2 cells, as the wall: the first hidden cell centre and the cell's own half-cell path",
+        )
+    )
+    # (c) k-of-n Pd: 5 independent sensors with random Pd, and 5 equal ones (the binomial)
+    rng = np.random.default_rng(15)
+    n, k = 5, 3
+    pd = rng.uniform(0.0, 1.0, (n, 1, 40, 40))
+    per_sensor = {f"s{i}": {"detected": pd[i] > 0.5, "pd": pd[i]} for i in range(n)}
+    fused, elapsed = timed(fused_layers, per_sensor, k)
+    brute = np.zeros(pd.shape[1:])
+    for chosen in itertools.product((False, True), repeat=n):
+        if sum(chosen) >= k:
+            brute += np.prod([p if c else 1.0 - p for p, c in zip(pd, chosen)], axis=0)
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.k_of_n.max_abs_error_vs_enumeration",
+            0.0,
+            float(np.abs(fused["pd_k_of_n"] - brute).max()),
+            1e-12,
+            "",
+            time_s=elapsed,
+            source=f"sum over all 2^{n} subsets of at least {k} detecting sensors of prod p_i prod (1 - p_j)",
+            method=f"fused_layers' {k}-of-{n} Pd on 1600 cells of random Pd",
+            tolerance_source="rounding: 2^n products of n factors in double precision, far below 1e-12",
+        )
+    )
+    equal = {f"s{i}": {"detected": np.ones((1, 1, 1), bool), "pd": np.full((1, 1, 1), 0.6)} for i in range(n)}
+    fused, elapsed = timed(fused_layers, equal, k)
+    binomial = sum(math.comb(n, j) * 0.6**j * 0.4 ** (n - j) for j in range(k, n + 1))
+    s.outcomes.append(
+        Check(
+            "terrain.coverage.k_of_n.binomial_pd",
+            binomial,
+            float(fused["pd_k_of_n"][0, 0, 0]),
+            1e-12,
+            "",
+            time_s=elapsed,
+            source=f"the binomial tail sum_j>={k} C({n}, j) p^j (1 - p)^({n} - j), p = 0.6",
+            method=f"fused_layers' {k}-of-{n} Pd of {n} sensors of equal Pd",
+            tolerance_source="rounding of a sum of n + 1 terms, far below 1e-12",
+        )
+    )
+    return s
+
+
 SPECS = [
     CheckSpec(
         "terrain.line_of_sight",
@@ -80,6 +247,20 @@ SPECS = [
         "the R2 viewshed's farthest visible cell and a wall's shadow vs their closed forms",
         "1.5 cells (horizon), 2 cells (shadow)",
         terrain,
+        None,
+        {},
+        False,
+    ),
+    CheckSpec(
+        "terrain.coverage",
+        "Site coverage vs closed-form areas, a hill's shadow and k-of-n enumeration",
+        "terrain",
+        "detected areas of sectors with dead zones on flat ground with curvature vs the annular sector, the "
+        "cone of silence's radius, a cone-shaped hill's shadow vs the sight line over its apex, k-of-n Pd vs "
+        "enumeration and the binomial",
+        "the cell count's boundary band (2 delta P + 2 pi delta^2, delta = cell / sqrt 2) plus the viewshed's "
+        "1.5-cell horizon band (areas), one cell diagonal (radius), 2 cells (shadow), 1e-12 (Pd)",
+        coverage,
         None,
         {},
         False,

@@ -20,7 +20,7 @@ GROUPS = {
     "lidar": "Lidar cross-section vs oracles",
     "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
     "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
-    "terrain": "Line of sight over terrain vs closed-form horizons and shadows",
+    "terrain": "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.
