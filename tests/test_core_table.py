@@ -267,6 +267,7 @@ COVERED_ELSEWHERE = {
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
     "detection.target_pixels": "tests/test_tir_netd.py (closed form)",
     "terrain.curvature_drop_m": "tests/test_terrain.py (closed form)",
+    "terrain.gaussian_hills": "tests/test_terrain_gdal.py (the terrain of the GDAL and sight-line cross-checks)",
     "terrain.height_at": "tests/test_terrain.py and tests/test_coverage.py (flat and ridged DEMs)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",
     "coverage.fused_layers": "tests/test_coverage.py (the OR covers each sensor)",

@@ -36,27 +36,21 @@ def add_arguments(parser):
     parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
 
 
-def demo_dem() -> np.ndarray:
-    """The demo terrain [m]: seeded Gaussian hills up to about 120 m over a 10 km square."""
-    n, cell = DEMO["cells"], DEMO["cell_m"]
-    rng = np.random.default_rng(7)
-    y, x = np.indices((n, n)) * cell
-    dem = np.zeros((n, n))
-    for cx, cy, height, width in zip(
-        rng.uniform(0, n * cell, 12), rng.uniform(0, n * cell, 12), rng.uniform(20, 120, 12), rng.uniform(400, 1500, 12)
-    ):
-        dem += height * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * width**2))
-    return dem
-
-
 def _load_dem(site: dict, site_path):
     """(heights, transform, crs, cell size) of the site's DEM or the demo terrain."""
     from rasterio.transform import from_origin
 
+    from csuas.core.terrain import gaussian_hills
+
     if "dem" not in site:
         x0, y0 = DEMO["origin"]
         top = y0 + DEMO["cells"] * DEMO["cell_m"]
-        return demo_dem(), from_origin(x0, top, DEMO["cell_m"], DEMO["cell_m"]), DEMO["crs"], DEMO["cell_m"]
+        return (
+            gaussian_hills(DEMO["cells"], DEMO["cell_m"]),
+            from_origin(x0, top, DEMO["cell_m"], DEMO["cell_m"]),
+            DEMO["crs"],
+            DEMO["cell_m"],
+        )
     import rasterio
 
     path = Path(site["dem"])
