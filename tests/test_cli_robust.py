@@ -215,3 +215,20 @@ def test_a_signal_held_during_an_import_is_recorded_by_the_command_handler():
             os.kill(os.getpid(), signal.SIGTERM)
             time.sleep(0.05)
         assert isinstance(pending(), Terminated)
+
+
+@pytest.mark.slow
+def test_an_interrupted_dataset_keeps_only_whole_images_and_resumes(tmp_path):
+    """Ctrl-C while frames render and the previous one is written: every record has its image and label,
+    no temporary file is left, and the next run renders only what is missing."""
+    out_dir = tmp_path / "set"
+    code, _, err = _interrupt(["dataset", "example", "--out", str(out_dir)], 3.0, signal.SIGINT, tmp_path)
+    assert code in (130, -signal.SIGINT), err
+    assert "Traceback" not in err
+    records = sorted(p.stem for p in (out_dir / "records").iterdir())
+    assert 0 < len(records) < 20  # the interrupt landed mid-set
+    assert {p.stem for p in (out_dir / "images").iterdir()} >= set(records)
+    assert {p.stem for p in (out_dir / "labels").iterdir()} >= set(records)
+    assert not [p for p in out_dir.rglob("*") if p.name.startswith(".")]  # temporaries
+    assert cli.main(["dataset", "example", "--out", str(out_dir), "--json"]) == 0
+    assert len(list((out_dir / "records").iterdir())) == 20

@@ -29,6 +29,7 @@ from __future__ import annotations
 import itertools
 import json
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -196,15 +197,25 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
         (out / sub).mkdir(exist_ok=True)
     items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered = time.perf_counter(), 0
-    for done, item in enumerate(items, 1):
-        record = out / "records" / f"{item['name']}.json"
-        if not record.exists():
-            _write_image(spec, scenario, sensor, item, out)
-            rendered += 1
-        if progress is not None:
-            elapsed = time.perf_counter() - start
-            eta = elapsed / max(rendered, 1) * sum(1 for i in items[done:]) if rendered else 0.0
-            print(f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress)
+    # one frame's files are written (PNG compression releases the GIL) while the next is rendered
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
+        writing = None
+        for done, item in enumerate(items, 1):
+            record = out / "records" / f"{item['name']}.json"
+            if not record.exists():
+                frame = _frame(spec, scenario, sensor, item)
+                if writing is not None:
+                    writing.result()
+                writing = writer.submit(_write_image, spec, sensor, item, frame, out)
+                rendered += 1
+            if progress is not None:
+                elapsed = time.perf_counter() - start
+                eta = elapsed / max(rendered, 1) * sum(1 for i in items[done:]) if rendered else 0.0
+                print(
+                    f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress
+                )
+        if writing is not None:
+            writing.result()
     annotations = _coco(spec, sensor, items, out)
     return {
         "images": len(items),
@@ -225,17 +236,23 @@ def _imaging_sensor(scenario, name):
     return candidates[name]
 
 
-def _write_image(spec: DatasetSpec, scenario, sensor, item: dict, out: Path) -> None:
+def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
+    """Render, expose and degrade the image of one draw (:func:`_visible` or :func:`_thermal`)."""
+    from csuas.render.imaging.records import View
+
+    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
+    seed = spec.seed * 1_000_003 + item["index"]
+    return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
+
+
+def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) -> None:
+    """Write a frame's image, optional EXR, YOLO label and, last, its record (what resuming looks for)."""
     from PIL import Image
 
     from csuas.render.imaging.labels import yolo_line
-    from csuas.render.imaging.records import View
 
     p = sensor.params
-    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
-    seed = spec.seed * 1_000_003 + item["index"]
     thermal = sensor.modality == "tir"
-    frame = (_thermal if thermal else _visible)(spec, scenario, p, item, view, seed)
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
     with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
