@@ -132,3 +132,35 @@ def test_the_targets_excess_is_taken_against_the_background_behind_it():
     whole_frame = abs(float(np.sum(electrons - np.median(electrons))))
     assert 0.5 < gradient["target_excess_e"] / uniform["target_excess_e"] < 2.0
     assert whole_frame > 100 * abs(gradient["target_excess_e"])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("elevation_deg, sky_share", [(-30.0, 1.0), (0.0, 0.5), (30.0, 0.0)])
+def test_a_thermal_frame_shows_a_cold_sky_above_the_horizon_and_the_ground_below(elevation_deg, sky_share):
+    """Sensor below the drone (it looks up): all sky; level: the upper half (36.7 x 20.6 deg frame); above: ground.
+
+    The target's excess is taken against what lies behind it: a 230 K sky makes the drone stand out more
+    than the 298 K ground does.
+    """
+    from csuas.render.imaging.frame import tir_frame
+    from csuas.render.imaging.records import ThermalScene, ThermalSensor, View
+    from csuas.render.imaging.sensor_chain import ChainSettings
+
+    scene = ThermalScene(surroundings_k=288.15)
+    view = View(200.0, 40.0, elevation_deg)
+    frame = tir_frame("dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0)
+    sky = tir_frame(
+        "dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0, sky_temperature_k=230.0
+    )
+    window = sky["result"].window
+    outside = np.ones(sky["temperature"].shape, dtype=bool)
+    outside[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = False
+    cold = np.isclose(sky["temperature"], 230.0, atol=1e-6)
+    assert cold[outside].mean() == pytest.approx(sky_share, abs=0.01)
+    assert np.allclose(sky["temperature"][outside & ~cold], frame["background_k"], atol=1e-6)
+    assert frame["delta_t_k"] == pytest.approx(frame["result"].values["delta_t_k"], abs=1e-9)  # uniform: the render's
+    if sky_share == 1.0:
+        assert abs(sky["target_excess_k"]) > abs(frame["target_excess_k"])
+        assert sky["delta_t_k"] == pytest.approx(frame["delta_t_k"] + frame["background_k"] - 230.0, abs=1e-6)
+    if sky_share == 0.0:
+        assert sky["target_excess_k"] == pytest.approx(frame["target_excess_k"], rel=1e-9)

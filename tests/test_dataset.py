@@ -99,3 +99,12 @@ def test_the_frame_bench_times_render_and_chain_separately():
     assert out["frames"] == 2 and out["frames_per_s"] > 0
     assert out["render_s_per_frame"] > 0 and out["camera_and_chain_s_per_frame"] > 0
     assert out["peak_rss_gib"] > out["peak_rss_growth_gib"] >= 0
+
+
+def test_a_thermal_sky_needs_a_thermal_sensor_and_a_plausible_temperature(tmp_path, capsys):
+    with pytest.raises(InputErrors, match="sky_temperature_k"):
+        parse_dataset_spec({"sky_temperature_k": 1000.0})
+    spec = tmp_path / "eo_sky.toml"
+    spec.write_text('count = 1\nsensor = "eo"\nsky_temperature_k = 230.0\n')
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "e")]) == 2
+    assert "sky_temperature_k" in capsys.readouterr().err

@@ -57,6 +57,23 @@ def zenith_luminance(diffuse_illuminance_lx: float, sun_zenith_rad: float, sampl
     return float(diffuse_illuminance_lx / np.sum(rel * np.cos(zz) * d_omega))
 
 
+def view_rays(n_h: int, n_v: int, ifov_rad: float, azimuth_deg: float, elevation_deg: float, target_offset_px):
+    """Unit viewing direction (n_v, n_h, 3) of every pixel of a frame looking at the target, body frame.
+
+    The target lies at pixel (n_h // 2 + 0.5, n_v // 2 + 0.5) + ``target_offset_px``; ``azimuth_deg`` and
+    ``elevation_deg`` give the direction from the target toward the sensor. A pixel sees the sky where
+    its direction points up (z > 0) and the ground below the horizon.
+    """
+    d = direction_vector(azimuth_deg, elevation_deg)
+    h, v = view_basis(d, azimuth_deg)
+    cx = n_h // 2 + 0.5 + float(target_offset_px[0])
+    cy = n_v // 2 + 0.5 + float(target_offset_px[1])
+    x = (np.arange(n_h) + 0.5 - cx) * ifov_rad
+    y = (np.arange(n_v) + 0.5 - cy) * ifov_rad
+    rays = -d[None, None, :] + x[None, :, None] * h[None, None, :] - y[:, None, None] * v[None, None, :]
+    return rays / np.linalg.norm(rays, axis=2, keepdims=True)
+
+
 def clear_sky_frame(
     n_h: int,
     n_v: int,
@@ -80,14 +97,7 @@ def clear_sky_frame(
     ``cloud_cover`` > 0 the sky carries seeded clouds (:func:`cloud_opacity`) as bright as a white
     Lambertian sheet under the scene illuminance, E_v / pi.
     """
-    d = direction_vector(azimuth_deg, elevation_deg)
-    h, v = view_basis(d, azimuth_deg)
-    cx = n_h // 2 + 0.5 + float(target_offset_px[0])
-    cy = n_v // 2 + 0.5 + float(target_offset_px[1])
-    x = (np.arange(n_h) + 0.5 - cx) * ifov_rad
-    y = (np.arange(n_v) + 0.5 - cy) * ifov_rad
-    rays = -d[None, None, :] + x[None, :, None] * h[None, None, :] - y[:, None, None] * v[None, None, :]
-    rays /= np.linalg.norm(rays, axis=2, keepdims=True)
+    rays = view_rays(n_h, n_v, ifov_rad, azimuth_deg, elevation_deg, target_offset_px)
     sun = direction_vector(sun_azimuth_deg, sun_elevation_deg)
     sun_zenith = math.radians(90.0 - sun_elevation_deg)
     zenith = np.arccos(np.clip(rays[..., 2], -1.0, 1.0))

@@ -19,7 +19,8 @@ the images are every combination of the list axes, ``count`` random draws each. 
 ``quality`` (render preset, default ``draft``), ``position`` (``random``: the target anywhere in
 the frame, possibly cut by its edge; ``centre``), ``bits`` (8-16), ``exr`` (also write the signal
 before quantisation, in electrons, as a float32 EXR beside each image), ``cloud_cover`` (0..1, the
-share of a ``clear_sky`` background under seeded clouds). Image ``i`` draws from the
+share of a ``clear_sky`` background under seeded clouds), ``sky_temperature_k`` (thermal sensors: a
+sky of that apparent temperature above the horizon, the scenario's background below). Image ``i`` draws from the
 seed ``[seed, i]``, so a given spec always gives the same bytes, and an image already on disk is
 not redone.
 """
@@ -56,6 +57,7 @@ SPEC_KEYS = (
     "bits",
     "exr",
     "cloud_cover",
+    "sky_temperature_k",
 )
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
@@ -77,6 +79,7 @@ class DatasetSpec:
     bits: int
     exr: bool = False
     cloud_cover: float = 0.0
+    sky_temperature_k: float | None = None
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -135,13 +138,30 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         cloud_cover and background != "clear_sky"
     ):
         errors.append(ParameterError("cloud_cover", cloud_cover, "0..1, with background = 'clear_sky'"))
+    sky_k = data.get("sky_temperature_k")
+    if sky_k is not None and not (
+        isinstance(sky_k, (int, float)) and not isinstance(sky_k, bool) and 3 <= sky_k <= 400
+    ):
+        errors.append(ParameterError("sky_temperature_k", sky_k, "an apparent sky temperature of 3 to 400 K"))
     scenario, sensor = data.get("scenario", "default"), data.get("sensor")
     if not isinstance(scenario, str):
         errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
     if errors:
         raise InputErrors(errors)
     return DatasetSpec(
-        seed, count, scenario, sensor, axes, background, tuple(chain), quality, position, bits, exr, float(cloud_cover)
+        seed,
+        count,
+        scenario,
+        sensor,
+        axes,
+        background,
+        tuple(chain),
+        quality,
+        position,
+        bits,
+        exr,
+        float(cloud_cover),
+        None if sky_k is None else float(sky_k),
     )
 
 
@@ -192,6 +212,8 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
 
     scenario = load_scenario(spec.scenario)
     sensor = _imaging_sensor(scenario, spec.sensor)
+    if spec.sky_temperature_k is not None and sensor.modality != "tir":
+        raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
     out = prepare_output_dir(out_dir)
     for sub in ("images", "labels", "records"):
         (out / sub).mkdir(exist_ok=True)
@@ -266,7 +288,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
-    contrast_value = float(res.values.get(contrast_key, float("nan")))
+    contrast_value = float(frame["delta_t_k"] if thermal else res.values.get(contrast_key, float("nan")))
     entry = {
         "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
         "annotation": None,
@@ -346,8 +368,17 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         bits=spec.bits,
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
-    frame = tir_frame(item["drone"], view, ThermalSensor.from_params(p), scene, chain, seed=seed, quality=spec.quality)
-    excess = float(np.abs(np.sum(frame["temperature"] - frame["background_k"])))
+    frame = tir_frame(
+        item["drone"],
+        view,
+        ThermalSensor.from_params(p),
+        scene,
+        chain,
+        seed=seed,
+        quality=spec.quality,
+        sky_temperature_k=spec.sky_temperature_k,
+    )
+    excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))
     return frame

@@ -19,6 +19,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
+from csuas.core.checks import require
 from csuas.render.imaging.background import clear_sky_frame
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
 from csuas.render.imaging.labels import label
@@ -172,20 +173,28 @@ def tir_frame(
     seed: int,
     quality: str = "draft",
     reflected_surroundings: bool = True,
+    sky_temperature_k: float | None = None,
 ) -> dict:
     """Render, degrade and label one full thermal frame (apparent temperature through the chain).
 
     The window's band radiance (:func:`csuas.render.imaging.tir.render_tir`) is pasted on the
     background's (the window's uncovered pixels, uniform), turned into apparent temperature
     (:func:`csuas.core.radiometry.radiance_temperature`) and passed through the chain's thermal stages
-    (``psf`` at the chain's wavelength, ``netd``, ``agc``, ``quantise``).
+    (``psf`` at the chain's wavelength, ``netd``, ``agc``, ``quantise``). With ``sky_temperature_k``
+    the frame is split at the horizon (:func:`csuas.render.imaging.background.view_rays`): a blackbody
+    sky of that apparent temperature [K] above it, the scene's background below, and the window's
+    uncovered share of each pixel shows what lies behind it.
 
     Returns
     -------
     dict
-        ``result``, ``temperature`` (frame [K]), ``chain``, ``label``, ``background_k``.
+        ``result``, ``temperature`` (frame [K]), ``chain``, ``label``, ``background_k`` (the ground, or
+        the uniform background), ``target_excess_k`` (the target's apparent temperature over what lies
+        behind it, summed over its window [K px]) and ``delta_t_k`` (the render's silhouette-averaged
+        Delta T, taken against what lies behind the silhouette).
     """
-    from csuas.core.radiometry import radiance_temperature
+    from csuas.core.radiometry import band_radiance, radiance_temperature
+    from csuas.render.imaging.background import view_rays
     from csuas.render.imaging.tir import render_tir
 
     res = render_tir(
@@ -200,13 +209,28 @@ def tir_frame(
     uncovered = res.coverage == 0
     background = float(np.median(radiance[uncovered])) if uncovered.any() else float(np.median(radiance))
     frame = np.full((sensor.n_v, sensor.n_h), background)
+    if sky_temperature_k is not None:
+        rays = view_rays(
+            sensor.n_h, sensor.n_v, res.ifov_rad, view.azimuth_deg, view.elevation_deg, view.target_offset_px
+        )
+        sky = float(band_radiance(require("sky_temperature_k", sky_temperature_k, gt=0), sensor.band))
+        frame = np.where(rays[..., 2] > 0.0, sky, background)
     window = res.window
-    frame[window.y0 : window.y0 + window.height, window.x0 : window.x0 + window.width] = radiance
+    rows, cols = slice(window.y0, window.y0 + window.height), slice(window.x0, window.x0 + window.width)
+    behind = frame[rows, cols].copy()
+    frame[rows, cols] = radiance + (1.0 - res.coverage) * (behind - background)
     temperature = radiance_temperature(frame, sensor.band)
+    behind_k = radiance_temperature(behind, sensor.band)
+    excess = float(np.sum(temperature[rows, cols] - behind_k))
+    background_k = float(radiance_temperature(background, sensor.band))
+    covered = float(np.sum(res.coverage))
+    behind_target_k = float(np.sum(res.coverage * behind_k) / covered) if covered > 0 else background_k
     return {
         "result": res,
         "temperature": temperature,
         "chain": apply_chain(temperature, chain, seed, thermal=True),
         "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
-        "background_k": float(radiance_temperature(background, sensor.band)),
+        "background_k": background_k,
+        "target_excess_k": excess,
+        "delta_t_k": float(res.values["delta_t_k"]) + background_k - behind_target_k,
     }
