@@ -23,6 +23,7 @@ applied analytically afterwards (:mod:`csuas.render.imaging.path`).
 from __future__ import annotations
 
 import functools
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -188,20 +189,77 @@ def _frame_with_up(up) -> np.ndarray:
     return m
 
 
-def _sky_ground_envmap(sky_radiance: float, ground_radiance: float, up_render, rows: int = 128):
-    """Environment of uniform sky radiance above the horizon and ground radiance below it."""
+def _sky_ground_pattern(sky_radiance: float, ground_radiance: float) -> tuple[float, float, float]:
+    """(sky, ground, scale): the environment's two radiances as a pattern of at most 1 times a scale."""
+    scale = max(sky_radiance, ground_radiance)
+    return sky_radiance / scale, ground_radiance / scale, scale
+
+
+def _sky_ground_envmap(pattern: tuple[float, float], scale: float, up_render, rows: int = 128):
+    """Environment of uniform sky radiance above the horizon and ground radiance below it (``scale`` x pattern)."""
     import mitsuba as mi
 
-    if sky_radiance == ground_radiance:
-        return {"type": "constant", "radiance": {"type": "rgb", "value": float(sky_radiance)}}
+    sky, ground = pattern
+    if sky == ground:
+        return {"type": "constant", "radiance": {"type": "rgb", "value": float(scale * sky)}}
     theta = (np.arange(rows) + 0.5) / rows * np.pi  # polar angle from local +Y of each row
-    value = np.where(theta < np.pi / 2, sky_radiance, ground_radiance).astype(np.float32)
+    value = np.where(theta < np.pi / 2, sky, ground).astype(np.float32)
     image = np.repeat(value[:, None, None], 8, axis=1).repeat(3, axis=2)
     return {
         "type": "envmap",
         "bitmap": mi.Bitmap(np.ascontiguousarray(image)),
+        "scale": float(scale),
         "to_world": mi.ScalarTransform4f(_frame_with_up(up_render).tolist()),
     }
+
+
+def _along(direction):
+    """to_world of a directional emitter whose light travels along ``direction`` (its local +z)."""
+    import mitsuba as mi
+
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    up = [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0]
+    return mi.ScalarTransform4f().look_at(origin=[0.0, 0.0, 0.0], target=d.tolist(), up=up)
+
+
+#: Scenes kept for reuse (:func:`reused_scene`): key -> (scene, its parameters).
+_SCENES: OrderedDict = OrderedDict()
+#: How many scenes are kept.
+SCENE_CACHE_SIZE = 4
+
+
+def _parts_key(target: NormalisedTarget, material_key) -> tuple:
+    """The parts' names, topology and ``material_key(material)``: what a scene of the target is built from."""
+    return tuple((p.name, len(p.vertices), hash(p.faces.tobytes()), material_key(p.material)) for p in target.parts)
+
+
+def reused_scene(key: tuple, target: NormalisedTarget, build, update):
+    """The scene of ``key``, built once by ``build()`` and afterwards updated in place.
+
+    On reuse the parts' vertex positions (the aspect) are replaced and ``update(params)`` sets the
+    values that may change between renders (emitters), then the scene is refreshed. Mitsuba compiles
+    the identity of a scene's emitters and shapes into the path tracer, so a scene built anew for
+    every render rebuilds the kernels each time (0.14 s of LLVM compilation on 2 cores against 0.02 s
+    of tracing at draft quality). The last ``SCENE_CACHE_SIZE`` scenes are kept.
+    """
+    import mitsuba as mi
+
+    if key not in _SCENES:
+        scene = build()
+        params = mi.traverse(scene)
+        update(params)  # the values of a new scene are set as those of a reused one
+        params.update()
+        _SCENES[key] = (scene, params)
+        while len(_SCENES) > SCENE_CACHE_SIZE:
+            _SCENES.popitem(last=False)
+        return scene
+    _SCENES.move_to_end(key)
+    scene, params = _SCENES[key]
+    for i, part in enumerate(target.parts):
+        params[f"part_{i}.vertex_positions"] = mi.Float(part.vertices.astype(np.float32).ravel())
+    update(params)
+    params.update()
+    return scene
 
 
 def build_eo_scene(
@@ -214,6 +272,13 @@ def build_eo_scene(
     up_render,
 ):
     """Mitsuba scene (``*_ad_rgb``) for visible-band rendering.
+
+    A scene of the same structure (:func:`_eo_scene_key`) is built once and then updated in place:
+    new vertex positions (the aspect), sun direction and irradiance, sky and ground radiance and the
+    horizon's orientation. Mitsuba compiles the identity of a scene's emitters and shapes into the
+    path tracer, so a scene built anew for every render would rebuild the kernels each time (0.14 s of
+    LLVM compilation on 2 cores against 0.02 s of tracing at draft); the last ``SCENE_CACHE_SIZE``
+    scenes are kept.
 
     Parameters
     ----------
@@ -230,19 +295,37 @@ def build_eo_scene(
     """
     import mitsuba as mi
 
-    scene = {"type": "scene", "frame": bounding_frame()}
-    for i, part in enumerate(target.parts):
-        scene[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material))
-    if sun_irradiance > 0:
-        to_sun = np.asarray(sun_direction_render, dtype=float)
-        scene["sun"] = {
-            "type": "directional",
-            "direction": (-to_sun / np.linalg.norm(to_sun)).tolist(),
-            "irradiance": {"type": "rgb", "value": float(sun_irradiance)},
-        }
-    if sky_radiance > 0 or ground_radiance > 0:
-        scene["environment"] = _sky_ground_envmap(sky_radiance, ground_radiance, up_render)
-    return mi.load_dict(scene)
+    has_sun = sun_irradiance > 0
+    lit = sky_radiance > 0 or ground_radiance > 0
+    sky, ground, scale = _sky_ground_pattern(sky_radiance, ground_radiance) if lit else (0.0, 0.0, 0.0)
+    to_sun = np.asarray(sun_direction_render, dtype=float)
+
+    def build():
+        spec = {"type": "scene", "frame": bounding_frame()}
+        for i, part in enumerate(target.parts):
+            spec[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material))
+        if has_sun:
+            spec["sun"] = {
+                "type": "directional",
+                "direction": [0.0, 0.0, 1.0],
+                "irradiance": {"type": "rgb", "value": 1.0},
+            }
+        if lit:
+            spec["environment"] = _sky_ground_envmap((sky, ground), scale, up_render)
+        return mi.load_dict(spec)
+
+    def update(params):
+        if has_sun:
+            params["sun.to_world"] = _along(-to_sun)
+            params["sun.irradiance.value"] = mi.Color3f(float(sun_irradiance))
+        if lit and sky == ground:
+            params["environment.radiance.value"] = mi.Color3f(float(scale * sky))
+        elif lit:
+            params["environment.scale"] = float(scale)
+            params["environment.to_world"] = mi.ScalarTransform4f(_frame_with_up(up_render).tolist())
+
+    key = ("eo", _parts_key(target, lambda m: tuple(m.reflectance_rgb)), has_sun, (sky, ground) if lit else None)
+    return reused_scene(key, target, build, update)
 
 
 def build_tir_scene(target: NormalisedTarget, *, band: str, surroundings_radiance: float):
@@ -265,16 +348,27 @@ def build_tir_scene(target: NormalisedTarget, *, band: str, surroundings_radianc
 
     from csuas.core.radiometry import band_radiance
 
-    scene = {"type": "scene", "frame": bounding_frame()}
-    for i, part in enumerate(target.parts):
-        eps = float(getattr(part.material, f"emissivity_{band}"))
-        bsdf = mi.load_dict({"type": "diffuse", "reflectance": 1.0 - eps})
-        emitted = eps * float(band_radiance(part.material.temperature_k, band))
-        emitter = mi.load_dict({"type": "area", "radiance": emitted}) if emitted > 0 else None
-        scene[f"part_{i}"] = mitsuba_mesh(part, bsdf, emitter)
-    if surroundings_radiance > 0:
-        scene["environment"] = {"type": "constant", "radiance": float(surroundings_radiance)}
-    return mi.load_dict(scene)
+    def graybody(material):
+        eps = float(getattr(material, f"emissivity_{band}"))
+        return eps, eps * float(band_radiance(material.temperature_k, band))
+
+    def build():
+        spec = {"type": "scene", "frame": bounding_frame()}
+        for i, part in enumerate(target.parts):
+            eps, emitted = graybody(part.material)
+            bsdf = mi.load_dict({"type": "diffuse", "reflectance": 1.0 - eps})
+            emitter = mi.load_dict({"type": "area", "radiance": emitted}) if emitted > 0 else None
+            spec[f"part_{i}"] = mitsuba_mesh(part, bsdf, emitter)
+        if surroundings_radiance > 0:
+            spec["environment"] = {"type": "constant", "radiance": float(surroundings_radiance)}
+        return mi.load_dict(spec)
+
+    def update(params):
+        if surroundings_radiance > 0:
+            params["environment.radiance.value"] = float(surroundings_radiance)
+
+    key = ("tir", band, _parts_key(target, graybody), surroundings_radiance > 0)
+    return reused_scene(key, target, build, update)
 
 
 def path_integrator(max_depth: int):
