@@ -18,6 +18,9 @@ rcs_table
     sigma(azimuth, elevation) tables and callables for the sensing target.
 two_ray
     NumPy closed forms: Fresnel coefficients, two-ray and four-path (radar) models.
+terrain_map
+    :func:`terrain_radio_map` (RadioMapSolver on a mesh of a DEM, path gain at a flight level above
+    it, with an error bound from rotated replicas) and :func:`radio_map_budget` (rays for a bound).
 accuracy, bench
     Accuracy-against-time rows and the benchmark of the chosen budget against Sionna's defaults.
 

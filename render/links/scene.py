@@ -146,7 +146,8 @@ def graded_ground_mesh(extent_m: float) -> tuple[np.ndarray, np.ndarray]:
     return vertices, np.asarray(faces, dtype=np.uint32)
 
 
-def _mitsuba_mesh(name: str, vertices: np.ndarray, faces: np.ndarray):
+def triangle_mesh(name: str, vertices: np.ndarray, faces: np.ndarray):
+    """A Mitsuba triangle mesh named ``name`` of vertices (n, 3) [m] and faces (m, 3)."""
     import mitsuba as mi
 
     mesh = mi.Mesh(
@@ -191,7 +192,7 @@ def build_scene(frequency_ghz: float, ground: str | None, extent_m: float, polar
         vertices, faces = graded_ground_mesh(ground_extent_m(extent_m))
         material = rt.ITURadioMaterial(name=f"ground-{ground}", itu_type=ground, thickness=thickness)
         added.append(
-            rt.SceneObject(mi_mesh=_mitsuba_mesh("ground", vertices, faces), name="ground", radio_material=material)
+            rt.SceneObject(mi_mesh=triangle_mesh("ground", vertices, faces), name="ground", radio_material=material)
         )
     added += list(objects)
     if added:

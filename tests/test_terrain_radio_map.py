@@ -1,0 +1,228 @@
+"""Sionna RT radio maps over terrain (render/links/terrain_map.py) against closed forms, the two-ray model and
+the viewshed.
+
+References: exact geometry of the meshes (vertex positions, areas, a closed-form curvature drop
+d^2 / (2 k R_E)); Student's t for the replicas' bound (a Monte Carlo of normal replicas); the two-ray
+model with Fresnel reflection averaged over each cell (csuas.render.links.two_ray, Gauss-Legendre);
+the R2 viewshed (csuas.core.terrain.viewshed). Tolerances: the bound's stated coverage (95 %), its
+binomial spread in the Monte Carlo, and for dark seen cells the Poisson bound on cells a rotated
+lattice leaves without a ray (validation/links/terrain_map.py).
+"""
+
+import numpy as np
+import pytest
+
+from csuas.base.errors import InputErrors, ParameterError
+from csuas.render.links import terrain_map as tm
+
+EARTH_RADIUS_M = 6_371_000.0
+
+
+def _hills(n=41, cell=50.0, seed=4):
+    """Six seeded Gaussian hills, 20-80 m high and 100-300 m wide."""
+    rng = np.random.default_rng(seed)
+    north, east = np.indices((n, n)) * cell
+    dem = np.zeros((n, n))
+    for cx, cy, h, w in zip(*rng.uniform([[0], [0], [20], [100]], [[n * cell], [n * cell], [80], [300]], (4, 6))):
+        dem += h * np.exp(-((east - cx) ** 2 + (north - cy) ** 2) / (2 * w * w))
+    return dem
+
+
+def test_terrain_mesh_frame_faces_and_curvature():
+    dem = np.arange(12.0).reshape(3, 4)
+    vertices, faces = tm.terrain_mesh(dem, 10.0, k_factor=None)
+    assert vertices.shape == (12, 3) and faces.shape == (2 * 2 * 3, 3)
+    # row 0, col 3: east of the centre (col 1.5) by 15 m, north of it (row 1) by 10 m
+    np.testing.assert_allclose(vertices[3], [15.0, 10.0, 3.0])
+    np.testing.assert_allclose(vertices[8], [-15.0, -10.0, 8.0])
+    flat, _ = tm.terrain_mesh(np.zeros((3, 4)), 10.0, k_factor=None)
+    a, b, c = (flat[faces[:, i].astype(int)] for i in range(3))
+    normal_z = np.cross(b - a, c - a)[:, 2]
+    assert np.all(normal_z > 0)  # counter-clockwise seen from above
+    np.testing.assert_allclose(0.5 * normal_z.sum(), 2 * 3 * 100.0)  # centre-to-centre span
+    far, _ = tm.terrain_mesh(np.zeros((3, 201)), 100.0, k_factor=4 / 3)
+    d = 10_000.0  # column 200 is 100 cells east of the centre
+    assert far[200, 2] == pytest.approx(-(d**2) / (2 * 4 / 3 * EARTH_RADIUS_M), rel=1e-3)  # 5.9 m below
+
+
+@pytest.mark.parametrize("step", [1, 2, 3])
+def test_measurement_blocks_cover_the_terrain_span(step):
+    rows, cols = np.indices((5, 7))
+    dem = 2.0 * rows + 3.0 * cols  # planar: bilinear interpolation is exact
+    vertices, faces = tm.measurement_mesh(dem, 10.0, 50.0, step, k_factor=None)
+    r_edges, c_edges = tm.block_edges(5, step), tm.block_edges(7, step)
+    assert r_edges[0] == 0 and r_edges[-1] == 4 and c_edges[-1] == 6
+    n_blocks = (len(r_edges) - 1) * (len(c_edges) - 1)
+    assert faces.shape == (2 * n_blocks, 3)
+    corner_r, corner_c = np.meshgrid(r_edges, c_edges, indexing="ij")
+    np.testing.assert_allclose(vertices[:, 2], 50.0 + 2.0 * corner_r.ravel() + 3.0 * corner_c.ravel())
+    horizontal = vertices.copy()
+    horizontal[:, 2] = 0.0
+    np.testing.assert_allclose(tm.triangle_areas_m2(horizontal, faces).sum(), 4 * 6 * 100.0)
+    grid = tm.blocks_to_grid(np.arange(n_blocks).reshape(len(r_edges) - 1, -1), (5, 7), step)
+    assert grid.shape == (5, 7) and grid[0, 0] == 0 and grid[4, 6] == n_blocks - 1
+    assert np.all(grid[:step, :step] == 0)
+
+
+def test_random_rotations_are_haar_and_proper():
+    angles = tm.random_rotation_angles(20_000, np.random.default_rng(3))
+    matrices = np.stack([tm.rotation_matrix(a) for a in angles[:200]])
+    np.testing.assert_allclose(
+        matrices @ matrices.transpose(0, 2, 1), np.broadcast_to(np.eye(3), (200, 3, 3)), atol=1e-12
+    )
+    np.testing.assert_allclose(np.linalg.det(matrices), 1.0)
+    # Haar: a fixed vector lands uniformly on the sphere (every moment below vanishes, sd 1/sqrt(3 n))
+    z = np.array([tm.rotation_matrix(a)[:, 2] for a in angles])
+    assert np.all(np.abs(z.mean(0)) < 4 / np.sqrt(3 * len(z)))
+    assert abs(np.mean(z[:, 2] ** 2) - 1 / 3) < 4 * np.sqrt(4 / 45 / len(z))
+
+
+def test_bound_covers_normal_replicas_at_its_level():
+    rng = np.random.default_rng(11)
+    cells = 40_000
+    replicas = rng.normal(1.0, 0.1, (tm.REPLICAS, cells))
+    mean, error = tm.bound_db(replicas, tm.BOUND_LEVEL)
+    coverage = np.mean(np.abs(10 * np.log10(mean)) <= error)
+    assert abs(coverage - tm.BOUND_LEVEL) < 3 * np.sqrt(0.01 * 0.99 / cells) + 0.002  # Student model, dB side
+    mean, error = tm.bound_db(np.array([[0.0, 1.0, 2.0], [0.0, 1.0, 0.0]]))
+    assert np.isinf(error[0]) and error[1] == 0.0 and np.isinf(error[2])  # no power; equal replicas; t SE > mean
+
+
+def test_bad_input_is_reported_at_once():
+    with pytest.raises(ParameterError, match="dem_m"):
+        tm.check_dem(np.array([[1.0, np.nan], [0.0, 0.0]]), 10.0)
+    with pytest.raises(InputErrors) as caught:
+        tm.check_dem(np.zeros(3), -1.0)
+    assert [e.name for e in caught.value.errors] == ["dem_m", "cell_m"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "kwargs, names",
+    [
+        ({"frequency_ghz": 0.05}, ["frequency_ghz"]),
+        ({"frequency_ghz": 24.0}, ["frequency_ghz"]),  # medium dry ground: 1-10 GHz
+        ({"ground": "lava"}, ["ground"]),
+        ({"tx_row": 40.5, "mast_m": 0.0}, ["tx position", "mast_m"]),
+        ({"altitude_m": np.nan, "k_factor": -1.0}, ["altitude_m", "k_factor"]),
+        ({"samples": 0, "replicas": 1, "step": 0}, ["step", "replicas", "samples"]),
+        ({"max_depth": 11, "polarization": "X", "los": 1}, ["polarization", "los", "max_depth"]),
+    ],
+)
+def test_radio_map_bad_input(kwargs, names):
+    args = {
+        "dem_m": np.zeros((41, 41)),
+        "cell_m": 10.0,
+        "tx_row": 20.0,
+        "tx_col": 20.0,
+        "mast_m": 10.0,
+        "altitude_m": 50.0,
+        "frequency_ghz": 2.4,
+        **kwargs,
+    }
+    with pytest.raises((ParameterError, InputErrors)) as caught:
+        tm.terrain_radio_map(**args)
+    errors = getattr(caught.value, "errors", [caught.value])
+    assert [e.name for e in errors] == names
+
+
+@pytest.mark.slow
+def test_rotation_convention_is_sionnas():
+    from csuas.render.links.sionna_backend import load_sionna_rt
+
+    load_sionna_rt()
+    import mitsuba as mi
+    from sionna.rt.utils import rotation_matrix
+
+    angles = (0.3, -1.1, 2.5)
+    expected = np.array(rotation_matrix(mi.Point3f(*angles)), dtype=float).reshape(3, 3)
+    np.testing.assert_allclose(tm.rotation_matrix(angles), expected, atol=1e-6)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("polarization, step", [("H", 1), ("V", 1), ("H", 3)])
+def test_flat_ground_is_the_two_ray_power_sum(polarization, step):
+    from csuas.validation.links.terrain_map import flat_ground_comparison
+
+    out = flat_ground_comparison(2**18, scene={"polarization": polarization, "step": step})
+    result = out["result"]
+    assert result.path_gain_db.shape == (21, 61) and not np.isnan(result.path_gain_db).any()
+    assert out["reliable_fraction"] > 0.9
+    assert out["coverage"] >= tm.STATED_COVERAGE
+    assert out["median_abs_error_db"] <= out["median_bound_db"]
+    assert result.time_s > 0 and result.budget.samples == 2**18 and result.replicas == tm.REPLICAS
+    if polarization == "H" and step == 1:
+        # Sionna adds the rays' powers: the coherent lobes and nulls are not in the map
+        assert out["coherent_p95_abs_db"] > 3.0
+
+
+@pytest.mark.slow
+def test_a_seed_gives_the_map_and_unreached_cells_are_minus_infinity():
+    dem = np.zeros((21, 31))
+    args = (dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
+    a = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
+    b = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
+    c = tm.terrain_radio_map(*args, samples=2**14, seed=6, k_factor=None)
+    # the same rotations; Sionna's atomic float32 sums add the rays in a varying order (1e-7 dB measured)
+    np.testing.assert_allclose(a.path_gain_db, b.path_gain_db, rtol=0, atol=1e-5)
+    both = a.reached & c.reached
+    assert np.max(np.abs(a.path_gain_db[both] - c.path_gain_db[both])) > 0.01  # other rotations
+    np.testing.assert_allclose(a.extra["tx_position_m"], [-150.0, 0.0, 10.0])
+    # 2^14 rays leave far cells without any: -inf dB and an infinite bound there, never NaN
+    assert (~a.reached).any() and a.reached.any()
+    assert np.array_equal(a.path_gain_db == -np.inf, ~a.reached) and np.all(a.error_db[~a.reached] == np.inf)
+    assert np.all(a.reached[a.reliable]) and not np.isnan(a.path_gain_db).any() and not np.isnan(a.error_db).any()
+
+
+@pytest.mark.slow
+def test_ridge_shadow_is_the_viewshed():
+    from csuas.validation.links.terrain_map import dark_tolerance, ridge_line_of_sight
+
+    out = ridge_line_of_sight(2**18)
+    result = out["result"]
+    assert out["hidden_lit"] == 0  # exact: no straight ray crosses the ridge
+    assert out["visible_dark"] <= dark_tolerance(out["expected_dark"])
+    assert out["agreement"] >= 0.999 and 0.3 < out["visible"].mean() < 0.9
+    hidden = ~out["visible"] & ~out["edge"]
+    assert np.all(result.path_gain_db[hidden] == -np.inf) and np.all(result.error_db[hidden] == np.inf)
+    assert not np.isnan(result.path_gain_db).any() and not np.isnan(result.error_db).any()
+    assert not result.reached[hidden].any() and not result.reliable[hidden].any()
+
+
+@pytest.mark.slow
+def test_hills_direct_rays_follow_the_viewshed_and_reflections_only_add():
+    from csuas.validation.links.terrain_map import dark_tolerance, line_of_sight_agreement
+
+    dem = _hills()
+    out = line_of_sight_agreement(dem, 50.0, 20.0, 20.0, 10.0, 40.0, 2.4, 2**18)
+    assert out["hidden_lit"] == 0
+    assert out["visible_dark"] <= dark_tolerance(out["expected_dark"])
+    assert 0.5 < out["visible"].mean() < 0.9
+    full = tm.terrain_radio_map(dem, 50.0, 20.0, 20.0, 10.0, 40.0, 2.4, samples=2**18, max_depth=2)
+    los = out["result"].path_gain_db
+    # the same rotations shoot the same direct rays: the reflections add power, never remove it
+    assert np.all(full.path_gain_db >= los - 1e-4)
+    assert np.all(full.reached[out["result"].reached])
+
+
+@pytest.mark.slow
+def test_budget_meets_the_requested_bound():
+    from csuas.core.dielectric import complex_permittivity
+    from csuas.validation.links.terrain_map import FLAT, block_average_two_ray
+
+    p = FLAT
+    dem = np.zeros(p["shape"])
+    geometry = (dem, p["cell_m"], p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], p["frequency_ghz"])
+    budget, result = tm.radio_map_budget(
+        1.0, *geometry, start_samples=2**13, k_factor=None, polarization="H", max_depth=1
+    )
+    steps = result.extra["budget_steps"]
+    assert result.extra["budget_met"] and budget.samples == steps[-1]["samples"] == result.budget.samples
+    assert [s["samples"] for s in steps] == [2**13 * 2**i for i in range(len(steps))] and len(steps) > 1
+    assert steps[-1]["fraction_met"] >= 0.95 > steps[0]["fraction_met"]
+    eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], 1.0)
+    oracle = block_average_two_ray(1.0, p["shape"], *geometry[1:6], eta, polarization="H")
+    error = np.abs(result.path_gain_db - 10 * np.log10(oracle))
+    assert np.mean(error <= 1.0) >= tm.STATED_COVERAGE  # the promise holds against the oracle
+    with pytest.raises(ParameterError, match="target_db"):
+        tm.radio_map_budget(0.0, *geometry)
