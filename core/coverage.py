@@ -33,9 +33,12 @@ from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.horizon import K_OPTICAL, K_RADIO
 from csuas.core.pd_curves import sensor_pd
+from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
+from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import curvature_drop_m, height_at, viewshed
+from csuas.core.units import C_LIGHT
 
 #: Effective Earth-radius factor of each modality's line of sight.
 K_FACTOR = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL, "acoustic": 1.0}
@@ -176,7 +179,8 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         ``visible`` and ``detected`` (bool), ``pd`` (float), each (A, rows, cols); ``min_altitude_m``
         (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
         ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it, the only
-        ones whose line of sight is traced; ``visible`` is False beyond).
+        ones whose line of sight is traced; ``visible`` is False beyond); ``regard`` (bool, (A, rows,
+        cols): the cells in the sensor's sector, elevation limits and beyond its minimum range).
     """
     spec = scenario.sensors[sited.name]
     k = K_FACTOR[spec.modality]
@@ -190,7 +194,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     aimed = (np.abs(off_boresight_deg(bearing_deg(d_row, d_col), sited.azimuth_deg)) <= sited.sector_deg / 2) | (
         ground == 0.0
     )
-    visible, detected, pd = [], [], []
+    visible, detected, pd, regards = [], [], [], []
     for altitude in altitudes_m:
         seen = viewshed(
             dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, k, None if np.isinf(reach) else reach
@@ -210,6 +214,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         visible.append(seen)
         detected.append(gate & (slant <= detection))
         pd.append(prob)
+        regards.append(regard)
     detected_arr = np.array(detected)
     altitudes = np.asarray(altitudes_m, float)
     first = np.argmax(detected_arr, axis=0)
@@ -222,7 +227,57 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "range_m": detection,
         "reach_m": reach,
         "traced": ground <= reach,
+        "regard": np.array(regards),
     }
+
+
+def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:
+    """Carrier frequency [GHz] of an RF sensor (its own, or the drone's link, Table 33) or a radar (c / lambda)."""
+    spec = scenario.sensors[sensor_name]
+    if spec.modality == "rf":
+        return float(spec.params.get("frequency_ghz") or scenario.target["rf_frequency_ghz"])
+    if spec.modality == "radar":
+        given = spec.params.get("frequency_ghz")
+        return float(
+            given if given is not None else C_LIGHT / radar_wavelength_m(spec.params, scenario.convention) / 1e9
+        )
+    raise ParameterError(f"sensors.{sensor_name}", spec.modality, "an RF or radar sensor")
+
+
+def free_space_equivalent_range_m(path_gain_db, frequency_ghz):
+    """The distance [m] whose free-space path gain (Eq. 54) equals ``path_gain_db``: 10^((-PG - FSPL(1 m)) / 20)."""
+    return 10.0 ** ((-np.asarray(path_gain_db, dtype=float) - free_space_path_loss_db(frequency_ghz, 1.0)) / 20.0)
+
+
+def multipath_detection(scenario: Scenario, sensor_name: str, path_gain_db, regard) -> tuple[np.ndarray, np.ndarray]:
+    """Detected cells and Pd of an RF or radar sensor from a map of the path gain over the terrain.
+
+    Every term of the sensor's link budget but the propagation stays the paper's, so the sensor detects
+    a cell where the path gain is at least the free-space path gain at its detection range (for a
+    monostatic radar the same one-way condition, both legs alike), and its Pd is that of the
+    free-space equivalent range (:func:`free_space_equivalent_range_m`).
+
+    Parameters
+    ----------
+    path_gain_db : ndarray (rows, cols)
+        One-way path gain [dB] from the sensor to each cell at the flight level; -inf where no path.
+    regard : ndarray bool (rows, cols)
+        The cells in the sensor's field of regard (sector, elevation limits, minimum range).
+
+    Returns
+    -------
+    tuple
+        ``(detected, pd)``: bool and float grids; False and 0 outside the field of regard or where no path.
+    """
+    frequency = link_frequency_ghz(scenario, sensor_name)
+    detection = float(np.asarray(evaluate(scenario)[sensor_name].range_m))
+    gain = np.asarray(path_gain_db, dtype=float)
+    gate = np.asarray(regard, dtype=bool) & np.isfinite(gain)
+    threshold = -free_space_path_loss_db(frequency, detection) if detection > 0 else np.inf
+    pd = np.zeros(gain.shape)
+    if gate.any():
+        pd[gate] = sensor_pd(scenario, sensor_name, free_space_equivalent_range_m(gain[gate], frequency)).pd
+    return gate & (gain >= threshold), pd
 
 
 def fused_layers(per_sensor: dict, k: int | None = None) -> dict:

@@ -335,3 +335,66 @@ def test_a_south_up_dem_is_read_north_up(tmp_path, capsys):
     rows, cols = np.nonzero(detected)
     ys = np.array([(transform * (c + 0.5, r + 0.5))[1] for r, c in zip(rows, cols)])
     assert rows.size > 10 and (ys >= 5_000_500.0 - 12.5).all() and ys.max() > 5_000_800.0
+
+
+def test_multipath_detection_reads_a_path_gain_as_its_free_space_range():
+    """A path gain equal to free space at distance r detects iff r <= R_det, with the Pd of r itself."""
+    from csuas.core.coverage import free_space_equivalent_range_m, link_frequency_ghz, multipath_detection
+    from csuas.core.pd_curves import sensor_pd
+    from csuas.core.ranges import evaluate
+    from csuas.core.rf import free_space_path_loss_db
+    from csuas.core.scenario import load_scenario
+    from csuas.core.units import C_LIGHT
+
+    scenario = load_scenario("default")
+    assert link_frequency_ghz(scenario, "rf") == 2.4  # the drone's link (Table 33)
+    assert link_frequency_ghz(scenario, "radar") == pytest.approx(C_LIGHT / 0.0125 / 1e9)  # Table 39's wavelength
+    with pytest.raises(ParameterError, match="sensors.eo"):
+        link_frequency_ghz(scenario, "eo")
+    detection = float(evaluate(scenario)["rf"].range_m)
+    distance = detection * np.array([[0.1, 0.5, 0.999, 1.001, 2.0, 10.0]])
+    gain = -free_space_path_loss_db(2.4, distance)
+    assert np.allclose(free_space_equivalent_range_m(gain, 2.4), distance, rtol=1e-12)
+    detected, pd = multipath_detection(scenario, "rf", gain, np.ones(gain.shape, bool))
+    assert detected.tolist() == [[True, True, True, False, False, False]]
+    assert np.allclose(pd, sensor_pd(scenario, "rf", distance).pd, rtol=1e-9)
+    blocked = np.array([[-np.inf, gain[0, 0]]])
+    detected, pd = multipath_detection(scenario, "rf", blocked, np.array([[True, False]]))
+    assert not detected.any() and not pd.any()  # no path; outside the field of regard
+
+
+@pytest.mark.slow
+def test_a_radio_map_site_adds_multipath_layers_beside_the_line_of_sight(tmp_path, capsys):
+    """The demo terrain with a radio map of its RF sensor: path gain, bound, detection and Pd layers; where
+    the map is reliable, the power sum of Sionna's rays detects at least what the direct path alone does."""
+    site = tmp_path / "radio.toml"
+    site.write_text(
+        "altitudes_agl_m = [60.0]\n[sensors.rf]\nx = 502500.0\ny = 5007000.0\nmast_m = 10.0\n"
+        '[radio_map]\nsensors = ["rf"]\nstep = 16\nsamples = 262144\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "r"), "--json"]) == 0
+    capsys.readouterr()
+    summary = json.loads((tmp_path / "r" / "coverage.json").read_text())
+    kinds = {layer["kind"] for layer in summary["layers"] if layer["sensor"] == "rf"}
+    assert {"path_gain", "path_gain_error", "detected_multipath", "pd_multipath"} <= kinds
+    (stats,) = summary["radio_maps"]["maps"]["rf"]
+    assert stats["samples"] == 262144 and stats["frequency_ghz"] == 2.4
+    assert stats["detected_only_in_line_of_sight_cells"] == 0
+    assert stats["agreement_with_line_of_sight"] > 0.9
+    assert 0.0 < stats["reliable_visible_fraction"] <= 1.0
+
+
+def test_bad_radio_map_settings_are_named_all_at_once(tmp_path, capsys):
+    site = tmp_path / "bad_radio.toml"
+    site.write_text(
+        "altitudes_agl_m = [0.0, 30.0]\n[sensors.radar]\nx = 505000.0\ny = 5005000.0\n"
+        "[sensors.eo]\nx = 505000.0\ny = 5005100.0\n"
+        '[radio_map]\nsensors = ["radar", "eo"]\nstep = 0\nsamples = 5\ncolour = 1\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    for name in ("radio_map.sensors", "radio_map.step", "radio_map.samples", "radio_map.colour", "altitudes_agl_m"):
+        assert name in err, name
+    site.write_text('[sensors.radar]\nx = 505000.0\ny = 5005000.0\n[radio_map]\nground = "medium_dry_ground"\n')
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "b")]) == 2
+    assert "radio_map.ground (for radar)" in capsys.readouterr().err  # 24 GHz: the ITU ground spans 1-10 GHz

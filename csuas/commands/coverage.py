@@ -21,11 +21,30 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import atomic_path, prepare_output_dir, read_spec, write_text_atomic
+from csuas.commands.coverage_radio import radio_map_layers, radio_map_settings
 from csuas.core.coverage import POINTING
 
 #: Keys a site may hold; and of each sensor table.
-SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "fusion_k", "sensors")
+SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "fusion_k", "sensors", "radio_map")
 SENSOR_KEYS = ("x", "y", "mast_m", *POINTING)
+#: Layers of a radio map: (kind, key of :func:`csuas.commands.coverage_radio.radio_map_layers`'s grids).
+RADIO_KINDS = (
+    ("path_gain", "path_gain_db"),
+    ("path_gain_error", "error_db"),
+    ("detected_multipath", "detected"),
+    ("pd_multipath", "pd"),
+)
+#: Layers whose every finite value is shown and counted as covered (the others: values above 0).
+VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error")
+#: Colour-bar labels of the layers with a scale.
+UNITS = {
+    "pd": "Pd",
+    "pd_multipath": "Pd",
+    "min_altitude": "m above the terrain",
+    "path_gain": "path gain [dB]",
+    "path_gain_error": "bound [dB]",
+    "count": "sensors",
+}
 #: The embedded demo terrain: cells, cell size [m], origin of its transform and CRS.
 DEMO = {"cells": 400, "cell_m": 25.0, "origin": (500_000.0, 5_000_000.0), "crs": "EPSG:32633"}
 
@@ -153,7 +172,8 @@ def run(args) -> dict:
     source = Path(args.site)
     site = read_spec(args.site, site_path, "site")
     scenario = load_scenario(site.get("scenario", "default"))
-    raise_all(_validate(site, scenario))
+    radio, radio_errors = radio_map_settings(site, scenario)
+    raise_all(_validate(site, scenario) + radio_errors)
     dem, transform, crs, cell = _load_dem(site, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
@@ -173,6 +193,7 @@ def run(args) -> dict:
         print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
         per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
     fused = fused_layers(per_sensor, k)
+    radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
     hillshade = _hillshade(dem, cell)
     where = {"transform": transform, "crs": crs, "hillshade": hillshade, "sited": sited, "cell_km2": cell * cell / 1e6}
     for name, grids in per_sensor.items():
@@ -184,6 +205,10 @@ def run(args) -> dict:
                 layers.append(_layer(out, name, altitude, kind, grid, where))
         min_alt = grids["min_altitude_m"].astype(np.float32)
         layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
+    for name, grids in radio_maps.items():
+        for i, altitude in enumerate(altitudes):
+            for kind, key in RADIO_KINDS:
+                layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
     quantities = ("count", "detected", "pd") + (() if k is None else ("k_of_n", "pd_k_of_n"))
     for i, altitude in enumerate(altitudes):
         for quantity in quantities:
@@ -209,6 +234,9 @@ def run(args) -> dict:
         },
         "layers": layers,
     }
+    if radio is not None:
+        settings = {key: radio[key] for key in ("ground", "step", "max_depth", "seed", "accuracy_db")}
+        summary["radio_maps"] = {"settings": settings, "maps": {n: g["maps"] for n, g in radio_maps.items()}}
     write_text_atomic(out / "coverage.json", json.dumps(summary, indent=1))
     summary["out"] = str(out)
     return summary
@@ -249,8 +277,9 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
         with rasterio.open(tmp, "w", **profile) as dst:
             dst.write(grid, 1)
     title = f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL")
-    _map(png, grid, where["hillshade"], title, where["sited"])
-    covered = np.nan_to_num(grid) > 0 if kind != "min_altitude" else np.isfinite(grid)
+    every_value, unit = kind in VALUE_KINDS, UNITS.get(kind, "")
+    _map(png, grid, where["hillshade"], title, where["sited"], every_value=every_value, unit=unit)
+    covered = np.isfinite(grid) if kind in VALUE_KINDS else np.nan_to_num(grid) > 0
     layer = {
         "sensor": sensor,
         "altitude_m": altitude,
@@ -259,7 +288,7 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
         "png": png.name,
         "area_km2": float(covered.sum() * where["cell_km2"]),
     }
-    if kind in ("detected", "k_of_n"):
+    if kind in ("detected", "k_of_n", "detected_multipath"):
         geojson = out / f"{stem}.geojson"
         write_text_atomic(
             geojson,
@@ -288,13 +317,13 @@ def _polygons(covered: np.ndarray, transform, crs: str, properties: dict) -> dic
     }
 
 
-def _map(path: Path, grid, hillshade, title: str, sited) -> None:
+def _map(path: Path, grid, hillshade, title: str, sited, every_value: bool = False, unit: str = "") -> None:
     from csuas.base.plots import _pyplot
 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 5.0))
     ax.imshow(hillshade, cmap="gray", vmin=0, vmax=1)
-    shown = np.ma.masked_where(~np.isfinite(grid) | (grid <= 0), grid)
+    shown = np.ma.masked_where(~np.isfinite(grid) | (~every_value & (grid <= 0)), grid)
     image = ax.imshow(shown, cmap="viridis", alpha=0.6)
     for name, s in sited.items():
         ax.plot(s.col, s.row, "r^", ms=7)
@@ -303,7 +332,7 @@ def _map(path: Path, grid, hillshade, title: str, sited) -> None:
     ax.set_xticks([])
     ax.set_yticks([])
     if np.unique(grid[np.isfinite(grid)]).size > 2:  # yes/no layers need no scale
-        fig.colorbar(image, ax=ax, fraction=0.046)
+        fig.colorbar(image, ax=ax, fraction=0.046, label=unit)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
     plt.close(fig)

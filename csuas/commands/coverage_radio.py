@@ -1,0 +1,172 @@
+"""The ``[radio_map]`` table of a coverage site: RF and radar coverage with multipath over the terrain.
+
+A site that declares it gets, for each RF or radar sensor it names and each flight level, a Sionna RT
+radio map over a mesh of the DEM (:func:`csuas.render.links.terrain_map.terrain_radio_map`: path gain
+with its error bound) and, from it, where the sensor detects with the terrain's reflections and
+shadows (:func:`csuas.core.coverage.multipath_detection`), beside the line-of-sight layers. A site
+without the table builds no radio map. Keys (all optional; docs/coverage.md):
+
+``sensors``      RF or radar sensors of the site to map (default: all of them)
+``ground``       ITU-R P.2040 material of the terrain (default ``medium_dry_ground``, 1-10 GHz)
+``step``         DEM cells per side of a measurement block (default 4)
+``samples``      rays per replica (default 2^20), or
+``accuracy_db``  the bound asked of the path gain on 90 % of the visible cells: rays doubled from 2^20
+``max_depth``    reflections per path (default 2)
+``seed``         seed of the replicas (default 1)
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+from csuas.base.errors import ParameterError
+
+#: Keys of the ``[radio_map]`` table and their defaults (None: absent).
+RADIO_MAP_DEFAULTS = {
+    "sensors": None,
+    "ground": "medium_dry_ground",
+    "step": 4,
+    "samples": 2**20,
+    "accuracy_db": None,
+    "max_depth": 2,
+    "seed": 1,
+}
+#: Share of the visible cells that must meet ``accuracy_db``, and the largest rays per replica tried for it.
+ACCURACY_FRACTION = 0.9
+ACCURACY_MAX_SAMPLES = 2**23
+
+
+def _whole(value, low: int, high: int) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+
+
+def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
+    """The site's radio-map settings (None without a ``[radio_map]`` table) and every mistake in them."""
+    from csuas.core.coverage import link_frequency_ghz
+    from csuas.render.links.scene import ground_properties, itu_materials
+
+    if "radio_map" not in site:
+        return None, []
+    table = site["radio_map"]
+    if not isinstance(table, dict):
+        return None, [ParameterError("radio_map", table, "a table [radio_map]")]
+    errors = [
+        ParameterError(f"radio_map.{key}", table[key], ", ".join(RADIO_MAP_DEFAULTS))
+        for key in table
+        if key not in RADIO_MAP_DEFAULTS
+    ]
+    settings = {key: table.get(key, default) for key, default in RADIO_MAP_DEFAULTS.items()}
+    sited = site.get("sensors", {})
+    radio = [n for n in sited if n in scenario.sensors and scenario.sensors[n].modality in ("rf", "radar")]
+    if settings["sensors"] is None:
+        settings["sensors"] = radio
+    names = settings["sensors"]
+    if not isinstance(names, list) or not names or any(n not in radio for n in names):
+        found = ", ".join(radio) or "none on this site"
+        errors.append(ParameterError("radio_map.sensors", names, f"RF or radar sensors of the site: {found}"))
+        names = []
+    if settings["ground"] not in itu_materials():
+        errors.append(ParameterError("radio_map.ground", settings["ground"], ", ".join(itu_materials())))
+    else:
+        for name in names:
+            try:
+                ground_properties(settings["ground"], link_frequency_ghz(scenario, name))
+            except ParameterError as exc:
+                errors.append(ParameterError(f"radio_map.ground (for {name})", exc.value, exc.allowed))
+    for name in names:
+        mast = sited[name].get("mast_m", 10.0)
+        if isinstance(mast, (int, float)) and mast <= 0:
+            errors.append(ParameterError(f"sensors.{name}.mast_m", mast, "above 0 m for a radio map"))
+    altitudes = site.get("altitudes_agl_m", [30.0, 120.0])
+    if isinstance(altitudes, list) and any(isinstance(a, (int, float)) and a <= 0 for a in altitudes):
+        errors.append(ParameterError("altitudes_agl_m", altitudes, "flight levels above 0 m for a radio map"))
+    if not _whole(settings["step"], 1, 64):
+        errors.append(ParameterError("radio_map.step", settings["step"], "a whole number of cells 1 to 64"))
+    if not _whole(settings["samples"], 1000, 100_000_000):
+        errors.append(ParameterError("radio_map.samples", settings["samples"], "1000 to 1e8 rays per replica"))
+    accuracy = settings["accuracy_db"]
+    if accuracy is not None and not (isinstance(accuracy, (int, float)) and 0.0 < accuracy <= 20.0):
+        errors.append(ParameterError("radio_map.accuracy_db", accuracy, "a bound of 0 to 20 dB"))
+    if not _whole(settings["max_depth"], 0, 10):
+        errors.append(ParameterError("radio_map.max_depth", settings["max_depth"], "0 to 10 reflections"))
+    if not _whole(settings["seed"], 0, 2**31 - 1):
+        errors.append(ParameterError("radio_map.seed", settings["seed"], "a whole number >= 0"))
+    return settings, errors
+
+
+def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_sensor: dict, settings: dict) -> dict:
+    """Radio maps and multipath detection of each mapped sensor, per flight level.
+
+    Returns
+    -------
+    dict
+        Per sensor: ``path_gain_db``, ``error_db`` (float, (A, rows, cols); NaN where no ray came),
+        ``detected`` (1/0) and ``pd`` (:func:`csuas.core.coverage.multipath_detection`; NaN, unknown,
+        in the line of sight where some replica got no ray: too few rays to judge) and ``maps`` (per
+        flight level: rays per replica, replicas, time [s], the share of visible cells that are
+        reliable, the median bound over them, the unknown cells, and the comparison with the
+        line-of-sight layer over the judged cells).
+    """
+    from csuas.core.coverage import link_frequency_ghz, multipath_detection
+    from csuas.render.links.terrain_map import radio_map_budget, terrain_radio_map
+
+    layers = {}
+    for name in settings["sensors"]:
+        placed, los = sited[name], per_sensor[name]
+        frequency = link_frequency_ghz(scenario, name)
+        options = {"ground": settings["ground"], "step": settings["step"], "max_depth": settings["max_depth"]}
+        options["seed"] = settings["seed"]
+        gains, bounds, detected, pd, maps = [], [], [], [], []
+        for i, altitude in enumerate(altitudes):
+            print(f"csuas coverage: {name} radio map at {altitude:g} m ...", file=sys.stderr, flush=True)
+            start = time.perf_counter()
+            where = (dem, cell_m, placed.row, placed.col, placed.mast_m, altitude, frequency)
+            if settings["accuracy_db"] is None:
+                result = terrain_radio_map(*where, samples=settings["samples"], **options)
+            else:
+                _, result = radio_map_budget(
+                    settings["accuracy_db"],
+                    *where,
+                    fraction=ACCURACY_FRACTION,
+                    judged=los["visible"][i],
+                    start_samples=min(settings["samples"], ACCURACY_MAX_SAMPLES),
+                    max_samples=ACCURACY_MAX_SAMPLES,
+                    **options,
+                )
+            seen, hit = multipath_detection(scenario, name, result.path_gain_db, los["regard"][i])
+            visible = los["visible"][i]
+            reliable = result.reliable & visible
+            unknown = visible & ~result.reliable  # a direct path exists, but too few rays came to judge it
+            judged = los["regard"][i] & ~unknown
+            gains.append(np.where(result.reached, result.path_gain_db, np.nan))
+            bounds.append(np.where(result.reached & np.isfinite(result.error_db), result.error_db, np.nan))
+            detected.append(np.where(unknown, np.nan, seen.astype(float)))
+            pd.append(np.where(unknown, np.nan, hit))
+            maps.append(
+                {
+                    "altitude_m": altitude,
+                    "frequency_ghz": frequency,
+                    "samples": result.budget.samples,
+                    "replicas": result.replicas,
+                    "time_s": time.perf_counter() - start,
+                    "reliable_visible_fraction": float(reliable.sum() / max(int(visible.sum()), 1)),
+                    "unknown_cells": int(unknown.sum()),
+                    "median_bound_db": float(np.median(result.error_db[reliable])) if reliable.any() else None,
+                    "agreement_with_line_of_sight": float(np.mean((seen == los["detected"][i])[judged]))
+                    if judged.any()
+                    else None,
+                    "detected_only_with_multipath_cells": int((seen & ~los["detected"][i] & ~unknown).sum()),
+                    "detected_only_in_line_of_sight_cells": int((~seen & los["detected"][i] & ~unknown).sum()),
+                }
+            )
+        layers[name] = {
+            "path_gain_db": np.array(gains),
+            "error_db": np.array(bounds),
+            "detected": np.array(detected),
+            "pd": np.array(pd),
+            "maps": maps,
+        }
+    return layers
