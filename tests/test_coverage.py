@@ -398,3 +398,28 @@ def test_bad_radio_map_settings_are_named_all_at_once(tmp_path, capsys):
     site.write_text('[sensors.radar]\nx = 505000.0\ny = 5005000.0\n[radio_map]\nground = "medium_dry_ground"\n')
     assert cli.main(["coverage", str(site), "--out", str(tmp_path / "b")]) == 2
     assert "radio_map.ground (for radar)" in capsys.readouterr().err  # 24 GHz: the ITU ground spans 1-10 GHz
+
+
+@pytest.mark.slow
+def test_a_radar_over_a_ground_of_given_constants_is_mapped_at_24_ghz(tmp_path, capsys):
+    """Beyond the ITU grounds' 1-10 GHz a ground is given by its constants; bad constants are refused."""
+    site = tmp_path / "radar.toml"
+    head = "altitudes_agl_m = [30.0]\n[sensors.radar]\nx = 505000.0\ny = 5005000.0\nmast_m = 10.0\n"
+    site.write_text(head + "[radio_map]\nstep = 16\nsamples = 65536\nground = {relative_permittivity = 0.5}\n")
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "bad")]) == 2
+    assert "radio_map.ground" in capsys.readouterr().err
+    site.write_text(
+        head + "[radio_map]\nstep = 16\nsamples = 65536\n"
+        "ground = {relative_permittivity = 0.5, conductivity_s_m = 1.0}\n"
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "bad")]) == 2
+    assert "relative_permittivity >= 1" in capsys.readouterr().err
+    site.write_text(
+        head + "[radio_map]\nstep = 16\nsamples = 65536\n"
+        "ground = {relative_permittivity = 15.0, conductivity_s_m = 10.0}\n"
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "r"), "--json"]) == 0
+    capsys.readouterr()
+    (stats,) = json.loads((tmp_path / "r" / "coverage.json").read_text())["radio_maps"]["maps"]["radar"]
+    assert stats["frequency_ghz"] == pytest.approx(23.98, abs=0.01)
+    assert stats["samples"] == 65536

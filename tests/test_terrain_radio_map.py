@@ -226,3 +226,20 @@ def test_budget_meets_the_requested_bound():
     assert np.mean(error <= 1.0) >= tm.STATED_COVERAGE  # the promise holds against the oracle
     with pytest.raises(ParameterError, match="target_db"):
         tm.radio_map_budget(0.0, *geometry)
+
+
+@pytest.mark.slow
+def test_a_ground_given_by_its_constants_reflects_as_the_itu_ground_of_those_constants():
+    """medium_dry_ground at 2.4 GHz (ITU-R P.2040-3 Table 3) and the pair of its constants give the same map;
+    a pair out of range is refused."""
+    from csuas.render.links.scene import ground_properties
+
+    dem = np.zeros((21, 31))
+    args = (dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
+    constants = ground_properties("medium_dry_ground", 2.4)
+    named = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
+    given = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None, ground=constants)
+    assert np.array_equal(named.reached, given.reached)
+    np.testing.assert_allclose(named.path_gain_db[named.reached], given.path_gain_db[given.reached], atol=1e-5)
+    with pytest.raises(ParameterError, match="ground"):
+        ground_properties((0.5, 0.0), 2.4)

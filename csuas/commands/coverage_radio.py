@@ -7,7 +7,8 @@ shadows (:func:`csuas.core.coverage.multipath_detection`), beside the line-of-si
 without the table builds no radio map. Keys (all optional; docs/coverage.md):
 
 ``sensors``      RF or radar sensors of the site to map (default: all of them)
-``ground``       ITU-R P.2040 material of the terrain (default ``medium_dry_ground``, 1-10 GHz)
+``ground``       ITU-R P.2040 material of the terrain (default ``medium_dry_ground``, 1-10 GHz), or a
+                 table ``{relative_permittivity, conductivity_s_m}`` of its constants at any frequency
 ``step``         DEM cells per side of a measurement block (default 4)
 ``samples``      rays per replica (default 2^20), or
 ``accuracy_db``  the bound asked of the path gain on 90 % of the visible cells: rays doubled from 2^20
@@ -34,6 +35,8 @@ RADIO_MAP_DEFAULTS = {
     "max_depth": 2,
     "seed": 1,
 }
+#: Keys of a ground given by its constants (instead of an ITU material's name).
+GROUND_CONSTANTS = ("relative_permittivity", "conductivity_s_m")
 #: Share of the visible cells that must meet ``accuracy_db``, and the largest rays per replica tried for it.
 ACCURACY_FRACTION = 0.9
 ACCURACY_MAX_SAMPLES = 2**23
@@ -68,12 +71,23 @@ def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
         found = ", ".join(radio) or "none on this site"
         errors.append(ParameterError("radio_map.sensors", names, f"RF or radar sensors of the site: {found}"))
         names = []
-    if settings["ground"] not in itu_materials():
-        errors.append(ParameterError("radio_map.ground", settings["ground"], ", ".join(itu_materials())))
-    else:
-        for name in names:
+    ground = settings["ground"]
+    if isinstance(ground, dict):  # the ground's constants, at any frequency
+        if set(ground) != set(GROUND_CONSTANTS):
+            errors.append(ParameterError("radio_map.ground", ground, "{" + ", ".join(GROUND_CONSTANTS) + "}"))
+        else:
+            settings["ground"] = tuple(ground[key] for key in GROUND_CONSTANTS)
             try:
-                ground_properties(settings["ground"], link_frequency_ghz(scenario, name))
+                ground_properties(settings["ground"], 1.0)
+            except ParameterError as exc:
+                errors.append(ParameterError("radio_map.ground", ground, exc.allowed))
+    elif ground not in itu_materials():
+        allowed = "an ITU material (" + ", ".join(itu_materials()) + ") or {" + ", ".join(GROUND_CONSTANTS) + "}"
+        errors.append(ParameterError("radio_map.ground", ground, allowed))
+    else:
+        for name in names:  # each sensor's carrier inside the material's frequency ranges
+            try:
+                ground_properties(ground, link_frequency_ghz(scenario, name))
             except ParameterError as exc:
                 errors.append(ParameterError(f"radio_map.ground (for {name})", exc.value, exc.allowed))
     for name in names:

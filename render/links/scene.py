@@ -72,17 +72,23 @@ def itu_materials() -> dict:
     return {name: sorted(ranges) for name, ranges in ITU_MATERIALS_PROPERTIES.items() if name != "vacuum"}
 
 
-def ground_properties(material: str, frequency_ghz: float) -> tuple[float, float]:
-    """Relative permittivity and conductivity [S/m] of an ITU material (ITU-R P.2040-3 Table 3).
+def ground_properties(material, frequency_ghz: float) -> tuple[float, float]:
+    """Relative permittivity and conductivity [S/m] of an ITU material (ITU-R P.2040-3 Table 3), or as given.
 
     eps_r = a f^b and sigma = c f^d with f in GHz, from Sionna RT's table of
-    the recommendation, checked against the frequency range of validity.
+    the recommendation, checked against the frequency range of validity. A pair
+    ``(relative_permittivity, conductivity_s_m)`` stands for a ground of those constants at any
+    frequency (eps_r >= 1, sigma >= 0).
 
     Raises
     ------
     ParameterError
-        Unknown material, or a frequency outside the material's ranges.
+        Unknown material, a frequency outside the material's ranges, or constants out of range.
     """
+    if isinstance(material, tuple):
+        if len(material) != 2 or not all(_is_real(v) for v in material) or material[0] < 1 or material[1] < 0:
+            raise ParameterError("ground", material, "(relative_permittivity >= 1, conductivity_s_m >= 0)")
+        return float(material[0]), float(material[1])
     materials = itu_materials()
     if material not in materials:
         raise ParameterError("ground", material, "none or one of " + ", ".join(sorted(materials)))
@@ -93,6 +99,10 @@ def ground_properties(material: str, frequency_ghz: float) -> tuple[float, float
             return a * frequency_ghz**b, c * frequency_ghz**d
     ranges = ", ".join(f"{lo:g}-{hi:g} GHz" for lo, hi in materials[material])
     raise ParameterError("frequency_ghz", frequency_ghz, f"{ranges} for ground {material!r}")
+
+
+def _is_real(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and bool(np.isfinite(value))
 
 
 def half_space_thickness_m(relative_permittivity, conductivity_s_m, frequency_ghz) -> float:

@@ -337,14 +337,12 @@ class TerrainScene:
 _terrain_cache: OrderedDict = OrderedDict()
 
 
-def _terrain_key(dem: np.ndarray, cell_m: float, frequency_ghz: float, ground: str, k_factor) -> tuple:
+def _terrain_key(dem: np.ndarray, cell_m: float, frequency_ghz: float, ground, k_factor) -> tuple:
     digest = hashlib.sha1(np.ascontiguousarray(dem).tobytes()).hexdigest()
     return digest, dem.shape, float(cell_m), float(frequency_ghz), ground, k_factor
 
 
-def terrain_scene(
-    dem_m: np.ndarray, cell_m: float, frequency_ghz: float, ground: str, k_factor=K_RADIO
-) -> TerrainScene:
+def terrain_scene(dem_m: np.ndarray, cell_m: float, frequency_ghz: float, ground, k_factor=K_RADIO) -> TerrainScene:
     """The Sionna scene of a terrain at one frequency and material, built once and then reused.
 
     Parameters
@@ -355,8 +353,9 @@ def terrain_scene(
         Cell size [m].
     frequency_ghz : float
         Carrier frequency [GHz], inside the ITU ranges of ``ground``.
-    ground : str
-        ITU-R P.2040 material of the terrain.
+    ground : str or tuple
+        ITU-R P.2040 material of the terrain, or (relative permittivity, conductivity [S/m])
+        (:func:`csuas.render.links.scene.ground_properties`).
     k_factor : float or None
         Effective Earth-radius factor of the curvature drop; None: flat.
 
@@ -375,9 +374,13 @@ def terrain_scene(
     vertices, faces = terrain_mesh(dem_m, cell_m, k_factor)
     scene = rt.load_scene()
     scene.frequency = frequency_ghz * 1e9
-    material = rt.ITURadioMaterial(
-        name=f"terrain-{ground}", itu_type=ground, thickness=half_space_thickness_m(eps_r, sigma, frequency_ghz)
-    )
+    thickness = half_space_thickness_m(eps_r, sigma, frequency_ghz)
+    if isinstance(ground, str):
+        material = rt.ITURadioMaterial(name=f"terrain-{ground}", itu_type=ground, thickness=thickness)
+    else:  # constants given: the same at every frequency
+        material = rt.RadioMaterial(
+            name="terrain-given", relative_permittivity=eps_r, conductivity=sigma, thickness=thickness
+        )
     mesh = triangle_mesh("terrain", vertices, faces)
     scene.edit(add=[rt.SceneObject(mi_mesh=mesh, name="terrain", radio_material=material)])
     transmitter = rt.Transmitter(name="tx0", position=[0.0, 0.0, 0.0])
@@ -528,8 +531,9 @@ def terrain_radio_map(
     frequency_ghz : float
         Carrier frequency [GHz], inside the ITU ranges of ``ground`` (e.g. 1-10 GHz for
         ``medium_dry_ground``).
-    ground : str
-        ITU-R P.2040 material of the terrain (:func:`csuas.render.links.scene.itu_materials`).
+    ground : str or tuple
+        ITU-R P.2040 material of the terrain (:func:`csuas.render.links.scene.itu_materials`), or
+        its constants (relative permittivity, conductivity [S/m]) at any frequency.
     samples : int
         Rays per replica (1 to 1e8; :func:`radio_map_budget` chooses it for a requested bound).
     max_depth : int
