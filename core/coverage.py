@@ -37,7 +37,7 @@ from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import curvature_drop_m, height_at, viewshed
+from csuas.core.terrain import bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
 from csuas.core.units import C_LIGHT
 
 #: Effective Earth-radius factor of each modality's line of sight.
@@ -100,16 +100,6 @@ class SitedSensor:
                 self.elevation_max_deg,
                 f"above elevation_min_deg = {self.elevation_min_deg:g}",
             )
-
-
-def bearing_deg(d_row, d_col):
-    """Bearing of a grid offset, clockwise from grid north (rows run south, columns east) [deg], 0..360."""
-    return np.degrees(np.arctan2(d_col, -np.asarray(d_row, dtype=float))) % 360.0
-
-
-def off_boresight_deg(bearing, azimuth_deg):
-    """Signed azimuth of a bearing from the boresight [deg], wrapped to -180..180 (clockwise positive)."""
-    return (np.asarray(bearing, dtype=float) - azimuth_deg + 180.0) % 360.0 - 180.0
 
 
 def elevation_deg(ground_m, height_m, k_factor):
@@ -178,9 +168,10 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     dict
         ``visible`` and ``detected`` (bool), ``pd`` (float), each (A, rows, cols); ``min_altitude_m``
         (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
-        ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it, the only
-        ones whose line of sight is traced; ``visible`` is False beyond); ``regard`` (bool, (A, rows,
-        cols): the cells in the sensor's sector, elevation limits and beyond its minimum range).
+        ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it and inside
+        the azimuth sector, the only ones whose line of sight is traced; ``visible`` is False
+        elsewhere); ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation
+        limits and beyond its minimum range).
     """
     spec = scenario.sensors[sited.name]
     k = K_FACTOR[spec.modality]
@@ -197,7 +188,15 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     visible, detected, pd, regards = [], [], [], []
     for altitude in altitudes_m:
         seen = viewshed(
-            dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, k, None if np.isinf(reach) else reach
+            dem_m,
+            cell_m,
+            sited.row,
+            sited.col,
+            sited.mast_m,
+            altitude,
+            k,
+            None if np.isinf(reach) else reach,
+            None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
         )
         rise = dem_m + altitude - eye
         slant = np.hypot(ground, rise)
@@ -226,7 +225,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "min_altitude_m": min_altitude,
         "range_m": detection,
         "reach_m": reach,
-        "traced": ground <= reach,
+        "traced": (ground <= reach) & aimed,
         "regard": np.array(regards),
     }
 

@@ -50,6 +50,16 @@ def height_at(dem: np.ndarray, rows, cols) -> np.ndarray:
     )
 
 
+def bearing_deg(d_row, d_col):
+    """Bearing of a grid offset, clockwise from grid north (rows run south, columns east) [deg], 0..360."""
+    return np.degrees(np.arctan2(d_col, -np.asarray(d_row, dtype=float))) % 360.0
+
+
+def off_boresight_deg(bearing, azimuth_deg):
+    """Signed azimuth of a bearing from the boresight [deg], wrapped to -180..180 (clockwise positive)."""
+    return (np.asarray(bearing, dtype=float) - azimuth_deg + 180.0) % 360.0 - 180.0
+
+
 def viewshed(
     dem_m: np.ndarray,
     cell_m: float,
@@ -59,6 +69,7 @@ def viewshed(
     target_height_m,
     k_factor: float = 4.0 / 3.0,
     max_distance_m: float | None = None,
+    sector_deg: tuple[float, float] | None = None,
 ) -> np.ndarray:
     """Cells of the DEM where a target ``target_height_m`` above the terrain is in the sensor's line of sight.
 
@@ -81,6 +92,11 @@ def viewshed(
         it is computed) and cells farther away come out not visible. Inside it the result is the
         untruncated viewshed's, cell for cell (the horizon is a running maximum from the sensor out).
         None: the whole grid.
+    sector_deg : (float, float), optional
+        ``(azimuth, width)`` [deg]: only the rays whose bearing (:func:`bearing_deg`) lies within
+        ``width / 2`` of ``azimuth``, and one ray spacing beyond, are traced, and cells outside the
+        sector come out not visible (the sensor's own cell excepted). Inside it the result is the
+        all-round viewshed's, cell for cell (each cell keeps its nearest ray). None: all round.
 
     Returns
     -------
@@ -113,6 +129,11 @@ def viewshed(
         ]
     )
     angle = np.unique(np.arctan2(boundary[:, 0] - sensor_row, boundary[:, 1] - sensor_col))
+    if sector_deg is not None:
+        azimuth, width = (float(v) for v in sector_deg)
+        spacing = np.degrees(np.max(np.diff(angle)))  # the widest gap between neighbouring rays
+        aside = np.abs(off_boresight_deg(bearing_deg(np.sin(angle), np.cos(angle)), azimuth))
+        angle = angle[aside <= width / 2 + spacing]
     steps = np.arange(1, int(np.ceil(2 * span)) + 1) * 0.5  # [cells]
     rows = sensor_row + np.sin(angle)[:, None] * steps[None, :]
     cols = sensor_col + np.cos(angle)[:, None] * steps[None, :]
@@ -148,7 +169,10 @@ def viewshed(
     window = (slice(r_lo, r_hi), slice(c_lo, c_hi))
     own_slope = (dem[window] + h_target[window] - curvature_drop_m(own_distance, k_factor) - eye) / own_distance
     visible = np.zeros(dem.shape, dtype=bool)
-    visible[window] = ((own_slope >= before[ray, sample]) & (reach_cells <= limit)) | (reach_cells < 0.5)
+    inside = reach_cells <= limit
+    if sector_deg is not None:
+        inside &= np.abs(off_boresight_deg(bearing_deg(dr, dc), azimuth)) <= width / 2
+    visible[window] = ((own_slope >= before[ray, sample]) & inside) | (reach_cells < 0.5)
     return visible
 
 

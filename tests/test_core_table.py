@@ -21,7 +21,21 @@ import pytest
 
 import csuas.core
 from csuas.base.errors import ParameterError
-from csuas.core import acoustic, atmosphere, coverage, dielectric, eo, horizon, johnson, lidar, radar, rf, tir, units
+from csuas.core import (
+    acoustic,
+    atmosphere,
+    coverage,
+    dielectric,
+    eo,
+    horizon,
+    johnson,
+    lidar,
+    radar,
+    rf,
+    terrain,
+    tir,
+    units,
+)
 
 C = 299_792_458.0
 A = 6_371_000.0
@@ -245,10 +259,10 @@ ROWS = [
         "frequency_ghz",
     ),
     # a bearing clockwise from grid north on a north-up grid (rows run south): north-east is 45 degrees
-    ("coverage.bearing_deg", coverage.bearing_deg, {"d_row": -1.0, "d_col": 1.0}, 45.0, "d_col"),
+    ("terrain.bearing_deg", terrain.bearing_deg, {"d_row": -1.0, "d_col": 1.0}, 45.0, "d_col"),
     (
-        "coverage.off_boresight_deg",
-        coverage.off_boresight_deg,
+        "terrain.off_boresight_deg",
+        terrain.off_boresight_deg,
         {"bearing": 350.0, "azimuth_deg": 10.0},
         -20.0,
         "bearing",

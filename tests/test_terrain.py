@@ -91,3 +91,21 @@ def test_a_truncated_viewshed_is_the_full_one_inside_its_reach_and_samples_less(
     assert full[ground > 2500.0].any() and not full[ground <= 2500.0].all()  # cells cut off; shadows inside
     with pytest.raises(ParameterError, match="max_distance_m"):
         terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, max_distance_m=0.0)
+
+
+@pytest.mark.parametrize("azimuth_deg, width_deg", [(45.0, 90.0), (270.0, 120.0), (180.0, 10.0), (0.0, 359.0)])
+def test_a_sector_traces_only_its_rays_and_matches_the_all_round_viewshed_inside(azimuth_deg, width_deg):
+    """Inside the sector every cell is judged as all round (its nearest ray is traced); outside, none is visible.
+
+    The sector at 270 degrees straddles the west, where the rays' angles wrap from +pi to -pi."""
+    from csuas.core.terrain import bearing_deg, gaussian_hills, off_boresight_deg
+
+    dem = gaussian_hills(120, 50.0)
+    full = viewshed(dem, 50.0, 60.3, 55.7, 5.0, 20.0)
+    cut = viewshed(dem, 50.0, 60.3, 55.7, 5.0, 20.0, sector_deg=(azimuth_deg, width_deg))
+    rows, cols = np.indices(dem.shape)
+    inside = np.abs(off_boresight_deg(bearing_deg(rows - 60.3, cols - 55.7), azimuth_deg)) <= width_deg / 2
+    own = np.hypot(rows - 60.3, cols - 55.7) < 0.5  # the sensor's own cell: always in sight
+    assert np.array_equal(cut[inside], full[inside])
+    assert not cut[~inside & ~own].any()
+    assert full[~inside].any()  # the sector hides cells that are in sight
