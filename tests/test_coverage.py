@@ -415,7 +415,7 @@ def test_a_radar_over_a_ground_of_given_constants_is_mapped_at_24_ghz(tmp_path, 
     assert cli.main(["coverage", str(site), "--out", str(tmp_path / "bad")]) == 2
     assert "relative_permittivity >= 1" in capsys.readouterr().err
     site.write_text(
-        head + "[radio_map]\nstep = 16\nsamples = 65536\n"
+        head + "[radio_map]\nstep = 1\nsamples = 65536\n"
         "ground = {relative_permittivity = 15.0, conductivity_s_m = 10.0}\n"
     )
     assert cli.main(["coverage", str(site), "--out", str(tmp_path / "r"), "--json"]) == 0
@@ -423,3 +423,5 @@ def test_a_radar_over_a_ground_of_given_constants_is_mapped_at_24_ghz(tmp_path, 
     (stats,) = json.loads((tmp_path / "r" / "coverage.json").read_text())["radio_maps"]["maps"]["radar"]
     assert stats["frequency_ghz"] == pytest.approx(23.98, abs=0.01)
     assert stats["samples"] == 65536
+    # only what the site calls for: the map covers twice the radar's mapped reach (85 m), not the 10 km DEM
+    assert stats["mapped_cells"] < 20 * 20

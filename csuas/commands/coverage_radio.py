@@ -37,6 +37,10 @@ RADIO_MAP_DEFAULTS = {
 }
 #: Keys of a ground given by its constants (instead of an ITU material's name).
 GROUND_CONSTANTS = ("relative_permittivity", "conductivity_s_m")
+#: The radio map covers the square around the sensor out to this many times its mapped reach
+#: (:func:`csuas.core.coverage.mapped_reach_m`): reflections adding up to 4 times the direct power (6 dB)
+#: stay inside; cells beyond are not mapped (NaN in the multipath layers).
+MAP_REACH_FACTOR = 2.0
 #: Share of the visible cells that must meet ``accuracy_db``, and the largest rays per replica tried for it.
 ACCURACY_FRACTION = 0.9
 ACCURACY_MAX_SAMPLES = 2**23
@@ -111,6 +115,16 @@ def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
     return settings, errors
 
 
+def _mapped_window(shape, row: float, col: float, radius_cells: float) -> tuple[slice, slice]:
+    """Rows and columns of the DEM within ``radius_cells`` of (row, col), at least 2 x 2 (all: infinite)."""
+    if not np.isfinite(radius_cells):
+        return slice(0, shape[0]), slice(0, shape[1])
+    reach = max(radius_cells, 1.0)
+    rows = slice(max(int(np.floor(row - reach)), 0), min(int(np.ceil(row + reach)) + 1, shape[0]))
+    cols = slice(max(int(np.floor(col - reach)), 0), min(int(np.ceil(col + reach)) + 1, shape[1]))
+    return rows, cols
+
+
 def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_sensor: dict, settings: dict) -> dict:
     """Radio maps and multipath detection of each mapped sensor, per flight level.
 
@@ -119,7 +133,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
     dict
         Per sensor: ``path_gain_db``, ``error_db`` (float, (A, rows, cols); NaN where no ray came),
         ``detected`` (1/0) and ``pd`` (:func:`csuas.core.coverage.multipath_detection`; NaN, unknown,
-        in the line of sight where some replica got no ray: too few rays to judge) and ``maps`` (per
+        in the line of sight where some replica got no ray: too few rays to judge, and beyond the
+        mapped square, ``MAP_REACH_FACTOR`` times the sensor's mapped reach) and ``maps`` (per
         flight level: rays per replica, replicas, time [s], the share of visible cells that are
         reliable, the median bound over them, the unknown cells, and the comparison with the
         line-of-sight layer over the judged cells).
@@ -133,11 +148,14 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         frequency = link_frequency_ghz(scenario, name)
         options = {"ground": settings["ground"], "step": settings["step"], "max_depth": settings["max_depth"]}
         options["seed"] = settings["seed"]
+        window = _mapped_window(dem.shape, placed.row, placed.col, MAP_REACH_FACTOR * los["reach_m"] / cell_m)
+        origin = (window[0].start, window[1].start)
         gains, bounds, detected, pd, maps = [], [], [], [], []
         for i, altitude in enumerate(altitudes):
             print(f"csuas coverage: {name} radio map at {altitude:g} m ...", file=sys.stderr, flush=True)
             start = time.perf_counter()
-            where = (dem, cell_m, placed.row, placed.col, placed.mast_m, altitude, frequency)
+            row, col = placed.row - origin[0], placed.col - origin[1]
+            where = (dem[window], cell_m, row, col, placed.mast_m, altitude, frequency)
             if settings["accuracy_db"] is None:
                 result = terrain_radio_map(*where, samples=settings["samples"], **options)
             else:
@@ -145,20 +163,26 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
                     settings["accuracy_db"],
                     *where,
                     fraction=ACCURACY_FRACTION,
-                    judged=los["visible"][i],
+                    judged=los["visible"][i][window],
                     start_samples=min(settings["samples"], ACCURACY_MAX_SAMPLES),
                     max_samples=ACCURACY_MAX_SAMPLES,
                     **options,
                 )
-            seen, hit = multipath_detection(scenario, name, result.path_gain_db, los["regard"][i])
+            mapped = np.zeros(dem.shape, dtype=bool)
+            mapped[window] = True
+            gain, reached, reliable_map = (np.full(dem.shape, fill) for fill in (-np.inf, False, False))
+            error = np.full(dem.shape, np.inf)
+            gain[window], error[window] = result.path_gain_db, result.error_db
+            reached[window], reliable_map[window] = result.reached, result.reliable
+            seen, hit = multipath_detection(scenario, name, gain, los["regard"][i] & mapped)
             visible = los["visible"][i]
-            reliable = result.reliable & visible
-            unknown = visible & ~result.reliable  # a direct path exists, but too few rays came to judge it
-            judged = los["regard"][i] & ~unknown
-            gains.append(np.where(result.reached, result.path_gain_db, np.nan))
-            bounds.append(np.where(result.reached & np.isfinite(result.error_db), result.error_db, np.nan))
-            detected.append(np.where(unknown, np.nan, seen.astype(float)))
-            pd.append(np.where(unknown, np.nan, hit))
+            reliable = reliable_map & visible
+            unknown = visible & ~reliable_map & mapped  # a direct path exists, but too few rays came to judge it
+            judged = los["regard"][i] & mapped & ~unknown
+            gains.append(np.where(reached, gain, np.nan))
+            bounds.append(np.where(reached & np.isfinite(error), error, np.nan))
+            detected.append(np.where(unknown | ~mapped, np.nan, seen.astype(float)))
+            pd.append(np.where(unknown | ~mapped, np.nan, hit))
             maps.append(
                 {
                     "altitude_m": altitude,
@@ -168,7 +192,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
                     "time_s": time.perf_counter() - start,
                     "reliable_visible_fraction": float(reliable.sum() / max(int(visible.sum()), 1)),
                     "unknown_cells": int(unknown.sum()),
-                    "median_bound_db": float(np.median(result.error_db[reliable])) if reliable.any() else None,
+                    "mapped_cells": int(mapped.sum()),
+                    "median_bound_db": float(np.median(error[reliable])) if reliable.any() else None,
                     "agreement_with_line_of_sight": float(np.mean((seen == los["detected"][i])[judged]))
                     if judged.any()
                     else None,
