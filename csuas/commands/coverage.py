@@ -346,6 +346,11 @@ def render_text(result: dict) -> str:
             lines.append(
                 f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2"
             )
+        elif layer["kind"] == "detected_multipath":
+            lines.append(
+                f"  {layer['sensor']:<10} detected with multipath at {layer['altitude_m']:g} m AGL: "
+                f"{layer['area_km2']:.2f} km^2 (radio map)"
+            )
         elif layer.get("quantity") == "k_of_n":
             what = f"{layer['k']} of {layer['n']}"
             lines.append(f"  {what:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2")
