@@ -60,6 +60,15 @@ def off_boresight_deg(bearing, azimuth_deg):
     return (np.asarray(bearing, dtype=float) - azimuth_deg + 180.0) % 360.0 - 180.0
 
 
+def cells_around(shape, row: float, col: float, radius_cells: float) -> tuple[slice, slice]:
+    """Rows and columns of a grid of ``shape`` within ``radius_cells`` of (row, col) each way (inf: all)."""
+    if not np.isfinite(radius_cells):
+        return slice(0, shape[0]), slice(0, shape[1])
+    rows = slice(max(int(np.floor(row - radius_cells)), 0), min(int(np.ceil(row + radius_cells)) + 1, shape[0]))
+    cols = slice(max(int(np.floor(col - radius_cells)), 0), min(int(np.ceil(col + radius_cells)) + 1, shape[1]))
+    return rows, cols
+
+
 def viewshed(
     dem_m: np.ndarray,
     cell_m: float,
@@ -144,9 +153,10 @@ def viewshed(
     horizon = np.maximum.accumulate(slope, axis=1)
     before = np.concatenate([np.full((len(angle), 1), -np.inf), horizon[:, :-1]], axis=1)  # what a sample must clear
     # every cell within the limit looks up the ray nearest to its bearing and the sample nearest to its distance
-    r_lo, r_hi = max(int(np.floor(sensor_row - span)), 0), min(int(np.ceil(sensor_row + span)) + 1, n_r)
-    c_lo, c_hi = max(int(np.floor(sensor_col - span)), 0), min(int(np.ceil(sensor_col + span)) + 1, n_c)
-    rr, cc = np.meshgrid(np.arange(r_lo, r_hi), np.arange(c_lo, c_hi), indexing="ij")
+    window = cells_around(dem.shape, sensor_row, sensor_col, span)
+    rr, cc = np.meshgrid(
+        np.arange(window[0].start, window[0].stop), np.arange(window[1].start, window[1].stop), indexing="ij"
+    )
     dr, dc = rr - sensor_row, cc - sensor_col
     bearing = np.arctan2(dr, dc)
     ray = np.searchsorted(angle, bearing)
@@ -166,7 +176,6 @@ def viewshed(
     reach_cells = np.hypot(dr, dc)
     sample = np.clip(np.rint(reach_cells / 0.5).astype(int) - 1, 0, len(steps) - 1)
     own_distance = np.maximum(reach_cells, 1e-9) * cell
-    window = (slice(r_lo, r_hi), slice(c_lo, c_hi))
     own_slope = (dem[window] + h_target[window] - curvature_drop_m(own_distance, k_factor) - eye) / own_distance
     visible = np.zeros(dem.shape, dtype=bool)
     inside = reach_cells <= limit

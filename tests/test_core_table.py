@@ -284,6 +284,7 @@ COVERED_ELSEWHERE = {
     "coverage.link_frequency_ghz": "tests/test_coverage.py (Table 33's link, Table 39's wavelength)",
     "coverage.free_space_equivalent_range_m": "tests/test_coverage.py (round trip through Eq. 54)",
     "coverage.multipath_detection": "tests/test_coverage.py (free-space path gains at known distances)",
+    "terrain.cells_around": "tests/test_terrain.py (exact index arithmetic)",
     "terrain.gaussian_hills": "tests/test_terrain_gdal.py (the terrain of the GDAL and sight-line cross-checks)",
     "terrain.height_at": "tests/test_terrain.py and tests/test_coverage.py (flat and ridged DEMs)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",

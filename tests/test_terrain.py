@@ -109,3 +109,11 @@ def test_a_sector_traces_only_its_rays_and_matches_the_all_round_viewshed_inside
     assert np.array_equal(cut[inside], full[inside])
     assert not cut[~inside & ~own].any()
     assert full[~inside].any()  # the sector hides cells that are in sight
+
+
+def test_cells_around_a_point_are_clipped_to_the_grid():
+    from csuas.core.terrain import cells_around
+
+    assert cells_around((10, 20), 4.5, 3.2, 2.0) == (slice(2, 8), slice(1, 7))
+    assert cells_around((10, 20), 0.0, 19.0, 3.0) == (slice(0, 4), slice(16, 20))
+    assert cells_around((10, 20), 5.0, 5.0, float("inf")) == (slice(0, 10), slice(0, 20))

@@ -115,16 +115,6 @@ def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
     return settings, errors
 
 
-def _mapped_window(shape, row: float, col: float, radius_cells: float) -> tuple[slice, slice]:
-    """Rows and columns of the DEM within ``radius_cells`` of (row, col), at least 2 x 2 (all: infinite)."""
-    if not np.isfinite(radius_cells):
-        return slice(0, shape[0]), slice(0, shape[1])
-    reach = max(radius_cells, 1.0)
-    rows = slice(max(int(np.floor(row - reach)), 0), min(int(np.ceil(row + reach)) + 1, shape[0]))
-    cols = slice(max(int(np.floor(col - reach)), 0), min(int(np.ceil(col + reach)) + 1, shape[1]))
-    return rows, cols
-
-
 def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_sensor: dict, settings: dict) -> dict:
     """Radio maps and multipath detection of each mapped sensor, per flight level.
 
@@ -140,6 +130,7 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         line-of-sight layer over the judged cells).
     """
     from csuas.core.coverage import link_frequency_ghz, multipath_detection
+    from csuas.core.terrain import cells_around
     from csuas.render.links.terrain_map import radio_map_budget, terrain_radio_map
 
     layers = {}
@@ -148,7 +139,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         frequency = link_frequency_ghz(scenario, name)
         options = {"ground": settings["ground"], "step": settings["step"], "max_depth": settings["max_depth"]}
         options["seed"] = settings["seed"]
-        window = _mapped_window(dem.shape, placed.row, placed.col, MAP_REACH_FACTOR * los["reach_m"] / cell_m)
+        radius = max(MAP_REACH_FACTOR * los["reach_m"] / cell_m, 1.0)  # at least 2 x 2 cells
+        window = cells_around(dem.shape, placed.row, placed.col, radius)
         origin = (window[0].start, window[1].start)
         gains, bounds, detected, pd, maps = [], [], [], [], []
         for i, altitude in enumerate(altitudes):
@@ -170,8 +162,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
                 )
             mapped = np.zeros(dem.shape, dtype=bool)
             mapped[window] = True
-            gain, reached, reliable_map = (np.full(dem.shape, fill) for fill in (-np.inf, False, False))
-            error = np.full(dem.shape, np.inf)
+            gain, error = np.full(dem.shape, -np.inf), np.full(dem.shape, np.inf)
+            reached, reliable_map = np.zeros(dem.shape, dtype=bool), np.zeros(dem.shape, dtype=bool)
             gain[window], error[window] = result.path_gain_db, result.error_db
             reached[window], reliable_map[window] = result.reached, result.reliable
             seen, hit = multipath_detection(scenario, name, gain, los["regard"][i] & mapped)

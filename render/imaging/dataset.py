@@ -232,7 +232,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
                 rendered += 1
             if progress is not None:
                 elapsed = time.perf_counter() - start
-                eta = elapsed / max(rendered, 1) * sum(1 for i in items[done:]) if rendered else 0.0
+                eta = elapsed / rendered * (len(items) - done) if rendered else 0.0
                 print(
                     f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress
                 )

@@ -195,12 +195,7 @@ def rendered_light_limited_range(
             transmittance_at=np.ones_like,
             projected_area_m2=area,
             ifov_rad_=ifov,
-            f_number=settings["f_number"],
-            optics_transmittance=settings["optics_transmittance"],
-            pixel_pitch_um=settings["pixel_pitch_um"],
-            quantum_efficiency=settings["quantum_efficiency"],
-            max_exposure_ms=settings["max_exposure_ms"],
-            full_well_e=settings["full_well_e"],
+            **settings,  # the frame's camera: f-number, optics, pixel, QE, exposure limit, full well
             read_noise_e=read,
             dark_current_e_s=0.0,
             required_snr=required,
