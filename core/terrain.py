@@ -139,7 +139,8 @@ def viewshed(
     )
     angle = np.unique(np.arctan2(boundary[:, 0] - sensor_row, boundary[:, 1] - sensor_col))
     if sector_deg is not None:
-        azimuth, width = (float(v) for v in sector_deg)
+        azimuth = float(require("sector azimuth_deg", sector_deg[0], ge=0, le=360))
+        width = float(require("sector width_deg", sector_deg[1], gt=0, le=360))
         spacing = np.degrees(np.max(np.diff(angle)))  # the widest gap between neighbouring rays
         aside = np.abs(off_boresight_deg(bearing_deg(np.sin(angle), np.cos(angle)), azimuth))
         angle = angle[aside <= width / 2 + spacing]

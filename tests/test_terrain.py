@@ -117,3 +117,8 @@ def test_cells_around_a_point_are_clipped_to_the_grid():
     assert cells_around((10, 20), 4.5, 3.2, 2.0) == (slice(2, 8), slice(1, 7))
     assert cells_around((10, 20), 0.0, 19.0, 3.0) == (slice(0, 4), slice(16, 20))
     assert cells_around((10, 20), 5.0, 5.0, float("inf")) == (slice(0, 10), slice(0, 20))
+
+
+def test_a_bad_sector_is_named():
+    with pytest.raises(ParameterError, match="sector width_deg"):
+        viewshed(np.zeros((5, 5)), 10.0, 2.0, 2.0, 5.0, 10.0, sector_deg=(90.0, 0.0))
