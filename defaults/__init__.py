@@ -14,6 +14,8 @@ itu.toml
 presets.toml
     Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
     environments (the paper's condition classes).
+birds.toml
+    Bird classes (the confusers of engagements and datasets): size, wingbeat, airspeed, heights.
 drone_rcs_statistics.csv
     The drone presets' RCS over aspects per band and polarisation (``csuas rcs-statistics``).
 scenarios/
@@ -118,3 +120,9 @@ def load_drone_rcs_statistics() -> tuple:
     rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
     keep_text = ("preset", "polarisation", "quality")
     return tuple({k: (v if k in keep_text else float(v)) for k, v in row.items()} for row in rows)
+
+
+@functools.cache
+def load_birds() -> dict:
+    """Bird classes (``birds.toml``): size, wingbeat, airspeed, flight heights and surface temperature."""
+    return _load("birds.toml")
