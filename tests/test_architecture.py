@@ -1,12 +1,21 @@
-"""The layer contract of ARCHITECTURE.md, checked on every import statement of the package.
+"""The layer contract of ARCHITECTURE.md, checked on every import of the package, and its debts.
 
 Layers, lowest first: base <- defaults <- core <- drone_models <- render <- sweep <- validation <- cli
-(``csuas.cli``, ``csuas.commands``, ``csuas.core.scenario``, ``csuas.core.ranges``). A module may import its
-own layer and the layers below it. Imports inside functions count too: a lazy import is still a
-dependency.
+(``csuas.cli``, ``csuas.commands``). A module may import its own layer and the layers below it.
+Every way of importing counts: ``import`` and ``from`` statements at any depth (a lazy import is still
+a dependency), relative imports (resolved against the module's package), ``importlib.import_module``
+and ``__import__`` calls with a literal name, and registry strings ``"csuas.x.y:attribute"`` that
+:func:`csuas.base.registry.resolve` imports when used. A self-test plants each kind of upward import
+in a copy of the package and sees the checker fail.
+
+``KNOWN_DEBTS`` records the functions longer than 100 lines or with more than 8 parameters (the
+limits of CONTRIBUTING.md): the list may only shrink. A new debt fails, and so does a listed debt that
+grew or was paid off (remove its line).
 """
 
 import ast
+import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -31,6 +40,81 @@ FOLDERS = {
 #: (tomli is the standard library's tomllib on Python 3.10.)
 THIRD_PARTY = {"base": {"numpy", "matplotlib"}, "defaults": {"tomli"}, "core": {"numpy", "scipy", "tomli"}}
 
+#: A registry entry or dynamic import target: a literal module path of the package.
+_MODULE_STRING = re.compile(r"^csuas(\.[A-Za-z_][A-Za-z0-9_]*)+(:[A-Za-z_][A-Za-z0-9_.]*)?$")
+
+#: Limits of CONTRIBUTING.md.
+MAX_LINES = 100
+MAX_PARAMETERS = 8
+
+#: (file, function, limit broken) -> its size when recorded. May only shrink.
+KNOWN_DEBTS = {
+    ("core/radar.py", "radar_range", "lines"): 132,
+    ("core/terrain.py", "viewshed", "lines"): 115,
+    ("render/imaging/eo.py", "render_eo", "lines"): 135,
+    ("render/imaging/frame.py", "eo_frame", "lines"): 106,
+    ("render/imaging/medium.py", "medium_vs_analytic_airlight", "lines"): 101,
+    ("render/imaging/tir.py", "render_tir", "lines"): 164,
+    ("render/imaging/trace.py", "trace_window", "lines"): 141,
+    ("render/lidar/path.py", "path_traced_lcs", "lines"): 101,
+    ("render/lidar/runner.py", "render_lidar", "lines"): 146,
+    ("render/links/radar.py", "radar_link_gain", "lines"): 104,
+    ("render/links/terrain_map.py", "terrain_radio_map", "lines"): 143,
+    ("render/rcs/edges.py", "find_edges", "lines"): 132,
+    ("render/rcs/engine.py", "SbrEngine._interact", "lines"): 171,
+    ("render/rcs/solver.py", "compute_rcs", "lines"): 136,
+    ("render/rcs/sweep.py", "sphere_average", "lines"): 127,
+    ("validation/core/checks.py", "sensor_checks", "lines"): 111,
+    ("validation/imaging/checks.py", "_eo_checks", "lines"): 107,
+    ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "lines"): 152,
+    ("validation/report/checks_conventions.py", "eo_fog_transmission", "lines"): 105,
+    ("validation/report/checks_conventions.py", "thermal_contrast", "lines"): 145,
+    ("validation/report/checks_imaging.py", "sensor_chain", "lines"): 116,
+    ("validation/report/checks_links.py", "terrain_radio_maps", "lines"): 151,
+    ("validation/report/checks_terrain.py", "coverage", "lines"): 140,
+    ("csuas/commands/rcs.py", "run", "lines"): 114,
+    ("base/checks.py", "Check.of_paper", "parameters"): 11,
+    ("core/acoustic.py", "acoustic_range", "parameters"): 9,
+    ("core/camera.py", "light_limited_range_m", "parameters"): 16,
+    ("core/eo.py", "eo_range", "parameters"): 11,
+    ("core/lidar.py", "lidar_range", "parameters"): 10,
+    ("core/radar.py", "radar_range", "parameters"): 23,
+    ("core/rf.py", "rf_range", "parameters"): 11,
+    ("core/scenario.py", "_apply_overrides", "parameters"): 10,
+    ("core/sensitivity.py", "radar_model", "parameters"): 9,
+    ("core/terrain.py", "viewshed", "parameters"): 9,
+    ("core/tir.py", "tir_mrtd_range", "parameters"): 10,
+    ("core/tir.py", "tir_netd_range", "parameters"): 10,
+    ("render/imaging/background.py", "clear_sky_frame", "parameters"): 13,
+    ("render/imaging/common.py", "prepare", "parameters"): 9,
+    ("render/imaging/frame.py", "eo_frame", "parameters"): 10,
+    ("render/imaging/frame.py", "tir_frame", "parameters"): 9,
+    ("render/imaging/medium.py", "medium_vs_analytic_airlight", "parameters"): 13,
+    ("render/imaging/modes.py", "eo_scenario", "parameters"): 11,
+    ("render/imaging/modes.py", "tir_scenario", "parameters"): 10,
+    ("render/imaging/trace.py", "trace_window", "parameters"): 16,
+    ("render/imaging/trace.py", "refine_extremes", "parameters"): 9,
+    ("render/lidar/cross_section.py", "trace_lcs", "parameters"): 9,
+    ("render/lidar/cross_section.py", "_trace_batch", "parameters"): 10,
+    ("render/lidar/cross_section.py", "lidar_cross_section", "parameters"): 10,
+    ("render/lidar/path.py", "path_traced_lcs", "parameters"): 9,
+    ("render/lidar/runner.py", "render_lidar", "parameters"): 10,
+    ("render/links/radar.py", "radar_link_gain", "parameters"): 12,
+    ("render/links/rf.py", "rf_path_gain", "parameters"): 10,
+    ("render/links/terrain_map.py", "_check_inputs", "parameters"): 11,
+    ("render/links/terrain_map.py", "terrain_radio_map", "parameters"): 17,
+    ("render/links/terrain_map.py", "radio_map_budget", "parameters"): 12,
+    ("render/rcs/edges.py", "_chunk", "parameters"): 10,
+    ("render/rcs/solver.py", "compute_rcs", "parameters"): 16,
+    ("validation/links/terrain_map.py", "block_average_two_ray", "parameters"): 12,
+    ("validation/links/terrain_map.py", "line_of_sight_agreement", "parameters"): 11,
+    ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "parameters"): 9,
+    ("validation/rcs/fullwave.py", "compare_sbr_to_fullwave", "parameters"): 9,
+    ("validation/report/figures.py", "curves", "parameters"): 10,
+    ("validation/report/figures.py", "accuracy_vs_time", "parameters"): 11,
+    ("validation/terrain/viewshed_oracles.py", "compare_viewsheds", "parameters"): 9,
+}
+
 
 def _layer_of_module(module: str) -> str | None:
     parts = module.split(".")
@@ -41,24 +125,52 @@ def _layer_of_module(module: str) -> str | None:
     return parts[1] if parts[1] in LAYERS else "cli"
 
 
-def _imports(path: Path):
+def _package_of(path: Path, root: Path) -> list[str]:
+    """The dotted package of a module file, as the installed namespace spells it."""
+    rel = path.relative_to(root).with_suffix("").parts
+    top = rel[0] if rel[0] == "csuas" else f"csuas.{rel[0]}"
+    return [*top.split("."), *rel[1:-1]]
+
+
+def _relative(node: ast.ImportFrom, package: list[str]) -> list[str]:
+    base = package[: len(package) - (node.level - 1)] if node.level > 1 else package
+    stem = ".".join(base + ([node.module] if node.module else []))
+    return [stem] if node.module else [f"{stem}.{alias.name}" for alias in node.names]
+
+
+def _dynamic(node: ast.Call) -> str | None:
+    name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+    if name in ("import_module", "__import__") and node.args and isinstance(node.args[0], ast.Constant):
+        return str(node.args[0].value)
+    return None
+
+
+def _imports(path: Path, root: Path = ROOT):
+    """Every module ``path`` imports, in any of the ways of the module docstring."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
+    package = _package_of(path, root)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             yield from (alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+        elif isinstance(node, ast.ImportFrom) and node.level > 0:
+            yield from _relative(node, package)
+        elif isinstance(node, ast.ImportFrom) and node.module:
             if node.module == "csuas":
                 yield from (f"csuas.{alias.name}" for alias in node.names)
             else:
                 yield node.module
+        elif isinstance(node, ast.Call) and (target := _dynamic(node)):
+            yield target
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and _MODULE_STRING.match(node.value):
+            yield node.value.partition(":")[0]
 
 
-def _violations():
+def _violations(root: Path = ROOT):
     found = set()
     for folder, layer in FOLDERS.items():
-        for path in (ROOT / folder).rglob("*.py"):
-            rel = str(path.relative_to(ROOT))
-            for module in _imports(path):
+        for path in (root / folder).rglob("*.py"):
+            rel = str(path.relative_to(root))
+            for module in _imports(path, root):
                 other = _layer_of_module(module)
                 top = module.split(".")[0]
                 if other is not None:
@@ -87,3 +199,72 @@ def test_no_layer_imports_a_layer_above_it():
 def test_the_checker_sees_an_upward_import(rel, module):
     layer = FOLDERS[rel.split("/")[0]]
     assert LAYERS.index(_layer_of_module(module)) > LAYERS.index(layer)
+
+
+#: One planted module per kind of import, each reaching above its layer.
+PLANTED = {
+    "statement": ("core/planted.py", "import csuas.render.backend\n"),
+    "from": ("core/planted.py", "from csuas.validation import report\n"),
+    "lazy": ("drone_models/planted.py", "def f():\n    from csuas.render import backend\n"),
+    "relative": ("render/rcs/planted.py", "from ...validation import report\n"),
+    "relative module": ("render/rcs/planted.py", "from ... import sweep\n"),
+    "importlib": ("core/planted.py", "import importlib\nimportlib.import_module('csuas.render.backend')\n"),
+    "__import__": ("base/planted.py", "__import__('csuas.core.radar')\n"),
+    "registry": ("render/planted.py", "MODES = {'x': 'csuas.validation.report.runner:SPEC_LISTS'}\n"),
+    "third party in core": ("core/planted.py", "import mitsuba\n"),
+}
+
+
+@pytest.fixture(scope="module")
+def package_copy(tmp_path_factory):
+    copy = tmp_path_factory.mktemp("package")
+    for folder in FOLDERS:
+        shutil.copytree(ROOT / folder, copy / folder, ignore=shutil.ignore_patterns("__pycache__"))
+    return copy
+
+
+@pytest.mark.parametrize("kind", PLANTED)
+def test_a_planted_upward_import_fails_the_checker(package_copy, kind):
+    rel, text = PLANTED[kind]
+    planted = package_copy / rel
+    planted.write_text(text, encoding="utf-8")
+    try:
+        assert {v for v in _violations(package_copy) if v[0] == rel}, f"{kind} import not seen"
+    finally:
+        planted.unlink()
+    assert _violations(package_copy) == set()
+
+
+def _function_sizes(root: Path = ROOT):
+    """``{(file, qualified function, limit): size}`` of every function breaking a limit."""
+    found = {}
+    for folder in FOLDERS:
+        for path in sorted((root / folder).rglob("*.py")):
+            rel = str(path.relative_to(root))
+            stack = [(ast.parse(path.read_text(encoding="utf-8")), "")]
+            while stack:
+                node, prefix = stack.pop()
+                for child in ast.iter_child_nodes(node):
+                    if isinstance(child, ast.ClassDef):
+                        stack.append((child, f"{prefix}{child.name}."))
+                    elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                        name = f"{prefix}{child.name}"
+                        arguments = child.args.posonlyargs + child.args.args + child.args.kwonlyargs
+                        count = len([a for a in arguments if a.arg not in ("self", "cls")])
+                        lines = child.end_lineno - child.lineno + 1
+                        if lines > MAX_LINES:
+                            found[(rel, name, "lines")] = lines
+                        if count > MAX_PARAMETERS:
+                            found[(rel, name, "parameters")] = count
+                        stack.append((child, f"{name}."))
+    return found
+
+
+def test_known_debts_only_shrink():
+    sizes = _function_sizes()
+    new = {key: size for key, size in sizes.items() if key not in KNOWN_DEBTS}
+    grown = {key: (KNOWN_DEBTS[key], size) for key, size in sizes.items() if size > KNOWN_DEBTS.get(key, size)}
+    paid = sorted(set(KNOWN_DEBTS) - set(sizes))
+    assert new == {}, f"new functions over {MAX_LINES} lines or {MAX_PARAMETERS} parameters"
+    assert grown == {}, "known debts that grew (recorded, now)"
+    assert paid == [], "paid debts: remove them from KNOWN_DEBTS"

@@ -11,10 +11,13 @@ function in neither place fails ``test_every_public_core_function_has_a_row``.
 
 from __future__ import annotations
 
+import ast
 import importlib
 import inspect
 import math
 import pkgutil
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -292,7 +295,7 @@ COVERED_ELSEWHERE = {
     "coverage.mapped_reach_m": "tests/test_coverage.py (Pd below 0.001 beyond it; the visible layer's nodata)",
     "terrain.viewshed": "tests/test_terrain.py (smooth-Earth horizons, a ridge's shadow)",
     "camera.luminance_excess": "tests/test_camera.py (Eq. 3 inverted)",
-    "camera.photopic_efficiency": "tests/test_camera.py (inside the photon conversion's quadrature)",
+    "camera.photopic_efficiency": "tests/test_core_direct.py (CIE 1924 table)",
     "camera.photons_per_lumen": "tests/test_camera.py (independent quadrature)",
     "camera.focal_plane_illuminance_lx": "tests/test_camera.py (camera equation)",
     "camera.electron_rate": "tests/test_camera.py",
@@ -309,7 +312,7 @@ COVERED_ELSEWHERE = {
     "rcs_statistics.pd_over_rcs_samples": "tests/test_rcs_statistics.py (Swerling 1 limit, steady limit)",
     "rcs_statistics.rcs_summary": "tests/test_rcs_statistics.py",
     "pd_curves.approach": "tests/test_pd_curves.py",
-    "pd_curves.default_range_grid": "tests/test_pd_cli.py (grid reaches the longest range)",
+    "pd_curves.default_range_grid": "tests/test_core_direct.py; tests/test_pd_cli.py (grid reaches the longest range)",
     "pd_curves.fuse": "tests/test_pd_curves.py (exact product for n-of-n)",
     "pd_curves.fused_cumulative": "tests/test_pd_curves.py",
     "pd_curves.margin_db": "tests/test_pd_curves.py (R^-4 and R^-2 laws, two-way rain attenuation)",
@@ -337,16 +340,16 @@ COVERED_ELSEWHERE = {
     "ranges.evaluate": "tests/test_scenario.py (every embedded scenario against the core models)",
     "ranges.horizontal_range_m": "tests/test_range_cli.py, tests/test_scenario.py (Eq. 13)",
     "ranges.paper_eta_tl": "tests/test_scenario.py (Table 47)",
-    "ranges.thermal_contrast": "tests/test_scenario.py (every embedded scenario), tests/test_pd_curves.py",
+    "ranges.thermal_contrast": "tests/test_core_direct.py (Eq. 26), tests/test_scenario.py",
     "ranges.scenario_one_at_a_time": "tests/test_sensitivity.py",
     "scenario.check_value": "tests/test_scenario_errors.py",
     "scenario.embedded_scenarios": "tests/test_scenario.py (every embedded scenario evaluates finite)",
-    "scenario.johnson_derived": "tests/test_scenario.py, tests/test_sweep.py (Tables 20, 21)",
+    "scenario.johnson_derived": "tests/test_core_direct.py (Tables 20, 21)",
     "scenario.load_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
     "scenario.parse_scenario": "tests/test_scenario.py, tests/test_scenario_errors.py",
-    "scenario.plausibility_warnings": "tests/test_range_cli.py (one warning per mistake)",
-    "scenario.provenance": "tests/test_range_cli.py (inputs.<p>.source)",
-    "sensitivity.table_52_platforms": "tests/test_sensitivity.py (Table 52)",
+    "scenario.plausibility_warnings": "tests/test_core_direct.py; tests/test_range_cli.py (one warning per mistake)",
+    "scenario.provenance": "tests/test_core_direct.py; tests/test_range_cli.py (inputs.<p>.source)",
+    "sensitivity.table_52_platforms": "tests/test_core_direct.py; tests/test_sensitivity.py (Table 52)",
     "acoustic.iso9613_absorption_db_m": "tests/test_core_acoustic.py (ISO 9613-2 Table 2)",
     "acoustic.wind_noise_db": "tests/test_core_acoustic.py (Table 31)",
     "acoustic.wind_noise_extrapolated": "tests/test_core_acoustic.py",
@@ -355,35 +358,35 @@ COVERED_ELSEWHERE = {
     "itu.fog_specific_attenuation_db_km": "tests/test_core_itu.py (ITU-Rpy)",
     "itu.rain_coefficients": "tests/test_core_itu.py (ITU-R validation example)",
     "itu.rain_specific_attenuation_db_km": "tests/test_core_itu.py (ITU-Rpy, Tables 35, 42)",
-    "itu.water_permittivity": "tests/test_core_itu.py (ITU-Rpy)",
+    "itu.water_permittivity": "tests/test_core_direct.py; tests/test_core_itu.py (ITU-Rpy)",
     "johnson.line_pairs": "tests/test_core_eo.py (Table 20)",
     "johnson.n_ttpf": "tests/test_core_eo.py (Table 21)",
     "lidar.lidar_range_no_loss_m": "tests/test_core_rf_radar_lidar.py (Eq. 99)",
     "lidar.received_power_w": "tests/test_core_rf_radar_lidar.py",
     "mrtd.diffraction_mtf": "tests/test_core_thermal.py",
-    "mrtd.sensor_mrtd": "tests/test_core_thermal.py",
-    "radar.integration_gain": "tests/test_core_rf_radar_lidar.py (Eqs. 77-82)",
-    "radar.radar_wavelength_m": "tests/test_range_cli.py (Section 4.9.3)",
+    "mrtd.sensor_mrtd": "tests/test_core_direct.py; tests/test_core_thermal.py",
+    "radar.integration_gain": "tests/test_core_direct.py; tests/test_core_rf_radar_lidar.py (Eqs. 77-82)",
+    "radar.radar_wavelength_m": "tests/test_core_direct.py; tests/test_range_cli.py (Section 4.9.3)",
     "radar.total_loss_db": "tests/test_core_rf_radar_lidar.py (Eq. 85: 13.595 dB)",
-    "radiometry.band_limits_um": "tests/test_core_thermal.py",
+    "radiometry.band_limits_um": "tests/test_core_direct.py; tests/test_core_thermal.py",
     "radiometry.band_radiance": "tests/test_core_thermal.py (Planck quadrature)",
     "radiometry.graybody_apparent_temperature": "tests/test_core_thermal.py",
     "radiometry.radiance_temperature": "tests/test_core_thermal.py",
-    "radiometry.spectral_radiance": "tests/test_core_thermal.py",
-    "result.check_convention": "tests/test_core_hostile.py",
-    "result.unbounded_reason": "tests/test_core_hostile.py",
-    "sensitivity.acoustic_model": "tests/test_sensitivity.py (Section 4.9.2)",
-    "sensitivity.eo_johnson_model": "tests/test_sensitivity.py (Section 4.9.1)",
+    "radiometry.spectral_radiance": "tests/test_core_direct.py; tests/test_core_thermal.py",
+    "result.check_convention": "tests/test_core_direct.py; tests/test_core_hostile.py",
+    "result.unbounded_reason": "tests/test_core_direct.py; tests/test_core_hostile.py",
+    "sensitivity.acoustic_model": "tests/test_core_direct.py; tests/test_sensitivity.py (Section 4.9.2)",
+    "sensitivity.eo_johnson_model": "tests/test_core_direct.py; tests/test_sensitivity.py (Section 4.9.1)",
     "sensitivity.one_at_a_time": "tests/test_sensitivity.py (Tables 48-51)",
-    "sensitivity.platform_comparison": "tests/test_sensitivity.py (Table 52)",
-    "sensitivity.radar_model": "tests/test_sensitivity.py (Section 4.9.3)",
+    "sensitivity.platform_comparison": "tests/test_core_direct.py; tests/test_sensitivity.py (Table 52)",
+    "sensitivity.radar_model": "tests/test_core_direct.py; tests/test_sensitivity.py (Section 4.9.3)",
     "solve.bracketed_root": "tests/test_core_solve.py",
     "solve.lambertw_exp": "tests/test_core_solve.py",
     "solve.solve_log_linear": "tests/test_core_solve.py",
     "tir.attenuated_delta_t": "tests/test_core_thermal.py (Eq. 31)",
     "tir.delta_t_radiometric": "tests/test_core_thermal.py (band radiometry)",
     "tir.tir_mrtd_range": "tests/test_core_thermal.py",
-    "units.power_sum_db": "tests/test_core_acoustic.py (Eq. 108)",
+    "units.power_sum_db": "tests/test_core_direct.py; tests/test_core_acoustic.py (Eq. 108)",
 }
 
 
@@ -402,6 +405,25 @@ def test_every_public_core_function_has_a_row():
     assert _public_core_functions() - rows - set(COVERED_ELSEWHERE) == set()
     assert rows & set(COVERED_ELSEWHERE) == set()
     assert (rows | set(COVERED_ELSEWHERE)) - _public_core_functions() == set(), "a row names no function"
+
+
+def _called_names(path: Path) -> set[str]:
+    """Names a test file calls, as ``f(...)`` or ``module.f(...)``."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call):
+            func = node.func
+            names.add(func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", ""))
+    return names
+
+
+@pytest.mark.parametrize("name", sorted(COVERED_ELSEWHERE))
+def test_the_file_named_elsewhere_calls_the_function(name):
+    root = Path(__file__).resolve().parents[1]
+    paths = [root / rel for rel in re.findall(r"tests/\w+\.py", COVERED_ELSEWHERE[name])]
+    assert paths and all(path.is_file() for path in paths), f"{name}: {paths} do not all exist"
+    callers = [path.name for path in paths if name.split(".")[-1] in _called_names(path)]
+    assert callers, f"none of {[path.name for path in paths]} calls {name}"
 
 
 IDS = [row[0] for row in ROWS]

@@ -1,0 +1,187 @@
+"""Direct references for the public core functions that other tests only reached through a caller.
+
+``tests/test_core_table.py`` lists functions covered outside its table with the file that covers
+them, and checks that the file really calls each one. These did not: each is called here on its own
+against a reference written out independently (a closed form, a published table, the paper's
+printed value or ITU-Rpy).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from csuas.base.errors import CsuasError, ParameterError
+from csuas.core import (
+    camera,
+    itu,
+    mrtd,
+    pd_curves,
+    radar,
+    radiometry,
+    ranges,
+    result,
+    scenario,
+    sensitivity,
+    units,
+)
+
+H, C, K_B = 6.62607015e-34, 299_792_458.0, 1.380649e-23
+
+
+@pytest.mark.parametrize("wavelength_um, cie", [(0.510, 0.503), (0.555, 1.000), (0.610, 0.503), (0.650, 0.107)])
+def test_photopic_efficiency_follows_the_cie_1924_table(wavelength_um, cie):
+    # CIE 1924 V(lambda); the Gaussian fit departs from the table by at most 0.018 in 510-650 nm
+    assert camera.photopic_efficiency(wavelength_um) == pytest.approx(cie, abs=0.02)
+
+
+@pytest.mark.parametrize("frequency_ghz, temperature_c", [(10.0, 0.0), (24.0, 15.0), (94.0, 20.0)])
+def test_water_permittivity_gives_itu_rpy_specific_attenuation_coefficient(frequency_ghz, temperature_c):
+    itu840 = pytest.importorskip("itur.models.itu840")
+    eps_re, eps_im = itu.water_permittivity(frequency_ghz, temperature_c + 273.15)
+    eta = (2.0 + eps_re) / eps_im
+    k_l = 0.819 * frequency_ghz / (eps_im * (1.0 + eta**2))  # ITU-R P.840 Eq. 2
+    reference = np.asarray(itu840.specific_attenuation_coefficients(frequency_ghz, temperature_c))
+    assert k_l == pytest.approx(float(reference), rel=1e-6)
+
+
+def test_sensor_mrtd_reaches_netd_scaled_shape_and_takes_a_user_table():
+    params = {"netd_mk": 50.0, "pitch_um": 10.0, "focal_mm": 20.0, "f_number": 1.0, "band": "lwir", "mrtd_k": None}
+    curve = mrtd.sensor_mrtd(params)
+    nyquist = 0.5 / (10e-6 / 20e-3)  # 1 / (2 IFOV) with IFOV = pitch / focal [cy/rad]
+    assert curve.nyquist_cy_rad == pytest.approx(nyquist, rel=1e-12)
+    assert curve(2.0 * nyquist) == math.inf  # beyond Nyquist nothing is resolved
+    assert float(curve(0.5 * nyquist)) == pytest.approx(0.050 * float(curve.shape(0.5)), rel=1e-12)
+    table = {**params, "mrtd_frequency_cy_mrad": [0.5, 1.0, 2.0], "mrtd_k": [0.1, 0.2, 0.8]}
+    tabulated = mrtd.sensor_mrtd(table)
+    assert float(tabulated(1000.0)) == pytest.approx(0.2, rel=1e-9)  # 1 cy/mrad = 1000 cy/rad
+
+
+@pytest.mark.parametrize(
+    "integration, convention, expected",
+    [
+        ("coherent", "paper", 16.0),
+        ("noncoherent", "paper", 16.0 ** (1 / 16)),
+        ("noncoherent", "physical", 4.0),
+        ("none", "paper", 1.0),
+    ],
+)
+def test_integration_gain_eqs_77_78(integration, convention, expected):
+    assert float(radar.integration_gain(16.0, integration, convention)) == pytest.approx(expected, rel=1e-12)
+
+
+def test_radar_wavelength_uses_the_papers_c_or_the_exact_one():
+    assert radar.radar_wavelength_m({"frequency_ghz": 24.0, "wavelength_m": None}, "paper") == pytest.approx(
+        3e8 / 24e9, rel=1e-12
+    )
+    assert radar.radar_wavelength_m({"frequency_ghz": 24.0, "wavelength_m": None}, "physical") == pytest.approx(
+        C / 24e9, rel=1e-12
+    )
+    assert radar.radar_wavelength_m({"frequency_ghz": None, "wavelength_m": 0.0125}, "paper") == 0.0125
+
+
+def test_band_limits_and_planck_spectral_radiance():
+    assert radiometry.band_limits_um("lwir") == (8.0, 12.0)
+    assert radiometry.band_limits_um("mwir") == (3.0, 5.0)
+    assert radiometry.band_limits_um((1.0, 2.0)) == (1.0, 2.0)
+    lam = 10e-6
+    planck = 2 * H * C**2 / lam**5 / (math.exp(H * C / (lam * K_B * 300.0)) - 1) * 1e-6  # per um
+    assert float(radiometry.spectral_radiance(10.0, 300.0)) == pytest.approx(planck, rel=1e-6)
+    peak = 2897.771955 / 300.0  # Wien's displacement law [um]
+    grid = np.linspace(peak - 0.5, peak + 0.5, 10001)
+    assert grid[np.argmax(radiometry.spectral_radiance(grid, 300.0))] == pytest.approx(peak, abs=1e-3)
+
+
+def test_thermal_contrast_is_eq_26_in_the_paper_convention():
+    sc = scenario.load_scenario("default")
+    dt0, path = ranges.thermal_contrast(sc, sc.sensors["tir"], "paper")
+    t, env = sc.target, sc.environment
+    linear = t["emissivity_suas"] * t["t_suas_k"] - env["emissivity_bg"] * env["t_bg_k"]
+    assert abs(float(dt0)) == pytest.approx(abs(linear), rel=1e-12) and path == {}
+    assert abs(linear) == pytest.approx(33.6, abs=0.05)  # README and docs/conventions.md
+
+
+def test_check_convention_and_unbounded_reason():
+    assert result.check_convention("physical") == "physical"
+    with pytest.raises(ParameterError, match="convention"):
+        result.check_convention("xray")
+    assert result.unbounded_reason(np.array([1.0, 2.0])) is None
+    reasons = result.unbounded_reason(np.array([1.0, np.inf]))
+    assert reasons[0] == "" and reasons[1].startswith("unbounded")
+
+
+@pytest.mark.parametrize("task, lp", [("detection", 1.0), ("recognition", 4.0), ("identification", 8.0)])
+def test_johnson_derived_tables_20_and_21(task, lp):
+    derived = scenario.johnson_derived({"task": task, "p_desired": 0.5}, explicit=set())
+    assert derived == {"lp_task": lp, "n_ttpf": 1.0}  # Table 20; Table 21: P = 0.50 -> n_TTPF = 1.00
+    assert scenario.johnson_derived({"task": task, "p_desired": 0.5}, explicit={"lp_task", "n_ttpf"}) == {}
+
+
+def test_plausibility_warnings_flag_a_field_of_view_in_radians():
+    eo = scenario.load_scenario("default").sensors["eo"]
+    assert scenario.plausibility_warnings(eo) == []
+    radians = dataclasses.replace(eo, params={**eo.params, "vfov_deg": math.radians(eo.params["vfov_deg"])})
+    (warning,) = scenario.plausibility_warnings(radians)
+    assert "vfov_deg" in warning and "radians" in warning
+
+
+def test_provenance_names_scenario_preset_and_default_sources():
+    found = scenario.provenance("eo", {"hfov_deg": 10.0, "n_h": 1920, "c_min": None}, {"hfov_deg": "scenario"})
+    assert found["hfov_deg"] == {"value": 10.0, "unit": "deg", "source": "scenario"}
+    assert found["n_h"]["source"].startswith("default (") and "c_min" not in found
+
+
+def test_section_4_9_models_reproduce_the_papers_printed_ranges():
+    eo = sensitivity.eo_johnson_model(0.101, 1.0, 1920, 10.0)
+    assert eo == pytest.approx(0.101 / 2 * 1920 / math.radians(10.0), rel=1e-12)
+    assert eo == pytest.approx(555.5, abs=0.05)  # Table 52
+    assert sensitivity.acoustic_model(80.0, 10.0, 40.0) == pytest.approx(10**1.5, rel=1e-12)  # Eq. 106
+    windy = sensitivity.acoustic_model(80.0, 10.0, 40.0, wind_noise_level_db=80.0, wind_distance_m=50.0)
+    noise = 10 * math.log10(10**4.0 + 10 ** ((80.0 - 20 * math.log10(50.0)) / 10))  # Eqs. 107-108
+    assert windy == pytest.approx(10 ** ((80.0 - 10.0 - noise) / 20), rel=1e-12)
+    lam = 3e8 / 24e9
+    budget = 100.0 * 10**7.0 * lam**2 * 0.01 / ((4 * math.pi) ** 3 * 10.0 * 1.381e-23 * 290.0 * 10.0 * 50e6)
+    assert sensitivity.radar_model(100.0, 35.0, 24.0, 0.01, 10.0, 10.0, 50.0) == pytest.approx(budget**0.25)
+    assert budget**0.25 == pytest.approx(445.3, abs=0.05)  # Section 4.9.3, Table 52
+
+
+def test_table_52_platforms_match_the_printed_table():
+    table = sensitivity.table_52_platforms()
+    printed = {"dji_mini_4_pro": (555.5, 445.3, 100.0), "black_hornet_3": (137.4, 250.4, 5.6)}
+    for name, (eo, radar_m, acoustic) in printed.items():
+        computed = table[name]["computed_m"]
+        assert computed["eo"] == pytest.approx(eo, abs=0.12)  # the paper rounds d_crit x N_H / HFOV
+        assert computed["radar"] == pytest.approx(radar_m, abs=0.05)
+        assert computed["acoustic"] == pytest.approx(acoustic, abs=0.05)
+    target_terms = ("d_crit_m", "sigma_radar_m2", "sl_db")
+    sensors = [
+        {k: v for k, v in sensitivity._section_defaults(section).items() if k not in target_terms}
+        for section in ("eo", "acoustic_calm", "radar")
+    ]
+    direct = sensitivity.platform_comparison(
+        {"x": {"d_crit_m": 0.101, "sigma_radar_m2": 0.01, "sl_db": 80.0}}, *sensors
+    )
+    assert direct["x"] == pytest.approx(table["dji_mini_4_pro"]["computed_m"], rel=1e-12)
+
+
+def test_power_sum_eq_108():
+    assert float(units.power_sum_db(30.0, 30.0)) == pytest.approx(30.0 + 10 * math.log10(2.0), rel=1e-12)
+    assert float(units.power_sum_db(42.0, -np.inf)) == pytest.approx(42.0, rel=1e-12)
+
+
+def test_default_range_grid_spans_one_metre_to_three_times_the_longest_range():
+    sc = scenario.load_scenario("default")
+    longest = max(
+        float(np.max(ranges.evaluate(sc, None)[name].range_m)) for name in sc.sensors if name in ranges.evaluate(sc)
+    )
+    grid = pd_curves.default_range_grid(sc)
+    assert grid[0] == 1.0 and grid[-1] == pytest.approx(3.0 * longest, rel=1e-12)
+    assert np.allclose(np.diff(np.log(grid)), np.log(grid[1] / grid[0]))
+
+
+def test_errors_are_csuas_errors():
+    with pytest.raises(CsuasError):
+        radiometry.band_limits_um("uv")
