@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.core import units
 from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.horizon import K_OPTICAL, K_RADIO
@@ -38,7 +39,6 @@ from csuas.core.ranges import evaluate
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
-from csuas.core.units import C_LIGHT
 
 #: Effective Earth-radius factor of each modality's line of sight.
 K_FACTOR = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL, "acoustic": 1.0}
@@ -238,7 +238,7 @@ def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:
     if spec.modality == "radar":
         given = spec.params.get("frequency_ghz")
         return float(
-            given if given is not None else C_LIGHT / radar_wavelength_m(spec.params, scenario.convention) / 1e9
+            given if given is not None else units.frequency_ghz(radar_wavelength_m(spec.params, scenario.convention))
         )
     raise ParameterError(f"sensors.{sensor_name}", spec.modality, "an RF or radar sensor")
 

@@ -48,6 +48,11 @@ def wavelength_m(frequency_ghz, c=C_LIGHT):
     return c / (np.asarray(frequency_ghz, dtype=float) * 1e9)
 
 
+def wavenumber_rad_m(frequency_ghz):
+    """Free-space wavenumber [rad/m] of a frequency [GHz]: ``k = 2 pi f / c``."""
+    return 2.0 * np.pi * np.asarray(frequency_ghz, dtype=float) * 1e9 / C_LIGHT
+
+
 def frequency_ghz(wavelength_m_):
     """Frequency [GHz] of a free-space wavelength [m]."""
     return C_LIGHT / np.asarray(wavelength_m_, dtype=float) / 1e9

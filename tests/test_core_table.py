@@ -55,6 +55,7 @@ ROWS = [
     ("units.watt_to_dbm", units.watt_to_dbm, {"power_w": 0.1}, 20.0, "power_w"),
     ("units.wavelength_m", units.wavelength_m, {"frequency_ghz": 24.0}, C / 24e9, "frequency_ghz"),
     ("units.frequency_ghz", units.frequency_ghz, {"wavelength_m_": 0.0125}, C / 0.0125 / 1e9, "wavelength_m_"),
+    ("units.wavenumber_rad_m", units.wavenumber_rad_m, {"frequency_ghz": 10.0}, 2e10 * math.pi / C, "frequency_ghz"),
     ("units.per_km_to_db_per_km", units.per_km_to_db_per_km, {"beta_per_km": 1.0}, 10 / math.log(10), "beta_per_km"),
     ("units.db_per_km_to_per_km", units.db_per_km_to_per_km, {"gamma_db_km": 10 / math.log(10)}, 1.0, "gamma_db_km"),
     (

@@ -39,7 +39,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.dielectric import complex_permittivity
-from csuas.core.units import C_LIGHT
+from csuas.core.units import wavenumber_rad_m
 from csuas.render.links.sionna_backend import load_sionna_rt
 
 #: Half-size of the innermost square of the graded ground [m].
@@ -112,7 +112,7 @@ def half_space_thickness_m(relative_permittivity, conductivity_s_m, frequency_gh
     smallest at normal incidence, so d = N / (2 k0 |Im sqrt(eta)|), capped at 1e4 m.
     """
     eta = complex_permittivity(relative_permittivity, conductivity_s_m, frequency_ghz)
-    k0 = 2.0 * np.pi * frequency_ghz * 1e9 / C_LIGHT
+    k0 = wavenumber_rad_m(frequency_ghz)
     attenuation = 2.0 * k0 * abs(np.sqrt(eta).imag)
     return float(min(1.0e4, HALF_SPACE_NEPERS / attenuation)) if attenuation > 0 else 1.0e4
 

@@ -38,7 +38,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import C_LIGHT, wavelength_m
+from csuas.core.units import wavelength_m
 
 from . import canonical
 from .engine import Jobs, SbrEngine
@@ -190,7 +190,7 @@ def convergence_curve(
 
 def canonical_cases(frequency_ghz: float = 10.0) -> list[tuple]:
     """(name, mesh, azimuth_deg, elevation_deg, exact_m2) of the canonical oracles (docs/validation.md)."""
-    lam = C_LIGHT / (frequency_ghz * 1e9)
+    lam = float(wavelength_m(frequency_ghz))
     k = 2 * math.pi / lam
     axis_el = math.degrees(math.asin(1 / math.sqrt(3)))
     ka = 50.0

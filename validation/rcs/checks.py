@@ -31,12 +31,12 @@ from dataclasses import replace
 import numpy as np
 
 from csuas.base.checks import Check
-from csuas.core.units import C_LIGHT
+from csuas.core import units
 
 #: Coarse settings of the default checks (documented in the module docstring).
 CHECK_SETTINGS = {
     "preset": "dji_mini_4_pro",
-    "frequency_ghz": C_LIGHT / 0.0125 / 1e9,
+    "frequency_ghz": float(units.frequency_ghz(0.0125)),
     "rays_per_wavelength": 2.0,
     "max_bounces": 3,
     "accuracy_db": 0.5,

@@ -78,7 +78,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import C_LIGHT
+from csuas.core import units
 
 #: Polarisation name -> (receive index, transmit index); 0 = V (theta-hat), 1 = H (phi-hat),
 #: as :data:`csuas.render.rcs.solver.POLARISATIONS`.
@@ -178,7 +178,7 @@ def _polarisation(name) -> tuple[int, int]:
 
 def wavelength_m(frequency_ghz: float) -> float:
     """Free-space wavelength [m] of a frequency [GHz]."""
-    return C_LIGHT / (float(frequency_ghz) * 1e9)
+    return float(units.wavelength_m(frequency_ghz))
 
 
 def mesh_size_m(frequency_ghz: float, edges_per_wavelength: float = EDGES_PER_WAVELENGTH) -> float:

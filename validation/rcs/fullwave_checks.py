@@ -31,6 +31,7 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.base.errors import ParameterError
+from csuas.core import units
 
 from . import fullwave as fw
 
@@ -87,7 +88,7 @@ def sphere_mie_checks(full: bool = False) -> list[Check]:
     checks = []
     for ka, (coarse_s, fine_s) in levels.items():
         t = time.perf_counter()
-        f_ghz = ka * fw.C_LIGHT / (2 * math.pi) / 1e9  # radius 1 m
+        f_ghz = float(units.frequency_ghz(2 * math.pi / ka))  # radius 1 m: wavelength 2 pi a / ka
         values = {}
         for s in (coarse_s, fine_s):
             mesh = fw.sphere_mesh(1.0, s)

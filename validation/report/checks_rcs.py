@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.units import wavenumber_rad_m
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckSpec, Section, timed
@@ -171,7 +172,7 @@ def po_oracle(quality: str) -> Section:
 
     s = Section()
     cases = []
-    k10 = 2 * np.pi * 10e9 / 299_792_458.0
+    k10 = float(wavenumber_rad_m(10.0))
     for ka in PO_SPHERES_KA:
         mesh = canonical.sphere(ka / k10, 6)
         cases.append((f"sphere_ka{ka:g}", mesh, 10.0, np.array([17.0, 200.0]), np.array([23.0, -41.0]), ka))
