@@ -425,3 +425,30 @@ def test_a_radar_over_a_ground_of_given_constants_is_mapped_at_24_ghz(tmp_path, 
     assert stats["samples"] == 65536
     # only what the site calls for: the map covers twice the radar's mapped reach (85 m), not the 10 km DEM
     assert stats["mapped_cells"] < 20 * 20
+
+
+@pytest.mark.slow
+def test_a_radio_map_traces_only_the_sensors_sector(tmp_path, capsys):
+    """A 90-degree sector facing east: the map's cells lie inside it (NaN, not mapped, outside), as the
+    line of sight's do."""
+    rasterio = pytest.importorskip("rasterio")
+    site = tmp_path / "sector.toml"
+    site.write_text(
+        "altitudes_agl_m = [60.0]\n[sensors.rf]\nx = 502500.0\ny = 5007000.0\nmast_m = 10.0\n"
+        'azimuth_deg = 90.0\nsector_deg = 90.0\n[radio_map]\nsensors = ["rf"]\nstep = 16\nsamples = 65536\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "s"), "--json"]) == 0
+    capsys.readouterr()
+    summary = json.loads((tmp_path / "s" / "coverage.json").read_text())
+    (layer,) = [entry for entry in summary["layers"] if entry["sensor"] == "rf" and entry["kind"] == "path_gain"]
+    with rasterio.open(tmp_path / "s" / layer["path"]) as raster:
+        gain = raster.read(1)
+        rows, cols = np.indices(gain.shape)
+        x, y = rasterio.transform.xy(raster.transform, rows.ravel(), cols.ravel())
+    east, north = np.asarray(x) - 502500.0, np.asarray(y) - 5007000.0
+    off = ((np.degrees(np.arctan2(east, north)) - 90.0 + 180.0) % 360.0 - 180.0).reshape(gain.shape)
+    mapped = np.isfinite(gain)
+    assert mapped.any() and np.all(np.abs(off[mapped]) <= 45.0 + 1e-6)
+    assert mapped[np.abs(off) < 40.0].mean() > 0.5
+    (stats,) = summary["radio_maps"]["maps"]["rf"]
+    assert stats["mapped_cells"] >= mapped.sum()  # every mapped cell in the sector; some got no ray

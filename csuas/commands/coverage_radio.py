@@ -115,6 +115,22 @@ def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
     return settings, errors
 
 
+def sector_window(aimed: np.ndarray, window: tuple[slice, slice], row: float, col: float) -> tuple[slice, slice]:
+    """The part of ``window`` bounding the cells of ``aimed`` (the azimuth sector) and the sensor at (row, col).
+
+    A sensor between cell centres keeps the cells around it, where its transmitter stands.
+    """
+    inside = aimed[window]
+    rows = window[0].start + np.nonzero(inside.any(axis=1))[0]
+    cols = window[1].start + np.nonzero(inside.any(axis=0))[0]
+    low_row, high_row = min(rows.min(), int(np.floor(row))), max(rows.max(), int(np.ceil(row)))
+    low_col, high_col = min(cols.min(), int(np.floor(col))), max(cols.max(), int(np.ceil(col)))
+    return (
+        slice(max(low_row, window[0].start), min(high_row + 1, window[0].stop)),
+        slice(max(low_col, window[1].start), min(high_col + 1, window[1].stop)),
+    )
+
+
 def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_sensor: dict, settings: dict) -> dict:
     """Radio maps and multipath detection of each mapped sensor, per flight level.
 
@@ -124,7 +140,9 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         Per sensor: ``path_gain_db``, ``error_db`` (float, (A, rows, cols); NaN where no ray came),
         ``detected`` (1/0) and ``pd`` (:func:`csuas.core.coverage.multipath_detection`; NaN, unknown,
         in the line of sight where some replica got no ray: too few rays to judge, and beyond the
-        mapped square, ``MAP_REACH_FACTOR`` times the sensor's mapped reach) and ``maps`` (per
+        mapped square, ``MAP_REACH_FACTOR`` times the sensor's mapped reach, or outside the sensor's
+        azimuth sector; the map's square is cut to the sector's bounding box, so only what the
+        sensor can see is traced) and ``maps`` (per
         flight level: rays per replica, replicas, time [s], the share of visible cells that are
         reliable, the median bound over them, the unknown cells, and the comparison with the
         line-of-sight layer over the judged cells).
@@ -140,7 +158,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         options = {"ground": settings["ground"], "step": settings["step"], "max_depth": settings["max_depth"]}
         options["seed"] = settings["seed"]
         radius = max(MAP_REACH_FACTOR * los["reach_m"] / cell_m, 1.0)  # at least 2 x 2 cells
-        window = cells_around(dem.shape, placed.row, placed.col, radius)
+        square = cells_around(dem.shape, placed.row, placed.col, radius)
+        window = sector_window(los["aimed"], square, placed.row, placed.col)
         origin = (window[0].start, window[1].start)
         gains, bounds, detected, pd, maps = [], [], [], [], []
         for i, altitude in enumerate(altitudes):
@@ -161,7 +180,7 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
                     **options,
                 )
             mapped = np.zeros(dem.shape, dtype=bool)
-            mapped[window] = True
+            mapped[window] = los["aimed"][window]  # the sensor's sector only, as its line of sight
             gain, error = np.full(dem.shape, -np.inf), np.full(dem.shape, np.inf)
             reached, reliable_map = np.zeros(dem.shape, dtype=bool), np.zeros(dem.shape, dtype=bool)
             gain[window], error[window] = result.path_gain_db, result.error_db
@@ -171,8 +190,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
             reliable = reliable_map & visible
             unknown = visible & ~reliable_map & mapped  # a direct path exists, but too few rays came to judge it
             judged = los["regard"][i] & mapped & ~unknown
-            gains.append(np.where(reached, gain, np.nan))
-            bounds.append(np.where(reached & np.isfinite(error), error, np.nan))
+            gains.append(np.where(reached & mapped, gain, np.nan))
+            bounds.append(np.where(reached & mapped & np.isfinite(error), error, np.nan))
             detected.append(np.where(unknown | ~mapped, np.nan, seen.astype(float)))
             pd.append(np.where(unknown | ~mapped, np.nan, hit))
             maps.append(
