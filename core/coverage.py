@@ -170,8 +170,9 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
         ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it and inside
         the azimuth sector, the only ones whose line of sight is traced; ``visible`` is False
-        elsewhere); ``aimed`` (rows, cols: the cells inside the azimuth sector, at any range); ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation
-        limits and beyond its minimum range).
+        elsewhere); ``aimed`` (rows, cols: the cells inside the azimuth sector, at any range);
+        ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation limits and
+        beyond its minimum range).
     """
     spec = scenario.sensors[sited.name]
     k = K_FACTOR[spec.modality]

@@ -614,8 +614,7 @@ def terrain_radio_map(
     z = float(height_at(dem, np.array([row]), np.array([col]))[0]) + mast - float(surface_drop_m(x, y, k_factor))
     tx_m = np.array([float(x), float(y), z])
     array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=polarization)
-    terrain.scene.tx_array = array
-    terrain.scene.rx_array = array
+    terrain.scene.tx_array = terrain.scene.rx_array = array
     terrain.transmitter.position = [float(v) for v in tx_m]
     rng = np.random.default_rng(seed)
     n_blocks = (len(block_edges(dem.shape[0], step)) - 1, len(block_edges(dem.shape[1], step)) - 1)

@@ -167,8 +167,9 @@ def bench_iterative(n: int = 2000, seed: int = 1) -> list[dict]:
     return rows
 
 
-def bench_viewshed(size: int = 1000, sensors: int = 6, altitudes=(30.0, 60.0, 120.0, 250.0, 500.0)) -> dict:
-    """Line of sight over a ``size`` x ``size`` DEM (30 m cells) for several sensors and flight levels.
+def bench_viewshed(size: int = 1000, sensors: int = 6, altitudes=(30.0, 60.0, 120.0, 250.0, 500.0)) -> list[dict]:
+    """Line of sight over a ``size`` x ``size`` DEM (30 m cells) for several sensors and flight levels, then
+    against GDAL's ``gdal_viewshed`` at four sizes (:func:`csuas.validation.terrain.bench.bench_against_gdal`).
 
     The DEM is a seeded random surface (integrated Gaussian noise, about 100 m of relief); the sensors
     stand on 10 m masts spread over it. Times only :func:`csuas.core.terrain.viewshed` (issue 15's
@@ -187,10 +188,13 @@ def bench_viewshed(size: int = 1000, sensors: int = 6, altitudes=(30.0, 60.0, 12
             visible += float(viewshed(dem, 30.0, row, col, 10.0, altitude).mean())
     elapsed = time.perf_counter() - start
     runs = sensors * len(altitudes)
-    return {
+    from csuas.validation.terrain.bench import bench_against_gdal
+
+    site = {
         "cells": size * size,
         "viewsheds": runs,
         "time_s": elapsed,
         "s_per_viewshed": elapsed / runs,
         "mean_visible_share": visible / runs,
     }
+    return [site, *bench_against_gdal()]
