@@ -469,9 +469,21 @@ def fused_cumulative(approaches: list, range_m, rule: str = "or") -> np.ndarray:
 def fused_first_detection_m(approaches: list, rule: str = "or") -> float | None:
     """Median range of the fused first detection [m]: the first look of any sensor by which it reaches 0.5.
 
-    The fused cumulative Pd only rises at a look of some sensor, so its discrete first-detection
-    distribution lives on the union of the sensors' looks; None when it never reaches 0.5.
+    The fused cumulative Pd only rises at a look of some sensor and never falls along the approach
+    (each sensor's does not, and OR and the k-of-n tail grow with each), so its discrete first-detection
+    distribution lives on the sensors' looks: the median is the farthest of each sensor's first look at
+    which the fused Pd reaches 0.5, found by bisection over that sensor's looks. None when it never does.
     """
-    looks = np.unique(np.concatenate([a["look_range_m"] for a in approaches]))[::-1]  # far to near
-    reached = np.nonzero(fused_cumulative(approaches, looks, rule) >= 0.5)[0]
-    return float(looks[reached[0]]) if reached.size else None
+    median = None
+    for a in approaches:
+        looks = a["look_range_m"]  # far to near
+        lo, hi = 0, looks.size
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if fused_cumulative(approaches, looks[mid : mid + 1], rule)[0] >= 0.5:
+                hi = mid
+            else:
+                lo = mid + 1
+        if lo < looks.size and (median is None or looks[lo] > median):
+            median = float(looks[lo])
+    return median

@@ -67,6 +67,9 @@ def test_plumage_at_the_table_temperature_and_build_drone_access():
     assert bird.mass_kg == row["mass_kg"] and bird.propellers == "none"
     assert bird.spec["wing_angle_deg"] == pytest.approx(row["wing_stroke_amplitude_deg"] * math.cos(0.2 * math.pi))
     assert {p.kind for p in bird.parts} == {"body", "head", "tail", "wing"}
+    from csuas.render.imaging.scene import target_parts  # a bird's name is a render target, as a preset's
+
+    assert [p.name for p in target_parts("raptor")] == ["body", "head", "tail", "wing_left", "wing_right"]
 
 
 @pytest.mark.parametrize(

@@ -189,3 +189,17 @@ def test_k_of_n_fuses_the_approach_by_its_rule_and_its_median_is_a_look():
     assert fused_first_detection_m([a, b], "k-of-n:2") == 50.0
     assert fused_first_detection_m([a, b], "or") == 90.0  # 1 - 0.7 * 0.4 = 0.72 at b's first look
     assert fused_first_detection_m([_approach_of([10.0], [0.1])], "or") is None
+
+
+@pytest.mark.parametrize("rule", ["or", "k-of-n:2", "k-of-n:3"])
+def test_fused_median_is_the_first_look_of_any_sensor_where_the_fused_pd_reaches_half(rule):
+    """Against a scan of every look of every sensor (the union, far to near), three sensors at different rates."""
+    rng = np.random.default_rng(4)
+    approaches = [
+        _approach_of(np.arange(3000.0, 0.0, -step), rng.uniform(0.0, 0.01, int(3000 / step)))
+        for step in (1.5, 4.0, 15.0)
+    ]
+    union = np.unique(np.concatenate([a["look_range_m"] for a in approaches]))[::-1]
+    reached = np.nonzero(fused_cumulative(approaches, union, rule) >= 0.5)[0]
+    assert reached.size and 0 < reached[0]  # reached, and not at the first look
+    assert fused_first_detection_m(approaches, rule) == union[reached[0]]
