@@ -337,8 +337,8 @@ def range_at_pd(pd_of_range, search_range_m, targets=REPORTED_PD) -> list:
     Returns
     -------
     list of float or None
-        One range per target [m]; the last search point where Pd still reaches the target there,
-        None where Pd reaches it at no search point.
+        One range per target [m]: the solved crossing; the last search point itself where Pd still
+        reaches the target there; None where Pd reaches it at no search point.
     """
     r = require("search_range_m", search_range_m, gt=0)
     p = np.asarray(pd_of_range(r), dtype=float)
