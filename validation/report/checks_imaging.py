@@ -519,7 +519,7 @@ SPECS = [
         "the pigeon mesh's rendered pixels on target vs its exact silhouette at 100 and 300 m, wings up and level; "
         "its rendered LWIR apparent excess temperature vs the Planck band closed form (plumage emissivity 0.95, "
         "surface excess of defaults/birds.toml, in air at ambient)",
-        "EO: 3 standard errors + 1 % (orthographic oracle, pinhole render); thermal: 3 standard errors + "
+        "EO: 3 standard errors + 0.5 % (orthographic oracle, pinhole render); thermal: 3 standard errors + "
         "(1 - eps) 0.1 Delta T, what the bird's parts reflect of each other with a view factor up to 0.1",
         birds,
         "render quality (samples per pixel)",
