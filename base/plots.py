@@ -63,7 +63,16 @@ def tornado_plot(path, title: str, baseline_m: float, bars, *, log_scale: bool =
 
 
 def pd_plot(
-    path, title: str, range_m, curves: dict, *, fused=None, fused_label: str = "fused", markers=None, cumulative=None
+    path,
+    title: str,
+    range_m,
+    curves: dict,
+    *,
+    fused=None,
+    fused_label: str = "fused",
+    markers=None,
+    cumulative=None,
+    false_alarms=None,
 ):
     """Write probability of detection against range, one line per sensor and the fused one, as PNG.
 
@@ -82,6 +91,10 @@ def pd_plot(
         ``{label: (range_m, pd)}``: each sensor's deterministic range and the Pd there.
     cumulative : dict, optional
         ``{label: cumulative Pd}`` along an approach, drawn in a second panel.
+    false_alarms : dict, optional
+        ``{label: cumulative probability}`` of noise crossings alone along the approach, dotted in
+        the second panel in the sensor's colour and labelled: the plateau they put under that
+        sensor's cumulative Pd.
     """
     plt = _pyplot()
     panels = 2 if cumulative else 1
@@ -112,6 +125,8 @@ def pd_plot(
                 color="k" if label == fused_label else colours.get(label),
                 label=label,
             )
+        for label, c in (false_alarms or {}).items():
+            ax2.plot(range_m, c, lw=1.2, ls=":", color=colours.get(label), label=f"{label}: false alarms alone")
         ax2.set_ylim(-0.02, 1.02)
         ax2.set_ylabel("cumulative Pd along the approach")
         ax2.grid(alpha=0.3, which="both")

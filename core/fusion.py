@@ -6,7 +6,7 @@ approach the drone closes at a constant speed and each sensor looks at its frame
 the cumulative probability of detection after the j-th look is 1 - prod_i<=j (1 - Pd_i) for
 independent looks, or the running maximum of Pd_i for fully correlated looks (the same draw of
 every random factor each time: only the rising Pd adds detections). The first-detection range is
-distributed as the cumulative probability's increments.
+distributed as the cumulative probability's increments, on the looks only: its median is a look.
 
 References
 ----------
@@ -150,8 +150,9 @@ def first_detection(look_range_m, cumulative):
     dict
         ``probability``: the probability that the first detection happens at each look;
         ``never``: the probability of no detection over the approach; ``median_range_m``: the
-        range by which detection has happened with probability 0.5 (interpolated between looks),
-        None where the approach ends first (as a float array with NaN when ``cumulative`` has
+        median of that discrete distribution, the range of the first look by which detection has
+        happened with probability >= 0.5 (a look, never a point between two), None where the
+        approach ends first (as a float array with NaN when ``cumulative`` has
         more than one row).
     """
     r = require("look_range_m", look_range_m, ge=0)
@@ -161,13 +162,9 @@ def first_detection(look_range_m, cumulative):
     c2, r2 = np.atleast_2d(c), np.broadcast_to(np.atleast_2d(r), np.atleast_2d(c).shape)
     median = np.full(c2.shape[0], np.nan)
     for row in range(c2.shape[0]):
-        j = int(np.searchsorted(c2[row], 0.5))
+        j = int(np.searchsorted(c2[row], 0.5))  # the first look by which detection has happened with P >= 0.5
         if j < c2.shape[1]:
-            if j == 0 or c2[row, j] == c2[row, j - 1]:
-                median[row] = r2[row, j]
-            else:
-                frac = (0.5 - c2[row, j - 1]) / (c2[row, j] - c2[row, j - 1])
-                median[row] = r2[row, j - 1] + frac * (r2[row, j] - r2[row, j - 1])
+            median[row] = r2[row, j]
     if c.ndim <= 1:
         median_out = None if np.isnan(median[0]) else float(median[0])
     else:

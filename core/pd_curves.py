@@ -27,15 +27,25 @@ from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
-from csuas.core.ranges import ADAPTERS, HORIZONS, evaluate, thermal_contrast
+from csuas.core.ranges import (
+    ADAPTERS,
+    HORIZONS,
+    REFERENCE_SENSOR_HEIGHT_M,
+    REFERENCE_TARGET_HEIGHT_M,
+    evaluate,
+    thermal_contrast,
+)
 from csuas.core.result import check_convention
 from csuas.core.scenario import Scenario, SensorSpec
+from csuas.core.solve import bracketed_root
 from csuas.core.units import C_LIGHT
 
 #: Threshold shifts over which a model is evaluated to read its margin [dB]; beyond them Pd is saturated.
 MARGIN_GRID_DB = np.linspace(-150.0, 150.0, 2401)
 #: Probabilities at which ``range_at_pd`` is reported.
 REPORTED_PD = (0.5, 0.9)
+#: Noise crossings alone along an approach above which ``approach`` says so.
+FALSE_ALARM_NOTE = 0.01
 #: Points of the default log-spaced range grid, and how far beyond the longest range it reaches.
 GRID_POINTS, GRID_BEYOND = 400, 3.0
 
@@ -109,13 +119,28 @@ def margin_db(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) 
     return np.interp(log_r, log_reach[keep], shift[keep], left=MARGIN_GRID_DB[-1], right=MARGIN_GRID_DB[0])
 
 
-def _horizon_m(scenario: Scenario, sensor: SensorSpec) -> float:
-    """Line-of-sight limit of an optical or radio sensor when the scenario gives its height, else inf."""
+def _horizon(scenario: Scenario, sensor: SensorSpec) -> tuple[float, str]:
+    """Line-of-sight limit of an optical or radio sensor [m] and how it was set; inf for acoustics.
+
+    With the sensor's ``height_m`` the limit is that of the sensor and the target above it (as
+    ``csuas range`` caps the deterministic range); without it, that of the reference heights
+    ``csuas range`` flags (a 2 m sensor, a drone at the 120 m ceiling), which Pd cannot pass either.
+    """
+    if sensor.modality not in HORIZONS:
+        return np.inf, ""
+    k, label = HORIZONS[sensor.modality]
     height = sensor.params.get("height_m")
-    if sensor.modality not in HORIZONS or height is None:
-        return np.inf
-    k, _ = HORIZONS[sensor.modality]
-    return float(line_of_sight_limit_m(height, max(height + scenario.target["altitude_m"], 0.0), k))
+    if height is None:
+        limit = float(line_of_sight_limit_m(REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M, k))
+        how = (
+            f"of a {REFERENCE_SENSOR_HEIGHT_M:g} m sensor and a {REFERENCE_TARGET_HEIGHT_M:g} m target, the "
+            f"reference csuas range flags (set sensors.{sensor.name}.height_m and target.altitude_m to place it)"
+        )
+    else:
+        target_height = max(height + scenario.target["altitude_m"], 0.0)
+        limit = float(line_of_sight_limit_m(height, target_height, k))
+        how = f"of the sensor at {height:g} m and the target at {target_height:g} m"
+    return limit, f"Pd = 0 beyond the {label} ({limit / 1000:.3g} km) {how}"
 
 
 def _source(sensor: SensorSpec, key: str) -> str:
@@ -263,10 +288,10 @@ def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | N
         pd_at, notes = _threshold_pd(scenario, sensor, conv, at)
     pd = np.asarray(pd_at, dtype=float)[:-1].reshape(r.shape)
     at_deterministic = float(pd_at[-1]) if deterministic > 0 else None  # a zero range crosses no threshold
-    horizon = _horizon_m(scenario, sensor)
+    horizon, note = _horizon(scenario, sensor)
     if np.isfinite(horizon):
         pd = np.where(r > horizon, 0.0, pd)
-        notes.append(f"Pd = 0 beyond the line-of-sight horizon ({horizon / 1000:.3g} km)")
+        notes.append(note)
     return PdCurve(
         sensor_name,
         sensor.modality,
@@ -281,37 +306,78 @@ def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | N
 
 
 def default_range_grid(scenario: Scenario, convention: str | None = None) -> np.ndarray:
-    """GRID_POINTS log-spaced ranges from 1 m to GRID_BEYOND times the scenario's longest range [m]."""
-    reach = [float(np.max(r.range_m)) for r in evaluate(scenario, convention).values()]
+    """GRID_POINTS log-spaced ranges from 1 m to GRID_BEYOND times the longest range Pd can reach [m].
+
+    Each sensor's reach is its deterministic range, or its line-of-sight horizon where nearer.
+    """
+    reach = [
+        min(float(np.max(r.range_m)), _horizon(scenario, scenario.sensors[name])[0])
+        for name, r in evaluate(scenario, convention).items()
+    ]
     longest = max([r for r in reach if np.isfinite(r) and r > 0], default=1000.0)
     return np.geomspace(1.0, max(GRID_BEYOND * longest, 10.0), GRID_POINTS)
 
 
-def range_at_pd(range_m, pd, target: float) -> float | None:
-    """The largest grid range at which Pd still reaches ``target``, interpolated in log range [m]; None if never."""
-    r, p = np.asarray(range_m, float), np.asarray(pd, float)
-    above = np.nonzero(p >= target)[0]
-    if above.size == 0:
-        return None
-    i = int(above[-1])
-    if i == r.size - 1:
-        return float(r[i])
-    r0, r1, p0, p1 = r[i], r[i + 1], p[i], p[i + 1]
-    if p0 == p1 or r0 <= 0:
-        return float(r0)
-    frac = (p0 - target) / (p0 - p1)
-    return float(np.exp(np.log(r0) + frac * (np.log(r1) - np.log(r0))))
+def range_at_pd(pd_of_range, search_range_m, targets=REPORTED_PD) -> list:
+    """The largest range at which a Pd model still reaches each target, solved on the model [m].
+
+    The last crossing is bracketed on ``search_range_m`` and solved in log range by
+    :func:`csuas.core.solve.bracketed_root` on ``pd_of_range`` itself (not interpolated between
+    the search points); a jump (a horizon, the EO contrast limit) is found where it is.
+
+    Parameters
+    ----------
+    pd_of_range : callable
+        ``pd_of_range(range_m) -> ndarray``: Pd at each range of an array [m].
+    search_range_m : array_like
+        Ranges that bracket the crossings [m], > 0, increasing.
+    targets : sequence of float
+        Probabilities, each 0..1.
+
+    Returns
+    -------
+    list of float or None
+        One range per target [m]: the solved crossing; the last search point itself where Pd still
+        reaches the target there; None where Pd reaches it at no search point.
+    """
+    r = require("search_range_m", search_range_m, gt=0)
+    p = np.asarray(pd_of_range(r), dtype=float)
+    found, lo, hi, index = [], [], [], []
+    for i, target in enumerate(targets):
+        above = np.nonzero(p >= target)[0]
+        found.append(None if above.size == 0 else float(r[above[-1]]))
+        if above.size and above[-1] < r.size - 1:
+            lo.append(np.log(r[above[-1]]))
+            hi.append(np.log(r[above[-1] + 1]))
+            index.append(i)
+    if index:
+        goal = np.asarray(targets, dtype=float)[index]
+        root, _ = bracketed_root(
+            lambda u: np.asarray(pd_of_range(np.exp(u)), dtype=float) - goal, lo, hi, xtol=1e-10, rtol=0.0
+        )
+        for i, u in zip(index, root):
+            found[i] = float(np.exp(u))
+    return found
 
 
-def fuse(curves: list, rule: str = "or") -> np.ndarray:
-    """Fused Pd of independent sensors on a shared range grid: ``or`` or ``k-of-n:K``."""
-    stack = np.stack([c.pd for c in curves])
+def _fuse_stack(stack: np.ndarray, rule: str) -> np.ndarray:
+    """Fuse independent sensors' probabilities (sensors along the first axis) by ``or`` or ``k-of-n:K``."""
     if rule == "or":
         return fuse_or(stack)
     kind, _, k = rule.partition(":")
     if kind != "k-of-n" or not k.isdigit():
         raise ParameterError("fusion", rule, "or, or k-of-n:K with K a whole number")
     return fuse_k_of_n(stack, int(k))
+
+
+def fuse(curves: list, rule: str = "or") -> np.ndarray:
+    """Fused Pd of independent sensors on a shared range grid: ``or`` or ``k-of-n:K``."""
+    return _fuse_stack(np.stack([c.pd for c in curves]), rule)
+
+
+def fused_pd_of_range(scenario: Scenario, rule: str = "or", convention: str | None = None):
+    """The fused Pd of all the scenario's sensors as a function of range (for :func:`range_at_pd`)."""
+    return lambda r: fuse([sensor_pd(scenario, name, r, convention) for name in scenario.sensors], rule)
 
 
 def approach(
@@ -337,9 +403,11 @@ def approach(
     -------
     dict
         ``look_range_m`` and ``cumulative_pd`` at each of the sensor's looks (independent or
-        correlated, the sensor's ``looks``), ``median_range_m`` of the first detection (None when
-        the approach ends first), ``never`` (the probability of no detection) and ``notes`` (the
-        false-alarm floor 1 - (1 - Pfa)^n when it exceeds 1 %: Pd per look includes noise crossings).
+        correlated, the sensor's ``looks``), ``median_range_m`` of the first detection (a look;
+        None when the approach ends first), ``never`` (the probability of no detection),
+        ``false_alarm_cumulative`` (independent looks with a Pfa: 1 - (1 - Pfa)^n after n looks
+        with Pd > 0, what noise crossings alone put in ``cumulative_pd``; else None) and ``notes``
+        (that floor when it exceeds 1 %).
     """
     sensor = scenario.sensors.get(sensor_name)
     if sensor is None:
@@ -353,28 +421,69 @@ def approach(
         "cumulative_pd": cumulative,
         "median_range_m": first["median_range_m"],
         "never": float(first["never"]),
+        "false_alarm_cumulative": None,
         "notes": [],
     }
     pfa = sensor.params.get("pfa")
     if pfa is not None and sensor.params["looks"] == "independent":
-        floor = -np.expm1(looks.size * np.log1p(-pfa))
-        if floor > 0.01:
+        counted = np.cumsum(curve.pd > 0)  # looks beyond the horizon (Pd = 0) add no noise crossing
+        out["false_alarm_cumulative"] = -np.expm1(counted * np.log1p(-pfa))
+        floor = out["false_alarm_cumulative"][-1]
+        if floor > FALSE_ALARM_NOTE:
             out["notes"].append(
-                f"false alarms alone reach {floor:.2g} over the approach's {looks.size} looks (Pfa {pfa:g} each)"
+                f"false alarms alone reach {floor:.2g} over the approach's {counted[-1]} looks within reach "
+                f"(Pfa {pfa:g} each)"
             )
     return out
 
 
-def fused_cumulative(approaches: list, range_m) -> np.ndarray:
-    """Cumulative Pd of independent sensors on a common range grid: 1 - prod(1 - C_s(R)).
+def _step(looks: np.ndarray, values: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """A quantity known after each look (far to near), read at ranges r: that of the last look at or beyond r."""
+    index = np.searchsorted(-looks, -r, side="right") - 1
+    return np.where(index >= 0, values[np.maximum(index, 0)], 0.0)
+
+
+def fused_cumulative(approaches: list, range_m, rule: str = "or") -> np.ndarray:
+    """Cumulative Pd of independent sensors along one approach, on common ranges.
 
     Each sensor's cumulative probability at R is that of its last look at or beyond R (a step
-    function: nothing is gained between looks).
+    function: nothing is gained between looks). The sensors' events "has detected by R" are
+    independent, so the fused probability is the rule applied to them: ``or``,
+    1 - prod(1 - C_s(R)); ``k-of-n:K``, the probability that at least K sensors have each
+    detected by R (exact Poisson-binomial tail, :func:`csuas.core.fusion.fuse_k_of_n`).
+
+    Parameters
+    ----------
+    approaches : list of dict
+        :func:`approach` results.
+    range_m : array_like
+        Ranges [m], >= 0.
+    rule : str
+        ``or`` or ``k-of-n:K``.
     """
     r = require("range_m", range_m, ge=0)
-    missed = np.ones(r.shape)
+    stack = np.stack([_step(a["look_range_m"], a["cumulative_pd"], r) for a in approaches])
+    return _fuse_stack(stack, rule)
+
+
+def fused_first_detection_m(approaches: list, rule: str = "or") -> float | None:
+    """Median range of the fused first detection [m]: the first look of any sensor by which it reaches 0.5.
+
+    The fused cumulative Pd only rises at a look of some sensor and never falls along the approach
+    (each sensor's does not, and OR and the k-of-n tail grow with each), so its discrete first-detection
+    distribution lives on the sensors' looks: the median is the farthest of each sensor's first look at
+    which the fused Pd reaches 0.5, found by bisection over that sensor's looks. None when it never does.
+    """
+    median = None
     for a in approaches:
-        looks, c = a["look_range_m"], a["cumulative_pd"]
-        index = np.searchsorted(-looks, -r, side="right") - 1  # looks run far to near
-        missed *= 1.0 - np.where(index >= 0, c[np.maximum(index, 0)], 0.0)
-    return 1.0 - missed
+        looks = a["look_range_m"]  # far to near
+        lo, hi = 0, looks.size
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if fused_cumulative(approaches, looks[mid : mid + 1], rule)[0] >= 0.5:
+                hi = mid
+            else:
+                lo = mid + 1
+        if lo < looks.size and (median is None or looks[lo] > median):
+            median = float(looks[lo])
+    return median

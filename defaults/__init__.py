@@ -15,7 +15,8 @@ presets.toml
     Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
     environments (the paper's condition classes).
 birds.toml
-    Bird classes (the confusers of engagements and datasets): size, wingbeat, airspeed, heights.
+    Bird classes (the confusers of engagements and datasets): size, wingbeat, airspeed, heights,
+    surface temperature, and the wing shape and plumage of their meshes (drone_models/birds.py).
 drone_rcs_statistics.csv
     The drone presets' RCS over aspects per band and polarisation (``csuas rcs-statistics``).
 scenarios/
@@ -124,5 +125,5 @@ def load_drone_rcs_statistics() -> tuple:
 
 @functools.cache
 def load_birds() -> dict:
-    """Bird classes (``birds.toml``): size, wingbeat, airspeed, flight heights and surface temperature."""
+    """Bird classes (``birds.toml``): size, wingbeat, airspeed, flight heights, surface temperature, mesh shape."""
     return _load("birds.toml")

@@ -201,8 +201,50 @@ PEC = Material(
     source="idealised perfect electric conductor (radar oracles)",
 )
 
+#: Source of the bird plumage materials (drone_models/birds.py; MWIR emissivity taken as LWIR's; the radio
+#: figures stand for the water-filled body of Vaughn 1985; Gabriel, Lau and Gabriel, Phys. Med. Biol. 41, 1996).
+_PLUMAGE_SOURCE = (
+    "LWIR emissivity 0.95 of feathered surfaces (McCafferty et al. 2017); visible albedo typical of the "
+    "plumage colour (assumption); body as muscle at 10 GHz, eps' 43, sigma 10.6 S/m (Gabriel et al. 1996)"
+)
+
+
+def _plumage(name: str, albedo: float, rgb: tuple) -> Material:
+    return Material(
+        name=name,
+        reflectance_rgb=rgb,
+        reflectance_550nm=albedo,
+        reflectance_1550nm=albedo,
+        emissivity_lwir=0.95,
+        emissivity_mwir=0.95,
+        temperature_k=T_SUAS_K,
+        relative_permittivity=complex(43.0, 0.0),
+        conductivity_s_m=10.6,
+        is_pec=False,
+        source=_PLUMAGE_SOURCE,
+    )
+
+
+PLUMAGE_WHITE = _plumage("plumage_white", 0.70, (0.70, 0.70, 0.68))
+PLUMAGE_GREY = _plumage("plumage_grey", 0.25, (0.24, 0.25, 0.27))
+PLUMAGE_BROWN = _plumage("plumage_brown", 0.12, (0.16, 0.11, 0.07))
+
 #: Registry of the named materials.
-MATERIALS = {m.name: m for m in (PLASTIC, DARK_PLASTIC, CARBON_FIBRE, ALUMINIUM, PAINT, BATTERY_PACK, PEC)}
+MATERIALS = {
+    m.name: m
+    for m in (
+        PLASTIC,
+        DARK_PLASTIC,
+        CARBON_FIBRE,
+        ALUMINIUM,
+        PAINT,
+        BATTERY_PACK,
+        PEC,
+        PLUMAGE_WHITE,
+        PLUMAGE_GREY,
+        PLUMAGE_BROWN,
+    )
+}
 
 #: The paper's component list of Section 4.4.3: material -> (low, high) LWIR emissivity.
 PAPER_EMISSIVITY_RANGES = {

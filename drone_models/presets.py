@@ -27,6 +27,7 @@ import dataclasses
 from typing import TYPE_CHECKING
 
 from csuas.base.errors import ParameterError
+from csuas.drone_models.birds import build_bird, list_birds
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
 
@@ -34,6 +35,8 @@ if TYPE_CHECKING:
     from csuas.drone_models.drone import Drone
 
 INCH_M = 0.0254
+#: Options of a bird built through :func:`build_drone`.
+BIRD_OPTIONS = ("wingbeat_phase", "ambient_k")
 
 
 def _mini_4_pro():
@@ -182,7 +185,7 @@ def preset_parameters(preset: str):
     try:
         return _PRESETS[preset][0]()
     except (KeyError, TypeError):
-        raise ParameterError("preset", preset, ", ".join(_PRESETS)) from None
+        raise ParameterError("preset", preset, ", ".join([*_PRESETS, *list_birds()])) from None
 
 
 def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
@@ -191,7 +194,9 @@ def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
     Parameters
     ----------
     preset : str
-        One of :func:`list_presets`.
+        One of :func:`list_presets`, or a bird class of
+        :func:`csuas.drone_models.birds.list_birds` (built by
+        :func:`~csuas.drone_models.birds.build_bird`; ``propellers`` does not apply).
     propellers : {"disc", "blades", "none"}
         Propellers as swept discs (default; the specification's envelope),
         as blades, or left out.
@@ -199,13 +204,18 @@ def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
         Fields of the preset's :class:`~csuas.drone_models.multirotor.MultirotorParams`
         or :class:`~csuas.drone_models.helicopter.HelicopterParams`, e.g.
         ``blade_phase_deg=30`` or ``materials={"body": "plastic"}`` (merged
-        with the preset's materials).
+        with the preset's materials); for a bird ``wingbeat_phase`` and ``ambient_k``.
 
     Raises
     ------
     ParameterError
         For an unknown preset, propeller style or parameter name.
     """
+    if preset in list_birds():  # a bird class: no propellers; overrides are build_bird's options
+        unknown = sorted(set(overrides) - set(BIRD_OPTIONS))
+        if unknown:
+            raise ParameterError("parameter", unknown[0], ", ".join(BIRD_OPTIONS))
+        return build_bird(preset, **overrides)
     builder, params, spec = preset_parameters(preset)
     names = {f.name for f in dataclasses.fields(params)}
     for key in overrides:

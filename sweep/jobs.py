@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fuse, range_at_pd, sensor_pd
+from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fused_pd_of_range, range_at_pd, sensor_pd
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario, johnson_derived
 from csuas.defaults import load_parameters
@@ -111,6 +111,10 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
     return out
 
 
+def _sensor_pd_of_range(scenario, name: str, convention):
+    return lambda r: sensor_pd(scenario, name, r, convention).pd
+
+
 def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
     """Per point: each sensor's Pd at its deterministic range and its ranges at Pd 0.5 and 0.9, and fused."""
     n = len(next(iter(columns.values()))) if columns else 1
@@ -130,9 +134,10 @@ def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
             out[f"pd_at_deterministic_range.{c.sensor}"][i] = (
                 np.nan if c.pd_at_deterministic_range is None else c.pd_at_deterministic_range
             )
-        for name, pd in [*((c.sensor, c.pd) for c in curves), ("fused", fuse(curves, spec.options["fusion"]))]:
-            for p in REPORTED_PD:
-                r = range_at_pd(grid, pd, p)
+        models = {name: _sensor_pd_of_range(scenario, name, convention) for name in names}
+        models["fused"] = fused_pd_of_range(scenario, spec.options["fusion"], convention)
+        for name, model in models.items():  # solved on the model, bracketed by the grid
+            for p, r in zip(REPORTED_PD, range_at_pd(model, grid, REPORTED_PD)):
                 out[f"range_at_pd_{p:g}.{name}"][i] = np.nan if r is None else r
     return out
 

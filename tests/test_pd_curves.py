@@ -18,6 +18,7 @@ from csuas.core.pd_curves import (
     approach,
     fuse,
     fused_cumulative,
+    fused_first_detection_m,
     margin_db,
     range_at_pd,
     sensor_pd,
@@ -26,6 +27,8 @@ from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario, parse_scenario
 
 R = np.geomspace(1.0, 3e5, 600)
+#: The 4/3-Earth radio horizon of a 2 m sensor and a 120 m target, sqrt(2 k a h1) + sqrt(2 k a h2) [m].
+RADIO_HORIZON_2_120_M = math.sqrt(2 * 4 / 3 * 6_371_000.0 * 2.0) + math.sqrt(2 * 4 / 3 * 6_371_000.0 * 120.0)
 
 
 def _one(modality, sensor=None, environment=None, convention="paper", target=None):
@@ -75,7 +78,9 @@ def test_radar_pd_at_the_deterministic_range_is_the_pd_snr_min_implies(integrati
     )
     assert curve.pd_at_deterministic_range == pytest.approx(float(implied), abs=1e-9)
     assert np.all(np.diff(curve.pd) <= 1e-12)  # Pd falls with range
-    assert curve.pd[0] > 0.999 and curve.pd[-1] == pytest.approx(1e-5, rel=1e-6)
+    inside = R <= RADIO_HORIZON_2_120_M
+    assert curve.pd[0] > 0.999 and curve.pd[inside][-1] == pytest.approx(1e-5, rel=1e-6)
+    assert np.all(curve.pd[~inside] == 0.0)  # beyond the reference horizon (no height given)
 
 
 def test_energy_detector_sensors_at_their_threshold():
@@ -137,10 +142,16 @@ def test_every_embedded_scenario_gives_finite_monotone_curves():
             assert np.all(np.diff(curve.pd) <= 1e-12)
 
 
-def test_range_at_pd_interpolates_and_says_never():
-    r = np.array([10.0, 100.0, 1000.0])
-    assert range_at_pd(r, np.array([1.0, 0.6, 0.4]), 0.5) == pytest.approx(10**2.5)
-    assert range_at_pd(r, np.array([0.3, 0.2, 0.1]), 0.5) is None
+def test_range_at_pd_is_solved_on_the_model_between_two_search_points():
+    """Pd = exp(-(R/100)^2): R(P) = 100 sqrt(-ln P) exactly, with only the ends of the search given."""
+    gaussian = lambda r: np.exp(-((np.asarray(r) / 100.0) ** 2))
+    r50, r90, never = range_at_pd(gaussian, [1.0, 1000.0], (0.5, 0.9, 0.9999999))
+    assert r50 == pytest.approx(100.0 * math.sqrt(math.log(2.0)), rel=1e-9)
+    assert r90 == pytest.approx(100.0 * math.sqrt(-math.log(0.9)), rel=1e-9)
+    assert never is None  # above Pd at every search point
+    step = lambda r: np.where(np.asarray(r) < 437.0, 1.0, 0.0)  # a horizon: the jump is the range
+    assert range_at_pd(step, [1.0, 1000.0], (0.5,))[0] == pytest.approx(437.0, rel=1e-9)
+    assert range_at_pd(step, [1.0, 100.0], (0.5,))[0] == 100.0  # still reached at the search's end
 
 
 def test_fusion_of_curves():
@@ -159,3 +170,36 @@ def test_approach_of_a_steady_independent_sensor():
     assert result["median_range_m"] == pytest.approx(200.0) and result["never"] < 1e-9
     fused = fused_cumulative([result], np.array([250.0, 200.0, 100.0]))
     assert fused[0] == 0.0 and fused[1] == pytest.approx(result["cumulative_pd"][0])
+
+
+def _approach_of(looks, pd):
+    return {"look_range_m": np.asarray(looks, float), "cumulative_pd": 1.0 - np.cumprod(1.0 - np.asarray(pd))}
+
+
+def test_k_of_n_fuses_the_approach_by_its_rule_and_its_median_is_a_look():
+    """Two sensors with different look ranges: 2-of-2 is C1 C2, 1-of-2 is 1 - (1 - C1)(1 - C2) (exact)."""
+    a = _approach_of([100.0, 80.0, 60.0, 40.0], [0.3, 0.4, 0.5, 0.9])
+    b = _approach_of([90.0, 50.0], [0.6, 0.7])
+    r = np.array([95.0, 85.0, 70.0, 55.0, 45.0, 30.0])
+    c1 = np.array([0.3, 0.3, 1 - 0.7 * 0.6, 1 - 0.7 * 0.6 * 0.5, 1 - 0.7 * 0.6 * 0.5, 1 - 0.7 * 0.6 * 0.5 * 0.1])
+    c2 = np.array([0.0, 0.6, 0.6, 0.6, 1 - 0.4 * 0.3, 1 - 0.4 * 0.3])  # each the last look at or beyond r
+    np.testing.assert_allclose(fused_cumulative([a, b], r, "k-of-n:2"), c1 * c2, atol=1e-15)
+    np.testing.assert_allclose(fused_cumulative([a, b], r, "or"), 1 - (1 - c1) * (1 - c2), atol=1e-15)
+    # 2-of-2 by 80 m: 0.58 * 0.6 = 0.348; by 60 m: 0.79 * 0.6 = 0.474; by 50 m: 0.79 * 0.88 = 0.695
+    assert fused_first_detection_m([a, b], "k-of-n:2") == 50.0
+    assert fused_first_detection_m([a, b], "or") == 90.0  # 1 - 0.7 * 0.4 = 0.72 at b's first look
+    assert fused_first_detection_m([_approach_of([10.0], [0.1])], "or") is None
+
+
+@pytest.mark.parametrize("rule", ["or", "k-of-n:2", "k-of-n:3"])
+def test_fused_median_is_the_first_look_of_any_sensor_where_the_fused_pd_reaches_half(rule):
+    """Against a scan of every look of every sensor (the union, far to near), three sensors at different rates."""
+    rng = np.random.default_rng(4)
+    approaches = [
+        _approach_of(np.arange(3000.0, 0.0, -step), rng.uniform(0.0, 0.01, int(3000 / step)))
+        for step in (1.5, 4.0, 15.0)
+    ]
+    union = np.unique(np.concatenate([a["look_range_m"] for a in approaches]))[::-1]
+    reached = np.nonzero(fused_cumulative(approaches, union, rule) >= 0.5)[0]
+    assert reached.size and 0 < reached[0]  # reached, and not at the first look
+    assert fused_first_detection_m(approaches, rule) == union[reached[0]]

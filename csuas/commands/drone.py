@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
+from csuas.drone_models.birds import MID_STROKE_PHASE, build_bird, list_birds
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
 from csuas.drone_models.mesh_input import load_mesh_drone
 from csuas.drone_models.multirotor import PROPELLER_STYLES
@@ -26,8 +27,8 @@ def add_arguments(parser) -> None:
     """Options of ``csuas drone``."""
     parser.add_argument(
         "preset",
-        help="drone preset (" + ", ".join(list_presets()) + ") or a mesh file in metres "
-        "(any format trimesh reads; --propellers does not apply)",
+        help="drone preset (" + ", ".join(list_presets()) + "), bird class (" + ", ".join(list_birds()) + ") "
+        "or a mesh file in metres (any format trimesh reads); --propellers applies to drone presets only",
     )
     parser.add_argument(
         "--azimuth-deg",
@@ -46,6 +47,12 @@ def add_arguments(parser) -> None:
         choices=PROPELLER_STYLES,
         default="disc",
         help="propellers as swept discs (default), blades, or none",
+    )
+    parser.add_argument(
+        "--wingbeat-phase",
+        type=float,
+        default=MID_STROKE_PHASE,
+        help="a bird's phase in its wingbeat [cycles]: 0 top of the stroke, 0.25 wings level (default), 0.5 bottom",
     )
     parser.add_argument(
         "--quality",
@@ -73,7 +80,9 @@ def run(args) -> dict:
     start = time.perf_counter()
     if args.export:
         export_format(args.export)  # reject a bad suffix before any work
-    if args.preset in list_presets() or not Path(args.preset).suffix:
+    if args.preset in list_birds():
+        drone = build_bird(args.preset, args.wingbeat_phase)
+    elif args.preset in list_presets() or not Path(args.preset).suffix:
         drone = build_drone(args.preset, propellers=args.propellers)
     else:
         drone = load_mesh_drone(args.preset)

@@ -1,12 +1,18 @@
 """``csuas pd SCENARIO``: probability of detection against range for every sensor, and fused (docs/detection.md).
 
 JSON (``--json``): top-level ``range_m`` (the grid) and, aligned with it, ``sensors.<name>.pd``;
-per sensor also ``range_at_pd`` (keys ``"0.5"`` and ``"0.9"``: metres, or null when never
-reached), ``deterministic_range_m`` and ``pd_at_deterministic_range`` (the paper's range and the
-Pd its threshold implies), ``assumptions``, ``looks`` and ``look_rate_hz``; ``fused.pd``,
+per sensor also ``range_at_pd`` (keys ``"0.5"`` and ``"0.9"``: metres, solved on the model rather
+than read off the grid, or null when never reached), ``deterministic_range_m`` and
+``pd_at_deterministic_range`` (the paper's range and the Pd its threshold implies),
+``assumptions``, ``looks`` and ``look_rate_hz``; ``fused.pd``,
 ``fused.rule`` and ``fused.range_at_pd``. With ``--approach-speed-m-s`` also ``cumulative_pd``
 (aligned with ``range_m``: detected by the time the drone, closing from the grid's far end,
-reaches that range) and ``median_first_detection_range_m`` per sensor and fused.
+reaches that range) and ``median_first_detection_range_m`` (the median of the discrete
+first-detection distribution: a look) per sensor and fused, the fused ones by ``--fusion``'s rule
+(k-of-n: at least K sensors have each detected by then); per sensor with independent looks and a
+Pfa, ``false_alarm_cumulative_pd``, what noise crossings alone put in its ``cumulative_pd``.
+Every radio and optical sensor's Pd is 0 beyond its line-of-sight horizon: that of its
+``height_m``, or without one that of the reference heights ``csuas range`` flags (2 m, 120 m).
 """
 
 from __future__ import annotations
@@ -17,6 +23,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.core.pd_curves import (
+    FALSE_ALARM_NOTE,
     GRID_BEYOND,
     GRID_POINTS,
     REPORTED_PD,
@@ -24,6 +31,8 @@ from csuas.core.pd_curves import (
     default_range_grid,
     fuse,
     fused_cumulative,
+    fused_first_detection_m,
+    fused_pd_of_range,
     range_at_pd,
     sensor_pd,
 )
@@ -79,8 +88,53 @@ def _check(args) -> None:
     raise_all(errors)
 
 
-def _at_pd(range_m, pd) -> dict:
-    return {f"{p:g}": range_at_pd(range_m, pd, p) for p in REPORTED_PD}
+def _at_pd(pd_of_range, search_m) -> dict:
+    return dict(zip((f"{p:g}" for p in REPORTED_PD), range_at_pd(pd_of_range, search_m, REPORTED_PD)))
+
+
+def _approaches(scenario, args, grid, out) -> None:
+    """Each sensor's approach from the grid's far end, fused by the same rule as the Pd per look."""
+    approaches = []
+    for name, sensor in out["sensors"].items():
+        a = approach(scenario, name, args.approach_speed_m_s, float(grid[-1]), float(grid[0]), args.convention)
+        approaches.append(a)
+        sensor["cumulative_pd"] = fused_cumulative([a], grid)
+        sensor["median_first_detection_range_m"] = a["median_range_m"]
+        sensor["approach_notes"] = a["notes"]
+        if a["false_alarm_cumulative"] is not None:
+            sensor["false_alarm_cumulative_pd"] = fused_cumulative(
+                [{"look_range_m": a["look_range_m"], "cumulative_pd": a["false_alarm_cumulative"]}], grid
+            )
+    out["approach_speed_m_s"] = args.approach_speed_m_s
+    out["fused"]["cumulative_pd"] = fused_cumulative(approaches, grid, args.fusion)
+    out["fused"]["median_first_detection_range_m"] = fused_first_detection_m(approaches, args.fusion)
+
+
+def _plot(args, scenario, grid, curves, out) -> str:
+    from csuas.base.plots import pd_plot
+
+    cumulative, false_alarms = None, None
+    if "approach_speed_m_s" in out:
+        cumulative = {name: s["cumulative_pd"] for name, s in out["sensors"].items()}
+        cumulative[f"fused ({args.fusion})"] = out["fused"]["cumulative_pd"]
+        false_alarms = {
+            name: s["false_alarm_cumulative_pd"]
+            for name, s in out["sensors"].items()
+            if "false_alarm_cumulative_pd" in s and s["false_alarm_cumulative_pd"][0] > FALSE_ALARM_NOTE
+        }
+    return str(
+        pd_plot(
+            Path(args.plot),
+            f"Pd against range, scenario {scenario.name} ({out['convention']} convention)",
+            grid,
+            {c.sensor: c.pd for c in curves},
+            fused=out["fused"]["pd"],
+            fused_label=f"fused ({args.fusion})",
+            markers={c.sensor: (c.deterministic_range_m, c.pd_at_deterministic_range) for c in curves},
+            cumulative=cumulative,
+            false_alarms=false_alarms,
+        )
+    )
 
 
 def run(args) -> dict:
@@ -91,58 +145,35 @@ def run(args) -> dict:
     curves = [sensor_pd(scenario, name, grid, args.convention) for name in scenario.sensors]
     if args.fusion != "or" and int(args.fusion.partition(":")[2]) > len(curves):
         raise ParameterError("fusion", args.fusion, f"K at most {len(curves)}, the scenario's sensors")
+    # ranges at Pd are solved on the model; the grid and the default grid only bracket them
+    search = np.union1d(grid[grid > 0], default_range_grid(scenario, args.convention))
     fused = fuse(curves, args.fusion)
     out = {
         "scenario": scenario.name,
         "convention": args.convention or scenario.convention,
         "range_m": grid,
         "sensors": {},
-        "fused": {"pd": fused, "rule": args.fusion, "range_at_pd": _at_pd(grid, fused)},
+        "fused": {
+            "pd": fused,
+            "rule": args.fusion,
+            "range_at_pd": _at_pd(fused_pd_of_range(scenario, args.fusion, args.convention), search),
+        },
     }
-    approaches = {}
     for c in curves:
         out["sensors"][c.sensor] = {
             "modality": c.modality,
             "pd": c.pd,
-            "range_at_pd": _at_pd(grid, c.pd),
+            "range_at_pd": _at_pd(lambda r, name=c.sensor: sensor_pd(scenario, name, r, args.convention).pd, search),
             "deterministic_range_m": c.deterministic_range_m,
             "pd_at_deterministic_range": c.pd_at_deterministic_range,
             "assumptions": c.assumptions,
             "looks": c.looks,
             "look_rate_hz": c.look_rate_hz,
         }
-        if args.approach_speed_m_s is not None:
-            a = approach(scenario, c.sensor, args.approach_speed_m_s, float(grid[-1]), float(grid[0]), args.convention)
-            approaches[c.sensor] = a
-            out["sensors"][c.sensor]["cumulative_pd"] = fused_cumulative([a], grid)
-            out["sensors"][c.sensor]["median_first_detection_range_m"] = a["median_range_m"]
-            out["sensors"][c.sensor]["approach_notes"] = a["notes"]
-    if approaches:
-        if args.fusion != "or":
-            out["fused"]["approach_note"] = "the fused cumulative Pd combines the sensors' cumulative Pd by OR"
-        cumulative = fused_cumulative(list(approaches.values()), grid)
-        out["approach_speed_m_s"] = args.approach_speed_m_s
-        out["fused"]["cumulative_pd"] = cumulative
-        out["fused"]["median_first_detection_range_m"] = range_at_pd(grid, cumulative, 0.5)
+    if args.approach_speed_m_s is not None:
+        _approaches(scenario, args, grid, out)
     if args.plot is not None:
-        from csuas.base.plots import pd_plot
-
-        cumulative = None
-        if approaches:
-            cumulative = {name: out["sensors"][name]["cumulative_pd"] for name in approaches}
-            cumulative[f"fused ({args.fusion})"] = out["fused"]["cumulative_pd"]
-        out["plot"] = str(
-            pd_plot(
-                Path(args.plot),
-                f"Pd against range, scenario {scenario.name} ({out['convention']} convention)",
-                grid,
-                {c.sensor: c.pd for c in curves},
-                fused=fused,
-                fused_label=f"fused ({args.fusion})",
-                markers={c.sensor: (c.deterministic_range_m, c.pd_at_deterministic_range) for c in curves},
-                cumulative=cumulative,
-            )
-        )
+        out["plot"] = _plot(args, scenario, grid, curves, out)
     return out
 
 
