@@ -69,7 +69,6 @@ def pd_plot(
     curves: dict,
     *,
     fused=None,
-    fused_label: str = "fused",
     markers=None,
     cumulative=None,
     false_alarms=None,
@@ -85,8 +84,8 @@ def pd_plot(
         Range grid [m] (log axis).
     curves : dict
         ``{label: Pd}`` on the grid.
-    fused : array_like, optional
-        Fused Pd (thick black line), labelled ``fused_label``.
+    fused : (str, array_like), optional
+        Label and fused Pd (thick black line).
     markers : dict, optional
         ``{label: (range_m, pd)}``: each sensor's deterministic range and the Pd there.
     cumulative : dict, optional
@@ -104,8 +103,9 @@ def pd_plot(
     for label, pd in curves.items():
         (line,) = ax.plot(range_m, pd, lw=1.6, label=label)
         colours[label] = line.get_color()
+    fused_label, fused_pd = fused if fused is not None else ("", None)
     if fused is not None:
-        ax.plot(range_m, fused, color="k", lw=2.2, ls="--", label=fused_label)
+        ax.plot(range_m, fused_pd, color="k", lw=2.2, ls="--", label=fused_label)
     for label, (r, p) in (markers or {}).items():
         if r and p is not None and r > 0:
             ax.plot([r], [p], marker="o", ms=6, mfc="white", color=colours.get(label, "k"))
