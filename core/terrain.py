@@ -136,6 +136,48 @@ def viewshed(
         True where the target is visible (the sensor's own cell always).
     """
     dem = np.asarray(dem_m, dtype=float)
+    h_target = np.broadcast_to(require("target_height_m", target_height_m, ge=0), dem.shape)
+    horizon, sensor = _horizons(
+        dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, max_distance_m, sector_deg
+    )
+    visible = np.zeros(dem.shape, dtype=bool)
+    _judge_visible(dem, h_target, sensor, horizon, visible)
+    return visible
+
+
+def lowest_visible_height_m(
+    dem_m: np.ndarray,
+    cell_m: float,
+    sensor_row: float,
+    sensor_col: float,
+    sensor_height_m: float,
+    k_factor: float = 4.0 / 3.0,
+    max_distance_m: float | None = None,
+    sector_deg: tuple[float, float] | None = None,
+) -> np.ndarray:
+    """The lowest height above the terrain [m] at which a target over each cell is in the sensor's line of sight.
+
+    The same rays and horizons as :func:`viewshed` (its arguments, less the target's height): a target
+    at least this high over a cell is visible there, one lower is not (GDAL's "DEM mode", a minimum
+    visible height per cell). 0 where the ground itself is in sight (the sensor's own cell always);
+    +inf beyond ``max_distance_m`` or outside ``sector_deg``.
+    """
+    dem = np.asarray(dem_m, dtype=float)
+    horizon, sensor = _horizons(
+        dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, max_distance_m, sector_deg
+    )
+    lowest = np.empty(dem.shape)
+    _lowest_heights(dem, sensor, horizon, lowest)
+    return lowest
+
+
+def _horizons(dem: np.ndarray, cell_m, sensor, k_factor, max_distance_m, sector_deg) -> tuple[np.ndarray, tuple]:
+    """Checked inputs, then the horizon each cell's target must clear (tangent of an elevation angle).
+
+    Returns the horizon grid (-inf at the sensor's own cell, NaN where not judged: beyond the limit or
+    outside the sector) and the sensor record (row, col, eye height [m], cell [m], drop at 1 m [m]).
+    """
+    sensor_row, sensor_col, sensor_height_m = sensor
     if dem.ndim != 2 or min(dem.shape) < 2 or not np.isfinite(dem).all():
         raise ParameterError("dem_m", f"array of shape {dem.shape}", "a finite 2-D grid of at least 2 x 2 cells")
     cell = float(require("cell_m", cell_m, gt=0))
@@ -144,7 +186,6 @@ def viewshed(
         raise ParameterError(
             "sensor position", (sensor_row, sensor_col), f"inside the grid 0..{n_r - 1} x 0..{n_c - 1}"
         )
-    h_target = np.broadcast_to(require("target_height_m", target_height_m, ge=0), dem.shape)
     eye = float(height_at(dem, np.array([sensor_row]), np.array([sensor_col]))[0]) + float(
         require("sensor_height_m", sensor_height_m, ge=0)
     )
@@ -161,19 +202,21 @@ def viewshed(
         ]
     )
     angle = np.unique(np.arctan2(boundary[:, 0] - sensor_row, boundary[:, 1] - sensor_col))
+    sector = (np.nan, np.nan)
     if sector_deg is not None:
-        azimuth = float(require("sector azimuth_deg", sector_deg[0], ge=0, le=360))
-        width = float(require("sector width_deg", sector_deg[1], gt=0, le=360))
+        sector = (
+            float(require("sector azimuth_deg", sector_deg[0], ge=0, le=360)),
+            float(require("sector width_deg", sector_deg[1], gt=0, le=360)),
+        )
         spacing = np.degrees(np.max(np.diff(angle)))  # the widest gap between neighbouring rays
-        aside = np.abs(off_boresight_deg(bearing_deg(np.sin(angle), np.cos(angle)), azimuth))
-        angle = angle[aside <= width / 2 + spacing]
+        aside = np.abs(off_boresight_deg(bearing_deg(np.sin(angle), np.cos(angle)), sector[0]))
+        angle = angle[aside <= sector[1] / 2 + spacing]
     window = cells_around(dem.shape, sensor_row, sensor_col, span)
-    sector = (np.nan, np.nan) if sector_deg is None else (azimuth, width)
-    visible = np.zeros(dem.shape, dtype=bool)
-    _trace_viewshed(
+    record = (float(sensor_row), float(sensor_col), eye, cell, float(curvature_drop_m(1.0, k_factor)))
+    horizon = np.full(dem.shape, np.nan)
+    _trace_horizons(
         dem,
-        h_target,
-        (float(sensor_row), float(sensor_col), eye, cell, float(curvature_drop_m(1.0, k_factor))),
+        record,
         (
             _perimeter_rays(angle, dem.shape, sensor_row, sensor_col),
             np.stack([np.sin(angle), np.cos(angle)], 1),
@@ -182,9 +225,32 @@ def viewshed(
         int(np.ceil(2 * span)),
         (float(limit), *sector),
         (window[0].start, window[0].stop, window[1].start, window[1].stop),
-        visible,
+        horizon,
     )
-    return visible
+    return horizon, record
+
+
+@numba.njit(cache=True, nogil=True)
+def _judge_visible(dem, h_target, sensor, horizon, visible):
+    """A cell is visible where its target's elevation tangent reaches the horizon (never where that is NaN)."""
+    row, col, eye, cell, drop_1m = sensor
+    for r in range(dem.shape[0]):
+        for c in range(dem.shape[1]):
+            distance = max(np.hypot(r - row, c - col), 1e-9) * cell
+            visible[r, c] = (dem[r, c] + h_target[r, c] - drop_1m * distance * distance - eye) / distance >= horizon[
+                r, c
+            ]
+
+
+@numba.njit(cache=True, nogil=True)
+def _lowest_heights(dem, sensor, horizon, lowest):
+    """The height above each cell whose elevation tangent equals the horizon, at least 0 (+inf where NaN)."""
+    row, col, eye, cell, drop_1m = sensor
+    for r in range(dem.shape[0]):
+        for c in range(dem.shape[1]):
+            distance = max(np.hypot(r - row, c - col), 1e-9) * cell
+            needed = horizon[r, c] * distance + eye + drop_1m * distance * distance - dem[r, c]
+            lowest[r, c] = np.inf if np.isnan(needed) else max(needed, 0.0)
 
 
 def _perimeter_rays(angles, shape, row: float, col: float) -> np.ndarray:
@@ -279,13 +345,13 @@ def _cells_by_ray(sensor, rays, n_samples, bounds, window):
 
 
 @numba.njit(cache=True, nogil=True)
-def _trace_viewshed(dem, h_target, sensor, rays, n_samples, bounds, window, visible):
-    """The viewshed's rays (module docstring), ray by ray, each judging the cells nearest to it.
+def _trace_horizons(dem, sensor, rays, n_samples, bounds, window, horizon):
+    """The viewshed's rays (module docstring), ray by ray, each giving the cells nearest to it their horizon.
 
     ``sensor`` is (row, col, eye height [m], cell [m], curvature drop at 1 m [m]); ``rays`` the rays'
     indices round the boundary (:func:`_perimeter_rays`), their directions (sin, cos) and the grid's
-    shape. A ray's horizon is sampled every half cell only as far as its farthest cell. Memory: a
-    few integers per cell.
+    shape. A ray's horizon is sampled every half cell only as far as its farthest cell. Writes -inf at
+    the sensor's own cell and leaves cells not judged as they are. Memory: a few integers per cell.
     """
     row, col, eye, cell, drop_1m = sensor
     directions = rays[1]
@@ -293,7 +359,7 @@ def _trace_viewshed(dem, h_target, sensor, rays, n_samples, bounds, window, visi
     r0, c0, n_cols = window[0], window[2], window[3] - window[2]
     for k in range(slot.size):
         if slot[k] == -1:
-            visible[r0 + k // n_cols, c0 + k % n_cols] = True
+            horizon[r0 + k // n_cols, c0 + k % n_cols] = -np.inf
     before = np.empty(n_samples)
     for ray in range(len(directions)):
         if start[ray + 1] == start[ray]:
@@ -302,19 +368,16 @@ def _trace_viewshed(dem, h_target, sensor, rays, n_samples, bounds, window, visi
         for i in range(start[ray], start[ray + 1]):
             farthest = max(farthest, sample[order[i]])
         sin_a, cos_a = directions[ray, 0], directions[ray, 1]
-        horizon = -np.inf
+        running = -np.inf
         for s in range(farthest + 1):
-            before[s] = horizon  # what sample s must clear: the terrain before it
+            before[s] = running  # what sample s must clear: the terrain before it
             step = (s + 1) * 0.5
             distance = step * cell
             terrain = _bilinear(dem, row + sin_a * step, col + cos_a * step) - drop_1m * distance * distance
-            horizon = max(horizon, (terrain - eye) / distance)
+            running = max(running, (terrain - eye) / distance)
         for i in range(start[ray], start[ray + 1]):
             k = order[i]
-            r, c = r0 + k // n_cols, c0 + k % n_cols
-            distance = max(np.hypot(r - row, c - col), 1e-9) * cell
-            own = (dem[r, c] + h_target[r, c] - drop_1m * distance * distance - eye) / distance
-            visible[r, c] = own >= before[sample[k]]
+            horizon[r0 + k // n_cols, c0 + k % n_cols] = before[sample[k]]
 
 
 def gaussian_hills(cells: int, cell_m: float, hills: int = 12, seed: int = 7) -> np.ndarray:

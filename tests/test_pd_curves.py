@@ -19,6 +19,7 @@ from csuas.core.pd_curves import (
     fuse,
     fused_cumulative,
     fused_first_detection_m,
+    fused_pd_of_range,
     margin_db,
     range_at_pd,
     sensor_pd,
@@ -203,3 +204,12 @@ def test_fused_median_is_the_first_look_of_any_sensor_where_the_fused_pd_reaches
     reached = np.nonzero(fused_cumulative(approaches, union, rule) >= 0.5)[0]
     assert reached.size and 0 < reached[0]  # reached, and not at the first look
     assert fused_first_detection_m(approaches, rule) == union[reached[0]]
+
+
+def test_fused_pd_of_range_is_the_rule_applied_to_each_sensors_pd():
+    """OR fusion: 1 - prod(1 - Pd_i); every sensor at every range."""
+    scenario = load_scenario("default")
+    ranges = np.array([10.0, 300.0, 5000.0])
+    each = np.array([sensor_pd(scenario, name, ranges).pd for name in scenario.sensors])
+    fused = np.asarray(fused_pd_of_range(scenario, "or")(ranges))
+    assert np.allclose(fused, 1.0 - np.prod(1.0 - each, axis=0), rtol=1e-12, atol=1e-15)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.terrain import curvature_drop_m, height_at, viewshed
+from csuas.core.terrain import curvature_drop_m, height_at, lowest_visible_height_m, viewshed
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -122,3 +122,36 @@ def test_cells_around_a_point_are_clipped_to_the_grid():
 def test_a_bad_sector_is_named():
     with pytest.raises(ParameterError, match="sector width_deg"):
         viewshed(np.zeros((5, 5)), 10.0, 2.0, 2.0, 5.0, 10.0, sector_deg=(90.0, 0.0))
+
+
+def test_lowest_visible_height_behind_a_wall_is_the_sight_line_over_its_top():
+    """Flat ground, a 20 m wall across the grid 40 cells from a sensor with its eye at 5 m: along the
+    sensor's row the ray samples the wall's top exactly, so behind it the lowest visible height is the
+    sight line grazing the top, 5 + 15 d / 40 cells (no curvature: k = 1e12); in front of it, 0."""
+    dem = np.zeros((41, 121))
+    dem[:, 50] = 20.0
+    lowest = lowest_visible_height_m(dem, 10.0, 20.0, 10.0, 5.0, k_factor=1e12)
+    d = np.arange(121) - 10.0
+    behind = d > 40
+    expected = np.where(behind, 5.0 + 15.0 * d / 40.0, 0.0)
+    assert np.allclose(lowest[20, 11:50], 0.0) and lowest[20, 10] == 0.0
+    assert np.allclose(lowest[20, behind], expected[behind], rtol=1e-9)
+
+
+def test_lowest_visible_height_agrees_with_the_viewshed_at_every_flight_level():
+    """A target at height h is visible exactly where the lowest visible height is at most h (the same
+    horizons); beyond the limit and outside the sector the lowest height is +inf."""
+    from csuas.core.terrain import gaussian_hills
+
+    dem = gaussian_hills(120, 25.0)
+    lowest = lowest_visible_height_m(dem, 25.0, 60.3, 40.7, 10.0)
+    assert lowest[60, 41] >= 0.0 and np.isfinite(lowest).all() and (lowest == 0.0).mean() > 0.1
+    for h in (0.0, 15.0, 60.0, 250.0):
+        seen = viewshed(dem, 25.0, 60.3, 40.7, 10.0, h)
+        disagree = seen != (lowest <= h)
+        assert np.all(np.abs(lowest[disagree] - h) < 1e-6)  # only where the target grazes the horizon
+    limited = lowest_visible_height_m(dem, 25.0, 60.3, 40.7, 10.0, max_distance_m=500.0, sector_deg=(90.0, 60.0))
+    ground = np.hypot(*np.indices(dem.shape) - np.array([60.3, 40.7])[:, None, None]) * 25.0
+    assert np.all(np.isinf(limited[ground > 500.0]))
+    inside = np.isfinite(limited)
+    assert np.array_equal(limited[inside], lowest[inside])
