@@ -150,11 +150,11 @@ def test_a_sphere_average_beyond_the_time_budget_is_refused_before_it_starts(cap
     open_mesh = trimesh.Trimesh(sphere.vertices, sphere.faces[:-1], process=False)
     path = tmp_path / "open.ply"
     open_mesh.export(path)
-    start = time.perf_counter()
+    start = time.process_time()  # this process's CPU time: the average would spend 92 s of it, load adds none
     assert main(["drone", str(path), "--quality", "draft", "--max-seconds", "10"]) == 2
     err = capsys.readouterr().err
     assert "max_seconds" in err and "--max-seconds" in err and "256 views" in err
-    assert time.perf_counter() - start < 10.0
+    assert time.process_time() - start < 10.0
     estimate = float(err.split("estimated ")[1].split(" s")[0])
     assert estimate == pytest.approx(1.8e-5 * (len(open_mesh.faces)) * 256, rel=0.05)
     assert np.isfinite(estimate)

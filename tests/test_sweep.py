@@ -12,11 +12,11 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from waiting import PATIENCE_S, wait_until
 
 from csuas.cli import main
 from csuas.core.ranges import evaluate
@@ -97,6 +97,11 @@ def test_serial_and_local_cluster_give_identical_tables(tmp_path):
     assert _same(serial, read_results(out["results"]))
 
 
+def _chunks(out_dir) -> int:
+    """Chunks a sweep has written so far."""
+    return len(list((out_dir / "chunks").glob("chunk-*.parquet")))
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -119,16 +124,16 @@ def dask_cluster(tmp_path):
     )  # fmt: skip
     from distributed import Client
 
-    with Client(address, timeout=30) as client:
-        client.wait_for_workers(2, timeout=60)
+    with Client(address, timeout=PATIENCE_S) as client:
+        client.wait_for_workers(2, timeout=PATIENCE_S)
     yield address
-    for p in (workers, scheduler):
+    for p in (workers, scheduler):  # workers first: with their scheduler gone they wait for it before leaving
         p.terminate()
-    for p in (workers, scheduler):
         try:
             p.wait(timeout=20)
         except subprocess.TimeoutExpired:
             p.kill()
+            p.wait()
 
 
 @pytest.mark.slow
@@ -136,7 +141,7 @@ def test_a_tcp_cluster_gives_the_serial_table_even_when_a_worker_is_killed(tmp_p
     from distributed import Client
 
     address = dask_cluster
-    with Client(address, timeout=30) as client:
+    with Client(address, timeout=PATIENCE_S) as client:
         worker_pids = sorted(client.run(os.getpid).values())
     spec = parse_spec(PD_SPEC)
     serial = read_results(run_sweep(spec, tmp_path / "serial", "serial", progress=None)["results"])
@@ -144,11 +149,10 @@ def test_a_tcp_cluster_gives_the_serial_table_even_when_a_worker_is_killed(tmp_p
     holder = {}
     thread = threading.Thread(target=lambda: holder.update(out=run_sweep(spec, out_dir, address, progress=None)))
     thread.start()
-    deadline = time.monotonic() + 60
-    while len(list((out_dir / "chunks").glob("chunk-*.parquet"))) < 3 and time.monotonic() < deadline:
-        time.sleep(0.05)
+    wait_until(lambda: _chunks(out_dir) >= 3 or not thread.is_alive(), "3 chunks written")
+    assert thread.is_alive(), "the sweep ended before a worker could be killed mid-sweep"
     os.kill(worker_pids[0], signal.SIGKILL)  # a worker process dies mid-sweep; its nanny starts another
-    thread.join(timeout=300)
+    thread.join(timeout=PATIENCE_S)
     assert "out" in holder and holder["out"]["scheduler"] == address
     assert _same(serial, read_results(holder["out"]["results"]))
 
@@ -162,13 +166,11 @@ def test_a_killed_client_resumes_without_redoing_chunks(tmp_path):
     )
     out_dir = tmp_path / "out"
     command = [VENV_BIN / "csuas", "sweep", str(spec_file), "--out", str(out_dir), "--scheduler", "serial"]
-    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 60
-    while len(list((out_dir / "chunks").glob("chunk-*.parquet"))) < 4 and time.monotonic() < deadline:
-        time.sleep(0.02)
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wait_until(lambda: _chunks(out_dir) >= 4, "4 chunks written", proc)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
-    done_before = len(list((out_dir / "chunks").glob("chunk-*.parquet")))
+    done_before = _chunks(out_dir)
     assert 4 <= done_before < 18 and not (out_dir / "results.parquet").exists()
     resumed = run_sweep(parse_spec(PD_SPEC), out_dir, "serial", progress=None)
     assert resumed["chunks_resumed"] == done_before and resumed["chunks_run"] == 18 - done_before

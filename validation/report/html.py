@@ -24,18 +24,29 @@ GROUPS = {
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.
-COLLAPSE_ABOVE = 12
+COLLAPSE_ABOVE = 6
+
+#: Verdicts in the order the contents table counts them: (verdict, column heading, CSS class).
+VERDICTS = (("ok", "passed", "ok"), ("FAIL", "failed", "FAIL"), ("known", "known deviations", "known"),
+            ("limit", "limitations", "known"))  # fmt: skip
+
+#: Per-check text fields shown once above a table when every row of it shares them.
+SHARED_FIELDS = (("tolerance_source", "tolerance"), ("source", "source"), ("method", "method"))
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px;color:#222;max-width:1300px}
-h1{font-size:1.6em} h2{border-bottom:2px solid #ccc;padding-bottom:4px;margin-top:2em} h3{margin-top:1.6em}
+h1{font-size:1.6em} h2{font-size:1.3em;margin-top:1.4em} h3{margin-top:1.4em;margin-bottom:0.2em}
+details.group>summary h2{display:inline}
+details.group{border-top:2px solid #ccc;margin-top:1.2em;padding-top:6px}
+details.group>summary{cursor:pointer;padding:4px 0} .counts{color:#555;font-size:0.9em;margin-left:8px}
 table{border-collapse:collapse;margin:8px 0;font-size:0.86em} td,th{border:1px solid #ddd;padding:3px 6px;
 vertical-align:top} th{background:#f3f3f3;text-align:left} td.num{text-align:right;font-family:monospace}
 .ok{background:#e6f4ea} .known{background:#fff4d6} .FAIL{background:#fde2e1;font-weight:bold}
 .meta{color:#555;font-size:0.88em;margin:2px 0} figure{display:inline-block;margin:8px;vertical-align:top;
-max-width:620px} figure img{max-width:600px;border:1px solid #ddd} figcaption{font-size:0.82em;color:#444}
-pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap} .summary td{font-size:1.05em}
-.dev{font-size:0.82em;color:#6a4a00}
+max-width:100%} figure img{max-width:100%;border:1px solid #ddd} figcaption{font-size:0.85em;color:#444;
+max-width:640px} pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap}
+.summary td{font-size:1.05em} .dev{font-size:0.82em;color:#6a4a00} details.rows>summary{cursor:pointer;
+color:#2a5a2a;font-size:0.9em;margin:4px 0}
 """
 
 
@@ -76,28 +87,98 @@ def _img(figure) -> str:
     )
 
 
-def _checks_table(checks: list) -> str:
+def shared_fields(checks: list) -> dict:
+    """The text fields (tolerance source, source, method) that every check of ``checks`` shares: field -> text."""
+    shared = {}
+    for key, _ in SHARED_FIELDS:
+        values = {c.get(key) or "" for c in checks}
+        if len(values) == 1 and checks:
+            shared[key] = values.pop()
+    return shared
+
+
+def _checks_table(checks: list, shared: dict) -> str:
+    """A table of checks; the fields in ``shared`` are printed once above it (:func:`shared_fields`), not per row."""
+    varying = [(key, label) for key, label in SHARED_FIELDS if key not in shared]
     rows = [
         "<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
-        "<th>error est.</th><th>unit</th><th>time [s]</th><th>source / method</th></tr>"
+        "<th>error est.</th><th>unit</th><th>time [s]</th>" + ("<th>source / method</th>" if varying else "") + "</tr>"
     ]
     for c in checks:
         dev = f'<div class="dev">known deviation: {_e(c["known_deviation"])}</div>' if c["known_deviation"] else ""
         if c.get("limitation"):
             dev += f'<div class="dev">limit of csuas\'s model: {_e(c["limitation"])}</div>'
-        why = (
-            f'<br><span class="meta">tolerance: {_e(c["tolerance_source"])}</span>' if c.get("tolerance_source") else ""
-        )
         err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
+        texts = [(label, c.get(key)) for key, label in varying if c.get(key)]
+        own = "<br>".join(f'<span class="meta">{label}:</span> {_e(text)}' for label, text in texts)
         rows.append(
             f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
             f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
             f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
             f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
-            f'<td>{_e(c["source"])}<br><span class="meta">{_e(c["method"])}</span>{why}</td></tr>'
+            + (f"<td>{own}</td>" if varying else "")
+            + "</tr>"
         )
     rows.append("</table>")
     return "\n".join(rows)
+
+
+def verdict_counts(checks: list) -> dict:
+    """Number of checks per verdict (``ok``, ``FAIL``, ``known``, ``limit``) and in all (``total``)."""
+    counts = {verdict: sum(c["verdict"] == verdict for c in checks) for verdict, _, _ in VERDICTS}
+    counts["total"] = len(checks)
+    return counts
+
+
+def _counts_text(counts: dict) -> str:
+    """``12 checks: 10 passed, 1 failed, 1 known deviations`` (zero counts left out)."""
+    parts = [f"{counts[verdict]} {label}" for verdict, label, _ in VERDICTS if counts[verdict]]
+    return f"{counts['total']} checks" + (": " + ", ".join(parts) if parts else "")
+
+
+def _contents(report: dict) -> str:
+    """The contents list: one row per section, linked, with its counts of checks by verdict and its time."""
+    head = "".join(f"<th>{label}</th>" for _, label, _ in VERDICTS)
+    rows = [f"<h2>Contents</h2><table><tr><th>section</th><th>checks</th>{head}<th>time [s]</th></tr>"]
+    for group, heading in GROUPS.items():
+        counts = verdict_counts([c for c in report["checks"] if c["group"] == group])
+        time_s = sum(x["time_s"] for x in report["sections"] if x["group"] == group)
+        cells = "".join(
+            f"<td class='num {css if counts[verdict] else ''}'>{counts[verdict]}</td>" for verdict, _, css in VERDICTS
+        )
+        rows.append(
+            f"<tr><td><a href='#{group}'>{_e(heading)}</a></td><td class='num'>{counts['total']}</td>{cells}"
+            f"<td class='num'>{time_s:.1f}</td></tr>"
+        )
+    rows.append("<tr><td colspan='7'><a href='#timing'>Time of each check</a></td></tr></table>")
+    return "".join(rows)
+
+
+def _spec_checks(checks: list, tolerance_why: str) -> str:
+    """A spec's checks: those needing attention in full, passing ones folded when there are many.
+
+    Text every row shares is printed once above the table; a tolerance source equal to the spec's own
+    ``tolerance_why`` (printed under its heading) not at all.
+    """
+    shared = shared_fields(checks)
+    once = [
+        f"{label}: {_e(shared[key])}"
+        for key, label in SHARED_FIELDS
+        if shared.get(key) and not (key == "tolerance_source" and shared[key] == tolerance_why)
+    ]
+    out = [f"<p class='meta'>{'<br>'.join(once)}</p>"] if once else []
+    passing = [c for c in checks if c["verdict"] == "ok"]
+    if len(passing) > COLLAPSE_ABOVE:  # long lists: show what needs attention, fold the rest
+        others = [c for c in checks if c["verdict"] != "ok"]
+        if others:
+            out.append(_checks_table(others, shared))
+        out.append(
+            f"<details class='rows'><summary>{len(passing)} passing checks</summary>"
+            f"{_checks_table(passing, shared)}</details>"
+        )
+    elif checks:
+        out.append(_checks_table(checks, shared))
+    return "\n".join(out)
 
 
 def _side_by_side(table: list) -> str:
@@ -172,17 +253,17 @@ def render_html(report: dict, sections: list) -> str:
                 out.append(f"<p><b>{label}:</b> {_e(', '.join(baseline[key]))}</p>")
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
-        out.append("<h2 id='failed'>Failed checks</h2>" + _checks_table(failed))
-    out.append(
-        "<h2>Contents</h2><ul>"
-        + "".join(f"<li><a href='#{g}'>{_e(title)}</a></li>" for g, title in GROUPS.items())
-        + "<li><a href='#timing'>Time of each check</a></li></ul>"
-    )
+        out.append("<h2 id='failed'>Failed checks</h2>" + _checks_table(failed, {}))
+    out.append(_contents(report))
     by_spec = {}
     for c in report["checks"]:
         by_spec.setdefault(c["check"], []).append(c)
     for group, heading in GROUPS.items():
-        out.append(f"<h2 id='{group}'>{_e(heading)}</h2>")
+        counts = verdict_counts([c for c in report["checks"] if c["group"] == group])
+        out.append(
+            f"<details class='group' id='{group}' open><summary><h2>{_e(heading)}</h2>"
+            f"<span class='counts'>{_counts_text(counts)}</span></summary>"
+        )
         for spec, section in sections:
             if spec.group != group:
                 continue
@@ -193,22 +274,13 @@ def render_html(report: dict, sections: list) -> str:
                 f"<br>time: {section.time_s:.2f} s</p>"
             )
             out.append(_side_by_side(section.table))
-            checks = by_spec.get(spec.name, [])
-            passing = [c for c in checks if c["verdict"] == "ok"]
-            if len(passing) > COLLAPSE_ABOVE:  # long lists: show what needs attention, fold the rest
-                others = [c for c in checks if c["verdict"] != "ok"]
-                if others:
-                    out.append(_checks_table(others))
-                out.append(
-                    f"<details><summary>{len(passing)} passing checks</summary>{_checks_table(passing)}</details>"
-                )
-            elif checks:
-                out.append(_checks_table(checks))
+            out.append(_spec_checks(by_spec.get(spec.name, []), spec.tolerance_why))
             out.extend(_img(f) for f in section.figures)
             if section.error:
                 out.append(f"<pre>{_e(section.notes[0] if section.notes else section.error)}</pre>")
             else:
                 out.extend(f"<p class='meta'>{_e(n)}</p>" for n in section.notes)
+        out.append("</details>")
     out.append(
         "<h2 id='timing'>Time of each check</h2><table><tr><th>check</th><th>figures</th><th>knob</th>"
         "<th>time [s]</th></tr>"
