@@ -25,7 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError
-from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
+from csuas.base.paths import inside, sub_folder
 
 from .jobs import run_chunk
 from .spec import SweepSpec
@@ -42,7 +43,7 @@ def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
 
 
 def _chunk_path(out: Path, index: int) -> Path:
-    return out / "chunks" / f"chunk-{index:06d}.parquet"
+    return inside(out, "chunks", f"chunk-{index:06d}.parquet")
 
 
 def _write_table(columns: dict, path: Path) -> None:
@@ -88,7 +89,7 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple
 
 def _check_state(spec: SweepSpec, out: Path) -> None:
     """Refuse a folder holding another sweep; record this sweep's digest."""
-    state = out / "sweep-state.json"
+    state = inside(out, "sweep-state.json")
     if state.exists():
         old = json.loads(state.read_text()).get("digest")
         if old != spec.digest:
@@ -142,7 +143,19 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         raise ParameterError("scheduler", scheduler, "serial, local or tcp://HOST:PORT")
     out = Path(out)
     prepare_output_dir(out)
-    (out / "chunks").mkdir(exist_ok=True)
+    sub_folder(out, "chunks")
+    for name in ("sweep-state.json", "results.parquet", "sweep.json"):
+        inside(out, name)  # a special file there is refused now, not after the work
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _run_locked(spec, out, scheduler, workers, progress)
+
+
+#: Lock file inside the output folder: one sweep writes into a folder at a time.
+LOCK_NAME = ".csuas-sweep.lock"
+
+
+def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None, progress) -> dict:
+    """The body of :func:`run_sweep`, holding the folder's lock."""
     _check_state(spec, out)
     bounds = chunk_bounds(spec)
     todo = [i for i in range(len(bounds)) if not _chunk_path(out, i).exists()]
@@ -206,7 +219,7 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         "wall_time_s": time.perf_counter() - started,
         "results": str(results),
     }
-    write_text_atomic(out / "sweep.json", json.dumps(provenance, indent=2))
+    write_text_atomic(inside(out, "sweep.json"), json.dumps(provenance, indent=2))
     return provenance
 
 
@@ -219,7 +232,7 @@ def gather(out: Path, n_chunks: int) -> Path:
     if missing:
         raise CsuasError(f"sweep: {len(missing)} chunk(s) missing after the run, first {missing[0]}")
     table = pa.concat_tables([pq.read_table(_chunk_path(out, i)) for i in range(n_chunks)])
-    path = out / "results.parquet"
+    path = inside(out, "results.parquet")
     with atomic_path(path) as tmp:
         pq.write_table(table, tmp)
     return path

@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
+from csuas.base.paths import output_file
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
 from csuas.drone_models.mesh_input import load_mesh_drone
 from csuas.drone_models.multirotor import PROPELLER_STYLES
@@ -72,7 +73,8 @@ def run(args) -> dict:
     """Build the preset and measure it; returns the ``--json`` object."""
     start = time.perf_counter()
     if args.export:
-        export_format(args.export)  # reject a bad suffix before any work
+        export_format(args.export)  # reject a bad suffix, a special file or a bad name before any work
+        output_file(args.export, "export")
     if args.preset in list_presets() or not Path(args.preset).suffix:
         drone = build_drone(args.preset, propellers=args.propellers)
     else:

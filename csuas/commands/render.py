@@ -97,6 +97,8 @@ def run(args) -> dict:
     if args.out is not None:
         prepare_output_dir(args.out)
     scenario = load_scenario(args.scenario)
+    if args.out is not None:
+        _refuse_unsafe_names(scenario, args.mode, args.sensor)
     mode = resolve_mode(args.mode)
     options = {"exposure": "auto" if args.auto_exposure else "scene"} if args.mode == "eo" else {}
     results = []
@@ -122,6 +124,28 @@ def run(args) -> dict:
         "results": results,
         "time_s": time.perf_counter() - start,
     }
+
+
+def _refuse_unsafe_names(scenario, mode: str, sensor: str | None) -> None:
+    """The scenario's ``name`` and the rendered sensor's key become file names: checked before rendering.
+
+    Raises
+    ------
+    ParameterError
+        All of them at once, naming the key (:func:`csuas.base.paths.file_name_part`).
+    """
+    from csuas.base.paths import file_name_part
+
+    of_mode = [name for name, spec in scenario.sensors.items() if spec.modality == mode]
+    chosen = sensor if sensor in scenario.sensors else (of_mode[0] if of_mode and sensor is None else None)
+    errors = []
+    for value, key in ((scenario.name, "name"), (chosen, "sensors")):
+        try:
+            if value is not None:
+                file_name_part(value, key)
+        except ParameterError as exc:
+            errors.append(exc)
+    raise_all(errors)
 
 
 def _refuse_colliding_names(ranges_m, directions) -> None:
