@@ -100,6 +100,27 @@ def _check_state(spec: SweepSpec, out: Path) -> None:
         write_text_atomic(state, json.dumps({"digest": spec.digest}))
 
 
+def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
+    """True when chunk ``index`` is on disk but cannot be read as its ``rows`` rows (it is run again, with a warning)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = _chunk_path(out, index)
+    if not path.exists():
+        return False
+    try:
+        found = pq.read_metadata(path).num_rows
+    except (OSError, ValueError, pa.ArrowException) as exc:
+        problem = f"unreadable ({type(exc).__name__})"
+    else:
+        if found == rows:
+            return False
+        problem = f"holds {found} rows, not {rows}"
+    if progress is not None:
+        print(f"sweep: warning: chunks/{path.name} {problem}: chunk {index} redone", file=progress, flush=True)
+    return True
+
+
 def _client(scheduler: str, workers: int | None):
     from distributed import Client, LocalCluster
 
@@ -158,7 +179,8 @@ def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None,
     """The body of :func:`run_sweep`, holding the folder's lock."""
     _check_state(spec, out)
     bounds = chunk_bounds(spec)
-    todo = [i for i in range(len(bounds)) if not _chunk_path(out, i).exists()]
+    redone = [i for i, (start, stop) in enumerate(bounds) if _unreadable_chunk(out, i, stop - start, progress)]
+    todo = [i for i in range(len(bounds)) if i in redone or not _chunk_path(out, i).exists()]
     started = time.perf_counter()
     n_workers, pids = 1, set()
     if scheduler == "serial" or not todo:
@@ -216,6 +238,7 @@ def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None,
         "chunks": len(bounds),
         "chunks_run": len(todo),
         "chunks_resumed": len(bounds) - len(todo),
+        "chunks_redone": redone,
         "wall_time_s": time.perf_counter() - started,
         "results": str(results),
     }

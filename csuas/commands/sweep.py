@@ -2,7 +2,7 @@
 
 JSON (``--json``): the provenance of ``DIR/sweep.json`` (``csuas_version``, ``spec_digest``,
 ``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``worker_processes``, ``points``,
-``chunks``, ``chunks_run``, ``chunks_resumed``, ``wall_time_s``, ``results``), plus ``columns`` of
+``chunks``, ``chunks_run``, ``chunks_resumed``, ``chunks_redone``, ``wall_time_s``, ``results``), plus ``columns`` of
 ``DIR/results.parquet``.
 """
 

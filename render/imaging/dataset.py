@@ -230,13 +230,18 @@ LOCK_NAME = ".csuas-dataset.lock"
 def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -> dict:
     """The body of :func:`generate`, holding the folder's lock."""
     items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
-    start, rendered = time.perf_counter(), 0
+    start, rendered, redone = time.perf_counter(), 0, []
     # one frame's files are written (PNG compression releases the GIL) while the next is rendered
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
         writing = None
         for done, item in enumerate(items, 1):
             record = out / "records" / f"{item['name']}.json"
-            if not record.exists():
+            problem = _unreadable(record, out) if record.exists() else None
+            if problem is not None:
+                redone.append(item["name"])
+                if progress is not None:
+                    print(f"csuas dataset: warning: {problem}: image {item['name']} redone", file=progress)
+            if problem is not None or not record.exists():
                 frame = _frame(spec, scenario, sensor, item)
                 if writing is not None:
                     writing.result()
@@ -255,9 +260,28 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
         "images": len(items),
         "rendered": rendered,
         "resumed": len(items) - rendered,
+        "redone": redone,
         "annotations": str(annotations),
         "time_s": time.perf_counter() - start,
     }
+
+
+def _unreadable(record: Path, out: Path) -> str | None:
+    """Why a frame's record left by an earlier run cannot be trusted (so the frame is redone), or None.
+
+    A record is written last, after its image and label (:func:`_write_image`); one that is not a
+    JSON object with ``image.file_name`` and ``annotation``, or whose image is gone, was damaged after.
+    """
+    try:
+        entry = json.loads(record.read_text(encoding="utf-8"))
+        image = out / entry["image"]["file_name"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
+        return f"records/{record.name} unreadable ({type(exc).__name__})"
+    if "annotation" not in entry:  # None when the drone is out of frame, never absent
+        return f"records/{record.name} unreadable (no annotation)"
+    if not image.is_file():
+        return f"records/{record.name} names a missing image"
+    return None
 
 
 def _imaging_sensor(scenario, name):
