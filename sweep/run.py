@@ -101,7 +101,7 @@ def _check_state(spec: SweepSpec, out: Path) -> None:
 
 
 def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
-    """True when chunk ``index`` is on disk but cannot be read as its ``rows`` rows (it is run again, with a warning)."""
+    """True when chunk ``index`` is on disk but is not ``rows`` readable rows: it is run again, with a warning."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 

@@ -144,3 +144,47 @@ def test_a_chunk_with_the_wrong_number_of_rows_is_run_again(tmp_path, capsys):
     assert code == 0, err
     assert json.loads(text)["chunks_redone"] == [2]
     assert _without_times(pq.read_table(out / "results.parquet")).equals(_without_times(first))
+
+
+# --- an interrupt at start-up -------------------------------------------------------------------------
+
+
+def test_an_interrupt_while_the_command_loads_ends_the_run_with_130(monkeypatch, capsys, tmp_path):
+    """SIGINT before the command runs (its module loading, its arguments parsed) is an interrupt, not a traceback."""
+    real = cli.build_parser
+
+    def interrupted_while_loading(command=None):
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(command)
+
+    monkeypatch.setattr(cli, "build_parser", interrupted_while_loading)
+    out = tmp_path / "out"
+    code = cli.main(["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--out", str(out)])
+    assert code == 130
+    assert capsys.readouterr().err.strip().splitlines() == ["csuas render: interrupted"]
+    assert not out.exists()
+
+
+def _handlers_installed(pid: int) -> bool:
+    """True once the process catches SIGTERM: csuas's interrupt handlers are in place (Python's own never catch it)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except FileNotFoundError:
+        return True  # already ended: the caller's wait() tells how
+    caught = int(next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:")), 16)
+    return bool(caught & (1 << (signal.SIGTERM - 1)))
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads the process's signal mask from /proc")
+def test_sigint_as_soon_as_a_render_starts_is_never_lost(tmp_path):
+    out = tmp_path / "out"
+    argv = ["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--out", str(out), "--quiet"]
+    proc = subprocess.Popen(CSUAS + argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120.0
+    while not _handlers_installed(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.001)  # polling /proc for the handlers: the signal goes at the first moment csuas can take it
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 130, err.decode()
+    assert err.decode().strip().splitlines()[-1] == "csuas render: interrupted"
+    assert not out.exists() or not any(out.iterdir())

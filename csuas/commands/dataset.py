@@ -30,6 +30,7 @@ def render_text(result: dict) -> str:
     """What was written, and how long it took."""
     redone = f", {len(result['redone'])} redone (unreadable records)" if result.get("redone") else ""
     return (
-        f"dataset: {result['images']} images ({result['rendered']} rendered, {result['resumed']} already on disk{redone}) "
+        f"dataset: {result['images']} images ({result['rendered']} rendered, "
+        f"{result['resumed']} already on disk{redone}) "
         f"in {result['time_s']:.1f} s\nlabels: {result['annotations']}"
     )
