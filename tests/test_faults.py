@@ -188,3 +188,148 @@ def test_sigint_as_soon_as_a_render_starts_is_never_lost(tmp_path):
     assert proc.returncode == 130, err.decode()
     assert err.decode().strip().splitlines()[-1] == "csuas render: interrupted"
     assert not out.exists() or not any(out.iterdir())
+
+
+# --- a cluster whose workers all died -----------------------------------------------------------------
+
+VENV_BIN = Path(sys.executable).parent
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _poll(condition, timeout_s: float = 120.0) -> bool:
+    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held."""
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def _worker(address: str, cwd: Path) -> subprocess.Popen:
+    """One Dask worker process without a nanny: killed, nothing replaces it."""
+    return subprocess.Popen(
+        [VENV_BIN / "dask", "worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=cwd,
+    )  # fmt: skip
+
+
+@pytest.mark.slow
+def test_a_sweep_whose_workers_all_died_stops_after_the_timeout_and_resumes(tmp_path):
+    from distributed import Client
+
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    scheduler = subprocess.Popen(
+        [VENV_BIN / "dask", "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path,
+    )  # fmt: skip
+    workers = [_worker(address, tmp_path)]
+    try:
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(1, timeout=120)
+        spec = tmp_path / "many.toml"
+        spec.write_text(
+            'job = "range"\nscenario = "default"\nchunk_points = 1\n[axes]\n'
+            '"target.d_crit_m" = {min = 0.05, max = 0.5, samples = 200}\n',
+            encoding="utf-8",
+        )
+        out = tmp_path / "out"
+        argv = CSUAS + ["sweep", str(spec), "--scheduler", address, "--no-worker-timeout-s", "2", "--out", str(out)]
+        chunks = lambda: list((out / "chunks").glob("chunk-*.parquet"))  # noqa: E731
+        sweep = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        assert _poll(lambda: len(chunks()) >= 2)
+        workers[0].kill()  # every worker of the cluster is gone, mid-sweep
+        workers[0].wait()
+        _, err = sweep.communicate(timeout=120)  # used to wait forever
+        lines = err.decode().strip().splitlines()
+        assert sweep.returncode == 2, lines
+        assert "no Dask worker for 2 s" in lines[-1] and "run the same command again" in lines[-1]
+        written = len(chunks())
+        assert 2 <= written < 200 and not (out / "results.parquet").exists()
+        workers.append(_worker(address, tmp_path))
+        resumed = subprocess.run(argv + ["--json"], capture_output=True, timeout=600)
+        assert resumed.returncode == 0, resumed.stderr.decode()
+        provenance = json.loads(resumed.stdout)
+        assert provenance["chunks_resumed"] == written and provenance["chunks_run"] == 200 - written
+        import pyarrow.parquet as pq
+
+        assert pq.read_table(out / "results.parquet").num_rows == 200
+    finally:
+        for p in (*workers, scheduler):
+            p.kill()
+            p.wait()
+
+
+def test_the_no_worker_timeout_is_checked_before_any_work(tmp_path, capsys):
+    argv = ["sweep", "range_rain", "--scheduler", "serial", "--no-worker-timeout-s", "0", "--out", tmp_path / "o"]
+    code, err, _ = _run(argv, capsys)
+    assert code == 2 and len(err) == 1 and "no_worker_timeout_s = 0.0" in err[0]
+    assert not (tmp_path / "o").exists()
+
+
+# --- a TLS scheduler ----------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def tls_files(tmp_path):
+    """A throwaway self-signed certificate for 127.0.0.1 (openssl; no network), as CA, server and client."""
+    import shutil
+
+    if shutil.which("openssl") is None:
+        pytest.skip("needs the openssl command to make a throwaway certificate")
+    cert, key = tmp_path / "cert.pem", tmp_path / "key.pem"
+    subprocess.run(
+        ["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "1", "-subj", "/CN=127.0.0.1",
+         "-addext", "subjectAltName=IP:127.0.0.1", "-keyout", str(key), "-out", str(cert)],
+        check=True, capture_output=True, timeout=60,
+    )  # fmt: skip
+    return cert, key
+
+
+def test_a_sweep_runs_on_a_tls_scheduler_with_dasks_security_settings(tmp_path, capsys, tls_files):
+    import dask
+    from distributed import LocalCluster
+    from distributed.security import Security
+
+    cert, key = (str(p) for p in tls_files)
+    security = Security(
+        tls_ca_file=cert, tls_scheduler_cert=cert, tls_scheduler_key=key, tls_worker_cert=cert, tls_worker_key=key,
+        tls_client_cert=cert, tls_client_key=key, require_encryption=True,
+    )  # fmt: skip
+    settings = {
+        "distributed.comm.tls.ca-file": cert,
+        "distributed.comm.tls.client.cert": cert,
+        "distributed.comm.tls.client.key": key,
+        "distributed.comm.require-encryption": True,
+    }
+    spec = _sweep_spec(tmp_path)
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tls://", host="127.0.0.1",
+        security=security, dashboard_address=None,
+    ) as cluster:  # fmt: skip
+        address = cluster.scheduler_address
+        assert address.startswith("tls://127.0.0.1:")
+        code, err, _ = _run(["sweep", spec, "--scheduler", address, "--out", tmp_path / "bare"], capsys)
+        assert code == 2 and len(err) == 1 and "distributed.comm.tls.ca-file" in err[0], err  # no settings: refused
+        plain = address.replace("tls://", "tcp://")
+        code, err, _ = _run(["sweep", spec, "--scheduler", plain, "--out", tmp_path / "plain"], capsys)
+        assert code == 2 and len(err) == 1 and "reachable Dask scheduler" in err[0], err  # no TLS: no connection
+        with dask.config.set(settings):
+            code, err, text = _run(["sweep", spec, "--scheduler", address, "--out", tmp_path / "tls", "--json"], capsys)
+    assert code == 0, err
+    provenance = json.loads(text)
+    assert provenance["scheduler"] == address and provenance["workers"] == 1 and provenance["chunks_run"] == 3
+    serial = tmp_path / "serial"
+    assert _run(["sweep", spec, "--scheduler", "serial", "--out", serial], capsys)[0] == 0
+    import pyarrow.parquet as pq
+
+    tls_table = pq.read_table(tmp_path / "tls" / "results.parquet")
+    assert _without_times(tls_table).equals(_without_times(pq.read_table(serial / "results.parquet")))
