@@ -243,7 +243,7 @@ def test_a_sweep_whose_workers_all_died_stops_after_the_timeout_and_resumes(tmp_
         )
         out = tmp_path / "out"
         argv = CSUAS + ["sweep", str(spec), "--scheduler", address, "--no-worker-timeout-s", "2", "--out", str(out)]
-        chunks = lambda: list((out / "chunks").glob("chunk-*.parquet"))  # noqa: E731
+        chunks = lambda: list((out / "chunks").glob("chunk-*.parquet"))
         sweep = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         assert _poll(lambda: len(chunks()) >= 2)
         workers[0].kill()  # every worker of the cluster is gone, mid-sweep
