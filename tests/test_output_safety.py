@@ -303,12 +303,15 @@ TOP_FILE = {"dataset": "annotations.json", "sweep": "sweep.json", "report": "rep
 
 
 @needs_root
-@pytest.mark.parametrize("command", sorted(FOLDER_COMMANDS) + ["coverage", "sensitivity"])
+@pytest.mark.parametrize("command", sorted(FOLDER_COMMANDS) + ["coverage", "sensitivity", "render"])
 def test_a_device_node_in_the_output_folder_survives_and_is_refused_before_work(command, tmp_path, capsys):
     out = tmp_path / "out"
     out.mkdir()
     if command == "coverage":
         argv, name = ["coverage", _site(tmp_path, "eo"), "--out", out], TOP_FILE[command]
+    elif command == "render":
+        argv = ["render", "eo", _scenario(tmp_path), "--range-m", "100", "--quality", "draft", "--out", out, "--quiet"]
+        name = "safe_eo_eo_r100m_az0_el0_draft.png"
     elif command == "sensitivity":
         scenario = _scenario(tmp_path)
         argv = ["sensitivity", "--scenario", scenario, "--vary", "target.d_crit_m=0.08:0.12", "--out", out]
@@ -331,3 +334,18 @@ def test_sensitivity_into_a_linked_output_folder_writes_into_its_target_only(tmp
     code, err = _run(argv, capsys)
     assert code == 0, err
     assert sorted(p.name for p in real.iterdir()) == ["tornado_safe_eo.png"]
+
+
+def test_a_link_in_the_output_folder_is_replaced_and_its_target_elsewhere_never_written(tmp_path, capsys):
+    out, elsewhere = tmp_path / "out", tmp_path / "elsewhere"
+    out.mkdir()
+    elsewhere.mkdir()
+    victim = elsewhere / "victim.png"
+    victim.write_bytes(b"not csuas's")
+    link = out / "safe_eo_eo_r100m_az0_el0_draft.png"
+    link.symlink_to(victim)
+    argv = ["render", "eo", _scenario(tmp_path), "--range-m", "100", "--quality", "draft", "--out", out, "--quiet"]
+    code, err = _run(argv, capsys)
+    assert code == 0, err
+    assert victim.read_bytes() == b"not csuas's"
+    assert not link.is_symlink() and link.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
