@@ -349,3 +349,34 @@ def test_a_link_in_the_output_folder_is_replaced_and_its_target_elsewhere_never_
     assert code == 0, err
     assert victim.read_bytes() == b"not csuas's"
     assert not link.is_symlink() and link.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_coverage_checks_exactly_the_files_it_writes(tmp_path, capsys):
+    """The layer names checked before the work (csuas.commands.coverage._layer_files) are the files written."""
+    from csuas.commands.coverage import LOCK_NAME, _layer_files
+
+    site = tmp_path / "site.toml"
+    site.write_text(
+        'altitudes_agl_m = [30.0]\nfusion_k = 1\n[sensors.eo]\nx = 505000.0\ny = 5005000.0\n', encoding="utf-8"
+    )
+    out = tmp_path / "out"
+    code, err = _run(["coverage", site, "--out", out], capsys)
+    assert code == 0, err
+    written = sorted(p.name for p in out.iterdir() if p.name != LOCK_NAME)
+    assert written == sorted(_layer_files(["eo"], [30.0], [], 1))
+
+
+@needs_root
+def test_a_device_node_named_like_a_coverage_layer_survives_and_is_refused_before_work(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    node = out / "eo_detected_30m.geojson"
+    os.mknod(node, stat.S_IFCHR | 0o666, os.stat("/dev/null").st_rdev)
+    _refused(["coverage", _site(tmp_path, "eo"), "--out", out], capsys, tmp_path, out, "never replaced")
+    assert _same_kind(node, "chardev")
+    assert sorted(p.name for p in out.iterdir()) == ["eo_detected_30m.geojson"]
+
+
+def test_a_site_sensor_named_fused_is_refused(tmp_path, capsys):
+    out = tmp_path / "out"
+    _refused(["coverage", _site(tmp_path, "fused"), "--out", out], capsys, tmp_path, out, "fused layers")

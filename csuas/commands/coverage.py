@@ -37,6 +37,12 @@ RADIO_KINDS = (
     ("detected_multipath", "detected"),
     ("pd_multipath", "pd"),
 )
+#: Layers that also get a GeoJSON of their covered cells.
+GEOJSON_KINDS = ("detected", "k_of_n", "detected_multipath")
+#: Each sensor's layers at every flight level, and the fused layers' quantities (with fusion_k: and k of n).
+SENSOR_KINDS = ("visible", "detected", "pd")
+FUSED_QUANTITIES = ("count", "detected", "pd")
+FUSED_K_QUANTITIES = ("k_of_n", "pd_k_of_n")
 #: Layers whose every finite value is shown and counted as covered (the others: values above 0).
 VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error")
 #: Colour-bar labels of the layers with a scale.
@@ -132,6 +138,8 @@ def _validate(site: dict, scenario) -> list:
         except ParameterError as exc:
             errors.append(exc)
             continue
+        if name == "fused":
+            errors.append(ParameterError("sensors", name, "a sensor name other than 'fused' (the fused layers' name)"))
         if name not in scenario.sensors:
             errors.append(
                 ParameterError(f"sensors.{name}", name, "a sensor of the scenario: " + ", ".join(scenario.sensors))
@@ -196,7 +204,8 @@ def run(args) -> dict:
     altitudes = [float(a) for a in site.get("altitudes_agl_m", [30.0, 120.0])]
     k = site.get("fusion_k")
     out = prepare_output_dir(args.out)
-    inside(out, "coverage.json")  # a special file there is refused now, not after the work
+    for name in _layer_files(sited, altitudes, [] if radio is None else radio["sensors"], k):
+        inside(out, name)  # outside --out, or a special file there: refused now, not after the work
     with exclusive_lock(out / LOCK_NAME, "--out"):
         layers, per_sensor = [], {}
         for name, placed in sited.items():
@@ -214,7 +223,7 @@ def run(args) -> dict:
         }
         for name, grids in per_sensor.items():
             for i, altitude in enumerate(altitudes):
-                for kind in ("visible", "detected", "pd"):
+                for kind in SENSOR_KINDS:
                     grid = grids[kind][i].astype(np.float32)
                     if kind == "visible":
                         grid[~grids["traced"]] = np.nan  # beyond the mapped reach: not traced
@@ -225,7 +234,7 @@ def run(args) -> dict:
             for i, altitude in enumerate(altitudes):
                 for kind, key in RADIO_KINDS:
                     layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
-        quantities = ("count", "detected", "pd") + (() if k is None else ("k_of_n", "pd_k_of_n"))
+        quantities = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
         for i, altitude in enumerate(altitudes):
             for quantity in quantities:
                 grid = fused[quantity][i].astype(np.float32)
@@ -273,11 +282,30 @@ def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
     return np.clip(np.tensordot(sun, normal, axes=1), 0.0, 1.0)
 
 
+def _stem(sensor: str, altitude, kind: str) -> str:
+    """File name of a layer without suffix: ``<sensor>_<kind>[_<altitude>m]``."""
+    return f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
+
+
+def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
+    """Every file name the layers of a site will have (checked before the work)."""
+    layers = [(name, None, "min_altitude") for name in sensors]
+    layers += [(name, a, kind) for name in sensors for a in altitudes for kind in SENSOR_KINDS]
+    layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
+    fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
+    layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
+    names = ["coverage.json"]
+    for sensor, altitude, kind in layers:
+        suffixes = (".tif", ".png") + ((".geojson",) if kind in GEOJSON_KINDS else ())
+        names += [_stem(sensor, altitude, kind) + suffix for suffix in suffixes]
+    return names
+
+
 def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> dict:
     """Write one layer (GeoTIFF, PNG and, for a detected layer, GeoJSON) and describe it for coverage.json."""
     import rasterio
 
-    stem = f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
+    stem = _stem(sensor, altitude, kind)
     tif, png = inside(out, f"{stem}.tif"), inside(out, f"{stem}.png")
     profile = {
         "driver": "GTiff",
@@ -304,7 +332,7 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
         "png": png.name,
         "area_km2": float(covered.sum() * where["cell_km2"]),
     }
-    if kind in ("detected", "k_of_n", "detected_multipath"):
+    if kind in GEOJSON_KINDS:
         geojson = inside(out, f"{stem}.geojson")
         write_text_atomic(
             geojson,
