@@ -15,6 +15,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.base.interrupts import raise_if_interrupted
+from csuas.base.paths import refuse_special
 
 
 def _umask() -> int:
@@ -75,8 +76,15 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     its process was killed (:func:`remove_stale_temps`). On any exception,
     including ``KeyboardInterrupt`` (and SIGTERM, which the command line raises
     as one), the temporary file is removed and ``path`` is left untouched.
+
+    Raises
+    ------
+    ParameterError
+        When ``path`` exists and is not a regular file (a folder, device, FIFO or socket is never
+        replaced): the last guard behind the commands' own check before their work
+        (:func:`csuas.base.paths.refuse_special`).
     """
-    target = Path(path)
+    target = refuse_special(path, "output file")
     target.parent.mkdir(parents=True, exist_ok=True)
     remove_stale_temps(target.parent)
     fd, tmp = tempfile.mkstemp(prefix=temp_name(target), suffix=target.suffix, dir=target.parent)
@@ -85,6 +93,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         yield Path(tmp)
         raise_if_interrupted()
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; give the file the usual permissions
+        refuse_special(target, "output file")  # again: something may have taken its place meanwhile
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.checks import require
+from csuas.core.checks import require, require_registry_bounds
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import linear_to_db, power_sum_db
@@ -91,6 +91,17 @@ def iso9613_absorption_db_m(frequency_hz, temperature_k=293.15, relative_humidit
     )
 
 
+#: Arguments of :func:`acoustic_range` -> their defaults/parameters.toml entries (upper bounds checked).
+ACOUSTIC_REGISTRY = {
+    "sl_db": "target.sl_db",
+    "snr_req_db": "acoustic.snr_req_db",
+    "noise_level_db": "environment.noise_level_db",
+    "g_array_db": "acoustic.g_array_db",
+    "wind_speed_m_s": "environment.wind_speed_m_s",
+    "wind_distance_m": "acoustic.wind_distance_m",
+}
+
+
 def acoustic_range(
     *,
     sl_db,
@@ -139,6 +150,7 @@ def acoustic_range(
     ParameterError
         For NaN or out-of-domain inputs, naming the parameter.
     """
+    require_registry_bounds(locals(), ACOUSTIC_REGISTRY)
     check_convention(convention)
     sl = require("sl_db", sl_db)
     snr = require("snr_req_db", snr_req_db)

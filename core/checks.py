@@ -83,3 +83,46 @@ def require_all(*checks):
             errors.append(exc)
     raise_all(errors)
     return arrays
+
+
+def require_registry_bounds(arguments: dict, keys: dict, lower: tuple = ()) -> None:
+    """Refuse NaN and values above the upper bound that ``defaults/parameters.toml`` states.
+
+    The scenario layer checks every parameter against its registry entry; this applies the same
+    upper bounds to a model called directly, so that an absurd but finite input (``g_tx_db = 3026``)
+    is refused naming it instead of overflowing into an unexplained range. Lower bounds stay with
+    each model's own :func:`require` calls (some allow -inf, such as a silent noise floor), except
+    for the arguments named in ``lower``, whose registry lower bound applies too.
+
+    Parameters
+    ----------
+    arguments : dict
+        The model's arguments by name (``locals()`` at its first line); None means not given.
+    keys : dict
+        Argument name -> ``"section.key"`` of its entry in ``defaults/parameters.toml``.
+    lower : tuple of str
+        Arguments whose registry lower bound (``min``, exclusive with ``min_exclusive``) is checked too.
+
+    Raises
+    ------
+    ParameterError or InputErrors
+        Every NaN or too-large argument at once, naming the argument and its registry entry.
+    """
+    from csuas.defaults import load_parameters
+
+    registry = load_parameters()
+    errors = []
+    for name, key in keys.items():
+        value = arguments.get(name)
+        if value is None:
+            continue
+        section, entry = key.split(".")
+        spec = registry[section][entry]
+        bounds = {"le": spec["max"]}
+        if name in lower:
+            bounds["gt" if spec.get("min_exclusive") else "ge"] = spec["min"]
+        try:
+            require(name, value, **bounds, allow_inf=True, why=f"{key} in defaults/parameters.toml")
+        except ParameterError as exc:
+            errors.append(exc)
+    raise_all(errors)

@@ -15,7 +15,7 @@ import numpy as np
 
 from csuas.core.atmosphere import extinction_per_km, range_for_transmittance, transmittance
 from csuas.core.camera import light_limited_range_m
-from csuas.core.checks import require
+from csuas.core.checks import require, require_registry_bounds
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.result import RangeResult, Term, check_convention
 
@@ -49,6 +49,20 @@ def contrast_limited_range_m(c0, c_min, extinction, convention="paper"):
 EXTINCTION_SOURCE = {
     "paper": "Eqs. 19-20 (Kim's q, which steps from 1.3 to 1.6 at 50 km visibility)",
     "physical": "Koschmieder with Rayleigh (Bucholtz 1995) and aerosol (Kim's q, no 50 km step) parts",
+}
+
+
+#: Arguments of :func:`eo_range` -> their defaults/parameters.toml entries (upper bounds checked).
+EO_REGISTRY = {
+    "d_crit_m": "target.d_crit_m",
+    "hfov_deg": "eo.hfov_deg",
+    "n_h": "eo.n_h",
+    "lp_task": "eo.lp_task",
+    "n_ttpf": "eo.n_ttpf",
+    "c_eo": "target.c_eo",
+    "c_min": "eo.c_min",
+    "wavelength_nm": "eo.wavelength_nm",
+    "visibility_km": "environment.visibility_km",
 }
 
 
@@ -94,6 +108,7 @@ def eo_range(
         ``range_m`` and the terms: Johnson range, extinction, contrast-limited
         range; ``reason`` names the limiting factor per element.
     """
+    require_registry_bounds(locals(), EO_REGISTRY)
     check_convention(convention)
     ifov = ifov_rad(hfov_deg, n_h)
     r_johnson = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)

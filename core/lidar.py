@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.atmosphere import extinction_per_km
-from csuas.core.checks import require
-from csuas.core.result import RangeResult, Term, check_convention
+from csuas.core.checks import require, require_registry_bounds
+from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import bracketed_root
 
 #: Diffraction factor of a circular aperture (Eq. 87).
@@ -38,7 +38,10 @@ def lidar_range_no_loss_m(p_tx_w, p_rx_min_w, sigma_m2, aperture_mm, wavelength_
     s = require("sigma_lidar_m2", sigma_m2, gt=0)
     d = require("aperture_mm", aperture_mm, gt=0) * 1e-3
     lam = require("wavelength_nm", wavelength_nm, gt=0) * 1e-9
-    return (p / pmin * s / (AIRY**2 * np.pi) * d**4 / lam**2) ** 0.25
+    # each factor's fourth root apart: a tiny p_rx_min_w (5e-324 W) gives a large finite range, not p / pmin = inf;
+    # what still exceeds float64 is inf, explained by the caller's RangeResult (unbounded_reason)
+    with np.errstate(over="ignore", divide="ignore"):
+        return (p * s / (AIRY**2 * np.pi)) ** 0.25 * pmin**-0.25 * d / np.sqrt(lam)
 
 
 def received_power_w(
@@ -63,6 +66,20 @@ def received_power_w(
     interaction = np.asarray(sigma_m2, float) / area  # Eq. 89
     efficiency = d**2 / (4.0 * r**2)  # Eq. 97
     return np.asarray(p_tx_w, float) * interaction * efficiency * transmittance_two_way * eta_sys
+
+
+#: Arguments of :func:`lidar_range` -> their defaults/parameters.toml entries (upper bounds checked).
+LIDAR_REGISTRY = {
+    "p_tx_w": "lidar.p_tx_w",
+    "p_rx_min_w": "lidar.p_rx_min_w",
+    "sigma_lidar_m2": "target.sigma_lidar_m2",
+    "aperture_mm": "lidar.aperture_mm",
+    "wavelength_nm": "lidar.wavelength_nm",
+    "eta_sys": "lidar.eta_sys",
+    "eta_tl": "lidar.eta_tl",
+    "visibility_km": "environment.visibility_km",
+    "projected_area_m2": "target.projected_area_m2",
+}
 
 
 def lidar_range(
@@ -98,6 +115,7 @@ def lidar_range(
         Target projected area A_p [m^2] bounding the interaction (physical convention).
     convention : {"paper", "physical"}
     """
+    require_registry_bounds(locals(), LIDAR_REGISTRY, lower=("wavelength_nm",))  # a beam needs a wavelength
     check_convention(convention)
     r0 = lidar_range_no_loss_m(p_tx_w, p_rx_min_w, sigma_lidar_m2, aperture_mm, wavelength_nm)
     e_sys = require("eta_sys", eta_sys, gt=0, le=1)
@@ -109,7 +127,7 @@ def lidar_range(
             factor = factor * e_tl**2
             terms.append(Term("eta_tl", e_tl, "-", "Eq. 101 (Table 47)"))
         r = r0 * factor**0.25  # Eq. 104
-        return RangeResult(r, "lidar", "lidar_range_equation (Eqs. 99, 104)", terms)
+        return RangeResult(r, "lidar", "lidar_range_equation (Eqs. 99, 104)", terms, unbounded_reason(r))
     beta = 0.0 if visibility_km is None else extinction_per_km(wavelength_nm, visibility_km, "physical")
     if visibility_km is not None:
         terms.append(
@@ -123,7 +141,8 @@ def lidar_range(
         rr = np.exp(log_r)
         tau2 = np.exp(-2.0 * np.asarray(beta) * rr / 1000.0)
         p = received_power_w(p_tx_w, sigma_lidar_m2, aperture_mm, wavelength_nm, rr, projected_area_m2, tau2, e_sys)
-        return np.log(p) - np.log(p_min)
+        with np.errstate(divide="ignore"):  # far out, the two-way extinction underflows to 0 W: log = -inf
+            return np.log(p) - np.log(p_min)
 
     # The loss-free range with the efficiency bounds the root from above; 1 um from below.
     hi = np.log(np.maximum(r0 * e_sys**0.25, 1e-6) * 1.0000001)
@@ -133,4 +152,5 @@ def lidar_range(
     r = np.where(found, np.exp(log_r), np.where(residual(lo) < 0, 0.0, np.exp(hi)))
     if visibility_km is not None:
         terms.append(Term("eta_tl_at_range", np.exp(-np.asarray(beta) * r / 1000.0), "-", "Beer-Lambert over R"))
-    return RangeResult(r, "lidar", "lidar_range_equation (Eq. 98, bounded interaction, two-way Beer-Lambert)", terms)
+    model = "lidar_range_equation (Eq. 98, bounded interaction, two-way Beer-Lambert)"
+    return RangeResult(r, "lidar", model, terms, unbounded_reason(r))

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.checks import require
+from csuas.core.checks import require, require_registry_bounds
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
@@ -92,6 +92,31 @@ def radar_wavelength_m(params: dict, convention: str) -> float:
     return params["wavelength_m"]
 
 
+#: Arguments of :func:`radar_range` -> their defaults/parameters.toml entries (upper bounds checked).
+RADAR_REGISTRY = {
+    "p_tx_w": "radar.p_tx_w",
+    "g_tx_db": "radar.g_tx_db",
+    "g_rx_db": "radar.g_rx_db",
+    "wavelength_m": "radar.wavelength_m",
+    "sigma_m2": "target.sigma_radar_m2",
+    "p_rx_min_w": "radar.p_rx_min_w",
+    "snr_min_db": "radar.snr_min_db",
+    "t0_k": "radar.t0_k",
+    "noise_figure_db": "radar.noise_figure_db",
+    "bandwidth_mhz": "radar.bandwidth_mhz",
+    "n_pulses": "radar.n_pulses",
+    "l_hardware_db": "radar.l_hardware_db",
+    "l_processing_db": "radar.l_processing_db",
+    "rain_rate_mm_h": "environment.rain_rate_mm_h",
+    "lwc_g_m3": "environment.lwc_g_m3",
+    "temperature_k": "environment.temperature_k",
+    "loss_frequency_ghz": "radar.loss_frequency_ghz",
+    "d_rain_km": "radar.d_rain_km",
+    "d_fog_km": "radar.d_fog_km",
+    "k_b": "radar.boltzmann_j_k",
+}
+
+
 def radar_range(
     *,
     p_tx_w,
@@ -154,6 +179,7 @@ def radar_range(
     ParameterError
         NaN, an infinite dB value or a negative loss, naming the parameter.
     """
+    require_registry_bounds(locals(), RADAR_REGISTRY)
     check_convention(convention)
     if model not in ("snr", "range_equation"):
         raise ParameterError("radar.model", model, "snr, range_equation")

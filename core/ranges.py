@@ -236,7 +236,10 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     results = {}
     for name, sensor in scenario.sensors.items():
         result = ADAPTERS[sensor.modality](scenario, sensor, conv)
-        if not np.all(np.isfinite(result.range_m)) and result.reason is None:
+        johnson_unbounded = np.any(
+            np.asarray(result.reason if result.reason is not None else "") == tir.JOHNSON_UNBOUNDED
+        )
+        if not np.all(np.isfinite(result.range_m)) and (result.reason is None or johnson_unbounded):
             raise ParameterError(
                 f"sensors.{name}.p_desired",
                 sensor.params.get("p_desired"),

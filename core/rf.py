@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.checks import require
+from csuas.core.checks import require, require_registry_bounds
 from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
@@ -30,6 +30,21 @@ def received_power_dbm(p_tx_w, g_tx_dbi, g_rx_db, frequency_ghz, distance_m):
     return (
         watt_to_dbm(p) + np.asarray(g_tx_dbi) + np.asarray(g_rx_db) - free_space_path_loss_db(frequency_ghz, distance_m)
     )
+
+
+#: Arguments of :func:`rf_range` -> their defaults/parameters.toml entries (upper bounds checked).
+RF_REGISTRY = {
+    "p_tx_w": "target.rf_power_w",
+    "g_tx_dbi": "target.rf_gain_dbi",
+    "g_rx_db": "rf.g_rx_db",
+    "frequency_ghz": "rf.frequency_ghz",
+    "s_rx_dbm": "rf.s_rx_dbm",
+    "rain_rate_mm_h": "environment.rain_rate_mm_h",
+    "lwc_g_m3": "environment.lwc_g_m3",
+    "temperature_k": "environment.temperature_k",
+    "d_rain_km": "rf.d_rain_km",
+    "d_fog_km": "rf.d_fog_km",
+}
 
 
 def rf_range(
@@ -74,6 +89,7 @@ def rf_range(
     ParameterError
         NaN or an infinite dB value, naming the parameter.
     """
+    require_registry_bounds(locals(), RF_REGISTRY)
     check_convention(convention)
     f = require("frequency_ghz", frequency_ghz, gt=0)
     budget = (

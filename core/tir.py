@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.checks import require
+from csuas.core.checks import require, require_registry_bounds
 from csuas.core.detection import blob_snr, target_pixels
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, graybody_apparent_temperature, radiance_temperature
@@ -85,15 +85,32 @@ def attenuated_delta_t(
     return radiance_temperature(tau * l_target + l_path, band) - radiance_temperature(tau * l_bg + l_path, band)
 
 
+#: Arguments of :func:`tir_johnson_range` -> their defaults/parameters.toml entries (upper bounds checked).
+TIR_JOHNSON_REGISTRY = {
+    "d_crit_m": "target.d_crit_m",
+    "hfov_deg": "tir.hfov_deg",
+    "n_h": "tir.n_h",
+    "lp_task": "tir.lp_task",
+    "n_ttpf": "tir.n_ttpf",
+}
+
+#: Why a Johnson range is infinite: lp_task x n_ttpf so small (0 when P_desired = 0) that it exceeds float64.
+JOHNSON_UNBOUNDED = "unbounded: d_crit_m / (lp_task n_ttpf IFOV) exceeds float64 (check lp_task and n_ttpf)"
+
+
 def tir_johnson_range(*, d_crit_m, hfov_deg, n_h, lp_task, n_ttpf) -> RangeResult:
     """TIR Johnson/TTPF range (Eq. 23). The paper applies no atmosphere to it."""
+    require_registry_bounds(locals(), TIR_JOHNSON_REGISTRY)
     ifov = ifov_rad(hfov_deg, n_h)
-    r = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
+    with np.errstate(over="ignore", divide="ignore"):
+        r = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
+    reason = None if np.all(np.isfinite(r)) else np.where(np.isinf(r), JOHNSON_UNBOUNDED, "")
     return RangeResult(
         r,
         "tir",
         "johnson_ttpf (Eq. 23)",
         [Term("ifov_rad", ifov, "rad", "Eqs. 15, 22"), Term("johnson_range_m", r, "m", "Eq. 23")],
+        reason,
     )
 
 
@@ -108,6 +125,17 @@ def _path_delta_t(signed_dt0, sigma, selected, shape, convention, t_bg_app_k, ai
         )
     dt0, extinction = signed_dt0[selected], sigma[selected]
     return lambda rr: attenuated_delta_t(dt0, rr, extinction, convention, **kwargs)
+
+
+#: Arguments of :func:`tir_mrtd_range` -> their defaults/parameters.toml entries (upper bounds checked).
+TIR_MRTD_REGISTRY = {
+    "d_crit_m": "target.d_crit_m",
+    "lp_task": "tir.lp_task",
+    "n_ttpf": "tir.n_ttpf",
+    "extinction_db_km": "tir.extinction_db_km",
+    "t_bg_app_k": "environment.t_bg_k",
+    "air_temperature_k": "environment.temperature_k",
+}
 
 
 def tir_mrtd_range(
@@ -145,6 +173,7 @@ def tir_mrtd_range(
     t_bg_app_k, air_temperature_k, band
         Radiometric inputs of the physical attenuation (see :func:`attenuated_delta_t`).
     """
+    require_registry_bounds(locals(), TIR_MRTD_REGISTRY)
     check_convention(convention)
     d = require("d_crit_m", d_crit_m, ge=0)
     lp = require("lp_task", lp_task, gt=0)

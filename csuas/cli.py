@@ -23,7 +23,6 @@ import os
 import sys
 
 from csuas.base.errors import CsuasError
-from csuas.base.fileio import dumps
 from csuas.base.interrupts import Terminated, handling_interrupts, pending, raise_if_interrupted
 from csuas.base.registry import resolve
 
@@ -89,30 +88,52 @@ def _describe_os_error(exc: OSError) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``csuas`` console script; returns the exit code."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """Entry point of the ``csuas`` console script; returns the exit code.
+
+    SIGINT and SIGTERM are handled from the first line (:func:`csuas.base.interrupts.handling_interrupts`):
+    an interrupt while the command's modules load or its arguments are parsed ends the run with
+    exit code 130 or 143 and one line, like one during the work.
+    """
+    command = "csuas"
+    with handling_interrupts():
+        try:
+            argv = sys.argv[1:] if argv is None else list(argv)
+            command = next((a for a in argv if not a.startswith("-")), command)
+            return _main(argv)
+        except KeyboardInterrupt as exc:  # while the command's module loads, during parsing, or printing
+            return _interrupted(command, exc)
+
+
+def _interrupted(command: str, exc: KeyboardInterrupt) -> int:
+    """Report an interrupt in one line; its exit code (130 SIGINT, 143 SIGTERM)."""
+    terminated = isinstance(exc, Terminated)
+    print(f"csuas {command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+    return 143 if terminated else 130
+
+
+def _main(argv: list[str]) -> int:
+    """Parse ``argv``, run the command and print its result; the exit code (module docstring)."""
+    from csuas.base.fileio import dumps  # NumPy: imported after the interrupt handlers are in place
+
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
     command = next((a for a in argv if not a.startswith("-")), None)
     args = build_parser(command if command in COMMANDS else None).parse_args(argv)
     try:
-        with handling_interrupts():
-            try:
-                result = args._module.run(args)
-                text = dumps(result) if args.json else args._module.render_text(result)
-            except Exception:
-                if pending() is None:
-                    raise
-                raise pending() from None
-            raise_if_interrupted()
+        try:
+            result = args._module.run(args)
+            text = dumps(result) if args.json else args._module.render_text(result)
+        except Exception:
+            if pending() is None:
+                raise
+            raise pending() from None
+        raise_if_interrupted()
     except CsuasError as exc:
         for line in str(exc).splitlines() or [type(exc).__name__]:
             print(f"csuas {args.command}: error: {line}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
-        terminated = isinstance(exc, Terminated)
-        print(f"csuas {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-        return 143 if terminated else 130
+        return _interrupted(args.command, exc)
     except (OSError, RecursionError, MemoryError) as exc:
         if debug:
             raise

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.fileio import atomic_path
+from csuas.base.paths import file_name_part
 
 #: Header attributes (``csuas_<key>``) every render's EXR carries.
 METADATA_KEYS = (
@@ -55,7 +56,16 @@ def file_stem(
     quality: str,
     seed: int,
 ) -> str:
-    """File name without suffix of one render (module docstring)."""
+    """File name without suffix of one render (module docstring).
+
+    Raises
+    ------
+    ParameterError
+        When the scenario's ``name`` or the sensor's key cannot be part of a file name
+        (:func:`csuas.base.paths.file_name_part`).
+    """
+    file_name_part(scenario, "name")
+    file_name_part(sensor, "sensors")
     stem = f"{scenario}_{sensor}_{modality}_{coordinates_label(range_m, azimuth_deg, elevation_deg)}_{quality}"
     return stem + (f"_seed{seed}" if seed else "")
 

@@ -1,7 +1,9 @@
 """Running a sweep: chunks as tasks on Dask (``dask.distributed``), or in this process.
 
 Schedulers: ``serial`` (this process, no Dask), ``local`` (a ``LocalCluster`` of process workers,
-one thread each) or ``tcp://HOST:PORT`` (a running Dask scheduler). Each chunk's result is
+one thread each), ``tcp://HOST:PORT`` (a running Dask scheduler: unencrypted and unauthenticated,
+it runs whatever pickled task it is sent) or ``tls://HOST:PORT`` (the same over TLS with Dask's own
+security settings, ``distributed.comm.tls.*``). Each chunk's result is
 written atomically to ``DIR/chunks/chunk-NNNNNN.parquet`` as it arrives; a sweep started again on
 the same folder with the same spec skips the chunks already there (``DIR/sweep-state.json``
 holds the spec's digest). When every chunk is done, ``DIR/results.parquet`` gathers them in
@@ -25,7 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError
-from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
+from csuas.base.paths import inside, sub_folder
 
 from .jobs import run_chunk
 from .spec import SweepSpec
@@ -33,6 +36,8 @@ from .spec import SweepSpec
 SIMULATORS = ("render", "rcs")
 #: Seconds to wait for a ``tcp://`` scheduler before giving up.
 CONNECT_TIMEOUT_S = 10.0
+#: Seconds a cluster may have no worker at all before the sweep stops (``--no-worker-timeout-s``).
+NO_WORKER_TIMEOUT_S = 60.0
 
 
 def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
@@ -42,7 +47,7 @@ def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
 
 
 def _chunk_path(out: Path, index: int) -> Path:
-    return out / "chunks" / f"chunk-{index:06d}.parquet"
+    return inside(out, "chunks", f"chunk-{index:06d}.parquet")
 
 
 def _write_table(columns: dict, path: Path) -> None:
@@ -88,7 +93,7 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple
 
 def _check_state(spec: SweepSpec, out: Path) -> None:
     """Refuse a folder holding another sweep; record this sweep's digest."""
-    state = out / "sweep-state.json"
+    state = inside(out, "sweep-state.json")
     if state.exists():
         old = json.loads(state.read_text()).get("digest")
         if old != spec.digest:
@@ -97,6 +102,27 @@ def _check_state(spec: SweepSpec, out: Path) -> None:
             )
     else:
         write_text_atomic(state, json.dumps({"digest": spec.digest}))
+
+
+def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
+    """True when chunk ``index`` is on disk but is not ``rows`` readable rows: it is run again, with a warning."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = _chunk_path(out, index)
+    if not path.exists():
+        return False
+    try:
+        found = pq.read_metadata(path).num_rows
+    except (OSError, ValueError, pa.ArrowException) as exc:
+        problem = f"unreadable ({type(exc).__name__})"
+    else:
+        if found == rows:
+            return False
+        problem = f"holds {found} rows, not {rows}"
+    if progress is not None:
+        print(f"sweep: warning: chunks/{path.name} {problem}: chunk {index} redone", file=progress, flush=True)
+    return True
 
 
 def _client(scheduler: str, workers: int | None):
@@ -111,10 +137,96 @@ def _client(scheduler: str, workers: int | None):
             silence_logs=40,
         )
         return Client(cluster), cluster
+    security = None
+    if scheduler.startswith("tls://"):
+        from distributed.security import Security
+
+        security = Security()  # Dask's own settings: distributed.comm.tls.* (docs/sweeps.md)
+        if not (security.tls_ca_file and security.tls_client_cert):
+            raise ParameterError(
+                "scheduler",
+                scheduler,
+                "a tls:// scheduler with Dask's TLS settings in place (distributed.comm.tls.ca-file and "
+                "distributed.comm.tls.client.cert/key, e.g. DASK_DISTRIBUTED__COMM__TLS__CA_FILE; docs/sweeps.md)",
+            )
     try:
-        return Client(scheduler, timeout=CONNECT_TIMEOUT_S), None
+        return Client(scheduler, timeout=CONNECT_TIMEOUT_S, security=security), None
     except (OSError, TimeoutError) as exc:
         raise ParameterError("scheduler", scheduler, f"a reachable Dask scheduler ({type(exc).__name__})") from None
+
+
+def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_timeout_s: float, progress) -> tuple:
+    """Run the chunks ``todo`` on ``client``'s cluster; the number of workers at the start and the pids that ran them.
+
+    A window of tasks is in flight: one a worker for simulators (a worker due for recycling is idle
+    when its task returns), two a worker otherwise. While none finishes, the cluster's workers are
+    counted every poll; none for ``no_worker_timeout_s`` stops the run (:func:`_check_workers`).
+    """
+    from distributed import wait
+
+    bounds, started = chunk_bounds(spec), time.perf_counter()
+    info = client.scheduler_info()
+    n_workers = len(info.get("workers", {}))
+    simulator = spec.job in SIMULATORS
+    gpu = simulator and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
+
+    def submit(i):
+        return client.submit(
+            _task, spec, i, *bounds[i], str(out), key=f"csuas-{spec.digest[:12]}-{i}", pure=False,
+            resources={"GPU": 1} if gpu else None, retries=2,
+        )  # fmt: skip
+
+    queue = iter(todo)
+    pending = {submit(i) for _, i in zip(range(max(1, n_workers) * (1 if simulator else 2)), queue)}
+    pids, tasks_by_worker, done, alone_since = set(), {}, 0, None
+    poll_s = min(1.0, no_worker_timeout_s / 4.0)
+    while pending:
+        try:
+            finished, pending = wait(pending, timeout=poll_s, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            try:
+                alone_since = _check_workers(client, alone_since, no_worker_timeout_s, done, out)
+            except CsuasError:
+                if progress is not None and done:
+                    progress.write("\n")  # end the progress line before the error's
+                raise
+            continue
+        alone_since = None
+        for future in finished:
+            pid, address = future.result()
+            pids.add(pid)
+            done += 1
+            tasks_by_worker[address] = tasks_by_worker.get(address, 0) + 1
+            if simulator and tasks_by_worker[address] >= spec.recycle_after:
+                client.restart_workers([address])  # a fresh process: bounded memory (docs/sweeps.md)
+                del tasks_by_worker[address]
+            following = next(queue, None)
+            if following is not None:
+                pending.add(submit(following))
+            _progress(done, len(todo), started, progress)
+    return n_workers, pids
+
+
+def _check_workers(client, alone_since: float | None, timeout_s: float, done: int, out: Path) -> float | None:
+    """When the cluster has had no worker since ``alone_since`` for ``timeout_s`` [s], stop the sweep.
+
+    Returns the moment the cluster was first seen without workers (None while it has some).
+
+    Raises
+    ------
+    CsuasError
+        One line: how long, how many chunks this run wrote (they stay) and how to resume.
+    """
+    if client.scheduler_info().get("workers"):
+        return None
+    now = time.monotonic()
+    alone_since = now if alone_since is None else alone_since
+    if now - alone_since >= timeout_s:
+        raise CsuasError(
+            f"no Dask worker for {timeout_s:g} s (--no-worker-timeout-s): stopped; the {done} chunk(s) this run "
+            f"wrote stay in {out / 'chunks'}; start workers and run the same command again to resume"
+        )
+    return alone_since
 
 
 def _progress(done: int, total: int, started: float, stream) -> None:
@@ -128,8 +240,19 @@ def _progress(done: int, total: int, started: float, stream) -> None:
         stream.write("\n")
 
 
-def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | None = None, progress=sys.stderr) -> dict:
+def run_sweep(
+    spec: SweepSpec,
+    out,
+    scheduler: str = "local",
+    workers: int | None = None,
+    progress=sys.stderr,
+    no_worker_timeout_s: float = NO_WORKER_TIMEOUT_S,
+) -> dict:
     """Run every chunk not yet in ``out`` and gather the results.
+
+    On a cluster left without a single worker for ``no_worker_timeout_s`` [s] (every worker killed,
+    a scheduler nobody serves), the run stops with :class:`csuas.base.errors.CsuasError` (exit 2);
+    the chunks already written stay, and the same command resumes once workers are back.
 
     Returns
     -------
@@ -138,14 +261,29 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         workers, the worker processes that ran this run's chunks (recycled workers count anew),
         points, chunks (run now and resumed), wall time, and the results' path.
     """
-    if scheduler not in ("serial", "local") and not scheduler.startswith("tcp://"):
-        raise ParameterError("scheduler", scheduler, "serial, local or tcp://HOST:PORT")
+    if scheduler not in ("serial", "local") and not scheduler.startswith(("tcp://", "tls://")):
+        raise ParameterError("scheduler", scheduler, "serial, local, tcp://HOST:PORT or tls://HOST:PORT")
+    if not (0.0 < no_worker_timeout_s < float("inf")):
+        raise ParameterError("no_worker_timeout_s", no_worker_timeout_s, "> 0 [s], finite")
     out = Path(out)
     prepare_output_dir(out)
-    (out / "chunks").mkdir(exist_ok=True)
+    sub_folder(out, "chunks")
+    for name in ("sweep-state.json", "results.parquet", "sweep.json"):
+        inside(out, name)  # a special file there is refused now, not after the work
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _run_locked(spec, out, scheduler, workers, no_worker_timeout_s, progress)
+
+
+#: Lock file inside the output folder: one sweep writes into a folder at a time.
+LOCK_NAME = ".csuas-sweep.lock"
+
+
+def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None, no_worker_timeout_s, progress) -> dict:
+    """The body of :func:`run_sweep`, holding the folder's lock."""
     _check_state(spec, out)
     bounds = chunk_bounds(spec)
-    todo = [i for i in range(len(bounds)) if not _chunk_path(out, i).exists()]
+    redone = [i for i, (start, stop) in enumerate(bounds) if _unreadable_chunk(out, i, stop - start, progress)]
+    todo = [i for i in range(len(bounds)) if i in redone or not _chunk_path(out, i).exists()]
     started = time.perf_counter()
     n_workers, pids = 1, set()
     if scheduler == "serial" or not todo:
@@ -153,38 +291,9 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
             pids.add(_task(spec, i, *bounds[i], str(out))[0])
             _progress(done, len(todo), started, progress)
     else:
-        from distributed import as_completed
-
         client, cluster = _client(scheduler, workers)
         try:
-            info = client.scheduler_info()
-            n_workers = len(info.get("workers", {}))
-            simulator = spec.job in SIMULATORS
-            gpu = simulator and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
-
-            def submit(i):
-                return client.submit(
-                    _task, spec, i, *bounds[i], str(out), key=f"csuas-{spec.digest[:12]}-{i}", pure=False,
-                    resources={"GPU": 1} if gpu else None, retries=2,
-                )  # fmt: skip
-
-            # a window of tasks in flight: one a worker for simulators (a worker due for recycling is
-            # idle when its task returns), two a worker otherwise
-            queue = iter(todo)
-            window = max(1, n_workers) * (1 if simulator else 2)
-            running = as_completed([submit(i) for _, i in zip(range(window), queue)])
-            tasks_by_worker: dict = {}
-            for done, future in enumerate(running, 1):
-                pid, address = future.result()
-                pids.add(pid)
-                tasks_by_worker[address] = tasks_by_worker.get(address, 0) + 1
-                if simulator and tasks_by_worker[address] >= spec.recycle_after:
-                    client.restart_workers([address])  # a fresh process: bounded memory (docs/sweeps.md)
-                    del tasks_by_worker[address]
-                following = next(queue, None)
-                if following is not None:
-                    running.add(submit(following))
-                _progress(done, len(todo), started, progress)
+            n_workers, pids = _run_on_cluster(client, spec, todo, out, no_worker_timeout_s, progress)
         finally:
             client.close()
             if cluster is not None:
@@ -203,10 +312,11 @@ def run_sweep(spec: SweepSpec, out, scheduler: str = "local", workers: int | Non
         "chunks": len(bounds),
         "chunks_run": len(todo),
         "chunks_resumed": len(bounds) - len(todo),
+        "chunks_redone": redone,
         "wall_time_s": time.perf_counter() - started,
         "results": str(results),
     }
-    write_text_atomic(out / "sweep.json", json.dumps(provenance, indent=2))
+    write_text_atomic(inside(out, "sweep.json"), json.dumps(provenance, indent=2))
     return provenance
 
 
@@ -219,7 +329,7 @@ def gather(out: Path, n_chunks: int) -> Path:
     if missing:
         raise CsuasError(f"sweep: {len(missing)} chunk(s) missing after the run, first {missing[0]}")
     table = pa.concat_tables([pq.read_table(_chunk_path(out, i)) for i in range(n_chunks)])
-    path = out / "results.parquet"
+    path = inside(out, "results.parquet")
     with atomic_path(path) as tmp:
         pq.write_table(table, tmp)
     return path

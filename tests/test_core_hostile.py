@@ -7,6 +7,7 @@ every loss and power with a negative value.
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -170,8 +171,112 @@ def test_the_defaults_themselves_give_a_finite_positive_range(model):
 def test_an_absurd_but_finite_budget_is_an_explained_unbounded_range():
     result = rf.rf_range(p_tx_w=0.1, g_tx_dbi=8.0, g_rx_db=14.0, frequency_ghz=2.4, s_rx_dbm=-7000.0)
     assert np.isinf(result.range_m) and str(result.reason).startswith("unbounded")
-    big = radar.radar_range(p_tx_w=10.0, g_tx_db=1e4, g_rx_db=25.0, wavelength_m=0.0125, sigma_m2=0.01)
-    assert np.isinf(big.range_m) and str(big.reason).startswith("unbounded")
+
+
+#: Every model's arguments with an entry in defaults/parameters.toml, and that entry.
+REGISTRY_OF = {
+    "eo": eo.EO_REGISTRY,
+    "tir_johnson": tir.TIR_JOHNSON_REGISTRY,
+    "tir_mrtd": tir.TIR_MRTD_REGISTRY,
+    "acoustic": acoustic.ACOUSTIC_REGISTRY,
+    "rf": rf.RF_REGISTRY,
+    "radar": radar.RADAR_REGISTRY,
+    "lidar": lidar.LIDAR_REGISTRY,
+}
+
+
+def _registry_max(key: str) -> float:
+    from csuas.defaults import load_parameters
+
+    section, entry = key.split(".")
+    return float(load_parameters()[section][entry]["max"])
+
+
+def _above_cases():
+    for model, keys in REGISTRY_OF.items():
+        for name, key in keys.items():
+            if name not in MODELS[model][1]:
+                continue
+            high = _registry_max(key)
+            yield pytest.param(model, name, high * 10.0 if high > 0 else high + 1.0, key, id=f"{model}.{name}")
+
+
+@pytest.mark.parametrize("model, name, value, key", list(_above_cases()))
+def test_every_parameter_above_its_registry_bound_is_refused_naming_it(model, name, value, key):
+    """The upper bound defaults/parameters.toml states holds for the model called directly, not only for scenarios."""
+    function, kwargs = MODELS[model]
+    bound = re.escape(f"<= {_registry_max(key):g}: {key} in defaults/parameters.toml")
+    with pytest.raises(ParameterError, match=rf"^{name} = .*{bound}"):
+        function(**{**kwargs, name: value})
+
+
+#: Finite but absurd inputs that used to overflow into an infinite range with no reason (issue 22):
+#: (model, parameter, value). Above the registry they are refused; below, the range is finite or explained.
+ABSURD = [
+    ("radar", "g_tx_db", 3026.0),
+    ("radar", "g_rx_db", 3026.0),
+    ("radar", "p_tx_w", 1e300),
+    ("radar", "sigma_m2", 1e300),
+    ("rf", "g_tx_dbi", 3026.0),
+    ("rf", "p_tx_w", 1e300),
+    ("tir_johnson", "d_crit_m", 1.7e308),
+    ("tir_johnson", "lp_task", 5e-324),
+    ("tir_johnson", "n_ttpf", 5e-324),
+    ("eo", "d_crit_m", 1.7e308),
+    ("lidar", "p_tx_w", 1e300),
+    ("lidar", "p_tx_w", 1.7e308),
+    ("lidar", "p_rx_min_w", 5e-324),
+    ("lidar", "sigma_lidar_m2", 1e300),
+    ("lidar", "sigma_lidar_m2", 1.7e308),
+    ("lidar", "aperture_mm", 1e100),
+    ("lidar", "aperture_mm", 1e300),
+    ("lidar", "aperture_mm", 1.7e308),
+    ("lidar", "wavelength_nm", 5e-324),
+    ("acoustic", "sl_db", 3026.0),
+]
+
+
+@pytest.mark.parametrize("model, name, value", ABSURD, ids=[f"{m}.{n}={v:g}" for m, n, v in ABSURD])
+@pytest.mark.parametrize("convention", ["paper", "physical"])
+def test_an_absurd_finite_input_is_refused_or_gives_an_explained_range(model, name, value, convention):
+    import warnings
+
+    function, kwargs = MODELS[model]
+    if model not in ("tir_johnson",):
+        kwargs = {**kwargs, "convention": convention}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no overflow on the way either
+            result = function(**{**kwargs, name: value})
+    except ParameterError as exc:
+        assert str(exc).startswith(f"{CANONICAL.get((model, name), name)} = ") or name in str(exc)
+        return
+    _assert_never_silent(result, name)
+
+
+#: NaN that a model used to ignore (a weather term skipped when ``NaN > 0`` is False, a term of the
+#: other convention never read): (model, parameter). NaN in is an error naming it, in either convention.
+NAN_IGNORED = [
+    ("radar", "rain_rate_mm_h"),
+    ("radar", "lwc_g_m3"),
+    ("radar", "temperature_k"),
+    ("radar", "d_rain_km"),
+    ("radar", "d_fog_km"),
+    ("radar", "loss_frequency_ghz"),
+    ("lidar", "visibility_km"),
+    ("lidar", "eta_tl"),
+    ("rf", "temperature_k"),
+    ("rf", "d_rain_km"),
+    ("rf", "d_fog_km"),
+]
+
+
+@pytest.mark.parametrize("model, name", NAN_IGNORED, ids=[f"{m}.{n}" for m, n in NAN_IGNORED])
+@pytest.mark.parametrize("convention", ["paper", "physical"])
+def test_nan_is_never_ignored(model, name, convention):
+    function, kwargs = MODELS[model]
+    with pytest.raises(ParameterError, match=rf"^{name} = nan is invalid"):
+        function(**{**kwargs, name: math.nan, "convention": convention})
 
 
 def test_a_negative_loss_is_refused():

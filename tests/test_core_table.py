@@ -358,6 +358,7 @@ COVERED_ELSEWHERE = {
     "acoustic.wind_noise_db": "tests/test_core_acoustic.py (Table 31)",
     "acoustic.wind_noise_extrapolated": "tests/test_core_acoustic.py",
     "checks.require": "tests/test_core_hostile.py",
+    "checks.require_registry_bounds": "tests/test_core_hostile.py (every parameter above its registry bound)",
     "itu.fog_coefficient_kl": "tests/test_core_itu.py (ITU-Rpy, Tables 36, 43)",
     "itu.fog_specific_attenuation_db_km": "tests/test_core_itu.py (ITU-Rpy)",
     "itu.rain_coefficients": "tests/test_core_itu.py (ITU-R validation example)",

@@ -209,6 +209,16 @@ BAD_COMMAND_LINES = {
     "report_baseline_missing": ["report", "--quick", "--baseline", "/no/such/report.json"],
     "report_baseline_directory": ["report", "--quick", "--baseline", "/tmp"],
     "bench_unknown_suite": ["bench", "--only", "everything"],
+    # issue 22: output paths and sweep options, refused before any work
+    "rcs_plot_into_a_folder": ["rcs", "dji_mini_4_pro", "--frequency-ghz", "10", "--plot", "/tmp"],
+    "pd_plot_with_a_nul": ["pd", "default", "--plot", "a\0b.png"],
+    "pd_plot_name_of_300_characters": ["pd", "default", "--plot", "x" * 300 + ".png"],
+    "drone_export_into_a_folder": ["drone", "dji_mini_4_pro", "--quality", "none", "--export", "/tmp/"],
+    "rcs_statistics_out_is_a_folder": ["rcs-statistics", "--out", "/tmp"],
+    "sweep_zero_no_worker_timeout": ["sweep", "range_rain", "--out", "/tmp/x", "--no-worker-timeout-s", "0"],
+    "sweep_nan_no_worker_timeout": ["sweep", "range_rain", "--out", "/tmp/x", "--no-worker-timeout-s", "nan"],
+    "sweep_inf_no_worker_timeout": ["sweep", "range_rain", "--out", "/tmp/x", "--no-worker-timeout-s", "inf"],
+    "sweep_unknown_scheduler_scheme": ["sweep", "range_rain", "--out", "/tmp/x", "--scheduler", "udp://h:1"],
 }
 
 

@@ -20,11 +20,14 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
-from csuas.base.fileio import atomic_path, prepare_output_dir, read_spec, write_text_atomic
+from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
+from csuas.base.paths import file_name_part, inside
 from csuas.commands.coverage_radio import radio_map_layers, radio_map_settings
 from csuas.core.coverage import POINTING
 
 #: Keys a site may hold; and of each sensor table.
+#: Lock file inside the output folder: one coverage run writes into a folder at a time.
+LOCK_NAME = ".csuas-coverage.lock"
 SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "fusion_k", "sensors", "radio_map")
 SENSOR_KEYS = ("x", "y", "mast_m", *POINTING)
 #: Layers of a radio map: (kind, key of :func:`csuas.commands.coverage_radio.radio_map_layers`'s grids).
@@ -34,6 +37,12 @@ RADIO_KINDS = (
     ("detected_multipath", "detected"),
     ("pd_multipath", "pd"),
 )
+#: Layers that also get a GeoJSON of their covered cells.
+GEOJSON_KINDS = ("detected", "k_of_n", "detected_multipath")
+#: Each sensor's layers at every flight level, and the fused layers' quantities (with fusion_k: and k of n).
+SENSOR_KINDS = ("visible", "detected", "pd")
+FUSED_QUANTITIES = ("count", "detected", "pd")
+FUSED_K_QUANTITIES = ("k_of_n", "pd_k_of_n")
 #: Layers whose every finite value is shown and counted as covered (the others: values above 0).
 VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error")
 #: Colour-bar labels of the layers with a scale.
@@ -124,6 +133,13 @@ def _validate(site: dict, scenario) -> list:
     if not sensors:
         errors.append(ParameterError("sensors", sensors, "at least one [sensors.NAME] of the scenario"))
     for name, table in sensors.items():
+        try:
+            file_name_part(name, "sensors")  # it names the sensor's layer files
+        except ParameterError as exc:
+            errors.append(exc)
+            continue
+        if name == "fused":
+            errors.append(ParameterError("sensors", name, "a sensor name other than 'fused' (the fused layers' name)"))
         if name not in scenario.sensors:
             errors.append(
                 ParameterError(f"sensors.{name}", name, "a sensor of the scenario: " + ", ".join(scenario.sensors))
@@ -188,58 +204,67 @@ def run(args) -> dict:
     altitudes = [float(a) for a in site.get("altitudes_agl_m", [30.0, 120.0])]
     k = site.get("fusion_k")
     out = prepare_output_dir(args.out)
-    layers, per_sensor = [], {}
-    for name, placed in sited.items():
-        print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
-        per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
-    fused = fused_layers(per_sensor, k)
-    radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
-    hillshade = _hillshade(dem, cell)
-    where = {"transform": transform, "crs": crs, "hillshade": hillshade, "sited": sited, "cell_km2": cell * cell / 1e6}
-    for name, grids in per_sensor.items():
+    for name in _layer_files(sited, altitudes, [] if radio is None else radio["sensors"], k):
+        inside(out, name)  # outside --out, or a special file there: refused now, not after the work
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        layers, per_sensor = [], {}
+        for name, placed in sited.items():
+            print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
+            per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
+        fused = fused_layers(per_sensor, k)
+        radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
+        hillshade = _hillshade(dem, cell)
+        where = {
+            "transform": transform,
+            "crs": crs,
+            "hillshade": hillshade,
+            "sited": sited,
+            "cell_km2": cell * cell / 1e6,
+        }
+        for name, grids in per_sensor.items():
+            for i, altitude in enumerate(altitudes):
+                for kind in SENSOR_KINDS:
+                    grid = grids[kind][i].astype(np.float32)
+                    if kind == "visible":
+                        grid[~grids["traced"]] = np.nan  # beyond the mapped reach: not traced
+                    layers.append(_layer(out, name, altitude, kind, grid, where))
+            min_alt = grids["min_altitude_m"].astype(np.float32)
+            layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
+        for name, grids in radio_maps.items():
+            for i, altitude in enumerate(altitudes):
+                for kind, key in RADIO_KINDS:
+                    layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
+        quantities = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
         for i, altitude in enumerate(altitudes):
-            for kind in ("visible", "detected", "pd"):
-                grid = grids[kind][i].astype(np.float32)
-                if kind == "visible":
-                    grid[~grids["traced"]] = np.nan  # beyond the mapped reach: not traced
-                layers.append(_layer(out, name, altitude, kind, grid, where))
-        min_alt = grids["min_altitude_m"].astype(np.float32)
-        layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
-    for name, grids in radio_maps.items():
-        for i, altitude in enumerate(altitudes):
-            for kind, key in RADIO_KINDS:
-                layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
-    quantities = ("count", "detected", "pd") + (() if k is None else ("k_of_n", "pd_k_of_n"))
-    for i, altitude in enumerate(altitudes):
-        for quantity in quantities:
-            grid = fused[quantity][i].astype(np.float32)
-            layer = _layer(out, "fused", altitude, quantity, grid, where)
-            extra = {"k": k, "n": len(sited)} if quantity.endswith("k_of_n") else {}
-            layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
-    summary = {
-        "site": str(args.site),
-        "crs": crs,
-        "cell_m": cell,
-        "altitudes_agl_m": altitudes,
-        "fusion_k": k,
-        "sensors": {
-            n: {
-                "range_m": g["range_m"],
-                "reach_m": None if math.isinf(g["reach_m"]) else g["reach_m"],
-                "row": sited[n].row,
-                "col": sited[n].col,
-                **{key: getattr(sited[n], key) for key in POINTING},
-            }
-            for n, g in per_sensor.items()
-        },
-        "layers": layers,
-    }
-    if radio is not None:
-        settings = {key: radio[key] for key in ("ground", "step", "max_depth", "seed", "accuracy_db")}
-        summary["radio_maps"] = {"settings": settings, "maps": {n: g["maps"] for n, g in radio_maps.items()}}
-    write_text_atomic(out / "coverage.json", json.dumps(summary, indent=1))
-    summary["out"] = str(out)
-    return summary
+            for quantity in quantities:
+                grid = fused[quantity][i].astype(np.float32)
+                layer = _layer(out, "fused", altitude, quantity, grid, where)
+                extra = {"k": k, "n": len(sited)} if quantity.endswith("k_of_n") else {}
+                layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
+        summary = {
+            "site": str(args.site),
+            "crs": crs,
+            "cell_m": cell,
+            "altitudes_agl_m": altitudes,
+            "fusion_k": k,
+            "sensors": {
+                n: {
+                    "range_m": g["range_m"],
+                    "reach_m": None if math.isinf(g["reach_m"]) else g["reach_m"],
+                    "row": sited[n].row,
+                    "col": sited[n].col,
+                    **{key: getattr(sited[n], key) for key in POINTING},
+                }
+                for n, g in per_sensor.items()
+            },
+            "layers": layers,
+        }
+        if radio is not None:
+            settings = {key: radio[key] for key in ("ground", "step", "max_depth", "seed", "accuracy_db")}
+            summary["radio_maps"] = {"settings": settings, "maps": {n: g["maps"] for n, g in radio_maps.items()}}
+        write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
+        summary["out"] = str(out)
+        return summary
 
 
 def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
@@ -257,12 +282,31 @@ def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
     return np.clip(np.tensordot(sun, normal, axes=1), 0.0, 1.0)
 
 
+def _stem(sensor: str, altitude, kind: str) -> str:
+    """File name of a layer without suffix: ``<sensor>_<kind>[_<altitude>m]``."""
+    return f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
+
+
+def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
+    """Every file name the layers of a site will have (checked before the work)."""
+    layers = [(name, None, "min_altitude") for name in sensors]
+    layers += [(name, a, kind) for name in sensors for a in altitudes for kind in SENSOR_KINDS]
+    layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
+    fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
+    layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
+    names = ["coverage.json"]
+    for sensor, altitude, kind in layers:
+        suffixes = (".tif", ".png") + ((".geojson",) if kind in GEOJSON_KINDS else ())
+        names += [_stem(sensor, altitude, kind) + suffix for suffix in suffixes]
+    return names
+
+
 def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> dict:
     """Write one layer (GeoTIFF, PNG and, for a detected layer, GeoJSON) and describe it for coverage.json."""
     import rasterio
 
-    stem = f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
-    tif, png = out / f"{stem}.tif", out / f"{stem}.png"
+    stem = _stem(sensor, altitude, kind)
+    tif, png = inside(out, f"{stem}.tif"), inside(out, f"{stem}.png")
     profile = {
         "driver": "GTiff",
         "height": grid.shape[0],
@@ -288,8 +332,8 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
         "png": png.name,
         "area_km2": float(covered.sum() * where["cell_km2"]),
     }
-    if kind in ("detected", "k_of_n", "detected_multipath"):
-        geojson = out / f"{stem}.geojson"
+    if kind in GEOJSON_KINDS:
+        geojson = inside(out, f"{stem}.geojson")
         write_text_atomic(
             geojson,
             json.dumps(

@@ -1,6 +1,7 @@
 """``csuas dataset SPEC --out DIR``: labelled EO frames of drones drawn from a spec (docs/datasets.md).
 
-JSON (``--json``): ``images``, ``rendered``, ``resumed``, ``annotations`` (the COCO file's path),
+JSON (``--json``): ``images``, ``rendered``, ``resumed``, ``redone`` (images whose record an earlier run
+left unreadable, rendered again), ``annotations`` (the COCO file's path),
 ``time_s`` and ``out``.
 """
 
@@ -27,7 +28,9 @@ def run(args) -> dict:
 
 def render_text(result: dict) -> str:
     """What was written, and how long it took."""
+    redone = f", {len(result['redone'])} redone (unreadable records)" if result.get("redone") else ""
     return (
-        f"dataset: {result['images']} images ({result['rendered']} rendered, {result['resumed']} already on disk) "
+        f"dataset: {result['images']} images ({result['rendered']} rendered, "
+        f"{result['resumed']} already on disk{redone}) "
         f"in {result['time_s']:.1f} s\nlabels: {result['annotations']}"
     )

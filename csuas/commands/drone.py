@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
+from csuas.base.paths import output_file
 from csuas.drone_models.birds import MID_STROKE_PHASE, build_bird, list_birds
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
 from csuas.drone_models.mesh_input import load_mesh_drone
@@ -79,7 +80,8 @@ def run(args) -> dict:
     """Build the preset and measure it; returns the ``--json`` object."""
     start = time.perf_counter()
     if args.export:
-        export_format(args.export)  # reject a bad suffix before any work
+        export_format(args.export)  # reject a bad suffix, a special file or a bad name before any work
+        output_file(args.export, "export")
     if args.preset in list_birds():
         drone = build_bird(args.preset, args.wingbeat_phase)
     elif args.preset in list_presets() or not Path(args.preset).suffix:

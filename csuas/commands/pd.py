@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
+from csuas.base.paths import output_file
 from csuas.core.pd_curves import (
     FALSE_ALARM_NOTE,
     GRID_BEYOND,
@@ -85,6 +86,11 @@ def _check(args) -> None:
         errors.append(ParameterError("fusion", args.fusion, "or, or k-of-n:K with K a whole number >= 1"))
     if args.plot is not None and not args.plot.lower().endswith(".png"):
         errors.append(ParameterError("plot", args.plot, "a file name ending in .png"))
+    elif args.plot is not None:
+        try:
+            output_file(args.plot, "plot")
+        except ParameterError as exc:
+            errors.append(exc)
     raise_all(errors)
 
 

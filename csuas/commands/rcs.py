@@ -12,6 +12,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
+from csuas.base.paths import output_file
 from csuas.core.units import wavelength_m
 
 QUALITIES = ("draft", "standard", "reference")
@@ -265,6 +266,11 @@ def _validate(args) -> None:
         errors.append(ParameterError("max_tubes", args.max_tubes, "a finite number >= 1"))
     if not (0.0 < args.sphere_accuracy_db <= 10.0):
         errors.append(ParameterError("sphere_accuracy_db", args.sphere_accuracy_db, "0 < x <= 10 [dB]"))
+    if args.plot:
+        try:
+            output_file(args.plot, "plot")
+        except ParameterError as exc:
+            errors.append(exc)
     raise_all(errors)
 
 

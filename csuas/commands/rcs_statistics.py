@@ -12,6 +12,7 @@ import sys
 from importlib import resources
 
 from csuas.base.errors import ParameterError, raise_all
+from csuas.base.paths import output_file
 from csuas.drone_models.presets import list_presets
 
 #: The shipped table, inside the installed package.
@@ -50,6 +51,11 @@ def _validate(args) -> None:
         errors.append(ParameterError("accuracy_db", args.accuracy_db, "0 < x <= 10 [dB]"))
     if args.max_aspects < 256:
         errors.append(ParameterError("max_aspects", args.max_aspects, "integer >= 256 (one batch)"))
+    if args.out is not None:
+        try:
+            output_file(args.out, "out")
+        except ParameterError as exc:
+            errors.append(exc)
     raise_all(errors)
 
 

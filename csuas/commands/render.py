@@ -97,6 +97,8 @@ def run(args) -> dict:
     if args.out is not None:
         prepare_output_dir(args.out)
     scenario = load_scenario(args.scenario)
+    if args.out is not None:
+        _refuse_unsafe_targets(scenario, args, directions)
     mode = resolve_mode(args.mode)
     options = {"exposure": "auto" if args.auto_exposure else "scene"} if args.mode == "eo" else {}
     results = []
@@ -122,6 +124,43 @@ def run(args) -> dict:
         "results": results,
         "time_s": time.perf_counter() - start,
     }
+
+
+def _refuse_unsafe_targets(scenario, args, directions) -> None:
+    """Check every file the render will write, before rendering.
+
+    The scenario's ``name`` and the rendered sensor's key become file names
+    (:func:`csuas.base.paths.file_name_part`); each EXR and PNG must lie in ``--out`` and be a new
+    name or a regular file (:func:`csuas.base.paths.inside`).
+
+    Raises
+    ------
+    ParameterError
+        The names' mistakes all at once, naming the key; else the first file that cannot be written.
+    """
+    from csuas.base.paths import file_name_part, inside
+    from csuas.render.files import file_stem
+
+    of_mode = [name for name, spec in scenario.sensors.items() if spec.modality == args.mode]
+    chosen = (
+        args.sensor if args.sensor in scenario.sensors else (of_mode[0] if of_mode and args.sensor is None else None)
+    )
+    errors = []
+    for value, key in ((scenario.name, "name"), (chosen, "sensors")):
+        try:
+            if value is not None:
+                file_name_part(value, key)
+        except ParameterError as exc:
+            errors.append(exc)
+    raise_all(errors)
+    if chosen is None and not (args.mode == "lidar" and args.sensor is None):
+        return  # no such sensor: the render mode names the mistake
+    sensor = chosen or "table45"  # lidar without a lidar sensor: Table 45's defaults
+    for range_m in args.range_m:
+        for azimuth, elevation in directions:
+            stem = file_stem(scenario.name, sensor, args.mode, range_m, azimuth, elevation, args.quality, args.seed)
+            for suffix in (".exr", ".png"):
+                inside(args.out, stem + suffix)
 
 
 def _refuse_colliding_names(ranges_m, directions) -> None:

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from csuas.base.errors import CsuasError, ParameterError
+from csuas.base.errors import CsuasError, ParameterError, raise_all
+from csuas.base.fileio import prepare_output_dir
+from csuas.base.paths import file_name_part, inside
 from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
 from csuas.defaults import load_sensitivity
 
@@ -66,6 +68,7 @@ def _scenario_analysis(args) -> dict:
                 f"name one of {', '.join(scenario.sensors)}"
             )
         sensor = next(iter(scenario.sensors))
+    plot = _plot_path(args.out, scenario.name, sensor)
     baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
     title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
     entry = {
@@ -74,13 +77,33 @@ def _scenario_analysis(args) -> dict:
         "baseline_m": baseline,
         "bars": [b.as_dict() for b in bars],
     }
-    if args.out:
+    if plot is not None:
         from csuas.base.plots import tornado_plot
 
-        entry["plot"] = str(
-            tornado_plot(Path(args.out) / f"tornado_{scenario.name}_{sensor}.png", title, baseline, bars)
-        )
+        entry["plot"] = str(tornado_plot(plot, title, baseline, bars))
     return {"analyses": {f"{scenario.name}.{sensor}": entry}}
+
+
+def _plot_path(out, scenario: str, sensor: str) -> Path | None:
+    """Where the tornado plot of ``sensor`` goes in ``out`` (None without ``--out``), checked before the work.
+
+    Raises
+    ------
+    ParameterError
+        When the scenario's ``name`` or the sensor's key cannot be part of a file name, or the plot
+        would leave ``out`` or replace a special file (:mod:`csuas.base.paths`).
+    """
+    if not out:
+        return None
+    errors = []
+    for value, key in ((scenario, "name"), (sensor, "sensors")):
+        try:
+            file_name_part(value, key)
+        except ParameterError as exc:
+            errors.append(exc)
+    raise_all(errors)
+    prepare_output_dir(out)
+    return inside(out, f"tornado_{scenario}_{sensor}.png")
 
 
 def run(args) -> dict:
@@ -89,6 +112,9 @@ def run(args) -> dict:
         return _scenario_analysis(args)
     chosen = ANALYSES if args.analysis == "all" else ((args.analysis,) if args.analysis != "platforms" else ())
     result = {"analyses": {}}
+    if args.out:
+        prepare_output_dir(args.out)
+    plots = {name: inside(args.out, f"tornado_{name}.png") for name in chosen} if args.out else {}
     for name in chosen:
         spec = load_sensitivity()[name]
         baseline, bars = one_at_a_time(spec["model"], spec["parameters"], spec.get("fixed"))
@@ -103,7 +129,7 @@ def run(args) -> dict:
         if args.out:
             from csuas.base.plots import tornado_plot
 
-            path = Path(args.out) / f"tornado_{name}.png"
+            path = plots[name]
             tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars, log_scale=name != "radar")
             entry["plot"] = str(path)
         result["analyses"][name] = entry

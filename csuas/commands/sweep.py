@@ -2,7 +2,7 @@
 
 JSON (``--json``): the provenance of ``DIR/sweep.json`` (``csuas_version``, ``spec_digest``,
 ``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``worker_processes``, ``points``,
-``chunks``, ``chunks_run``, ``chunks_resumed``, ``wall_time_s``, ``results``), plus ``columns`` of
+``chunks``, ``chunks_run``, ``chunks_resumed``, ``chunks_redone``, ``wall_time_s``, ``results``), plus ``columns`` of
 ``DIR/results.parquet``.
 """
 
@@ -13,14 +13,25 @@ import sys
 
 def add_arguments(parser):
     """Declare the options of ``csuas sweep``."""
+    from csuas.sweep.run import NO_WORKER_TIMEOUT_S
+
     parser.add_argument("spec", help="sweep spec TOML file, or an embedded spec (range_rain, pd_radar_power, ...)")
     parser.add_argument("--out", required=True, help="output folder (results.parquet, sweep.json, chunks/)")
     parser.add_argument(
         "--scheduler",
         default="local",
-        help="serial (this process), local (default: a LocalCluster of process workers) or tcp://HOST:PORT",
+        help="serial (this process), local (default: a LocalCluster of process workers), tcp://HOST:PORT (a Dask "
+        "scheduler: unencrypted, trusted networks only) or tls://HOST:PORT (Dask's TLS settings, docs/sweeps.md)",
     )
     parser.add_argument("--workers", type=int, default=None, help="workers of the local cluster (default: CPU count)")
+    parser.add_argument(
+        "--no-worker-timeout-s",
+        type=float,
+        default=NO_WORKER_TIMEOUT_S,
+        metavar="S",
+        help=f"stop (exit 2) when the cluster has had no worker for S seconds; written chunks stay and the same "
+        f"command resumes (default {NO_WORKER_TIMEOUT_S:g})",
+    )
 
 
 def run(args) -> dict:
@@ -31,7 +42,9 @@ def run(args) -> dict:
     if args.workers is not None and args.workers < 1:
         raise ParameterError("workers", args.workers, "a whole number >= 1")
     spec = load_spec(args.spec)
-    provenance = run_sweep(spec, args.out, args.scheduler, args.workers, progress=sys.stderr)
+    provenance = run_sweep(
+        spec, args.out, args.scheduler, args.workers, progress=sys.stderr, no_worker_timeout_s=args.no_worker_timeout_s
+    )
     provenance["columns"] = list(read_results(provenance["results"]))
     return provenance
 

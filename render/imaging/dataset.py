@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import InputErrors, ParameterError
-from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
+from csuas.base.paths import inside, sub_folder
 
 #: Axes a spec may draw or list.
 AXES = ("drones", "range_m", "azimuth_deg", "elevation_deg")
@@ -216,15 +217,31 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
     out = prepare_output_dir(out_dir)
     for sub in ("images", "labels", "records"):
-        (out / sub).mkdir(exist_ok=True)
+        sub_folder(out, sub)
+    inside(out, "annotations.json")  # a special file there is refused now, not after the work
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _generate_locked(spec, scenario, sensor, out, progress)
+
+
+#: Lock file inside the output folder: one dataset run writes into a folder at a time.
+LOCK_NAME = ".csuas-dataset.lock"
+
+
+def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -> dict:
+    """The body of :func:`generate`, holding the folder's lock."""
     items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
-    start, rendered = time.perf_counter(), 0
+    start, rendered, redone = time.perf_counter(), 0, []
     # one frame's files are written (PNG compression releases the GIL) while the next is rendered
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
         writing = None
         for done, item in enumerate(items, 1):
             record = out / "records" / f"{item['name']}.json"
-            if not record.exists():
+            problem = _unreadable(record, out) if record.exists() else None
+            if problem is not None:
+                redone.append(item["name"])
+                if progress is not None:
+                    print(f"csuas dataset: warning: {problem}: image {item['name']} redone", file=progress)
+            if problem is not None or not record.exists():
                 frame = _frame(spec, scenario, sensor, item)
                 if writing is not None:
                     writing.result()
@@ -243,9 +260,28 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
         "images": len(items),
         "rendered": rendered,
         "resumed": len(items) - rendered,
+        "redone": redone,
         "annotations": str(annotations),
         "time_s": time.perf_counter() - start,
     }
+
+
+def _unreadable(record: Path, out: Path) -> str | None:
+    """Why a frame's record left by an earlier run cannot be trusted (so the frame is redone), or None.
+
+    A record is written last, after its image and label (:func:`_write_image`); one that is not a
+    JSON object with ``image.file_name`` and ``annotation``, or whose image is gone, was damaged after.
+    """
+    try:
+        entry = json.loads(record.read_text(encoding="utf-8"))
+        image = out / entry["image"]["file_name"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
+        return f"records/{record.name} unreadable ({type(exc).__name__})"
+    if "annotation" not in entry:  # None when the drone is out of frame, never absent
+        return f"records/{record.name} unreadable (no annotation)"
+    if not image.is_file():
+        return f"records/{record.name} names a missing image"
+    return None
 
 
 def _imaging_sensor(scenario, name):
@@ -277,15 +313,15 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     thermal = sensor.modality == "tir"
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
-    with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
+    with atomic_path(inside(out, "images", f"{item['name']}.png")) as tmp:
         pixels = dn.astype(np.uint8) if spec.bits == 8 else dn.astype(np.uint16)
         # zlib's fastest level: a noisy frame shrinks little more at the default level, in 20 times the time
         Image.fromarray(pixels).save(tmp, format="PNG", compress_level=1)
     if spec.exr:
         unit = "K" if thermal else "electrons"
-        _write_signal_exr(out / "images" / f"{item['name']}.exr", frame["chain"]["signal"], item, unit)
+        _write_signal_exr(inside(out, "images", f"{item['name']}.exr"), frame["chain"]["signal"], item, unit)
     yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
-    write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
+    write_text_atomic(inside(out, "labels", f"{item['name']}.txt"), yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
     contrast_value = float(frame["delta_t_k"] if thermal else res.values.get(contrast_key, float("nan")))
@@ -317,7 +353,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
                 "exposure_s": frame.get("exposure_s"),
             },
         }
-    write_text_atomic(out / "records" / f"{item['name']}.json", json.dumps(entry, indent=1))
+    write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
 
 
 def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
@@ -418,4 +454,4 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         "annotations": annotations,
         "categories": [{"id": 1, "name": "drone"}],
     }
-    return write_text_atomic(out / "annotations.json", json.dumps(coco, indent=1))
+    return write_text_atomic(inside(out, "annotations.json"), json.dumps(coco, indent=1))

@@ -27,6 +27,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path
+from csuas.base.paths import inside
 from csuas.render.files import METADATA_KEYS, write_colour_map
 
 #: Previews are enlarged by pixel replication to at least this many pixels across.
@@ -157,5 +158,5 @@ def write_png(result, path, exposure: str = "scene") -> Path:
 
 def write_images(result, out_dir, stem: str, meta: dict, exposure: str = "scene") -> list:
     """EXR and PNG of ``result`` under ``out_dir`` as ``<stem>.exr`` and ``<stem>.png``."""
-    out = Path(out_dir)
-    return [str(write_exr(result, out / f"{stem}.exr", meta)), str(write_png(result, out / f"{stem}.png", exposure))]
+    exr, png = inside(out_dir, f"{stem}.exr"), inside(out_dir, f"{stem}.png")
+    return [str(write_exr(result, exr, meta)), str(write_png(result, png, exposure))]

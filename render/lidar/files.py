@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.fileio import atomic_path
+from csuas.base.paths import inside
 from csuas.render.files import write_colour_map
 
 #: Colour map of the PNG preview (perceptually uniform, dark = no return).
@@ -69,6 +70,6 @@ def write_lcs_map(out_dir, stem: str, image: np.ndarray, metadata: dict) -> list
         f"LCS {metadata.get('lcs_m2', float('nan')):.3g} m^2"
     )
     return [
-        write_exr(directory / f"{stem}.exr", image, metadata),
-        write_png_preview(directory / f"{stem}.png", image, title),
+        write_exr(inside(directory, f"{stem}.exr"), image, metadata),
+        write_png_preview(inside(directory, f"{stem}.png"), image, title),
     ]

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path, dumps, exclusive_lock, prepare_output_dir, to_jsonable, write_text_atomic
+from csuas.base.paths import inside, sub_folder
 from csuas.base.registry import resolve
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
@@ -103,6 +104,9 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
     old = load_baseline(baseline) if baseline is not None else None
     specs = all_specs() if specs is None else list(specs)
     out = prepare_output_dir(out_dir)
+    sub_folder(out, "figures")
+    for name in REPORT_FILES:
+        inside(out, name)  # a special file there is refused now, not after the checks
     with exclusive_lock(out / LOCK_NAME, "--out"):
         return _run_locked(quality, out, baseline, old, specs, progress)
 
@@ -132,7 +136,7 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
         checks += records
         figure_files = []
         for fig in section.figures:
-            path = out / "figures" / f"{fig.name}.png"
+            path = inside(out, "figures", f"{fig.name}.png")
             with atomic_path(path) as tmp:
                 tmp.write_bytes(fig.png)
             figure_files.append(
@@ -200,9 +204,9 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
         "markdown": str(out / "report.md"),
     }
     report["figures"] = sorted(written)
-    write_text_atomic(out / "report.md", render_markdown(report))
-    write_text_atomic(out / "report.html", render_html(report, results))
-    write_text_atomic(out / "report.json", dumps(report))
+    write_text_atomic(inside(out, "report.md"), render_markdown(report))
+    write_text_atomic(inside(out, "report.html"), render_html(report, results))
+    write_text_atomic(inside(out, "report.json"), dumps(report))
     if progress is not None and report["baseline"]:
         b = report["baseline"]
         lines = (
