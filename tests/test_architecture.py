@@ -29,7 +29,11 @@ FOLDERS = {
 
 #: What each layer may import besides csuas and the standard library.
 #: (tomli is the standard library's tomllib on Python 3.10.)
-THIRD_PARTY = {"base": {"numpy", "matplotlib", "pydantic", "pydantic_core", "tomli"}, "defaults": {"tomli", "pydantic"}, "core": {"numpy", "scipy", "tomli"}}
+THIRD_PARTY = {
+    "base": {"numpy", "matplotlib", "pydantic", "pydantic_core", "tomli"},
+    "defaults": {"tomli", "pydantic"},
+    "core": {"numpy", "scipy", "tomli"},
+}
 
 
 def _layer_of_module(module: str) -> str | None:
