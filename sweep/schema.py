@@ -11,7 +11,6 @@ from math import isfinite
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Discriminator, Field, Tag, ValidationInfo, field_validator
-from pydantic_core import PydanticCustomError
 
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 
@@ -29,7 +28,7 @@ AXIS_VALUE_TEXT = "a finite number or a choice (text)"
 def _axis_value(value):
     if isinstance(value, str) or (isinstance(value, (int, float)) and not isinstance(value, bool) and isfinite(value)):
         return value
-    raise PydanticCustomError("csuas", "{allowed}", {"allowed": AXIS_VALUE_TEXT})
+    raise ValueError(AXIS_VALUE_TEXT)
 
 
 class Draw(Schema):
@@ -44,7 +43,7 @@ class Draw(Schema):
     def _not_below_min(cls, value, info: ValidationInfo):
         low = info.data.get("min")
         if low is not None and value < low:
-            raise PydanticCustomError("csuas", "{allowed}", {"allowed": f"at least min = {low:g}"})
+            raise ValueError(f"at least min = {low:g}")
         return value
 
 

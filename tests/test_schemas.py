@@ -108,7 +108,6 @@ CASES = [
         '[sensors.t]\nmodality = "tir"\nmrtd_frequency_cy_mrad = [1.0, 2.0]\nmrtd_k = [0.1]\n',
         ["sensors.t.mrtd_k"],
     ),
-    ("scenario_sensor_name_empty", "scenario", "internal", '[sensors.""]\nmodality = "eo"\n', ["sensors"]),
     # --- unclear messages with the old validators
     ("scenario_bom", "scenario", "unclear", BOM + SCENARIO + "hfov_deg = 500.0\n", ["sensors.eo.hfov_deg = 500.0"]),
     ("sweep_bom", "sweep", "unclear", BOM + 'job = "range"\nseed = -1\n', ["seed = -1"]),

@@ -12,7 +12,6 @@ from __future__ import annotations
 from typing import Annotated
 
 from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
-from pydantic_core import PydanticCustomError
 
 from csuas.base.schema import Schema, key, number, text, whole
 from csuas.core.coverage import POINTING
@@ -40,7 +39,7 @@ def _pointing_field(name: str):
 def _above_elevation_min(cls, value, info: ValidationInfo):
     low = info.data.get("elevation_min_deg")
     if low is not None and not low < value:
-        raise PydanticCustomError("csuas", "{allowed}", {"allowed": f"above elevation_min_deg = {low:g}"})
+        raise ValueError(f"above elevation_min_deg = {low:g}")
     return value
 
 
@@ -128,5 +127,5 @@ class SiteSchema(Schema):
         n = len(sited) if isinstance(sited, dict) else 0
         if value is not None and n and value > n:
             allowed = f"a whole number 1 to {n} (the number of sited sensors)"
-            raise PydanticCustomError("csuas", "{allowed}", {"allowed": allowed})
+            raise ValueError(allowed)
         return value

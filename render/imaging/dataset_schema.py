@@ -9,7 +9,6 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
-from pydantic_core import PydanticCustomError
 
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 from csuas.drone_models.presets import list_presets
@@ -24,7 +23,7 @@ TAGS = ("list", "span", "name", "reflectance")
 def _max_not_below_min(cls, value, info: ValidationInfo):
     low = info.data.get("min")
     if low is not None and value < low:
-        raise PydanticCustomError("csuas", "{allowed}", {"allowed": f"at least min = {low:g}"})
+        raise ValueError(f"at least min = {low:g}")
     return value
 
 
@@ -95,5 +94,5 @@ class DatasetSchema(Schema):
     @classmethod
     def _clouds_need_a_clear_sky(cls, value, info: ValidationInfo):
         if value and info.data.get("background", "clear_sky") != "clear_sky":
-            raise PydanticCustomError("csuas", "{allowed}", {"allowed": "0..1, with background = 'clear_sky'"})
+            raise ValueError("0..1, with background = 'clear_sky'")
         return value
