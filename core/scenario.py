@@ -244,9 +244,10 @@ def _derive_imaging(name: str, values: dict, explicit: set, origin: dict) -> Non
     if "n_ttpf" in derived:
         origin["n_ttpf"] = f"derived from p_desired = {values['p_desired']:g} (Table 21)"
     frequencies, k = values.get("mrtd_frequency_cy_mrad"), values.get("mrtd_k")
-    if (frequencies is None) != (k is None) or (
-        k is not None and len(np.atleast_1d(k)) != len(np.atleast_1d(frequencies))
-    ):
+    if frequencies is not None and not np.all(np.diff(np.atleast_1d(frequencies)) > 0):
+        _fail(f"sensors.{name}.mrtd_frequency_cy_mrad", frequencies, "strictly increasing frequencies [cy/mrad]")
+    lengths = {len(np.atleast_1d(v)) for v in (frequencies, k) if v is not None}
+    if (frequencies is None) != (k is None) or len(lengths) > 1:
         _fail(f"sensors.{name}.mrtd_k", k, "given together with mrtd_frequency_cy_mrad (same length)")
 
 

@@ -159,8 +159,12 @@ def _job_of(data) -> str:
     return job
 
 
-def _needed_axes(job: str, axes: dict, options: dict) -> list:
+def _needed_axes(job: str, axes: dict, options: dict, sensors: int) -> list:
+    """What the job needs beside its schema: its ranges or frequencies, a k-of-n fusion's k <= the sensors."""
     errors = []
+    fusion = options.get("fusion", "or")
+    if fusion != "or" and int(fusion.partition(":")[2]) > sensors:
+        errors.append(ParameterError("options.fusion", fusion, f"or, or k-of-n:K with K 1 to {sensors} (the sensors)"))
     if job == "render" and "range_m" not in axes and options["range_m"] is None:
         errors.append(ParameterError("axes.range_m", None, "an axis or options.range_m: the render job needs ranges"))
     if job == "rcs" and "frequency_ghz" not in axes:
@@ -186,7 +190,7 @@ def parse_spec(data: dict) -> SweepSpec:
         lengths = ", ".join(f"{k} {len(v)}" for k, v in axes.items())
         errors.append(ParameterError("combine", "zip", "axes of equal length: " + lengths))
     options = model.options.model_dump()
-    raise_all(errors + _needed_axes(job, axes, options))
+    raise_all(errors + _needed_axes(job, axes, options, len(scenario.sensors)))
     spec = SweepSpec(
         job, model.scenario, scenario, model.seed, model.combine, axes, options, model.chunk_points, model.recycle_after
     )

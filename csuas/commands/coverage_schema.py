@@ -120,6 +120,13 @@ class SiteSchema(Schema):
     )
     radio_map: RadioMapTable | None = key(None, None)
 
+    @field_validator("altitudes_agl_m")
+    @classmethod
+    def _each_level_once(cls, value):
+        if len(set(value)) != len(value):
+            raise ValueError("heights 0 to 10000 m, each once (a layer per flight level)")
+        return value
+
     @field_validator("fusion_k")
     @classmethod
     def _at_most_the_sensors(cls, value, info: ValidationInfo):

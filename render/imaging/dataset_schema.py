@@ -74,6 +74,7 @@ class DatasetSchema(Schema):
     azimuth_deg: _axis("azimuth_deg") = key({"min": -360.0, "max": 360.0}, "aspect azimuth [deg]")
     elevation_deg: _axis("elevation_deg") = key({"min": -90.0, "max": 90.0}, "aspect elevation [deg]")
     background: Background = key("sky", "what lies behind the drone")
+    bits: one_of(8, 10, 12, 14, 16, allowed="8, 10, 12, 14 or 16 (whole numbers)") = key(12, "bits per pixel")
     chain: list[one_of(*STAGES)] = key(
         ["psf", "shot_noise", "read_noise", "quantise"], "sensor-chain stages, each a switch", ", ".join(STAGES)
     )
@@ -81,7 +82,6 @@ class DatasetSchema(Schema):
         "draft", "render preset"
     )
     position: one_of("random", "centre", allowed="random or centre") = key("random", "where the target lies")
-    bits: one_of(8, 10, 12, 14, 16, allowed="8, 10, 12, 14 or 16 (whole numbers)") = key(12, "bits per pixel")
     exr: bool = key(False, "also the signal before quantisation as a float32 EXR", "true or false")
     cloud_cover: number(0.0, 1.0, allowed="0..1, with background = 'clear_sky'") = key(
         0.0, "share of a clear_sky background under seeded clouds"
@@ -89,6 +89,13 @@ class DatasetSchema(Schema):
     sky_temperature_k: number(3.0, 400.0, "K") | None = key(
         None, "thermal sensors: a sky of this apparent temperature above the horizon"
     )
+
+    @field_validator("chain")
+    @classmethod
+    def _jpeg_of_8_bits(cls, value, info: ValidationInfo):
+        if "jpeg" in value and (info.data.get("bits", 8) != 8 or "quantise" not in value[: value.index("jpeg")]):
+            raise ValueError("jpeg after quantise, with bits = 8")
+        return value
 
     @field_validator("cloud_cover")
     @classmethod
