@@ -78,13 +78,19 @@ def _bounded(low, high, allowed: str, low_open: bool = False, high_open: bool = 
     return check
 
 
+def _plain_number(x: float) -> str:
+    """``2147483647`` and ``1000000`` written out, ``0.001`` and ``1e+30`` as :g writes them."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e10 else f"{x:g}"
+
+
 def _range_text(low, high, unit: str, low_open: bool, high_open: bool) -> str:
+    low_text, high_text = (None if x is None else _plain_number(x) for x in (low, high))
     if low is not None and high is not None:
-        text = f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        text = f"{'(' if low_open else '['}{low_text}, {high_text}{')' if high_open else ']'}"
     elif low is not None:
-        text = f"{'>' if low_open else '>='} {low:g}"
+        text = f"{'>' if low_open else '>='} {low_text}"
     elif high is not None:
-        text = f"{'<' if high_open else '<='} {high:g}"
+        text = f"{'<' if high_open else '<='} {high_text}"
     else:
         text = "any finite number"
     return f"{text} {unit}".rstrip()
@@ -154,25 +160,36 @@ def text(allowed: str) -> Any:
     return Annotated[str, BeforeValidator(check), Field(json_schema_extra={"allowed": allowed})]
 
 
-def key(default=..., description: str = "", allowed: str | None = None, alias: str | None = None) -> Any:
-    """A schema field: its default (``...``: required), what it means and, optionally, what is allowed."""
-    extra = {"allowed": allowed} if allowed else None
-    return Field(default, description=description, json_schema_extra=extra, alias=alias)
+def key(default=..., description: str | None = "", allowed: str | None = None, shown_default: str | None = None) -> Any:
+    """A schema field: its default (``...``: required), what it means and, optionally, what is allowed and the
+    default as the docs show it (where absent means another table's value). ``description=None`` marks a
+    nested table, whose keys the docs list one by one."""
+    extra = {k: v for k, v in (("allowed", allowed), ("shown_default", shown_default)) if v}
+    return Field(default, description=description, **({"json_schema_extra": extra} if extra else {}))
 
 
 # ---------------------------------------------------------------------------------------------------------
 # errors
 
 
+def _annotation_allowed(annotation) -> str | None:
+    """The ``allowed`` text declared inside an annotation (``number(...) | None``)."""
+    for meta in getattr(annotation, "__metadata__", ()):
+        extra = getattr(meta, "json_schema_extra", None)
+        if isinstance(extra, dict) and "allowed" in extra:
+            return str(extra["allowed"])
+    for arg in typing.get_args(annotation):
+        found = _annotation_allowed(arg)
+        if found is not None:
+            return found
+    return None
+
+
 def _field_allowed(field) -> str | None:
     extra = field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
     if "allowed" in extra:
         return str(extra["allowed"])
-    for meta in field.metadata:
-        meta_extra = getattr(meta, "json_schema_extra", None)
-        if isinstance(meta_extra, dict) and "allowed" in meta_extra:
-            return str(meta_extra["allowed"])
-    return None
+    return _annotation_allowed(field.annotation)
 
 
 def _models_in(annotation) -> list[type[BaseModel]]:
@@ -318,38 +335,63 @@ def read_toml(path: str | Path, name: str, what: str, max_bytes: int | None = No
 # docs
 
 
+def toml_text(value) -> str:
+    """A value as TOML writes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_text(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {toml_text(v)}" for k, v in value.items()) + "}"
+    return _plain_number(value) if isinstance(value, float) else str(value)
+
+
+def _extra(field) -> dict:
+    return field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
+
+
 def _default_text(field) -> str:
+    if "shown_default" in _extra(field):
+        return str(_extra(field)["shown_default"])
     if field.is_required():
         return "required"
     default = field.get_default(call_default_factory=True)
-    if default is None:
-        return "absent"
-    if isinstance(default, str):
-        return f"`{default}`"
-    if isinstance(default, BaseModel) or default == {}:
-        return "(table)"
-    return f"`{default!r}`".replace("'", '"')
+    return "absent" if default is None else f"`{toml_text(default)}`"
+
+
+def _table_of_tables(annotation) -> type[BaseModel] | None:
+    """The model of a ``dict[str, Model]`` (``[sensors.NAME]`` tables), else None."""
+    if typing.get_origin(annotation) is dict:
+        value = typing.get_args(annotation)[1]
+        if isinstance(value, type) and issubclass(value, BaseModel):
+            return value
+    return None
 
 
 def key_rows(model: type[BaseModel], prefix: str = "") -> list[tuple[str, str, str, str]]:
-    """(key, default, allowed, meaning) of every key of ``model``, nested tables flattened with dots."""
+    """(key, default, allowed, meaning) of every key of ``model``: a nested table's keys with dots
+    (``radio_map.step``), a table of tables' with ``NAME`` (``sensors.NAME.x``)."""
     rows = []
     for name, field in model.model_fields.items():
         full = f"{prefix}{field.alias or name}"
-        inner = _models_in(field.annotation)
-        if inner and field.description is None:
-            for sub in inner:
-                rows.extend(key_rows(sub, f"{full}.{sub.model_config.get('title') or ''}".rstrip(".") + "."))
-            continue
-        allowed = _field_allowed(field) or ""
-        rows.append((full, _default_text(field), allowed, field.description or ""))
+        tables = _table_of_tables(field.annotation)
+        nested = _models_in(field.annotation)
+        if tables is not None:
+            rows.extend(key_rows(tables, f"{full}.NAME."))
+        elif nested and field.description is None:
+            for sub in nested:
+                rows.extend(key_rows(sub, f"{full}."))
+        else:
+            rows.append((full, _default_text(field), _field_allowed(field) or "", field.description or ""))
     return rows
 
 
-def key_table(model: type[BaseModel], prefix: str = "") -> str:
-    """The Markdown table of ``model``'s keys (what docs/ shows between the generated markers)."""
+def key_table(rows: Iterable[tuple[str, str, str, str]]) -> str:
+    """The Markdown table of key rows (:func:`key_rows`; what docs/ shows between the generated markers)."""
     lines = ["| key | default | allowed | meaning |", "|---|---|---|---|"]
-    for name, default, allowed, meaning in key_rows(model, prefix):
+    for name, default, allowed, meaning in rows:
         cell = allowed.replace("|", "\\|")
         lines.append(f"| `{name}` | {default} | {cell} | {meaning} |")
     return "\n".join(lines)

@@ -16,7 +16,7 @@ from typing import Annotated, Any
 
 from pydantic import Discriminator, Field, Tag, create_model
 
-from csuas.base.schema import Schema, key, number, one_of, text, whole
+from csuas.base.schema import Schema, key, number, one_of, text, toml_text, whole
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables
 
 #: Aliases of environment parameters that take class names (docs/scenarios.md).
@@ -75,15 +75,23 @@ def parameter_type(spec: dict, classes: dict | None = None) -> Any:
     ]
 
 
+def _shown(spec: dict) -> str:
+    """A parameter's default as docs/scenarios.md shows it (``parameters.toml``'s value; optional: unset)."""
+    return "unset" if spec.get("value") is None else f"`{toml_text(spec['value'])}`"
+
+
 def _parameter_fields(section: str) -> dict:
     classes = load_tables()["classes"]
     fields = {
-        name: (parameter_type(spec, classes.get(name)) | None, key(None, spec["description"]))
+        name: (
+            parameter_type(spec, classes.get(name)) | None,
+            key(None, spec["description"], shown_default=_shown(spec)),
+        )
         for name, spec in load_parameters()[section].items()
     }
     if section == "environment":
         for alias, name in ENVIRONMENT_ALIASES.items():
-            fields[alias] = (fields[name][0], key(None, f"class name or value of {name}"))
+            fields[alias] = (fields[name][0], key(None, f"a class name or value of {name}", shown_default="-"))
     return fields
 
 
@@ -95,7 +103,7 @@ def section_schema(section: str, kind: str, default_preset: str):
     names = (["default"] if kind in MODALITIES else []) + list(presets)
     fields: dict = {}
     if kind in MODALITIES:
-        fields["modality"] = (one_of(kind), key(description=", ".join(MODALITIES)))
+        fields["modality"] = (one_of(kind), key(description="the sensor's modality"))
     fields["preset"] = (one_of(*names, allowed=", ".join(names)), key(default_preset, "values to start from"))
     fields.update(_parameter_fields(section))
     return create_model(f"{kind.title()}Table", __base__=Schema, **fields)

@@ -109,7 +109,7 @@ class RcsOptions(Schema):
 
     target: text("a drone preset or a mesh file") | None = key(None, "the drone (the scenario's target unless given)")
     quality: QUALITY = key("draft", "ray density preset")
-    rays_per_wavelength: number(0.0, None, low_open=True) | None = key(None, "overrides the quality's ray density")
+    rays_per_wavelength: number(1.0, None) | None = key(None, "overrides the quality's ray density")
     azimuth_deg: AZIMUTH = key(0.0, "azimuth of every point without an azimuth_deg axis")
     elevation_deg: ELEVATION = key(0.0, "elevation of every point without an elevation_deg axis")
 

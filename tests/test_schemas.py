@@ -220,3 +220,54 @@ def test_the_case_table_holds_the_measured_counts():
     the issue's 20 internal errors, 18 unclear messages and 7 silently accepted values, and more found since."""
     counts = {label: sum(c[2] == label for c in CASES) for label in ("internal", "unclear", "silent", "clear")}
     assert counts == {"internal": 20, "unclear": 35, "silent": 14, "clear": 12}, counts
+
+
+def test_the_docs_key_tables_are_what_the_schemas_generate():
+    """docs/ shows the schemas' keys, defaults and allowed values: regenerate with python -m csuas.schema_docs."""
+    from csuas.schema_docs import generated_pages
+
+    stale = [str(path) for path, text in generated_pages().items() if path.read_text(encoding="utf-8") != text]
+    assert stale == []
+
+
+def test_every_preset_is_valid_under_its_sections_schema():
+    """Presets are applied unchecked by the resolver: each must pass the schema of the table it fills."""
+    from csuas.base.schema import validate
+    from csuas.defaults import MODALITIES, load_presets
+    from csuas.defaults.scenario_schema import TAGS, section_schema
+
+    presets = load_presets()
+    tables = [("target", "target", name, table) for name, table in presets["target"].items()]
+    tables += [("environment", "environment", name, table) for name, table in presets["environment"].items()]
+    tables += [(m, m, name, table) for m in MODALITIES for name, table in presets["sensor"].get(m, {}).items()]
+    assert len(tables) > 20
+    for section, kind, name, table in tables:
+        values = {k: v for k, v in table.items() if k not in ("description", "source")}
+        values.update({"modality": kind} if kind in MODALITIES else {})
+        validate(section_schema(section, kind, "default" if kind in MODALITIES else name), values, kind, TAGS)
+
+
+def test_a_byte_order_mark_is_read_past_and_booleans_are_never_numbers(tmp_path):
+    from csuas.base.errors import ParameterError
+    from csuas.base.schema import Schema, key, number, read_toml, validate
+
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbfa = 1.5\n")
+    assert read_toml(path, "spec", "spec") == {"a": 1.5}
+
+    class Table(Schema):
+        a: number(0.0, 2.0, "m") = key(1.0, "a length")
+
+    assert validate(Table, {"a": 2}).a == 2
+    with pytest.raises(ParameterError, match=r"^a = True is invalid; allowed: a number \[0, 2\] m$"):
+        validate(Table, {"a": True})
+
+
+def test_the_generated_markers_are_required():
+    from csuas.base.schema import replace_generated
+
+    assert replace_generated("x\n<!-- generated: t -->\nold\n<!-- end generated: t -->\ny", "t", "new") == (
+        "x\n<!-- generated: t -->\nnew\n<!-- end generated: t -->\ny"
+    )
+    with pytest.raises(ValueError, match="lacks the markers"):
+        replace_generated("no markers", "t", "new")
