@@ -164,8 +164,10 @@ def key(default=..., description: str | None = "", allowed: str | None = None, s
     """A schema field: its default (``...``: required), what it means and, optionally, what is allowed and the
     default as the docs show it (where absent means another table's value). ``description=None`` marks a
     nested table, whose keys the docs list one by one."""
-    extra = {k: v for k, v in (("allowed", allowed), ("shown_default", shown_default)) if v}
-    return Field(default, description=description, **({"json_schema_extra": extra} if extra else {}))
+    extra: dict[str, Any] = {k: v for k, v in (("allowed", allowed), ("shown_default", shown_default)) if v}
+    if extra:  # a None would replace what the field's type declares
+        return Field(default, description=description, json_schema_extra=extra)
+    return Field(default, description=description)
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -256,7 +258,7 @@ def _describe(root, path: list, data) -> tuple[str | None, list[str]]:
     return allowed, keys
 
 
-def _allowed_text(error: dict, allowed: str | None, keys: list[str]) -> str:
+def _allowed_text(error: Any, allowed: str | None, keys: list[str]) -> str:
     kind = error["type"]
     if kind == "extra_forbidden":
         return "a known key: " + ", ".join(keys)

@@ -30,7 +30,7 @@ FOLDERS = {
 #: What each layer may import besides csuas and the standard library.
 #: (tomli is the standard library's tomllib on Python 3.10.)
 THIRD_PARTY = {
-    "base": {"numpy", "matplotlib", "pydantic", "pydantic_core", "tomli"},
+    "base": {"numpy", "matplotlib", "pydantic", "tomli"},
     "defaults": {"tomli", "pydantic"},
     "core": {"numpy", "scipy", "tomli"},
 }
