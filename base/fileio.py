@@ -213,14 +213,11 @@ def read_spec(source, embedded, what: str) -> dict:
     ParameterError
         No such file or embedded spec, or not valid UTF-8 TOML.
     """
-    import tomllib
+    from csuas.base.schema import read_toml
 
     path = Path(source)
     if not path.exists() and not str(source).endswith(".toml"):
         path = embedded(str(source))
     if not path.is_file():
         raise ParameterError("spec", str(source), f"a {what} TOML file or an embedded spec name")
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ParameterError("spec", str(source), f"valid UTF-8 TOML ({exc})") from None
+    return read_toml(path, "spec", what)

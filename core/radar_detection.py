@@ -111,7 +111,7 @@ def _check_integration(errors, integration):
 
 
 def _check_pd(errors, pd, pfa):
-    p = _check(errors, "pd", pd, gt=0, lt=1, why="Pd = 1 needs an infinite SNR")
+    p = _check(errors, "pd", pd, gt=0, lt=1, why="Pd = 0 asks for no detection and Pd = 1 for an infinite SNR")
     if p is None or pfa is None:
         return p
     low = p <= pfa

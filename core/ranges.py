@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from csuas.base.errors import CsuasError, ParameterError, raise_all
+from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, detection, eo, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
@@ -211,6 +211,19 @@ def _lidar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
 ADAPTERS = {"eo": _eo, "tir": _tir, "acoustic": _acoustic, "rf": _rf, "radar": _radar, "lidar": _lidar}
 
 
+def _with_key_path(scenario: Scenario, name: str, error):
+    """A model's error on a parameter, named by the parameter's key in the scenario (``sensors.rf.frequency_ghz``)."""
+    if not isinstance(error, ParameterError) or "." in error.name:
+        return error
+    for prefix, params in (
+        (f"sensors.{name}", scenario.sensors[name].params),
+        *((section, getattr(scenario, section)) for section in ("environment", "target")),
+    ):
+        if error.name in params:
+            return ParameterError(f"{prefix}.{error.name}", error.value, error.allowed)
+    return error
+
+
 def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     """Predicted range of every sensor of the scenario.
 
@@ -235,7 +248,11 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     conv = check_convention(convention or scenario.convention)
     results = {}
     for name, sensor in scenario.sensors.items():
-        result = ADAPTERS[sensor.modality](scenario, sensor, conv)
+        try:
+            result = ADAPTERS[sensor.modality](scenario, sensor, conv)
+        except (ParameterError, InputErrors) as exc:
+            raise_all(_with_key_path(scenario, name, e) for e in getattr(exc, "errors", [exc]))
+            raise
         johnson_unbounded = np.any(
             np.asarray(result.reason if result.reason is not None else "") == tir.JOHNSON_UNBOUNDED
         )

@@ -22,20 +22,20 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-from csuas.base.errors import ScenarioError, plain, raise_all
+import numpy as np
+
+from csuas.base.errors import InputErrors, ParameterError, ScenarioError, plain, raise_all
+from csuas.base.schema import validate
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
-from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables, scenario_path
+from csuas.defaults import load_parameters, load_presets, load_tables, scenario_path
+from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, scenario_schema
+from csuas.defaults.scenario_schema import TAGS as SCHEMA_TAGS
 
-#: Aliases of environment parameters that take class names (docs/scenarios.md).
-ENVIRONMENT_ALIASES = {
-    "illumination": "illuminance_lx",
-    "rain": "rain_rate_mm_h",
-    "fog": "fog_visibility_m",
-    "wind": "wind_speed_m_s",
-    "noise": "noise_level_db",
-}
+#: Keys of a scenario file (its schema: :func:`csuas.defaults.scenario_schema.scenario_schema`).
 TOP_LEVEL_KEYS = ("name", "description", "convention", "target", "environment", "sensors")
+#: Default presets of the target and the environment.
+DEFAULT_PRESETS = {"target": "dji_mini_4_pro", "environment": "clear_day"}
 
 
 @dataclass
@@ -154,51 +154,28 @@ def check_value(key: str, spec: dict, value):
     return float(value)
 
 
-def _class_value(key: str, param: str, value):
+def _class_value(param: str, value):
+    """A class name's value (Tables 11, 14, 16, 18, 27, 30); a number as it is."""
     classes = load_tables()["classes"].get(param)
-    if classes is None or not isinstance(value, str):
-        return value
-    names = [k for k in classes if k != "source"]
-    if value not in names:
-        _fail(key, value, f"a number or one of {', '.join(names)} ({classes['source']})")
-    return classes[value]
+    return classes[value] if classes is not None and isinstance(value, str) else value
 
 
-def _apply_overrides(
-    section: str,
-    prefix: str,
-    registry: dict,
-    values: dict,
-    overrides: dict,
-    explicit: set,
-    errors: list,
-    origin: dict,
-    label: str,
-    reserved: tuple = (),
-):
-    """Validate and apply ``overrides``; each mistake goes to ``errors`` and the others still apply."""
-    for key, raw in overrides.items():
-        if key in reserved:
-            continue
+def _apply(section: str, values: dict, given: dict, explicit: set, origin: dict, label: str) -> None:
+    """Apply validated ``given`` values (aliases and class names resolved), noting where each came from."""
+    registry = load_parameters()[section]
+    for key, raw in given.items():
         param = ENVIRONMENT_ALIASES.get(key, key) if section == "environment" else key
-        full = f"{prefix}.{key}"
-        try:
-            if param not in registry:
-                allowed = sorted(
-                    set(registry) | set(reserved) | (set(ENVIRONMENT_ALIASES) if section == "environment" else set())
-                )
-                _fail(full, raw, "a known key: " + ", ".join(allowed))
-            value = _class_value(full, param, raw)
-            if section == "environment" and param == "fog_visibility_m" and isinstance(raw, str):
-                # A fog class also sets its liquid water content (Table 16) unless given.
-                if "lwc_g_m3" not in overrides:
-                    values["lwc_g_m3"] = load_tables()["classes"]["lwc_g_m3"][raw]
-                    explicit.add("lwc_g_m3")
-                    origin["lwc_g_m3"] = f"{label} (fog class {raw!r}, Table 16)"
-            values[param] = check_value(full, registry[param], value)
-        except ScenarioError as exc:
-            errors.append(exc)
-            continue
+        if (
+            section == "environment"
+            and param == "fog_visibility_m"
+            and isinstance(raw, str)
+            and "lwc_g_m3" not in given
+        ):
+            # A fog class also sets its liquid water content (Table 16) unless given.
+            values["lwc_g_m3"] = load_tables()["classes"]["lwc_g_m3"][raw]
+            explicit.add("lwc_g_m3")
+            origin["lwc_g_m3"] = f"{label} (fog class {raw!r}, Table 16)"
+        values[param] = _class_value(param, raw)
         explicit.add(param)
         origin[param] = (
             label
@@ -207,15 +184,20 @@ def _apply_overrides(
         )
 
 
-def _preset(kind: str, name: str, key: str, modality: str | None = None) -> dict:
-    presets = load_presets()[kind]
-    if modality is not None:
-        presets = presets.get(modality, {})
+def _given(table) -> dict:
+    """The values a validated table gives, in the file's order (``preset`` and ``modality`` aside)."""
+    if isinstance(table, dict):
+        return {}
+    return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality")}
+
+
+def _preset(kind: str, name: str, modality: str | None = None) -> dict:
+    """The values a preset sets (``default``: none); names are checked by the schema."""
     if name == "default":
         return {}
-    if name not in presets:
-        _fail(key, name, "default, " + ", ".join(presets))
-    return {k: v for k, v in presets[name].items() if k not in ("description", "source")}
+    presets = load_presets()[kind]
+    table = presets[modality][name] if modality is not None else presets[name]
+    return {k: v for k, v in table.items() if k not in ("description", "source")}
 
 
 def _defaults(section: str) -> dict:
@@ -241,124 +223,82 @@ def johnson_derived(params: dict, explicit) -> dict:
     return derived
 
 
-def _resolve_sensor(name: str, table: dict, errors: list) -> SensorSpec | None:
-    prefix = f"sensors.{name}"
-    if not isinstance(table, dict):
-        _fail(prefix, table, "a table with modality = ...")
-    modality = table.get("modality")
-    if not isinstance(modality, str) or modality not in MODALITIES:
-        _fail(f"{prefix}.modality", modality, ", ".join(MODALITIES))
-    registry = load_parameters()[modality]
+def _resolve_sensor(name: str, table) -> SensorSpec:
+    """A validated sensor table resolved: defaults, then its preset, then the file's values, then derived ones."""
+    modality, preset = table.modality, table.preset
     values, explicit, origin = _defaults(modality), set[str](), dict[str, str]()
-    preset = table.get("preset", "default")
-    if not isinstance(preset, str):
-        _fail(f"{prefix}.preset", preset, "a preset name")
-    _apply_overrides(
-        modality,
-        f"{prefix}(preset {preset})",
-        registry,
-        values,
-        _preset("sensor", preset, f"{prefix}.preset", modality),
-        explicit,
-        errors,
-        origin,
-        f"preset {preset}",
-    )
-    _apply_overrides(
-        modality, prefix, registry, values, table, explicit, errors, origin, "scenario", reserved=("modality", "preset")
-    )
-    if errors:
-        return None
+    _apply(modality, values, _preset("sensor", preset, modality), explicit, origin, f"preset {preset}")
+    _apply(modality, values, _given(table), explicit, origin, "scenario")
     if modality in ("eo", "tir"):
-        derived = johnson_derived(values, explicit)
-        values.update(derived)
-        if "lp_task" in derived:
-            origin["lp_task"] = f"derived from task = {values['task']!r} (Table 20)"
-        if "n_ttpf" in derived:
-            origin["n_ttpf"] = f"derived from p_desired = {values['p_desired']:g} (Table 21)"
-        curve = [values.get("mrtd_frequency_cy_mrad"), values.get("mrtd_k")]
-        if (curve[0] is None) != (curve[1] is None):
-            _fail(f"{prefix}.mrtd_k", curve[1], "given together with mrtd_frequency_cy_mrad (same length)")
+        _derive_imaging(name, values, explicit, origin)
     if modality == "radar":
-        if {"wavelength_m", "frequency_ghz"} <= explicit:
-            _fail(f"{prefix}.frequency_ghz", values["frequency_ghz"], "either wavelength_m or frequency_ghz, not both")
-        if values["model"] == "range_equation" and values.get("p_rx_min_w") is None:
-            _fail(f"{prefix}.p_rx_min_w", None, "a power > 0 [W] when model = range_equation")
+        _check_radar(name, values, explicit)
     return SensorSpec(name, modality, preset, values, explicit, origin)
 
 
+def _derive_imaging(name: str, values: dict, explicit: set, origin: dict) -> None:
+    derived = johnson_derived(values, explicit)
+    values.update(derived)
+    if "lp_task" in derived:
+        origin["lp_task"] = f"derived from task = {values['task']!r} (Table 20)"
+    if "n_ttpf" in derived:
+        origin["n_ttpf"] = f"derived from p_desired = {values['p_desired']:g} (Table 21)"
+    frequencies, k = values.get("mrtd_frequency_cy_mrad"), values.get("mrtd_k")
+    if frequencies is not None and not np.all(np.diff(np.atleast_1d(frequencies)) > 0):
+        _fail(f"sensors.{name}.mrtd_frequency_cy_mrad", frequencies, "strictly increasing frequencies [cy/mrad]")
+    lengths = {len(np.atleast_1d(v)) for v in (frequencies, k) if v is not None}
+    if (frequencies is None) != (k is None) or len(lengths) > 1:
+        _fail(f"sensors.{name}.mrtd_k", k, "given together with mrtd_frequency_cy_mrad (same length)")
+
+
+def _check_radar(name: str, values: dict, explicit: set) -> None:
+    if {"wavelength_m", "frequency_ghz"} <= explicit:
+        _fail(
+            f"sensors.{name}.frequency_ghz", values["frequency_ghz"], "either wavelength_m or frequency_ghz, not both"
+        )
+    if values["model"] == "range_equation" and values.get("p_rx_min_w") is None:
+        _fail(f"sensors.{name}.p_rx_min_w", None, "a power > 0 [W] when model = range_equation")
+
+
+def _validated(data: dict):
+    """The scenario's schema validated; every mistake as a :class:`ScenarioError`, all at once."""
+    try:
+        return validate(scenario_schema(CONVENTIONS), data, tags=SCHEMA_TAGS)
+    except (ParameterError, InputErrors) as exc:
+        raise_all(ScenarioError(str(e)) for e in getattr(exc, "errors", [exc]))
+        raise  # pragma: no cover (raise_all raised)
+
+
 def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
-    """Resolve a scenario given as a dict (the parsed TOML).
+    """Resolve a scenario given as a dict (the parsed TOML), after its schema
+    (:func:`csuas.defaults.scenario_schema.scenario_schema`).
 
     Raises
     ------
     ScenarioError
-        Unknown key, wrong type, out-of-range value, unknown preset or class.
+        Unknown key, wrong type, out-of-range value, unknown preset or class (:class:`InputErrors` of them
+        when several), or values that do not go together.
     """
-    errors: list = []
-
-    def attempt(step, *args):
+    model = _validated(data)
+    sections, explicit, origin = {}, {}, {}
+    for section, default_preset in DEFAULT_PRESETS.items():
+        table = getattr(model, section)
+        preset = default_preset if isinstance(table, dict) else table.preset
+        values, given, where = _defaults(section), set[str](), dict[str, str]()
+        _apply(section, values, _preset(section, preset), given, where, f"preset {preset}")
+        _apply(section, values, _given(table), given, where, "scenario")
+        sections[section], explicit[section], origin[section] = (values, preset), given, where
+    sensors, errors = {}, []
+    for key, table in model.sensors.items():
         try:
-            return step(*args)
+            sensors[key] = _resolve_sensor(key, table)
         except ScenarioError as exc:
             errors.append(exc)
-            return None
-
-    for key in data:
-        if key not in TOP_LEVEL_KEYS:
-            attempt(_fail, key, data[key], "a known key: " + ", ".join(TOP_LEVEL_KEYS))
-    convention = data.get("convention", "paper")
-    if convention not in CONVENTIONS:
-        attempt(_fail, "convention", convention, " or ".join(CONVENTIONS))
-    params = load_parameters()
-    sections, explicit, origin = {}, {}, {}
-    for section, preset_kind, default_preset in (
-        ("target", "target", "dji_mini_4_pro"),
-        ("environment", "environment", "clear_day"),
-    ):
-        table = data.get(section, {})
-        if not isinstance(table, dict):
-            attempt(_fail, section, table, "a table")
-            table = {}
-        preset = table.get("preset", default_preset)
-        if not isinstance(preset, str) or preset not in load_presets()[preset_kind]:
-            attempt(_fail, f"{section}.preset", preset, ", ".join(load_presets()[preset_kind]))
-            preset = default_preset
-        values, given, where = _defaults(section), set[str](), dict[str, str]()
-        _apply_overrides(
-            section,
-            f"{section}(preset {preset})",
-            params[section],
-            values,
-            _preset(preset_kind, preset, f"{section}.preset"),
-            given,
-            errors,
-            where,
-            f"preset {preset}",
-        )
-        _apply_overrides(
-            section, section, params[section], values, table, given, errors, where, "scenario", reserved=("preset",)
-        )
-        sections[section] = (values, preset)
-        explicit[section], origin[section] = given, where
-    sensors_table = data.get("sensors", {})
-    if not isinstance(sensors_table, dict) or not sensors_table:
-        attempt(_fail, "sensors", sensors_table, "at least one [sensors.<name>] table")
-        sensors_table = {}
-    sensors = {}
-    for key, table in sensors_table.items():
-        own: list = []
-        spec = attempt(_resolve_sensor, key, table, own)
-        errors.extend(own)
-        sensors[key] = spec
-    scenario_name = data.get("name", name)
-    if not isinstance(scenario_name, str):
-        attempt(_fail, "name", scenario_name, "a string")
     raise_all(errors)
     warnings = [w for spec in sensors.values() for w in plausibility_warnings(spec)]
     return Scenario(
-        scenario_name,
-        convention,
+        model.name if model.name is not None else name,
+        model.convention,
         sections["target"][0],
         sections["target"][1],
         sections["environment"][0],
@@ -457,7 +397,7 @@ def load_scenario(source) -> Scenario:
     if len(text) > MAX_SCENARIO_BYTES:
         raise ScenarioError(f"scenario = {str(source)!r} is larger than {MAX_SCENARIO_BYTES // 1024} KiB")
     try:
-        data = tomllib.loads(text.decode("utf-8"))
+        data = tomllib.loads(text.decode("utf-8").removeprefix("\ufeff"))  # a byte-order mark is no key
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"scenario = {str(source)!r} is not valid TOML: {exc}") from None
     except UnicodeDecodeError:

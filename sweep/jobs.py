@@ -148,7 +148,7 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
     from csuas.render.lidar.runner import render_lidar
 
     mode = {"eo": eo_scenario, "tir": tir_scenario, "lidar": render_lidar}[spec.options["mode"]]
-    n = len(next(iter(columns.values())))
+    n = len(next(iter(columns.values()), [None]))  # no axes: the one point of the options
     seeds = point_seed(spec.seed, np.arange(start, start + n))
     keys = ("pixels_on_target", "pixels_across_dcrit", "contrast", "delta_t_k", "lcs_m2")
     out = {k: np.full(n, np.nan) for k in keys}

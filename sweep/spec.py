@@ -24,43 +24,23 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import sys
 from dataclasses import dataclass
 from pathlib import Path
-
-if sys.version_info >= (3, 11):
-    pass
-else:  # pragma: no cover
-    pass
 
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, ScenarioError, raise_all
+from csuas.base.schema import validate
 from csuas.core.scenario import Scenario, check_value, load_scenario
 from csuas.defaults import load_parameters
+from csuas.sweep.schema import CHUNK_POINTS, JOB_AXES, MAX_POINTS, SCHEMAS, TAGS
 
 JOBS = ("range", "pd", "render", "rcs", "dataset")
-#: Axes a job takes besides the scenario's parameters: name -> (lowest, highest) allowed.
-JOB_AXES = {
-    "range": {},
-    "pd": {},
-    "render": {"range_m": (1e-3, 1e7), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)},
-    "rcs": {"frequency_ghz": (1e-3, 1e4), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)},
-}
 #: Whether a job takes the scenario's parameters as axes.
 TAKES_SCENARIO = {"range": True, "pd": True, "render": True, "rcs": False}
-#: Options a job accepts in ``[options]``, with their defaults.
-JOB_OPTIONS = {
-    "range": {"convention": None},
-    "pd": {"convention": None, "fusion": "or"},
-    "render": {"mode": "eo", "quality": "draft", "range_m": None, "azimuth_deg": 0.0, "elevation_deg": 0.0},
-    "rcs": {"target": None, "quality": "draft", "rays_per_wavelength": None, "azimuth_deg": 0.0, "elevation_deg": 0.0},
-}
-#: Points per task: analytic points go to the core in large NumPy chunks, simulator points in small groups.
-CHUNK_POINTS = {"range": 1_000_000, "pd": 32, "render": 4, "rcs": 16}
-TOP_KEYS = ("job", "scenario", "seed", "combine", "axes", "options", "chunk_points", "recycle_after")
-#: Most points one sweep may hold.
-MAX_POINTS = 100_000_000
+#: Options a job accepts in ``[options]``, with their defaults (from the schema, docs/sweeps.md).
+JOB_OPTIONS = {job: model.model_fields["options"].default.model_dump() for job, model in SCHEMAS.items()}
+__all__ = ["CHUNK_POINTS", "JOBS", "JOB_AXES", "JOB_OPTIONS", "MAX_POINTS", "SweepSpec", "load_spec", "parse_spec"]
 
 
 @dataclass
@@ -122,127 +102,101 @@ def point_seed(seed: int, index) -> np.ndarray:
     return np.array([np.random.SeedSequence([seed, int(i)]).generate_state(1)[0] for i in idx], dtype=np.int64)
 
 
-def _axis_values(key: str, raw, seed_rng, errors: list):
-    if isinstance(raw, list):
-        if not raw:
-            errors.append(ParameterError(f"axes.{key}", raw, "a non-empty list, or {min, max, samples}"))
-            return None
-        return list(raw)
-    if isinstance(raw, dict):
-        unknown = set(raw) - {"min", "max", "samples"}
-        lo, hi, n = raw.get("min"), raw.get("max"), raw.get("samples")
-        numbers = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (lo, hi, n))
-        if unknown or not numbers or not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi or n != int(n) or n < 1:
-            errors.append(
-                ParameterError(
-                    f"axes.{key}", raw, "{min = LOW, max = HIGH, samples = N} with LOW <= HIGH finite, N >= 1"
-                )
-            )
-            return None
-        return list(seed_rng.uniform(float(lo), float(hi), int(n)))
-    errors.append(ParameterError(f"axes.{key}", raw, "a list of values or {min, max, samples}"))
-    return None
+def _axis_values(axis, rng) -> list:
+    """The values of a validated axis: a list as written, or ``samples`` uniform draws."""
+    if isinstance(axis, list):
+        return list(axis)
+    return list(rng.uniform(axis.min, axis.max, axis.samples))
 
 
-def _check_axis(job: str, scenario: Scenario, key: str, values: list, errors: list):
-    """Validated values of one axis, as an array; None (and an error) when the key or a value is wrong."""
-    params = load_parameters()
-    if key in JOB_AXES.get(job, {}):
-        lo, hi = JOB_AXES[job][key]
-        bad = [v for v in values if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi]
-        if bad:
-            errors.append(ParameterError(f"axes.{key}", bad[0], f"numbers in [{lo:g}, {hi:g}]"))
-            return None
-        return np.asarray(values, dtype=float)
+def _own_axis(job: str, key: str, values: list):
+    lo, hi = JOB_AXES[job][key]
+    for i, v in enumerate(values):
+        if isinstance(v, str) or not lo <= v <= hi:
+            raise ParameterError(f"axes.{key}.{i}", v, f"a number in [{lo:g}, {hi:g}]")
+    return np.asarray(values, dtype=float)
+
+
+def _parameter_of(job: str, scenario: Scenario, key: str) -> dict:
+    """The parameter spec (defaults/parameters.toml) an axis key names; ParameterError when none."""
     parts = key.split(".")
     spec = None
     if parts[0] in ("target", "environment") and len(parts) == 2:
-        spec = params[parts[0]].get(parts[1])
+        spec = load_parameters()[parts[0]].get(parts[1])
     elif parts[0] == "sensors" and len(parts) == 3 and parts[1] in scenario.sensors:
-        spec = params[scenario.sensors[parts[1]].modality].get(parts[2])
+        spec = load_parameters()[scenario.sensors[parts[1]].modality].get(parts[2])
     if spec is None:
         own = ", ".join(JOB_AXES.get(job, {})) or "none"
-        sensors = ", ".join(scenario.sensors)
-        errors.append(
-            ParameterError(
-                "axes",
-                key,
-                f"target.<param>, environment.<param> or sensors.<name>.<param> (sensors: {sensors}); "
-                f"the job's own axes: {own}",
-            )
+        raise ParameterError(
+            f"axes.{key}",
+            "(an axis)",
+            f"target.<param>, environment.<param> or sensors.<name>.<param> (sensors: {', '.join(scenario.sensors)}); "
+            f"the job's own axes: {own}",
         )
-        return None
-    if not TAKES_SCENARIO.get(job, True):
-        errors.append(ParameterError("axes", key, f"job {job} takes only {', '.join(JOB_AXES[job])}"))
-        return None
-    try:
-        checked = [check_value(f"axes.{key}", spec, v) for v in values]
-    except ScenarioError as exc:
-        errors.append(exc)
-        return None
+    if not TAKES_SCENARIO[job]:
+        raise ParameterError(f"axes.{key}", "(an axis)", f"job {job} takes only {', '.join(JOB_AXES[job])}")
+    return spec
+
+
+def _check_axis(job: str, scenario: Scenario, key: str, values: list):
+    """Validated values of one axis, as an array (ParameterError naming the first bad value)."""
+    if key in JOB_AXES[job]:
+        return _own_axis(job, key, values)
+    spec = _parameter_of(job, scenario, key)
+    checked = [check_value(f"axes.{key}.{i}", spec, v) for i, v in enumerate(values)]
     return np.asarray(checked, dtype=object if "choices" in spec else float)
 
 
-def parse_spec(data: dict) -> SweepSpec:
-    """Validate a sweep spec's TOML table; every mistake reported at once (exit 2 on the command line)."""
-    errors: list[CsuasError] = []
-    for key in sorted(set(data) - set(TOP_KEYS)):
-        errors.append(ParameterError(key, data[key], "a key of a sweep spec: " + ", ".join(TOP_KEYS)))
-    job = data.get("job")
-    if job not in JOBS:
-        raise_all([*errors, ParameterError("job", job, ", ".join(JOBS))])
+def _job_of(data) -> str:
+    """The spec's job, checked before the schema that depends on it."""
+    job = data.get("job") if isinstance(data, dict) else None
     if job == "dataset":
         raise ParameterError(
             "job", job, "range, pd, render or rcs: datasets are made by csuas dataset SPEC --out DIR (one process)"
         )
-    seed = data.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        errors.append(ParameterError("seed", seed, "a whole number >= 0"))
-        seed = 0
-    combine = data.get("combine", "grid")
-    if combine not in ("grid", "zip"):
-        errors.append(ParameterError("combine", combine, "grid or zip"))
-    source_name = data.get("scenario", "default")
-    scenario = load_scenario(source_name)
-    options = dict(JOB_OPTIONS[job])
-    given = data.get("options", {})
-    if not isinstance(given, dict):
-        errors.append(ParameterError("options", given, "a table"))
-        given = {}
-    for key in sorted(set(given) - set(options)):
-        errors.append(ParameterError(f"options.{key}", given[key], "one of " + ", ".join(options)))
-    options.update({k: v for k, v in given.items() if k in options})
-    raw_axes = data.get("axes", {})
-    if not isinstance(raw_axes, dict):
-        raise_all([*errors, ParameterError("axes", raw_axes, "a table of axes")])
-    rng = np.random.default_rng(seed)
-    axes = {}
-    for key, raw in raw_axes.items():
-        values = _axis_values(key, raw, rng, errors)
-        if values is not None:
-            checked = _check_axis(job, scenario, key, values, errors)
-            if checked is not None:
-                axes[key] = checked
-    if combine == "zip" and len({len(v) for v in axes.values()}) > 1:
-        errors.append(
-            ParameterError(
-                "combine", "zip", "axes of equal length: " + ", ".join(f"{k} {len(v)}" for k, v in axes.items())
-            )
-        )
+    if not isinstance(job, str) or job not in SCHEMAS:
+        raise ParameterError("job", job, ", ".join(SCHEMAS))
+    return job
+
+
+def _needed_axes(job: str, axes: dict, options: dict, sensors: int) -> list:
+    """What the job needs beside its schema: its ranges or frequencies, a k-of-n fusion's k <= the sensors."""
+    errors = []
+    fusion = options.get("fusion", "or")
+    if fusion != "or" and int(fusion.partition(":")[2]) > sensors:
+        errors.append(ParameterError("options.fusion", fusion, f"or, or k-of-n:K with K 1 to {sensors} (the sensors)"))
     if job == "render" and "range_m" not in axes and options["range_m"] is None:
         errors.append(ParameterError("axes.range_m", None, "an axis or options.range_m: the render job needs ranges"))
     if job == "rcs" and "frequency_ghz" not in axes:
         errors.append(ParameterError("axes.frequency_ghz", None, "an axis: the rcs job needs frequencies"))
-    chunk = data.get("chunk_points", CHUNK_POINTS[job])
-    recycle = data.get("recycle_after", 50)
-    for name, value in (("chunk_points", chunk), ("recycle_after", recycle)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-            errors.append(ParameterError(name, value, "a whole number >= 1"))
-    raise_all(errors)
-    spec = SweepSpec(job, str(source_name), scenario, int(seed), combine, axes, options, int(chunk), int(recycle))
+    return errors
+
+
+def parse_spec(data: dict) -> SweepSpec:
+    """Validate a sweep spec's TOML table against its job's schema (:mod:`csuas.sweep.schema`), then its axes
+    against the base scenario; every mistake reported at once (exit 2 on the command line)."""
+    job = _job_of(data)
+    model = validate(SCHEMAS[job], data, tags=TAGS)
+    scenario = load_scenario(model.scenario)
+    rng = np.random.default_rng(model.seed)
+    errors: list[CsuasError] = []
+    axes = {}
+    for key, axis in model.axes.items():
+        try:
+            axes[key] = _check_axis(job, scenario, key, _axis_values(axis, rng))
+        except (ParameterError, ScenarioError) as exc:
+            errors.append(exc)
+    if model.combine == "zip" and len({len(v) for v in axes.values()}) > 1:
+        lengths = ", ".join(f"{k} {len(v)}" for k, v in axes.items())
+        errors.append(ParameterError("combine", "zip", "axes of equal length: " + lengths))
+    options = model.options.model_dump()
+    raise_all(errors + _needed_axes(job, axes, options, len(scenario.sensors)))
+    spec = SweepSpec(
+        job, model.scenario, scenario, model.seed, model.combine, axes, options, model.chunk_points, model.recycle_after
+    )
     if spec.n_points > MAX_POINTS:
         raise ParameterError("axes", f"{spec.n_points:,} points", f"at most {MAX_POINTS:,} points in one sweep")
-    spec.digest = _digest(data, source_name)
+    spec.digest = _digest(data, model.scenario)
     return spec
 
 

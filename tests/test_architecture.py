@@ -40,7 +40,11 @@ FOLDERS = {
 #: (tomli is the standard library's tomllib on Python 3.10.)
 #: numba compiles the core's loops that NumPy cannot vectorise (the viewshed's rays); it ships with
 #: bempp-cl and is a dependency of its own.
-THIRD_PARTY = {"base": {"numpy", "matplotlib"}, "defaults": {"tomli"}, "core": {"numpy", "scipy", "tomli", "numba"}}
+THIRD_PARTY = {
+    "base": {"numpy", "matplotlib", "pydantic", "tomli"},
+    "defaults": {"tomli", "pydantic"},
+    "core": {"numpy", "scipy", "tomli", "numba"},
+}
 
 #: A registry entry or dynamic import target: a literal module path of the package.
 _MODULE_STRING = re.compile(r"^csuas(\.[A-Za-z_][A-Za-z0-9_]*)+(:[A-Za-z_][A-Za-z0-9_.]*)?$")

@@ -19,17 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
-from csuas.base.errors import ParameterError, raise_all
+from csuas.base.errors import InputErrors, ParameterError, raise_all
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import file_name_part, inside
-from csuas.commands.coverage_radio import radio_map_layers, radio_map_settings
+from csuas.base.schema import validate
+from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
+from csuas.commands.coverage_schema import TAGS, SiteSchema
 from csuas.core.coverage import POINTING
 
-#: Keys a site may hold; and of each sensor table.
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
 LOCK_NAME = ".csuas-coverage.lock"
-SITE_KEYS = ("dem", "scenario", "altitudes_agl_m", "fusion_k", "sensors", "radio_map")
-SENSOR_KEYS = ("x", "y", "mast_m", *POINTING)
 #: Layers of a radio map: (kind, key of :func:`csuas.commands.coverage_radio.radio_map_layers`'s grids).
 RADIO_KINDS = (
     ("path_gain", "path_gain_db"),
@@ -64,13 +63,13 @@ def add_arguments(parser):
     parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
 
 
-def _load_dem(site: dict, site_path):
-    """(heights, transform, crs, cell size) of the site's DEM or the demo terrain."""
+def _load_dem(dem: str | None, site_path):
+    """(heights, transform, crs, cell size) of the site's DEM (``dem``, relative to the site) or the demo terrain."""
     from rasterio.transform import from_origin
 
     from csuas.core.terrain import gaussian_hills
 
-    if "dem" not in site:
+    if dem is None:
         x0, y0 = DEMO["origin"]
         top = y0 + DEMO["cells"] * DEMO["cell_m"]
         return (
@@ -81,24 +80,38 @@ def _load_dem(site: dict, site_path):
         )
     import rasterio
 
-    path = Path(site["dem"])
+    path = Path(dem)
     if not path.is_absolute() and site_path is not None:
         path = Path(site_path).parent / path
     if not path.is_file():
-        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF file")
-    with rasterio.open(path) as src:
-        dem = src.read(1, masked=True).astype(float)
-        transform, crs = src.transform, src.crs
+        raise ParameterError("dem", dem, "a GeoTIFF file")
+    try:
+        with rasterio.open(path) as src:
+            heights = src.read(1, masked=True).astype(float)
+            transform, crs = src.transform, src.crs
+    except rasterio.errors.RasterioError as exc:
+        raise ParameterError("dem", dem, f"a GeoTIFF file GDAL can read ({exc})") from None
+    _check_dem(dem, heights, transform, crs)
+    heights, transform = _north_up(heights, transform)
+    if np.ma.is_masked(heights):  # nodata holes: the lowest valid height, so they hide nothing
+        heights = heights.filled(float(heights.min()))
+    return np.asarray(heights), transform, str(crs), abs(transform.a)
+
+
+def _check_dem(dem: str, heights, transform, crs) -> None:
+    """A DEM the coverage can use: projected, square cells without rotation, 2 x 2 cells or more, finite heights."""
     if crs is None or not crs.is_projected:
-        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF in a projected CRS (metres)")
+        raise ParameterError("dem", dem, "a GeoTIFF in a projected CRS (metres)")
     if transform.b or transform.d:
-        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF without rotation (rows along the CRS's x axis)")
+        raise ParameterError("dem", dem, "a GeoTIFF without rotation (rows along the CRS's x axis)")
     if abs(abs(transform.a) - abs(transform.e)) > 1e-6 * abs(transform.a):
-        raise ParameterError("dem", str(site["dem"]), "square cells")
-    dem, transform = _north_up(dem, transform)
-    if np.ma.is_masked(dem):  # nodata holes: the lowest valid height, so they hide nothing
-        dem = dem.filled(float(dem.min()))
-    return np.asarray(dem), transform, str(crs), abs(transform.a)
+        raise ParameterError("dem", dem, "square cells")
+    if min(heights.shape) < 2:
+        rows, cols = heights.shape
+        raise ParameterError("dem", dem, f"a grid of at least 2 x 2 cells (this one: {rows} x {cols})")
+    valid = heights.compressed() if np.ma.is_masked(heights) else np.asarray(heights).ravel()
+    if valid.size == 0 or not np.isfinite(valid).all():
+        raise ParameterError("dem", dem, "finite heights [m] (nodata cells marked as the GeoTIFF's nodata)")
 
 
 def _north_up(dem, transform):
@@ -112,27 +125,14 @@ def _north_up(dem, transform):
     return dem, transform
 
 
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def _validate(site: dict, scenario) -> list:
-    from csuas.core.checks import require
-
-    errors = [
-        ParameterError(key, site[key], "a site key: " + ", ".join(SITE_KEYS)) for key in site if key not in SITE_KEYS
-    ]
-    altitudes = site.get("altitudes_agl_m", [30.0, 120.0])
-    if (
-        not isinstance(altitudes, list)
-        or not altitudes
-        or not all(isinstance(a, (int, float)) and 0.0 <= a <= 10_000.0 for a in altitudes)
-    ):
-        errors.append(ParameterError("altitudes_agl_m", altitudes, "a list of heights 0 to 10000 m above the terrain"))
-    sensors = site.get("sensors", {})
-    if not sensors:
-        errors.append(ParameterError("sensors", sensors, "at least one [sensors.NAME] of the scenario"))
-    for name, table in sensors.items():
+def _scenario_errors(site: dict, scenario) -> list:
+    """Sited sensors the scenario lacks, or whose names cannot name their layer files (the schema checks the types)."""
+    sensors = site.get("sensors")
+    if not isinstance(sensors, dict):
+        return []
+    allowed = "a sensor of the scenario: " + ", ".join(scenario.sensors)
+    errors = []
+    for name in sensors:
         try:
             file_name_part(name, "sensors")  # it names the sensor's layer files
         except ParameterError as exc:
@@ -140,69 +140,48 @@ def _validate(site: dict, scenario) -> list:
             continue
         if name == "fused":
             errors.append(ParameterError("sensors", name, "a sensor name other than 'fused' (the fused layers' name)"))
-        if name not in scenario.sensors:
-            errors.append(
-                ParameterError(f"sensors.{name}", name, "a sensor of the scenario: " + ", ".join(scenario.sensors))
-            )
-        for key in table:
-            if key not in SENSOR_KEYS:
-                errors.append(ParameterError(f"sensors.{name}.{key}", table[key], ", ".join(SENSOR_KEYS)))
-        for key in ("x", "y"):
-            if not isinstance(table.get(key), (int, float)):
-                errors.append(
-                    ParameterError(f"sensors.{name}.{key}", table.get(key), "a coordinate in the DEM's CRS [m]")
-                )
-        mast = table.get("mast_m", 10.0)
-        if not (isinstance(mast, (int, float)) and 0.0 <= mast <= 1000.0):
-            errors.append(ParameterError(f"sensors.{name}.mast_m", mast, "0 to 1000 m"))
-        for key, (_, bounds) in POINTING.items():
-            if key not in table:
-                continue
-            if not _is_number(table[key]):
-                errors.append(ParameterError(f"sensors.{name}.{key}", table[key], "a number"))
-                continue
-            try:
-                require(f"sensors.{name}.{key}", table[key], **bounds)
-            except ParameterError as exc:
-                errors.append(exc)
-        low, high = (table.get(key, POINTING[key][0]) for key in ("elevation_min_deg", "elevation_max_deg"))
-        if _is_number(low) and _is_number(high) and not low < high:
-            errors.append(
-                ParameterError(f"sensors.{name}.elevation_max_deg", high, f"above elevation_min_deg = {low:g}")
-            )
-    if "fusion_k" in site:
-        k = site["fusion_k"]
-        if not (isinstance(k, int) and not isinstance(k, bool) and 1 <= k <= max(len(sensors), 1)):
-            errors.append(
-                ParameterError("fusion_k", k, f"a whole number 1 to {len(sensors)} (the number of sited sensors)")
-            )
+        elif name not in scenario.sensors:
+            errors.append(ParameterError(f"sensors.{name}", name, allowed))
     return errors
+
+
+def _checked_site(site: dict):
+    """The validated site (:class:`~csuas.commands.coverage_schema.SiteSchema`) and its scenario; every mistake
+    of the file and of its sensors against the scenario at once."""
+    from csuas.core.scenario import load_scenario
+
+    name = site.get("scenario", "default")
+    scenario = load_scenario(name) if isinstance(name, str) else None
+    errors = [] if scenario is None else _scenario_errors(site, scenario) + radio_map_errors(site, scenario)
+    try:
+        model = validate(SiteSchema, site, tags=TAGS, context={"sensors": site.get("sensors")})
+    except (ParameterError, InputErrors) as exc:
+        raise_all(getattr(exc, "errors", [exc]) + errors)
+    raise_all(errors)
+    return model, scenario
 
 
 def run(args) -> dict:
     """Compute and write every layer of the site."""
     from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
-    from csuas.core.scenario import load_scenario
     from csuas.defaults import site_path
 
     source = Path(args.site)
-    site = read_spec(args.site, site_path, "site")
-    scenario = load_scenario(site.get("scenario", "default"))
-    radio, radio_errors = radio_map_settings(site, scenario)
-    raise_all(_validate(site, scenario) + radio_errors)
-    dem, transform, crs, cell = _load_dem(site, source if source.is_file() else None)
+    site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
+    radio = radio_map_settings(site, scenario)
+    dem, transform, crs, cell = _load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
-    for name, table in site["sensors"].items():
-        col, row = inverse @ (float(table["x"]), float(table["y"]))
+    for name, table in site.sensors.items():
+        col, row = inverse @ (table.x, table.y)
         col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
         if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
-            outside.append(ParameterError(f"sensors.{name}", (table["x"], table["y"]), "a position inside the DEM"))
-        pointing = {key: float(table.get(key, default)) for key, (default, _) in POINTING.items()}
-        sited[name] = SitedSensor(name, row, col, float(table.get("mast_m", 10.0)), **pointing)
+            outside.append(ParameterError(f"sensors.{name}", (table.x, table.y), "a position inside the DEM"))
+        pointing = {key: float(getattr(table, key)) for key in POINTING}
+        sited[name] = SitedSensor(name, row, col, float(table.mast_m), **pointing)
     raise_all(outside)
-    altitudes = [float(a) for a in site.get("altitudes_agl_m", [30.0, 120.0])]
-    k = site.get("fusion_k")
+    altitudes = [float(a) for a in site.altitudes_agl_m]
+    k = site.fusion_k
     out = prepare_output_dir(args.out)
     for name in _layer_files(sited, altitudes, [] if radio is None else radio["sensors"], k):
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work

@@ -24,17 +24,8 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.commands.coverage_schema import RadioMapTable
 
-#: Keys of the ``[radio_map]`` table and their defaults (None: absent).
-RADIO_MAP_DEFAULTS = {
-    "sensors": None,
-    "ground": "medium_dry_ground",
-    "step": 4,
-    "samples": 2**20,
-    "accuracy_db": None,
-    "max_depth": 2,
-    "seed": 1,
-}
 #: Keys of a ground given by its constants (instead of an ITU material's name).
 GROUND_CONSTANTS = ("relative_permittivity", "conductivity_s_m")
 #: The radio map covers the square around the sensor out to this many times its mapped reach
@@ -46,73 +37,68 @@ ACCURACY_FRACTION = 0.9
 ACCURACY_MAX_SAMPLES = 2**23
 
 
-def _whole(value, low: int, high: int) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+def radio_map_settings(site, scenario) -> dict | None:
+    """The radio-map settings of a validated site (:class:`~csuas.commands.coverage_schema.SiteSchema`);
+    None without a ``[radio_map]`` table."""
+    if site.radio_map is None:
+        return None
+    settings = site.radio_map.model_dump()
+    if settings["sensors"] is None:
+        settings["sensors"] = _radio_sensors(site.sensors, scenario)
+    if isinstance(settings["ground"], dict):
+        settings["ground"] = tuple(settings["ground"][key] for key in GROUND_CONSTANTS)
+    return settings
 
 
-def radio_map_settings(site: dict, scenario) -> tuple[dict | None, list]:
-    """The site's radio-map settings (None without a ``[radio_map]`` table) and every mistake in them."""
+def _radio_sensors(sited, scenario) -> list:
+    return [n for n in sited if n in scenario.sensors and scenario.sensors[n].modality in ("rf", "radar")]
+
+
+def _ground_errors(ground, names: list, scenario) -> list:
+    """The ground against the mapped sensors' carriers (an ITU material) or its constants' domain."""
     from csuas.core.coverage import link_frequency_ghz
     from csuas.render.links.scene import ground_properties, itu_materials
 
-    if "radio_map" not in site:
-        return None, []
-    table = site["radio_map"]
-    if not isinstance(table, dict):
-        return None, [ParameterError("radio_map", table, "a table [radio_map]")]
-    errors = [
-        ParameterError(f"radio_map.{key}", table[key], ", ".join(RADIO_MAP_DEFAULTS))
-        for key in table
-        if key not in RADIO_MAP_DEFAULTS
-    ]
-    settings = {key: table.get(key, default) for key, default in RADIO_MAP_DEFAULTS.items()}
-    sited = site.get("sensors", {})
-    radio = [n for n in sited if n in scenario.sensors and scenario.sensors[n].modality in ("rf", "radar")]
-    if settings["sensors"] is None:
-        settings["sensors"] = radio
-    names = settings["sensors"]
-    if not isinstance(names, list) or not names or any(n not in radio for n in names):
-        found = ", ".join(radio) or "none on this site"
-        errors.append(ParameterError("radio_map.sensors", names, f"RF or radar sensors of the site: {found}"))
-        names = []
-    ground = settings["ground"]
-    if isinstance(ground, dict):  # the ground's constants, at any frequency
-        if set(ground) != set(GROUND_CONSTANTS):
-            errors.append(ParameterError("radio_map.ground", ground, "{" + ", ".join(GROUND_CONSTANTS) + "}"))
-        else:
-            settings["ground"] = tuple(ground[key] for key in GROUND_CONSTANTS)
-            try:
-                ground_properties(settings["ground"], 1.0)
-            except ParameterError as exc:
-                errors.append(ParameterError("radio_map.ground", ground, exc.allowed))
-    elif ground not in itu_materials():
+    errors = []
+    if isinstance(ground, dict) and set(ground) == set(GROUND_CONSTANTS):
+        try:
+            ground_properties(tuple(ground[key] for key in GROUND_CONSTANTS), 1.0)
+        except (ParameterError, TypeError) as exc:
+            errors.append(ParameterError("radio_map.ground", ground, getattr(exc, "allowed", "numbers")))
+    elif isinstance(ground, str) and ground not in itu_materials():
         allowed = "an ITU material (" + ", ".join(itu_materials()) + ") or {" + ", ".join(GROUND_CONSTANTS) + "}"
         errors.append(ParameterError("radio_map.ground", ground, allowed))
-    else:
+    elif isinstance(ground, str):
         for name in names:  # each sensor's carrier inside the material's frequency ranges
             try:
                 ground_properties(ground, link_frequency_ghz(scenario, name))
             except ParameterError as exc:
                 errors.append(ParameterError(f"radio_map.ground (for {name})", exc.value, exc.allowed))
+    return errors
+
+
+def radio_map_errors(site: dict, scenario) -> list:
+    """What a site's ``[radio_map]`` asks that its scenario or sensors cannot give (the schema checks types)."""
+    table = site.get("radio_map")
+    if not isinstance(table, dict):
+        return []
+    sited = site.get("sensors") if isinstance(site.get("sensors"), dict) else {}
+    radio = _radio_sensors(sited, scenario)
+    names = table.get("sensors", radio)
+    errors = []
+    if isinstance(names, list) and (not names or any(n not in radio for n in names)):
+        found = ", ".join(radio) or "none on this site"
+        errors.append(ParameterError("radio_map.sensors", names, f"RF or radar sensors of the site: {found}"))
+    names = [n for n in names if n in radio] if isinstance(names, list) else []
+    errors += _ground_errors(table.get("ground", RadioMapTable.model_fields["ground"].default), names, scenario)
     for name in names:
-        mast = sited[name].get("mast_m", 10.0)
+        mast = sited[name].get("mast_m", 10.0) if isinstance(sited[name], dict) else None
         if isinstance(mast, (int, float)) and mast <= 0:
             errors.append(ParameterError(f"sensors.{name}.mast_m", mast, "above 0 m for a radio map"))
     altitudes = site.get("altitudes_agl_m", [30.0, 120.0])
     if isinstance(altitudes, list) and any(isinstance(a, (int, float)) and a <= 0 for a in altitudes):
         errors.append(ParameterError("altitudes_agl_m", altitudes, "flight levels above 0 m for a radio map"))
-    if not _whole(settings["step"], 1, 64):
-        errors.append(ParameterError("radio_map.step", settings["step"], "a whole number of cells 1 to 64"))
-    if not _whole(settings["samples"], 1000, 100_000_000):
-        errors.append(ParameterError("radio_map.samples", settings["samples"], "1000 to 1e8 rays per replica"))
-    accuracy = settings["accuracy_db"]
-    if accuracy is not None and not (isinstance(accuracy, (int, float)) and 0.0 < accuracy <= 20.0):
-        errors.append(ParameterError("radio_map.accuracy_db", accuracy, "a bound of 0 to 20 dB"))
-    if not _whole(settings["max_depth"], 0, 10):
-        errors.append(ParameterError("radio_map.max_depth", settings["max_depth"], "0 to 10 reflections"))
-    if not _whole(settings["seed"], 0, 2**31 - 1):
-        errors.append(ParameterError("radio_map.seed", settings["seed"], "a whole number >= 0"))
-    return settings, errors
+    return errors
 
 
 def sector_window(aimed: np.ndarray, window: tuple[slice, slice], row: float, col: float) -> tuple[slice, slice]:

@@ -39,27 +39,13 @@ import numpy as np
 from csuas.base.errors import InputErrors, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
+from csuas.base.schema import validate
+from csuas.render.imaging.dataset_schema import TAGS, DatasetSchema
 
 #: Axes a spec may draw or list.
 AXES = ("drones", "range_m", "azimuth_deg", "elevation_deg")
-#: Valid range of each numeric axis.
-AXIS_LIMITS = {"range_m": (1.0, 1e5), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)}
-#: Keys a spec may hold.
-SPEC_KEYS = (
-    "seed",
-    "count",
-    "scenario",
-    "sensor",
-    *AXES,
-    "background",
-    "chain",
-    "quality",
-    "position",
-    "bits",
-    "exr",
-    "cloud_cover",
-    "sky_temperature_k",
-)
+#: Keys a spec may hold (the schema's).
+SPEC_KEYS = tuple(DatasetSchema.model_fields)
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -84,85 +70,28 @@ class DatasetSpec:
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
-    """Validate a spec's TOML table; every mistake at once (:class:`InputErrors`)."""
-    from csuas.drone_models.presets import list_presets
-    from csuas.render.imaging.sensor_chain import STAGES
-
-    errors = []
-    for key in data:
-        if key not in SPEC_KEYS:
-            errors.append(ParameterError(key, data[key], "a spec key: " + ", ".join(SPEC_KEYS)))
-    seed, count = data.get("seed", 0), data.get("count", 1)
-    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
-        errors.append(ParameterError("seed", seed, "a whole number >= 0"))
-    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= 1_000_000:
-        errors.append(ParameterError("count", count, "a whole number 1 to 1,000,000"))
-    axes = {}
-    drones = data.get("drones", ["dji_mini_4_pro"])
-    if not isinstance(drones, list) or not drones or any(d not in list_presets() for d in drones):
-        errors.append(ParameterError("drones", drones, "a list of drone presets: " + ", ".join(list_presets())))
-    axes["drones"] = drones
-    for name, (lo, hi) in AXIS_LIMITS.items():
-        value = data.get(name, {"min": lo, "max": hi} if name != "range_m" else [500.0])
-        values = [value["min"], value["max"]] if isinstance(value, dict) else value
-        if isinstance(value, dict) and set(value) != {"min", "max"}:
-            errors.append(ParameterError(name, value, "{min = ..., max = ...} or a list"))
-        elif (
-            not isinstance(values, list)
-            or not values
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and lo <= v <= hi for v in values)
-        ):
-            errors.append(ParameterError(name, value, f"values from {lo:g} to {hi:g}, as a list or {{min, max}}"))
-        elif isinstance(value, dict) and value["min"] > value["max"]:
-            errors.append(ParameterError(name, value, "min <= max"))
-        axes[name] = value
-    chain = data.get("chain", ["psf", "shot_noise", "read_noise", "quantise"])
-    if not isinstance(chain, list) or any(s not in STAGES for s in chain):
-        errors.append(ParameterError("chain", chain, "a list of stages: " + ", ".join(STAGES)))
-    background = data.get("background", "sky")
-    if not (background in ("sky", "clear_sky") or (isinstance(background, (int, float)) and 0 <= background <= 1)):
-        errors.append(ParameterError("background", background, "'sky', 'clear_sky' or a reflectance 0..1"))
-    quality = data.get("quality", "draft")
-    if quality not in ("draft", "standard", "reference"):
-        errors.append(ParameterError("quality", quality, "draft, standard or reference"))
-    position = data.get("position", "random")
-    if position not in ("random", "centre"):
-        errors.append(ParameterError("position", position, "random or centre"))
-    bits = data.get("bits", 12)
-    if bits not in (8, 10, 12, 14, 16):
-        errors.append(ParameterError("bits", bits, "8, 10, 12, 14 or 16"))
-    exr = data.get("exr", False)
-    if not isinstance(exr, bool):
-        errors.append(ParameterError("exr", exr, "true or false"))
-    cloud_cover = data.get("cloud_cover", 0.0)
-    if not (isinstance(cloud_cover, (int, float)) and 0.0 <= cloud_cover <= 1.0) or (
-        cloud_cover and background != "clear_sky"
-    ):
-        errors.append(ParameterError("cloud_cover", cloud_cover, "0..1, with background = 'clear_sky'"))
-    sky_k = data.get("sky_temperature_k")
-    if sky_k is not None and not (
-        isinstance(sky_k, (int, float)) and not isinstance(sky_k, bool) and 3 <= sky_k <= 400
-    ):
-        errors.append(ParameterError("sky_temperature_k", sky_k, "an apparent sky temperature of 3 to 400 K"))
-    scenario, sensor = data.get("scenario", "default"), data.get("sensor")
-    if not isinstance(scenario, str):
-        errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
-    if errors:
-        raise InputErrors(errors)
+    """Validate a spec's TOML table against :class:`~csuas.render.imaging.dataset_schema.DatasetSchema`;
+    every mistake at once (:class:`csuas.base.errors.InputErrors`)."""
+    try:
+        spec = validate(DatasetSchema, data, tags=TAGS)
+    except ParameterError as exc:  # one mistake: still the list of them
+        raise InputErrors([exc]) from None
+    axes = {name: getattr(spec, name) for name in AXES}  # a {min, max} given in the file as its model
+    axes.update({name: axis.model_dump() for name, axis in axes.items() if not isinstance(axis, (list, dict))})
     return DatasetSpec(
-        seed,
-        count,
-        scenario,
-        sensor,
+        spec.seed,
+        spec.count,
+        spec.scenario,
+        spec.sensor,
         axes,
-        background,
-        tuple(chain),
-        quality,
-        position,
-        bits,
-        exr,
-        float(cloud_cover),
-        None if sky_k is None else float(sky_k),
+        spec.background,
+        tuple(spec.chain),
+        spec.quality,
+        spec.position,
+        spec.bits,
+        spec.exr,
+        float(spec.cloud_cover),
+        spec.sky_temperature_k,
     )
 
 

@@ -1,0 +1,105 @@
+"""The declared schema of a dataset spec (docs/datasets.md): its keys, their types, defaults and what is allowed.
+
+A numeric axis (``range_m``, ``azimuth_deg``, ``elevation_deg``) is a list (a grid axis) or ``{min, max}``
+(uniform draws), each value within the axis's limits.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
+
+from csuas.base.schema import Schema, key, number, one_of, text, whole
+from csuas.drone_models.presets import list_presets
+from csuas.render.imaging.sensor_chain import STAGES
+
+#: Valid range of each numeric axis and its unit.
+AXIS_LIMITS = {"range_m": (1.0, 1e5, "m"), "azimuth_deg": (-360.0, 360.0, "deg"), "elevation_deg": (-90.0, 90.0, "deg")}
+#: Tags of the unions below, which pydantic names in its error locations but a spec does not hold.
+TAGS = ("list", "span", "name", "reflectance")
+
+
+def _max_not_below_min(cls, value, info: ValidationInfo):
+    low = info.data.get("min")
+    if low is not None and value < low:
+        raise ValueError(f"at least min = {low:g}")
+    return value
+
+
+def _axis(name: str) -> Any:
+    """A list of values or ``{min, max}``, every value within the axis's limits."""
+    low, high, unit = AXIS_LIMITS[name]
+    value = number(low, high, unit)
+    span = create_model(
+        f"Span_{name}",
+        __base__=Schema,
+        __validators__={"max_not_below_min": field_validator("max")(_max_not_below_min)},
+        min=(value, key(description="lowest value")),
+        max=(value, key(description="highest value")),
+    )
+    kind = lambda v: "list" if isinstance(v, list) else "span" if isinstance(v, dict) else None
+    return Annotated[
+        Annotated[list[value], Field(min_length=1), Tag("list")] | Annotated[span, Tag("span")],
+        Discriminator(kind, custom_error_type="csuas", custom_error_message="a non-empty list, or {min, max}"),
+        Field(json_schema_extra={"allowed": f"a list or {{min, max}} of values {low:g} to {high:g} {unit}"}),
+    ]
+
+
+def _background_kind(value) -> str | None:
+    return "name" if isinstance(value, str) else "reflectance"
+
+
+Background = Annotated[
+    Annotated[one_of("sky", "clear_sky", allowed="'sky' or 'clear_sky'"), Tag("name")]
+    | Annotated[number(0.0, 1.0, allowed="'sky', 'clear_sky' or a reflectance 0..1"), Tag("reflectance")],
+    Discriminator(_background_kind),
+    Field(json_schema_extra={"allowed": "'sky', 'clear_sky' or a reflectance 0..1"}),
+]
+
+
+class DatasetSchema(Schema):
+    """The keys of a dataset spec."""
+
+    seed: whole(0) = key(0, "image i draws from the seed [seed, i]")
+    count: whole(1, 1_000_000) = key(1, "random draws per point of the list axes")
+    scenario: text("an embedded scenario name or a scenario file") = key("default", "environment and sensors")
+    sensor: text("an EO or thermal sensor of the scenario") | None = key(
+        None, "the sensor that takes the images (the scenario's first EO or thermal one unless given)"
+    )
+    drones: Annotated[list[one_of(*list_presets())], Field(min_length=1)] = key(
+        ["dji_mini_4_pro"], "the drone of each image is drawn from this list", "presets: " + ", ".join(list_presets())
+    )
+    range_m: _axis("range_m") = key([500.0], "range from the sensor [m]")
+    azimuth_deg: _axis("azimuth_deg") = key({"min": -360.0, "max": 360.0}, "aspect azimuth [deg]")
+    elevation_deg: _axis("elevation_deg") = key({"min": -90.0, "max": 90.0}, "aspect elevation [deg]")
+    background: Background = key("sky", "what lies behind the drone")
+    bits: one_of(8, 10, 12, 14, 16, allowed="8, 10, 12, 14 or 16 (whole numbers)") = key(12, "bits per pixel")
+    chain: list[one_of(*STAGES)] = key(
+        ["psf", "shot_noise", "read_noise", "quantise"], "sensor-chain stages, each a switch", ", ".join(STAGES)
+    )
+    quality: one_of("draft", "standard", "reference", allowed="draft, standard or reference") = key(
+        "draft", "render preset"
+    )
+    position: one_of("random", "centre", allowed="random or centre") = key("random", "where the target lies")
+    exr: bool = key(False, "also the signal before quantisation as a float32 EXR", "true or false")
+    cloud_cover: number(0.0, 1.0, allowed="0..1, with background = 'clear_sky'") = key(
+        0.0, "share of a clear_sky background under seeded clouds"
+    )
+    sky_temperature_k: number(3.0, 400.0, "K") | None = key(
+        None, "thermal sensors: a sky of this apparent temperature above the horizon"
+    )
+
+    @field_validator("chain")
+    @classmethod
+    def _jpeg_of_8_bits(cls, value, info: ValidationInfo):
+        if "jpeg" in value and (info.data.get("bits", 8) != 8 or "quantise" not in value[: value.index("jpeg")]):
+            raise ValueError("jpeg after quantise, with bits = 8")
+        return value
+
+    @field_validator("cloud_cover")
+    @classmethod
+    def _clouds_need_a_clear_sky(cls, value, info: ValidationInfo):
+        if value and info.data.get("background", "clear_sky") != "clear_sky":
+            raise ValueError("0..1, with background = 'clear_sky'")
+        return value
