@@ -16,6 +16,8 @@ presets.toml
     environments (the paper's condition classes).
 birds.toml
     Bird classes (the confusers of engagements and datasets): size, wingbeat, airspeed, heights.
+clutter.toml
+    Gamma of the constant-gamma land clutter model per land cover (Barton 2013).
 drone_rcs_statistics.csv
     The drone presets' RCS over aspects per band and polarisation (``csuas rcs-statistics``).
 scenarios/
@@ -126,3 +128,9 @@ def load_drone_rcs_statistics() -> tuple:
 def load_birds() -> dict:
     """Bird classes (``birds.toml``): size, wingbeat, airspeed, flight heights and surface temperature."""
     return _load("birds.toml")
+
+
+@functools.cache
+def load_clutter() -> dict:
+    """Gamma of the constant-gamma land clutter model per land cover (``clutter.toml``) [dB]."""
+    return _load("clutter.toml")
