@@ -134,3 +134,8 @@ def load_birds() -> dict:
 def load_clutter() -> dict:
     """Gamma of the constant-gamma land clutter model per land cover (``clutter.toml``) [dB]."""
     return _load("clutter.toml")
+
+
+def engagement_path(name: str):
+    """Path of an embedded engagement spec (``example``; docs/engagements.md)."""
+    return resources.files(__name__).joinpath("engagements", f"{name}.toml")
