@@ -87,14 +87,14 @@ def looks_table(engagement: Engagement) -> dict:
 def curves(engagement: Engagement, runs: list) -> dict:
     """Cumulative probabilities against the drone's ground distance to the protected point [m].
 
-    ``confirmed_track``: share of runs with a confirmed drone track by then (and its standard error);
-    per sensor, ``cumulative_pd`` (at least one detection, independent looks) and ``m_of_n`` (that
-    sensor alone confirming M of N, :func:`csuas.core.m_of_n.first_confirmation`), each at the sensor's
-    looks.
+    The distance is the one the drone still has to fly (``DronePath.to_go_m``). ``confirmed_track``:
+    share of runs with a confirmed drone track by then (and its standard error); per sensor,
+    ``cumulative_pd`` (at least one detection; independent looks, or the running maximum for a sensor
+    whose looks are fully correlated) and ``m_of_n`` (that sensor alone confirming M of N with
+    independent looks, :func:`csuas.core.m_of_n.first_confirmation`; null for correlated looks), at
+    the sensor's looks.
     """
-    px, py = engagement.protected_xy
-    start = float(np.hypot(*(engagement.path.waypoints[0, :2] - engagement.protected_xy)))
-    grid = np.linspace(0.0, max(start, 1.0), CURVE_POINTS)
+    grid = np.linspace(0.0, engagement.path.to_go_m(0.0), CURVE_POINTS)
     ranges = np.array([np.nan if r["first_track_range_m"] is None else r["first_track_range_m"] for r in runs])
     share = np.array([np.mean(np.nan_to_num(ranges, nan=-1.0) >= d) for d in grid])
     out = {
@@ -105,10 +105,10 @@ def curves(engagement: Engagement, runs: list) -> dict:
     }
     m, n = engagement.confirm
     for name, looks in engagement.looks.items():
-        distance = np.hypot(looks.x - px, looks.y - py)
+        correlated = bool(np.all(looks.correlation[1:] == 1.0))
         out["sensors"][name] = {
-            "distance_m": distance.tolist(),
-            "cumulative_pd": cumulative_pd(looks.pd).tolist(),
-            "m_of_n": np.cumsum(first_confirmation(looks.pd, m, n)).tolist(),
+            "distance_m": [engagement.path.to_go_m(t) for t in looks.t_s],
+            "cumulative_pd": cumulative_pd(looks.pd, "correlated" if correlated else "independent").tolist(),
+            "m_of_n": None if correlated else np.cumsum(first_confirmation(looks.pd, m, n)).tolist(),
         }
     return out

@@ -10,8 +10,8 @@ sensor are correlated from look to look through a Gaussian copula, z_k = rho_k z
 sqrt(1 - rho_k^2) e_k, detected when Phi(z_k) < Pd_k: each look keeps its Pd exactly while successive
 draws share the RCS fluctuation as the sensor's rule dictates (:meth:`SensorModel.look_correlation`).
 
-Per run: the first confirmed track of the drone (its time, and the drone's ground distance to the
-protected point, the last waypoint), the warning time (arrival at the protected point minus that
+Per run: the first confirmed track of the drone (its time, and the distance the drone still had to
+fly to the protected point, the last waypoint: the straight-line distance on a straight approach), the warning time (arrival at the protected point minus that
 time; 0 when never confirmed), every false track (a confirmed track whose detections at confirmation
 came mostly from noise, clutter or birds) with its cause, the false alarms of each sensor, GOSPA
 (Stone Soup's metric; the drone is the only truth, birds are confusers) averaged over the looks, and
@@ -32,7 +32,7 @@ from stonesoup.types.array import StateVector
 from stonesoup.types.state import State
 
 from csuas.render.engagement.sensors import SensorModel, Terrain
-from csuas.render.engagement.tracker import EngagementTracker, make_detection, timestamp
+from csuas.render.engagement.tracker import EngagementTracker, make_detection, predicted_xy, timestamp
 
 #: GOSPA's cut-off distance c [m], order p and alpha = 2 (Rahmathullah et al. 2017).
 GOSPA_C_M, GOSPA_P = 100.0, 2
@@ -60,6 +60,10 @@ class DronePath:
     def duration_s(self) -> float:
         """Time from the first waypoint to the protected point (the last) [s]."""
         return float(self.legs_m.sum() / self.speed_m_s)
+
+    def to_go_m(self, t_s) -> float:
+        """Distance the drone still has to fly to the protected point at time ``t_s`` [m] (its path's length to go)."""
+        return float(self.speed_m_s * (self.duration_s - np.clip(t_s, 0.0, self.duration_s)))
 
     def at(self, t_s) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(x, y, height above terrain, heading [rad, from +x toward +y]) at times [s]."""
@@ -258,30 +262,33 @@ def run_once(engagement: Engagement, index: int, keep_paths: bool = False) -> di
             scans.append((float(t), order, name, detections))
     scans.sort(key=lambda s: (s[0], s[1]))
     tracker = EngagementTracker(*engagement.confirm, engagement.delete_after_misses)
-    gospa = GOSPAMetric(c=GOSPA_C_M, p=GOSPA_P, measure=Euclidean(mapping=(0, 2)))
     gospa_values, held = [], []
     for i, (t, _, name, detections) in enumerate(scans):
         tracker.step(t, detections, engagement.sensors[name].covers)
         if i + 1 == len(scans) or scans[i + 1][0] != t:
-            value, near = _score(tracker, gospa, engagement.path, t)
+            value, near = _score(tracker, engagement.path, t)
             gospa_values.append(value)
             held.append((t, near))
     return _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
 
 
-def _score(tracker: EngagementTracker, gospa: GOSPAMetric, path: DronePath, t_s: float) -> tuple[float, bool]:
+def gospa_distance(track_xy, truth_xy) -> float:
+    """GOSPA (Stone Soup's ``GOSPAMetric``, c = GOSPA_C_M, p = GOSPA_P, alpha = 2) between positions [m]."""
+    metric = GOSPAMetric(c=GOSPA_C_M, p=GOSPA_P, measure=Euclidean(mapping=(0, 1)))
+    when = timestamp(0.0)
+    tracks = [State(StateVector([x, y]), timestamp=when) for x, y in track_xy]
+    truths = [State(StateVector([x, y]), timestamp=when) for x, y in truth_xy]
+    value, _ = metric.compute_gospa_metric(tracks, truths)
+    return float(value.value["distance"])
+
+
+def _score(tracker: EngagementTracker, path: DronePath, t_s: float) -> tuple[float, bool]:
     """GOSPA of the confirmed tracks against the drone at ``t_s``, and whether a track lies within GOSPA_C_M of it."""
     x, y, _, _ = path.at(np.array([t_s]))
     when = timestamp(t_s)
-    truth = [State(StateVector([x[0], 0.0, y[0], 0.0]), timestamp=when)]
-    tracks = []
-    for track in tracker.tracks:
-        v = np.asarray(track.state.state_vector, float).ravel()
-        dt = t_s - (track.state.timestamp - timestamp(0.0)).total_seconds()
-        tracks.append(State(StateVector([v[0] + v[1] * dt, v[1], v[2] + v[3] * dt, v[3]]), timestamp=when))
-    metric, _ = gospa.compute_gospa_metric(tracks, truth)
-    near = any(np.hypot(s.state_vector[0] - x[0], s.state_vector[2] - y[0]) < GOSPA_C_M for s in tracks)
-    return float(metric.value["distance"]), near
+    positions = [predicted_xy(track, when) for track in tracker.tracks]
+    near = any(np.hypot(p[0] - x[0], p[1] - y[0]) < GOSPA_C_M for p in positions)
+    return gospa_distance(positions, [(x[0], y[0])]), near
 
 
 def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, elapsed) -> dict:
