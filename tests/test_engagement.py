@@ -8,6 +8,7 @@ import pytest
 from csuas.base.errors import InputErrors
 from csuas.core import clutter, false_alarms
 from csuas.core.coverage import SitedSensor
+from csuas.core.horizon import EARTH_RADIUS_M
 from csuas.core.m_of_n import first_confirmation
 from csuas.core.scenario import parse_scenario
 from csuas.core.terrain import gaussian_hills, height_at, line_of_sight, viewshed
@@ -92,13 +93,13 @@ def test_clutter_on_flat_ground_matches_constant_gamma():
     terrain, sensor = _radar(dem, LookSettings(clutter_rejection_db=50.0), gamma_db=-15.0)
     ground = np.hypot(sensor.clutter_xy[:, 0] - sensor.x, sensor.clutter_xy[:, 1] - sensor.y)
     slant = np.hypot(ground, sensor.eye_z)
-    psi = np.arctan2(sensor.eye_z, ground)  # flat ground, curvature below a millimetre here
+    psi = np.arctan2(sensor.eye_z + ground**2 / (2 * 4 / 3 * EARTH_RADIUS_M), ground)  # curvature drop, k = 4/3
     dr, beam = 299792458.0 / (2 * 50e6), np.radians(false_alarms.beamwidth_deg(35.0))
     sigma_c = 10 ** (-1.5) * np.sin(psi) * slant * beam * dr / np.cos(psi)
     snr_db = 10.0 + 40 * np.log10(445.30460703828703 / slant)  # the radar's SNR on 0.01 m^2: 10 dB at 445.3 m
     cnr = 10 ** (snr_db / 10) * sigma_c / 0.01
     rate = CELL**2 / (slant * beam * dr / np.cos(psi)) * (1e-6 ** (1 / (1 + cnr * 1e-5)) - 1e-6)
-    assert np.allclose(sensor.clutter_rate, rate, rtol=2e-3)
+    assert np.allclose(sensor.clutter_rate, rate, rtol=1e-9, atol=0.0)
     assert sensor.clutter_rate.size > 100
 
 
