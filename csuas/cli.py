@@ -46,6 +46,8 @@ COMMANDS = {
     "sweep": "a sweep over scenario parameters or simulator settings, in one process or on a Dask cluster",
     "coverage": "where each sensor of a site sees and detects a drone over terrain, per flight level and fused "
     "(GeoTIFF, PNG, coverage.json)",
+    "engage": "tracks and false alarms of a site over time: Monte Carlo runs of a drone among birds, noise and "
+    "clutter into a Stone Soup tracker (warning time, false tracks per hour by cause)",
     "dataset": "labelled EO frames (16-bit PNG, COCO and YOLO) of drones at drawn ranges and aspects, through the "
     "sensor chain",
 }

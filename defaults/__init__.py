@@ -17,6 +17,8 @@ presets.toml
 birds.toml
     Bird classes (the confusers of engagements and datasets): size, wingbeat, airspeed, heights,
     surface temperature, and the wing shape and plumage of their meshes (drone_models/birds.py).
+clutter.toml
+    Gamma of the constant-gamma land clutter model per land cover (Barton 2013).
 drone_rcs_statistics.csv
     The drone presets' RCS over aspects per band and polarisation (``csuas rcs-statistics``).
 scenarios/
@@ -127,3 +129,14 @@ def load_drone_rcs_statistics() -> tuple:
 def load_birds() -> dict:
     """Bird classes (``birds.toml``): size, wingbeat, airspeed, flight heights, surface temperature, mesh shape."""
     return _load("birds.toml")
+
+
+@functools.cache
+def load_clutter() -> dict:
+    """Gamma of the constant-gamma land clutter model per land cover (``clutter.toml``) [dB]."""
+    return _load("clutter.toml")
+
+
+def engagement_path(name: str):
+    """Path of an embedded engagement spec (``example``; docs/engagements.md)."""
+    return resources.files(__name__).joinpath("engagements", f"{name}.toml")

@@ -21,6 +21,7 @@ GROUPS = {
     "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
     "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
     "terrain": "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
+    "engage": "Engagements: false alarms, M-of-N first tracks, GOSPA, bird RCS and clutter vs closed forms",
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.
