@@ -12,13 +12,14 @@ from dataclasses import replace
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, raise_all
-from csuas.core import acoustic, detection, eo, johnson, lidar, radar, rf, tir
+from csuas.core import acoustic, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.scenario import Scenario, SensorSpec, check_value, johnson_derived
+from csuas.core.units import frequency_ghz
 from csuas.defaults import load_parameters
 
 
@@ -141,17 +142,62 @@ def _rf(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         temperature_k=env["temperature_k"],
         d_rain_km=p["d_rain_km"],
         d_fog_km=p["d_fog_km"],
+        gas_db_km=gas_attenuation_db_km(sc, frequency, convention),
         convention=convention,
     )
 
 
+def gas_atmosphere(sc: Scenario) -> dict:
+    """Pressure [hPa], temperature [K] and water vapour density [g/m^3] of the gaseous absorption.
+
+    ITU-R P.835-6's sea-level reference atmosphere (288.15 K, 1013.25 hPa, 7.5 g/m^3), each value
+    replaced by the scenario's own when it (or its environment preset) gives ``temperature_k``,
+    ``pressure_kpa`` or ``relative_humidity_pct`` (the humidity through ITU-R P.453-14).
+    """
+    env, given = sc.environment, sc.explicit["environment"]
+    atmosphere = itu.standard_atmosphere()
+    if "temperature_k" in given:
+        atmosphere["temperature_k"] = env["temperature_k"]
+    if "pressure_kpa" in given:
+        atmosphere["pressure_hpa"] = 10.0 * env["pressure_kpa"]
+    if "relative_humidity_pct" in given:
+        atmosphere["water_vapour_density_g_m3"] = float(
+            itu.water_vapour_density_g_m3(
+                env["relative_humidity_pct"], atmosphere["temperature_k"], atmosphere["pressure_hpa"]
+            )
+        )
+    return atmosphere
+
+
+def gas_attenuation_db_km(sc: Scenario, frequency_ghz, convention: str):
+    """Gaseous specific attenuation [dB/km] at a sensor's frequency, 0 where no gas term applies.
+
+    The physical convention only, and only within ITU-R P.676's 1-1000 GHz (below 1 GHz the gases
+    absorb under 0.006 dB/km; docs/conventions.md).
+    """
+    f = np.asarray(frequency_ghz, float)
+    lo, hi = itu.P676_FREQUENCY_RANGE_GHZ
+    inside = (f >= lo) & (f <= hi)
+    if convention == "paper" or not np.any(inside):
+        return 0.0
+    atmosphere = gas_atmosphere(sc)
+    gamma = itu.gaseous_attenuation_db_km(
+        np.clip(f, lo, hi),
+        atmosphere["pressure_hpa"],
+        atmosphere["temperature_k"],
+        atmosphere["water_vapour_density_g_m3"],
+    )
+    return np.where(inside, gamma, 0.0)
+
+
 def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
+    wavelength = radar.radar_wavelength_m(p, convention)
     return radar.radar_range(
         p_tx_w=p["p_tx_w"],
         g_tx_db=p["g_tx_db"],
         g_rx_db=p["g_rx_db"],
-        wavelength_m=radar.radar_wavelength_m(p, convention),
+        wavelength_m=wavelength,
         sigma_m2=sc.target["sigma_radar_m2"],
         model=p["model"],
         p_rx_min_w=p.get("p_rx_min_w"),
@@ -170,6 +216,7 @@ def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         d_rain_km=p["d_rain_km"],
         d_fog_km=p["d_fog_km"],
         k_b=p.get("boltzmann_j_k"),
+        gas_db_km=gas_attenuation_db_km(sc, frequency_ghz(wavelength), convention),
         convention=convention,
     )
 
