@@ -11,8 +11,8 @@ import pytest
 
 from csuas.base.errors import ParameterError
 from csuas.core import itu, radar, rf
-from csuas.core.scenario import parse_scenario
 from csuas.core.ranges import evaluate, gas_atmosphere
+from csuas.core.scenario import parse_scenario
 from csuas.core.units import wavelength_m
 
 itur676 = pytest.importorskip("itur.models.itu676")
@@ -113,9 +113,8 @@ def test_radar_two_way_gas_closed_form():
 
 
 def _scenario(env: dict, convention="physical"):
-    return parse_scenario(
-        {"convention": convention, "environment": env, "sensors": {"radar": {"modality": "radar"}, "rf": {"modality": "rf"}}}
-    )
+    sensors = {"radar": {"modality": "radar"}, "rf": {"modality": "rf"}}
+    return parse_scenario({"convention": convention, "environment": env, "sensors": sensors})
 
 
 def test_scenario_gas_term_only_under_physical_and_paper_unchanged():
