@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, raise_all
-from csuas.core import acoustic, detection, eo, itu, johnson, lidar, radar, rf, tir
+from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
@@ -109,10 +109,12 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
 def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
     gain = p["g_array_db"]
+    if convention == "physical" and "g_array_db" not in s.explicit:
+        gain = float(acoustic.array_gain_db(p["n_micro"], p["g_micro_db"]))
+    if convention == "physical" and p["detector"] == "bands":
+        return _acoustic_bands(sc, s, gain)
     absorption = 0.0
     if convention == "physical":
-        if "g_array_db" not in s.explicit:
-            gain = float(acoustic.array_gain_db(p["n_micro"], p["g_micro_db"]))
         absorption = acoustic.iso9613_absorption_db_m(
             p["frequency_hz"], env["temperature_k"], env["relative_humidity_pct"], env["pressure_kpa"]
         )
@@ -125,6 +127,35 @@ def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         wind_distance_m=p["wind_distance_m"],
         absorption_db_m=absorption,
         convention=convention,
+    )
+
+
+def _acoustic_bands(sc: Scenario, s: SensorSpec, gain) -> RangeResult:
+    """Band-limited array detector of the physical convention; ground effect and C_met with the sensor's height."""
+    p, env = s.params, sc.environment
+    ground = None
+    if p.get("height_m") is not None:
+        g = env["ground_factor"]
+        ground = dict(
+            receiver_height_m=p["height_m"],
+            altitude_m=sc.target["altitude_m"],
+            g_source=g,
+            g_middle=g,
+            g_receiver=g,
+            c0_db=env["c0_met_db"],
+        )
+    return acoustic_spectrum.spectral_acoustic_range(
+        sl_db=sc.target["sl_db"],
+        blade_passing_hz=sc.target["blade_passing_hz"],
+        snr_req_db=p["snr_req_db"],
+        g_array_db=gain,
+        noise_level_db=env["noise_level_db"],
+        air={k: env[k] for k in ("temperature_k", "relative_humidity_pct", "pressure_kpa")},
+        wind=dict(
+            wind_speed_m_s=env["wind_speed_m_s"],
+            diameter_m=p["windshield_diameter_m"] if p["windshield"] == "foam" else p["microphone_diameter_m"],
+        ),
+        ground=ground,
     )
 
 
