@@ -21,6 +21,7 @@ GROUPS = {
     "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
     "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
     "terrain": "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
+    "propagation": "Propagation the paper leaves out (physical): gases (ITU-R P.676), outdoor sound (ISO 9613)",
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.

@@ -29,6 +29,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_imaging:SPECS",
     "csuas.validation.report.checks_detection:SPECS",
     "csuas.validation.report.checks_terrain:SPECS",
+    "csuas.validation.report.checks_propagation:SPECS",
 )
 
 
