@@ -208,9 +208,12 @@ def spectral_acoustic_range(*, sl_db, blade_passing_hz, snr_req_db, g_array_db, 
     ambient = ambient_spectrum_db(noise_level_db)
     wind_noise = wind_noise_spectrum_db(wind["wind_speed_m_s"], wind["diameter_m"])
     noise = _power_db(10.0 ** (ambient / 10.0) + 10.0 ** (wind_noise / 10.0))
-    alpha = iso9613_absorption_db_km(
-        bands, air["temperature_k"] - 273.15, air["relative_humidity_pct"], air["pressure_kpa"]
+    t_k, rh, p_kpa = (
+        np.asarray(air[k], float)[..., None] for k in ("temperature_k", "relative_humidity_pct", "pressure_kpa")
     )
+    alpha = iso9613_absorption_db_km(bands, t_k - 273.15, rh, p_kpa)
+    if ground is not None:
+        ground = {key: np.asarray(value, float)[..., None] for key, value in ground.items()}
     budget = source - noise + np.asarray(require("g_array_db", g_array_db), float)[..., None]
     budget = budget - np.asarray(require("snr_req_db", snr_req_db), float)[..., None]
     ranges = band_ranges_m(budget, alpha, ground)

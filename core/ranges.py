@@ -192,10 +192,8 @@ def gas_atmosphere(sc: Scenario) -> dict:
     if "pressure_kpa" in given:
         atmosphere["pressure_hpa"] = 10.0 * env["pressure_kpa"]
     if "relative_humidity_pct" in given:
-        atmosphere["water_vapour_density_g_m3"] = float(
-            itu.water_vapour_density_g_m3(
-                env["relative_humidity_pct"], atmosphere["temperature_k"], atmosphere["pressure_hpa"]
-            )
+        atmosphere["water_vapour_density_g_m3"] = itu.water_vapour_density_g_m3(
+            env["relative_humidity_pct"], atmosphere["temperature_k"], atmosphere["pressure_hpa"]
         )
     return atmosphere
 

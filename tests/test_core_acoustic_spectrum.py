@@ -161,3 +161,23 @@ def test_ground_only_with_the_sensor_height():
 def test_broadband_detector_keeps_the_single_frequency_model():
     result = _physical(sensor={"detector": "broadband"})
     assert result.model.startswith("spherical_spreading+noise") and result.term("absorption_db_m").unit == "dB/m"
+
+
+def test_vectorised_scenario_matches_point_by_point():
+    from dataclasses import replace
+
+    sensors = {
+        "a": {"modality": "acoustic", "height_m": 1.5},
+        "r": {"modality": "radar", "preset": "paper_section_4_9"},
+    }
+    base = parse_scenario(
+        {"convention": "physical", "environment": {"relative_humidity_pct": 50.0}, "sensors": sensors}
+    )
+    columns = {"relative_humidity_pct": [10.0, 100.0], "temperature_k": [270.0, 310.0], "wind_speed_m_s": [0.3, 12.0]}
+    columns["ground_factor"] = [0.0, 1.0]
+    batch = replace(base, environment=dict(base.environment, **{k: np.array(v) for k, v in columns.items()}))
+    together = evaluate(batch)
+    for i in range(2):
+        point = replace(base, environment=dict(base.environment, **{k: v[i] for k, v in columns.items()}))
+        for name, result in evaluate(point).items():
+            assert float(together[name].range_m[i]) == pytest.approx(float(result.range_m), rel=1e-9)
