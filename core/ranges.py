@@ -13,7 +13,7 @@ import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
-from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, kruse_extinction_per_km, rain_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
@@ -53,6 +53,9 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         visibility_km=sc.optical_visibility_km,
         convention=convention,
         camera=camera,
+        rain_extinction_per_km=rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
+        if convention == "physical"
+        else 0.0,
     )
 
 
@@ -83,27 +86,47 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"], lp_task=p["lp_task"], n_ttpf=p["n_ttpf"]
         )
     dt0, extra = thermal_contrast(sc, s, convention)
+    extinction, rain_db_km = thermal_extinction_db_km(sc, s, convention)
     if p["model"] == "netd":
-        return tir.tir_netd_range(
+        result = tir.tir_netd_range(
             projected_area_m2=t["projected_area_m2"],
             ifov_rad_=johnson.ifov_rad(p["hfov_deg"], p["n_h"]),
             netd_mk=p["netd_mk"],
             required_snr=detection.gaussian_required_snr(p["p_desired"], p["pfa"]),
             delta_t0_k=dt0,
-            extinction_db_km=p["extinction_db_km"],
+            extinction_db_km=extinction,
             convention=convention,
             **extra,
         )
-    return tir.tir_mrtd_range(
-        mrtd=sensor_mrtd(p),
-        d_crit_m=t["d_crit_m"],
-        lp_task=p["lp_task"],
-        n_ttpf=p["n_ttpf"],
-        delta_t0_k=dt0,
-        extinction_db_km=p["extinction_db_km"],
-        convention=convention,
-        **extra,
-    )
+    else:
+        result = tir.tir_mrtd_range(
+            mrtd=sensor_mrtd(p),
+            d_crit_m=t["d_crit_m"],
+            lp_task=p["lp_task"],
+            n_ttpf=p["n_ttpf"],
+            delta_t0_k=dt0,
+            extinction_db_km=extinction,
+            convention=convention,
+            **extra,
+        )
+    if np.any(np.asarray(rain_db_km) > 0):
+        result.terms.append(
+            Term("rain_extinction_db_km", rain_db_km, "dB/km", RAIN_EXTINCTION_SOURCE + " (in extinction_db_km)")
+        )
+    return result
+
+
+def thermal_extinction_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """Path attenuation of a thermal sensor [dB/km], and the part of it that is rain.
+
+    Table 27's ``extinction_db_km`` of the sensor; the physical convention adds the extinction of the
+    scenario's rain (Marshall-Palmer, :func:`csuas.core.atmosphere.rain_extinction_per_km`) as
+    10 log10(e) beta dB/km. The render's thermal path takes the same (``csuas render``).
+    """
+    rain = 0.0
+    if convention == "physical":
+        rain = 10.0 * np.log10(np.e) * rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
+    return np.asarray(s.params["extinction_db_km"], float) + rain, rain
 
 
 def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:

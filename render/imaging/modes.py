@@ -13,10 +13,12 @@ for clear daylight, so night looks dark; "auto": the brightest pixel white).
 File names and EXR metadata: :mod:`csuas.render.files`.
 
 ``atmosphere="auto"`` applies the path only when the scenario calls for it
-(docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
-set by the scenario). EO then uses Koschmieder with the optical visibility
-(fog visibility in fog); thermal the sensor's ``extinction_db_km`` with path
-radiance at the environment's ``temperature_k``.
+(docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water), haze (a visibility
+set by the scenario) or rain. EO then uses Koschmieder with the optical visibility
+(fog visibility in fog) plus the rain's extinction; thermal the sensor's ``extinction_db_km``
+plus the rain's, with path radiance at the environment's ``temperature_k``: the same
+extinctions as ``csuas range`` in the physical convention (:func:`scenario_daylight`,
+:func:`scenario_thermal_scene`).
 """
 
 from __future__ import annotations
@@ -45,8 +47,35 @@ def _atmosphere_on(scenario, atmosphere: str) -> bool:
     if atmosphere not in ATMOSPHERE_CHOICES:
         raise ParameterError("atmosphere", atmosphere, ", ".join(ATMOSPHERE_CHOICES))
     if atmosphere == "auto":
-        return bool({"fog", "haze"} & set(scenario.effects))
+        return bool({"fog", "haze", "rain"} & set(scenario.effects))
     return atmosphere == "on"
+
+
+def scenario_daylight(scenario) -> Daylight:
+    """Light and air of a scenario's EO render: its illuminance, optical visibility and rain extinction."""
+    from csuas.core.atmosphere import rain_extinction_per_km
+
+    return Daylight(
+        illuminance_lx=scenario.environment["illuminance_lx"],
+        visibility_km=scenario.optical_visibility_km,
+        rain_extinction_per_km=float(rain_extinction_per_km(scenario.environment["rain_rate_mm_h"])),
+    )
+
+
+def scenario_thermal_scene(scenario, spec) -> ThermalScene:
+    """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies (physical)."""
+    from csuas.core.ranges import thermal_extinction_db_km
+
+    env = scenario.environment
+    extinction, rain = thermal_extinction_db_km(scenario, spec, "physical")
+    return ThermalScene(
+        t_bg_k=env["t_bg_k"],
+        emissivity_bg=env["emissivity_bg"],
+        surroundings_k=env["temperature_k"],
+        extinction_db_km=float(extinction),
+        air_temperature_k=env["temperature_k"],
+        rain_db_km=float(rain),
+    )
 
 
 def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: str = "scene") -> list:
@@ -96,9 +125,7 @@ def eo_scenario(
 
     spec = _sensor(scenario, "eo", sensor)
     camera = EoSensor.from_params(spec.params)
-    light = Daylight(
-        illuminance_lx=scenario.environment["illuminance_lx"], visibility_km=scenario.optical_visibility_km
-    )
+    light = scenario_daylight(scenario)
     settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
@@ -133,15 +160,9 @@ def tir_scenario(
     from csuas.render.imaging.tir import render_tir
 
     spec = _sensor(scenario, "tir", sensor)
-    env, target = scenario.environment, scenario.target
+    target = scenario.target
     camera = ThermalSensor.from_params(spec.params)
-    thermal_scene = ThermalScene(
-        t_bg_k=env["t_bg_k"],
-        emissivity_bg=env["emissivity_bg"],
-        surroundings_k=env["temperature_k"],
-        extinction_db_km=spec.params["extinction_db_km"],
-        air_temperature_k=env["temperature_k"],
-    )
+    thermal_scene = scenario_thermal_scene(scenario, spec)
     settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
