@@ -43,8 +43,10 @@ def test_render_and_range_apply_the_same_extinction(preset):
     )
     assert rendered_tir["extinction_db_km"] == pytest.approx(tir_terms["extinction_db_km"], rel=1e-12)
     assert rendered_tir.get("rain_extinction_db_km", 0.0) == pytest.approx(tir_terms.get("rain_extinction_db_km", 0.0))
-    # the render's automatic atmosphere is on whenever the scene declares rain, fog or haze
-    assert _atmosphere_on(sc, "auto") == bool({"rain", "fog", "haze"} & sc.effects)
+    # the render's automatic atmosphere is on wherever range applies a path: EO always, thermal MRTD always
+    assert _atmosphere_on(sc, "auto", sc.sensors["eo"]) and _atmosphere_on(sc, "auto", sc.sensors["tir"])
+    johnson = parse_scenario({"environment": {"preset": preset}, "sensors": {"t": {"modality": "tir"}}})
+    assert _atmosphere_on(johnson, "auto", johnson.sensors["t"]) == bool({"rain", "fog", "haze"} & johnson.effects)
 
 
 def test_no_rain_adds_no_term_and_leaves_the_paper_unchanged():

@@ -12,9 +12,10 @@ stream or None) and, for EO only, ``exposure`` of the preview ("scene": a camera
 for clear daylight, so night looks dark; "auto": the brightest pixel white).
 File names and EXR metadata: :mod:`csuas.render.files`.
 
-``atmosphere="auto"`` applies the path only when the scenario calls for it
-(docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water), haze (a visibility
-set by the scenario) or rain. EO then uses Koschmieder with the optical visibility
+``atmosphere="auto"`` applies the path wherever ``csuas range`` applies one (docs/scenarios.md
+(effects)): for EO always (the EO range model applies Kruse's extinction at the optical
+visibility, 10 km clear air by default); for thermal with the MRTD and NETD models (Table 27's
+attenuation) or a declared rain, fog or haze. EO then uses Koschmieder with the optical visibility
 (fog visibility in fog) plus the rain's extinction; thermal the sensor's ``extinction_db_km``
 plus the rain's, with path radiance at the environment's ``temperature_k``: the same
 extinctions as ``csuas range`` in the physical convention (:func:`scenario_daylight`,
@@ -43,10 +44,13 @@ def _sensor(scenario, modality: str, name):
     raise ParameterError("sensor", None, f"a [sensors.NAME] with modality = '{modality}' in scenario {scenario.name!r}")
 
 
-def _atmosphere_on(scenario, atmosphere: str) -> bool:
+def _atmosphere_on(scenario, atmosphere: str, spec) -> bool:
+    """Whether a render applies the path: ``on``, ``off``, or ``auto`` = wherever ``csuas range`` applies one."""
     if atmosphere not in ATMOSPHERE_CHOICES:
         raise ParameterError("atmosphere", atmosphere, ", ".join(ATMOSPHERE_CHOICES))
     if atmosphere == "auto":
+        if spec.modality == "eo" or spec.params.get("model") in ("mrtd", "netd"):
+            return True
         return bool({"fog", "haze", "rain"} & set(scenario.effects))
     return atmosphere == "on"
 
@@ -134,7 +138,7 @@ def eo_scenario(
             View(r, azimuth_deg, elevation_deg),
             camera,
             light,
-            atmosphere=_atmosphere_on(scenario, atmosphere),
+            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
             settings=settings,
         )
         row = res.summary()
@@ -171,7 +175,7 @@ def tir_scenario(
             View(r, azimuth_deg, elevation_deg),
             camera,
             thermal_scene,
-            atmosphere=_atmosphere_on(scenario, atmosphere),
+            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
             reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
             settings=settings,
