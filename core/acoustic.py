@@ -54,6 +54,27 @@ def array_gain_db(n_micro, g_micro_db=0.0):
     return linear_to_db(n) + np.asarray(g_micro_db, dtype=float)
 
 
+#: ISO 9613-1 reference temperature [K], triple-point isotherm [K] and reference pressure [kPa] (Section 3).
+T_REFERENCE_K, T_TRIPLE_K, P_REFERENCE_KPA = 293.15, 273.16, 101.325
+
+
+def _molar_water_vapour_pct(relative_humidity_pct, temperature_k, pressure_ratio):
+    """Molar concentration of water vapour h [%] (ISO 9613-1, Annex B, Eqs. B.1-B.3)."""
+    p_sat_ratio = 10.0 ** (-6.8346 * (T_TRIPLE_K / temperature_k) ** 1.261 + 4.6151)
+    return relative_humidity_pct * p_sat_ratio / pressure_ratio
+
+
+def _oxygen_relaxation_hz(pressure_ratio, h):
+    """Relaxation frequency of oxygen f_rO [Hz] (ISO 9613-1, Eq. 3)."""
+    return pressure_ratio * (24.0 + 4.04e4 * h * (0.02 + h) / (0.391 + h))
+
+
+def _nitrogen_relaxation_hz(pressure_ratio, temperature_k, h):
+    """Relaxation frequency of nitrogen f_rN [Hz] (ISO 9613-1, Eq. 4)."""
+    tr = temperature_k / T_REFERENCE_K
+    return pressure_ratio * tr**-0.5 * (9.0 + 280.0 * h * np.exp(-4.170 * (tr ** (-1.0 / 3.0) - 1.0)))
+
+
 def iso9613_absorption_db_m(frequency_hz, temperature_k=293.15, relative_humidity_pct=70.0, pressure_kpa=101.325):
     """Pure-tone sound absorption coefficient of air [dB/m] (ISO 9613-1:1993, Eqs. 3-5, B.1).
 
@@ -71,18 +92,16 @@ def iso9613_absorption_db_m(frequency_hz, temperature_k=293.15, relative_humidit
     f = require("frequency_hz", frequency_hz, gt=0)
     t = require("temperature_k", temperature_k, gt=0)
     hr = require("relative_humidity_pct", relative_humidity_pct, ge=0, le=100)
-    pa = require("pressure_kpa", pressure_kpa, gt=0) / 101.325
-    t0, t01 = 293.15, 273.16
-    psat = 10.0 ** (-6.8346 * (t01 / t) ** 1.261 + 4.6151)
-    h = hr * psat / pa
-    fr_o = pa * (24.0 + 4.04e4 * h * (0.02 + h) / (0.391 + h))
-    fr_n = pa * (t / t0) ** -0.5 * (9.0 + 280.0 * h * np.exp(-4.170 * ((t / t0) ** (-1.0 / 3.0) - 1.0)))
+    pa = require("pressure_kpa", pressure_kpa, gt=0) / P_REFERENCE_KPA
+    h = _molar_water_vapour_pct(hr, t, pa)
+    fr_o, fr_n = _oxygen_relaxation_hz(pa, h), _nitrogen_relaxation_hz(pa, t, h)
+    tr = t / T_REFERENCE_K
     return (
         8.686
         * f**2
         * (
-            1.84e-11 / pa * (t / t0) ** 0.5
-            + (t / t0) ** -2.5
+            1.84e-11 / pa * tr**0.5
+            + tr**-2.5
             * (
                 0.01275 * np.exp(-2239.1 / t) / (fr_o + f**2 / fr_o)
                 + 0.1068 * np.exp(-3352.0 / t) / (fr_n + f**2 / fr_n)
@@ -100,6 +119,134 @@ ACOUSTIC_REGISTRY = {
     "wind_speed_m_s": "environment.wind_speed_m_s",
     "wind_distance_m": "acoustic.wind_distance_m",
 }
+
+
+def iso9613_absorption_db_km(frequency_hz, temperature_c, relative_humidity_pct, pressure_kpa):
+    """Atmospheric absorption coefficient alpha [dB/km] (ISO 9613-1:1993, Eq. 5; ISO 9613-2 Table 2).
+
+    Parameters
+    ----------
+    frequency_hz : array_like
+        Frequency [Hz]; for a band, its exact mid-band frequency (1000 * 10^(k/10) Hz for
+        one-third-octave bands, ISO 9613-1 Section 8.2.1).
+    temperature_c : array_like
+        Air temperature [deg C], -60 to +50 for ISO 9613-1's +-10 % accuracy.
+    relative_humidity_pct : array_like
+        Relative humidity [%].
+    pressure_kpa : array_like
+        Atmospheric pressure [kPa].
+
+    Returns
+    -------
+    ndarray
+        alpha [dB/km]; 4.98 at 1 kHz, 20 deg C, 70 %, 101.325 kPa.
+    """
+    t_k = require("temperature_c", temperature_c, gt=-273.15) + 273.15
+    return 1000.0 * iso9613_absorption_db_m(frequency_hz, t_k, relative_humidity_pct, pressure_kpa)
+
+
+#: Nominal octave bands of ISO 9613-2 Table 3 [Hz].
+ISO9613_OCTAVES_HZ = (63, 125, 250, 500, 1000, 2000, 4000, 8000)
+
+
+def octave_band_index(frequency_hz):
+    """Index in :data:`ISO9613_OCTAVES_HZ` of the octave band holding a frequency (ends extended to all f)."""
+    f = require("frequency_hz", frequency_hz, gt=0)
+    return np.clip(np.rint(10.0 * np.log10(f / 1000.0) / 3.0).astype(int) + 4, 0, 7)
+
+
+def _height_factor(octave_index, height_m, distance_m):
+    """Factors a'(h), b'(h), c'(h), d'(h) of the 125-1000 Hz bands, 0 elsewhere (ISO 9613-2, Table 3 notes)."""
+    h, dp = height_m, distance_m
+    near = 1.0 - np.exp(-dp / 50.0)
+    factors = [
+        1.5
+        + 3.0 * np.exp(-0.12 * (h - 5.0) ** 2) * near
+        + 5.7 * np.exp(-0.09 * h**2) * (1.0 - np.exp(-2.8e-6 * dp**2)),
+        1.5 + 8.6 * np.exp(-0.09 * h**2) * near,
+        1.5 + 14.0 * np.exp(-0.46 * h**2) * near,
+        1.5 + 5.0 * np.exp(-0.9 * h**2) * near,
+    ]
+    return np.select([octave_index == k for k in (1, 2, 3, 4)], factors, default=0.0)
+
+
+def _end_region_ground_db(octave_index, ground_factor, height_m, distance_m):
+    """Source- or receiver-region ground attenuation A_s or A_r [dB] (ISO 9613-2, Table 3)."""
+    g = ground_factor
+    return np.select(
+        [octave_index == 0, octave_index <= 4],
+        [-1.5, -1.5 + g * _height_factor(octave_index, height_m, distance_m)],
+        default=-1.5 * (1.0 - g),
+    )
+
+
+def _middle_region_ground_db(octave_index, ground_factor, q):
+    """Middle-region ground attenuation A_m [dB] (ISO 9613-2, Table 3): -3q, or -3q (1 - G_m) from 125 Hz."""
+    return np.where(octave_index == 0, -3.0 * q, -3.0 * q * (1.0 - ground_factor))
+
+
+def _middle_q(distance_m, source_height_m, receiver_height_m):
+    """Middle-region factor q (ISO 9613-2, Table 3 note): 0 up to 30 (h_s + h_r), then 1 - 30 (h_s + h_r) / d_p."""
+    reach = 30.0 * (source_height_m + receiver_height_m)
+    return np.where(distance_m <= reach, 0.0, 1.0 - reach / np.maximum(distance_m, reach))
+
+
+def iso9613_ground_db(frequency_hz, distance_m, source_height_m, receiver_height_m, g_source, g_middle, g_receiver):
+    """Ground attenuation A_gr = A_s + A_r + A_m [dB] of flat ground (ISO 9613-2:1996, Section 7.3.1, Eq. 9).
+
+    Parameters
+    ----------
+    frequency_hz : array_like
+        Frequency [Hz]; the value of the octave band of Table 3 holding it (63 Hz to 8 kHz,
+        extended below and above).
+    distance_m : array_like
+        Source-receiver distance projected on the ground d_p [m].
+    source_height_m, receiver_height_m : array_like
+        Heights above ground h_s, h_r [m].
+    g_source, g_middle, g_receiver : array_like
+        Ground factors G of the three regions: 0 hard (paving, water), 1 porous (grass, farmland).
+
+    Returns
+    -------
+    ndarray
+        A_gr [dB]; negative where the ground reflection adds to the level.
+    """
+    k = octave_band_index(frequency_hz)
+    dp = require("distance_m", distance_m, gt=0)
+    hs = require("source_height_m", source_height_m, ge=0)
+    hr = require("receiver_height_m", receiver_height_m, ge=0)
+    gs, gm, gr = (
+        require(n, v, ge=0, le=1)
+        for n, v in (("g_source", g_source), ("g_middle", g_middle), ("g_receiver", g_receiver))
+    )
+    return (
+        _end_region_ground_db(k, gs, hs, dp)
+        + _end_region_ground_db(k, gr, hr, dp)
+        + _middle_region_ground_db(k, gm, _middle_q(dp, hs, hr))
+    )
+
+
+def iso9613_cmet_db(distance_m, source_height_m, receiver_height_m, c0_db):
+    """Meteorological correction C_met [dB] (ISO 9613-2:1996, Section 8, Eqs. 21-22).
+
+    0 up to d_p = 10 (h_s + h_r), then C_0 (1 - 10 (h_s + h_r) / d_p): the long-term average level is
+    the downwind level less C_met.
+
+    Parameters
+    ----------
+    distance_m : array_like
+        Ground-projected distance d_p [m].
+    source_height_m, receiver_height_m : array_like
+        Heights h_s, h_r [m].
+    c0_db : array_like
+        C_0 [dB] from the local wind and temperature-gradient statistics (0-5 dB).
+    """
+    dp = require("distance_m", distance_m, gt=0)
+    reach = 10.0 * (
+        require("source_height_m", source_height_m, ge=0) + require("receiver_height_m", receiver_height_m, ge=0)
+    )
+    c0 = require("c0_db", c0_db, ge=0)
+    return np.where(dp <= reach, 0.0, c0 * (1.0 - reach / np.maximum(dp, reach)))
 
 
 def acoustic_range(

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.atmosphere import extinction_per_km, range_for_transmittance, transmittance
+from csuas.base.errors import ParameterError
+from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, extinction_per_km, range_for_transmittance, transmittance
 from csuas.core.camera import light_limited_range_m
 from csuas.core.checks import require, require_registry_bounds
 from csuas.core.johnson import ifov_rad, johnson_range_m
@@ -79,6 +80,7 @@ def eo_range(
     visibility_km,
     convention="paper",
     camera=None,
+    rain_extinction_per_km=0.0,
 ) -> RangeResult:
     """EO detection range: min(Johnson/TTPF, contrast limit) (Eqs. 15-21).
 
@@ -101,6 +103,9 @@ def eo_range(
         Physical convention only: the keyword arguments of
         :func:`csuas.core.camera.light_limited_range_m` other than ``c_eo``, ``ifov_rad_`` and
         ``transmittance_at``; adds the light-limited range (scalar inputs).
+    rain_extinction_per_km : array_like
+        Physical convention only: extinction of rain [1/km]
+        (:func:`csuas.core.atmosphere.rain_extinction_per_km`), added to Kruse's; 0 adds no term.
 
     Returns
     -------
@@ -113,6 +118,10 @@ def eo_range(
     ifov = ifov_rad(hfov_deg, n_h)
     r_johnson = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
     sigma = extinction_per_km(wavelength_nm, visibility_km, convention)
+    rain = require("rain_extinction_per_km", rain_extinction_per_km, ge=0)
+    if np.any(rain > 0) and convention == "paper":
+        raise ParameterError("rain_extinction_per_km", float(np.max(rain)), "0 in the paper convention (no rain term)")
+    sigma_aerosol, sigma = sigma, sigma + rain
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
     reason = np.where(
@@ -124,9 +133,11 @@ def eo_range(
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),
         Term("johnson_range_m", r_johnson, "m", "Eq. 18"),
-        Term("kruse_extinction", sigma, unit, EXTINCTION_SOURCE[convention]),
+        Term("kruse_extinction", sigma_aerosol, unit, EXTINCTION_SOURCE[convention]),
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
+    if np.any(rain > 0):
+        terms.insert(3, Term("rain_extinction_per_km", rain, "1/km", RAIN_EXTINCTION_SOURCE))
     model = "johnson_ttpf+contrast (Eqs. 18, 21)"
     if camera is not None and convention == "physical":
         r_light, chain = light_limited_range_m(

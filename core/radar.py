@@ -8,7 +8,8 @@ Conventions:
   range by 10^(-L/40) (Eq. 86).
 * ``physical`` (docs/conventions.md points 4-6): non-coherent gain sqrt(n_p); weather
   losses at the radar's own frequency over the actual two-way path, solved
-  exactly from 40 log10 R + 2 gamma R = budget.
+  exactly from 40 log10 R + 2 gamma R = budget, with the gases (oxygen and water vapour,
+  ITU-R P.676) in gamma where they cost more than 0.01 dB over the two-way path.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require, require_registry_bounds
-from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
+from csuas.core.itu import fog_specific_attenuation_db_km, gas_loss_matters, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import (
@@ -141,6 +142,7 @@ def radar_range(
     d_rain_km=1.0,
     d_fog_km=1.0,
     k_b=None,
+    gas_db_km=0.0,
     convention="paper",
 ) -> RangeResult:
     """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86).
@@ -167,6 +169,9 @@ def radar_range(
     k_b : float, optional
         Boltzmann constant [J/K]; default Table 39's 1.38e-23 (paper) or the
         exact SI value (physical).
+    gas_db_km : array_like
+        Gaseous specific attenuation at the radar's frequency [dB/km] (ITU-R P.676), physical
+        convention only; applied where it costs more than 0.01 dB over the two-way path.
     convention : {"paper", "physical"}
 
     Returns
@@ -234,6 +239,8 @@ def radar_range(
     if fog:
         terms.append(Term("gamma_fog_db_km", gamma_fog, "dB/km", "Eq. 60 (ITU-R P.840)"))
     if convention == "paper":
+        if np.any(np.asarray(gas_db_km) != 0):
+            raise ParameterError("gas_db_km", float(np.max(gas_db_km)), "0 in the paper convention (no gas term)")
         propagation = (np.asarray(d_rain_km, float) * gamma_rain if rain else 0.0) + (
             np.asarray(d_fog_km, float) * gamma_fog if fog else 0.0
         )
@@ -242,11 +249,30 @@ def radar_range(
             terms.append(Term("l_propagation_db", propagation, "dB", "Eq. 83"))
         r = solve_log_linear(budget_db - loss, 0.0, n=4.0)
     else:
-        two_way = 2.0 * (np.asarray(gamma_rain) + np.asarray(gamma_fog)) / 1000.0
-        r = solve_log_linear(budget_db - fixed_loss, two_way, n=4.0)
-        loss = fixed_loss + two_way * r
+        r, propagation = _two_way_over_range(budget_db - fixed_loss, gamma_rain + gamma_fog, gas_db_km, terms)
+        loss = fixed_loss + propagation
         if rain or fog:
-            terms.append(Term("l_propagation_db", two_way * r, "dB", "Eqs. 59, 61 over the two-way path"))
+            weather = 2.0 * (np.asarray(gamma_rain) + np.asarray(gamma_fog)) * r / 1000.0
+            terms.append(Term("l_propagation_db", weather, "dB", "Eqs. 59, 61 over the two-way path"))
     if np.any(loss != 0):
         terms.append(Term("l_total_db", loss, "dB", "Eqs. 84-86"))
     return RangeResult(r, "radar", name, terms, unbounded_reason(r))
+
+
+def _two_way_over_range(budget_db, gamma_weather_db_km, gas_db_km, terms):
+    """Range and two-way propagation loss [dB] with the losses over the actual path (physical convention).
+
+    Solves 40 log10 R + 2 (gamma_weather + gamma_gas) R = budget, with the gases only where they
+    cost more than 0.01 dB over the path found without them (their terms appended to ``terms``).
+    """
+    weather = 2.0 * np.asarray(gamma_weather_db_km, float) / 1000.0
+    r = solve_log_linear(budget_db, weather, n=4.0)
+    gas = require("gas_db_km", gas_db_km, ge=0)
+    matters = gas_loss_matters(gas, r, ways=2)
+    if not np.any(matters):
+        return r, weather * r
+    gas = np.where(matters, gas, 0.0)
+    r = solve_log_linear(budget_db, weather + 2.0 * gas / 1000.0, n=4.0)
+    terms.append(Term("gamma_gas_db_km", gas, "dB/km", "ITU-R P.676-12 Annex 1 (oxygen and water vapour)"))
+    terms.append(Term("l_gas_db", 2.0 * gas * r / 1000.0, "dB", "ITU-R P.676-12 over the two-way path"))
+    return r, (weather + 2.0 * gas / 1000.0) * r

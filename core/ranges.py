@@ -12,13 +12,14 @@ from dataclasses import replace
 import numpy as np
 
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
-from csuas.core import acoustic, detection, eo, johnson, lidar, radar, rf, tir
-from csuas.core.atmosphere import kruse_extinction_per_km, transmittance
+from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
+from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, kruse_extinction_per_km, rain_extinction_per_km, transmittance
 from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.scenario import Scenario, SensorSpec, check_value, johnson_derived
+from csuas.core.units import frequency_ghz
 from csuas.defaults import load_parameters
 
 
@@ -52,6 +53,9 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         visibility_km=sc.optical_visibility_km,
         convention=convention,
         camera=camera,
+        rain_extinction_per_km=rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
+        if convention == "physical"
+        else 0.0,
     )
 
 
@@ -82,36 +86,58 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             d_crit_m=t["d_crit_m"], hfov_deg=p["hfov_deg"], n_h=p["n_h"], lp_task=p["lp_task"], n_ttpf=p["n_ttpf"]
         )
     dt0, extra = thermal_contrast(sc, s, convention)
+    extinction, rain_db_km = thermal_extinction_db_km(sc, s, convention)
     if p["model"] == "netd":
-        return tir.tir_netd_range(
+        result = tir.tir_netd_range(
             projected_area_m2=t["projected_area_m2"],
             ifov_rad_=johnson.ifov_rad(p["hfov_deg"], p["n_h"]),
             netd_mk=p["netd_mk"],
             required_snr=detection.gaussian_required_snr(p["p_desired"], p["pfa"]),
             delta_t0_k=dt0,
-            extinction_db_km=p["extinction_db_km"],
+            extinction_db_km=extinction,
             convention=convention,
             **extra,
         )
-    return tir.tir_mrtd_range(
-        mrtd=sensor_mrtd(p),
-        d_crit_m=t["d_crit_m"],
-        lp_task=p["lp_task"],
-        n_ttpf=p["n_ttpf"],
-        delta_t0_k=dt0,
-        extinction_db_km=p["extinction_db_km"],
-        convention=convention,
-        **extra,
-    )
+    else:
+        result = tir.tir_mrtd_range(
+            mrtd=sensor_mrtd(p),
+            d_crit_m=t["d_crit_m"],
+            lp_task=p["lp_task"],
+            n_ttpf=p["n_ttpf"],
+            delta_t0_k=dt0,
+            extinction_db_km=extinction,
+            convention=convention,
+            **extra,
+        )
+    if np.any(np.asarray(rain_db_km) > 0):
+        result.terms.append(
+            Term("rain_extinction_db_km", rain_db_km, "dB/km", RAIN_EXTINCTION_SOURCE + " (in extinction_db_km)")
+        )
+    return result
+
+
+def thermal_extinction_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """Path attenuation of a thermal sensor [dB/km], and the part of it that is rain.
+
+    Table 27's ``extinction_db_km`` of the sensor; the physical convention adds the extinction of the
+    scenario's rain (Marshall-Palmer, :func:`csuas.core.atmosphere.rain_extinction_per_km`) as
+    10 log10(e) beta dB/km. The render's thermal path takes the same (``csuas render``).
+    """
+    rain = 0.0
+    if convention == "physical":
+        rain = 10.0 * np.log10(np.e) * rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
+    return np.asarray(s.params["extinction_db_km"], float) + rain, rain
 
 
 def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
     gain = p["g_array_db"]
+    if convention == "physical" and "g_array_db" not in s.explicit:
+        gain = float(acoustic.array_gain_db(p["n_micro"], p["g_micro_db"]))
+    if convention == "physical" and p["detector"] == "bands":
+        return _acoustic_bands(sc, s, gain)
     absorption = 0.0
     if convention == "physical":
-        if "g_array_db" not in s.explicit:
-            gain = float(acoustic.array_gain_db(p["n_micro"], p["g_micro_db"]))
         absorption = acoustic.iso9613_absorption_db_m(
             p["frequency_hz"], env["temperature_k"], env["relative_humidity_pct"], env["pressure_kpa"]
         )
@@ -124,6 +150,35 @@ def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         wind_distance_m=p["wind_distance_m"],
         absorption_db_m=absorption,
         convention=convention,
+    )
+
+
+def _acoustic_bands(sc: Scenario, s: SensorSpec, gain) -> RangeResult:
+    """Band-limited array detector of the physical convention; ground effect and C_met with the sensor's height."""
+    p, env = s.params, sc.environment
+    ground = None
+    if p.get("height_m") is not None:
+        g = env["ground_factor"]
+        ground = dict(
+            receiver_height_m=p["height_m"],
+            altitude_m=sc.target["altitude_m"],
+            g_source=g,
+            g_middle=g,
+            g_receiver=g,
+            c0_db=env["c0_met_db"],
+        )
+    return acoustic_spectrum.spectral_acoustic_range(
+        sl_db=sc.target["sl_db"],
+        blade_passing_hz=sc.target["blade_passing_hz"],
+        snr_req_db=p["snr_req_db"],
+        g_array_db=gain,
+        noise_level_db=env["noise_level_db"],
+        air={k: env[k] for k in ("temperature_k", "relative_humidity_pct", "pressure_kpa")},
+        wind=dict(
+            wind_speed_m_s=env["wind_speed_m_s"],
+            diameter_m=p["windshield_diameter_m"] if p["windshield"] == "foam" else p["microphone_diameter_m"],
+        ),
+        ground=ground,
     )
 
 
@@ -141,17 +196,60 @@ def _rf(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         temperature_k=env["temperature_k"],
         d_rain_km=p["d_rain_km"],
         d_fog_km=p["d_fog_km"],
+        gas_db_km=gas_attenuation_db_km(sc, frequency, convention),
         convention=convention,
     )
 
 
+def gas_atmosphere(sc: Scenario) -> dict:
+    """Pressure [hPa], temperature [K] and water vapour density [g/m^3] of the gaseous absorption.
+
+    ITU-R P.835-6's sea-level reference atmosphere (288.15 K, 1013.25 hPa, 7.5 g/m^3), each value
+    replaced by the scenario's own when it (or its environment preset) gives ``temperature_k``,
+    ``pressure_kpa`` or ``relative_humidity_pct`` (the humidity through ITU-R P.453-14).
+    """
+    env, given = sc.environment, sc.explicit["environment"]
+    atmosphere = itu.standard_atmosphere()
+    if "temperature_k" in given:
+        atmosphere["temperature_k"] = env["temperature_k"]
+    if "pressure_kpa" in given:
+        atmosphere["pressure_hpa"] = 10.0 * env["pressure_kpa"]
+    if "relative_humidity_pct" in given:
+        atmosphere["water_vapour_density_g_m3"] = itu.water_vapour_density_g_m3(
+            env["relative_humidity_pct"], atmosphere["temperature_k"], atmosphere["pressure_hpa"]
+        )
+    return atmosphere
+
+
+def gas_attenuation_db_km(sc: Scenario, frequency_ghz, convention: str):
+    """Gaseous specific attenuation [dB/km] at a sensor's frequency, 0 where no gas term applies.
+
+    The physical convention only, and only within ITU-R P.676's 1-1000 GHz (below 1 GHz the gases
+    absorb under 0.006 dB/km; docs/conventions.md).
+    """
+    f = np.asarray(frequency_ghz, float)
+    lo, hi = itu.P676_FREQUENCY_RANGE_GHZ
+    inside = (f >= lo) & (f <= hi)
+    if convention == "paper" or not np.any(inside):
+        return 0.0
+    atmosphere = gas_atmosphere(sc)
+    gamma = itu.gaseous_attenuation_db_km(
+        np.clip(f, lo, hi),
+        atmosphere["pressure_hpa"],
+        atmosphere["temperature_k"],
+        atmosphere["water_vapour_density_g_m3"],
+    )
+    return np.where(inside, gamma, 0.0)
+
+
 def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, env = s.params, sc.environment
+    wavelength = radar.radar_wavelength_m(p, convention)
     return radar.radar_range(
         p_tx_w=p["p_tx_w"],
         g_tx_db=p["g_tx_db"],
         g_rx_db=p["g_rx_db"],
-        wavelength_m=radar.radar_wavelength_m(p, convention),
+        wavelength_m=wavelength,
         sigma_m2=sc.target["sigma_radar_m2"],
         model=p["model"],
         p_rx_min_w=p.get("p_rx_min_w"),
@@ -170,6 +268,7 @@ def _radar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         d_rain_km=p["d_rain_km"],
         d_fog_km=p["d_fog_km"],
         k_b=p.get("boltzmann_j_k"),
+        gas_db_km=gas_attenuation_db_km(sc, frequency_ghz(wavelength), convention),
         convention=convention,
     )
 

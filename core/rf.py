@@ -3,15 +3,17 @@
 Conventions (docs/conventions.md point 4): ``paper`` applies the rain and fog losses over
 fixed path lengths d_rain, d_fog (Table 37: 1 km); ``physical`` applies the
 specific attenuations over the actual range and solves
-20 log10(4 pi R / lambda) + (gamma_rain + gamma_fog) R = budget exactly.
+20 log10(4 pi R / lambda) + (gamma_rain + gamma_fog + gamma_gas) R = budget exactly, the gases
+(oxygen and water vapour, ITU-R P.676) only where they cost more than 0.01 dB over the range.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.checks import require, require_registry_bounds
-from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
+from csuas.core.itu import fog_specific_attenuation_db_km, gas_loss_matters, rain_specific_attenuation_db_km
 from csuas.core.result import RangeResult, Term, check_convention, unbounded_reason
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import watt_to_dbm, wavelength_m
@@ -59,6 +61,7 @@ def rf_range(
     temperature_k=293.15,
     d_rain_km=1.0,
     d_fog_km=1.0,
+    gas_db_km=0.0,
     convention="paper",
 ) -> RangeResult:
     """Passive RF detection range [m] (Eq. 57 with the losses of Eqs. 59, 61).
@@ -76,6 +79,9 @@ def rf_range(
         or LWC adds no term.
     d_rain_km, d_fog_km : array_like
         Fixed loss path lengths of the paper convention (Table 37).
+    gas_db_km : array_like
+        Gaseous specific attenuation [dB/km] (ITU-R P.676, :func:`csuas.core.itu.gaseous_attenuation_db_km`),
+        physical convention only; applied where it costs more than 0.01 dB over the range.
     convention : {"paper", "physical"}
 
     Returns
@@ -91,6 +97,8 @@ def rf_range(
     """
     require_registry_bounds(locals(), RF_REGISTRY)
     check_convention(convention)
+    if convention == "paper" and np.any(np.asarray(gas_db_km) != 0):
+        raise ParameterError("gas_db_km", float(np.max(gas_db_km)), "0 in the paper convention (it has no gas term)")
     f = require("frequency_ghz", frequency_ghz, gt=0)
     budget = (
         watt_to_dbm(require("rf_power_w", p_tx_w, gt=0))
@@ -124,4 +132,17 @@ def rf_range(
         r = solve_log_linear(k_db, np.asarray(gamma, float) / 1000.0, n=2.0)
         if rain_present or fog_present:
             terms.append(Term("weather_loss_db", np.asarray(gamma) * r / 1000.0, "dB", "Eqs. 59, 61 over R"))
+        r = _with_gases(r, k_db, gamma, require("gas_db_km", gas_db_km, ge=0), terms)
     return RangeResult(r, "rf", "friis (Eq. 57)", terms, unbounded_reason(r))
+
+
+def _with_gases(r_without, k_db, gamma_weather_db_km, gas_db_km, terms):
+    """Range with the gaseous loss over R where it exceeds 0.01 dB, and its terms (ITU-R P.676)."""
+    matters = gas_loss_matters(gas_db_km, r_without)
+    if not np.any(matters):
+        return r_without
+    gas = np.where(matters, gas_db_km, 0.0)
+    r = solve_log_linear(k_db, (np.asarray(gamma_weather_db_km, float) + gas) / 1000.0, n=2.0)
+    terms.append(Term("gamma_gas_db_km", gas, "dB/km", "ITU-R P.676-12 Annex 1 (oxygen and water vapour)"))
+    terms.append(Term("gas_loss_db", gas * r / 1000.0, "dB", "ITU-R P.676-12 over R"))
+    return r

@@ -10,7 +10,8 @@ tables.toml
 sensitivity.toml
     Parameter ranges of Section 4.9 (Tables 48-51) with the paper's quoted ranges.
 itu.toml
-    Coefficients of ITU-R P.838-3 and P.840.
+    Coefficients of ITU-R P.838-3 (rain), P.840 (fog), P.676-12 (gas line tables), P.835-6 (reference
+    atmosphere) and P.453-14 (vapour pressure).
 presets.toml
     Named targets (Tables 8, 52), sensors (Tables 22-46 system databases) and
     environments (the paper's condition classes).

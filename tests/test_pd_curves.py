@@ -57,8 +57,10 @@ def test_margin_includes_the_physical_two_way_rain_attenuation():
     sc = _one("radar", environment={"preset": "clear_day", "rain_rate_mm_h": 25.0}, convention="physical")
     result = evaluate(sc)["s"]
     r_star, gamma = float(result.range_m), float(result.term("gamma_rain_db_km").value)
+    gas = float(result.term("gamma_gas_db_km").value)  # P.676 at 24 GHz, kept where 2 gamma R > 0.01 dB
     r = np.array([0.3, 1.0, 3.0]) * r_star
-    expected = 40 * np.log10(r_star / r) - 2 * gamma * (r - r_star) / 1000.0
+    gas_path = np.where(2 * gas * r / 1000.0 > 0.01, r, 0.0)
+    expected = 40 * np.log10(r_star / r) - 2 * gamma * (r - r_star) / 1000.0 - 2 * gas * (gas_path - r_star) / 1000.0
     np.testing.assert_allclose(margin_db(sc, sc.sensors["s"], "physical", r), expected, atol=2e-3)
 
 

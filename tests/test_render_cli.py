@@ -44,7 +44,8 @@ def test_render_eo_json_and_files(tmp_path, capsys):
         for key in ("pixels_on_target", "pixels_across_dcrit", "contrast", "stderr", "time_s", "files"):
             assert key in row
         assert row["stderr"]["pixels_on_target"] >= 0
-        assert row["terms"] == []  # the default scenario has no haze or fog: no atmosphere
+        # the EO range applies Kruse's clear-air extinction at 10 km visibility: so does the render
+        assert [t["name"] for t in row["terms"]] == ["extinction_per_km", "transmittance", "airlight"]
         exr, png = row["files"]
         assert exr.endswith(".exr") and png.endswith(".png")
         with OpenEXR.File(exr, separate_channels=True) as f:

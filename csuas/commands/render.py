@@ -64,7 +64,8 @@ def add_arguments(parser) -> None:
         "--atmosphere",
         choices=("auto", "on", "off"),
         default="auto",
-        help="path transmittance and airlight/path radiance: auto = only with haze or fog",
+        help="path transmittance and airlight/path radiance: auto = where csuas range applies one "
+        "(EO always; thermal with the MRTD/NETD models or declared rain, fog or haze)",
     )
     parser.add_argument("--seed", type=int, default=0, help="random seed (deterministic results)")
     parser.add_argument("--out", metavar="DIR", default=None, help="write EXR and PNG per range into DIR")

@@ -182,7 +182,7 @@ def render_eo(
         bounds=bounds,
         progress=progress,
     )
-    path = eo_path(r, visibility_km, wavelength_nm, sky["sky_radiance"])
+    path = eo_path(r, visibility_km, wavelength_nm, sky["sky_radiance"], light.rain_extinction_per_km)
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
     for name in ("contrast", "contrast_weber"):

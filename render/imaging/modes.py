@@ -12,11 +12,14 @@ stream or None) and, for EO only, ``exposure`` of the preview ("scene": a camera
 for clear daylight, so night looks dark; "auto": the brightest pixel white).
 File names and EXR metadata: :mod:`csuas.render.files`.
 
-``atmosphere="auto"`` applies the path only when the scenario calls for it
-(docs/scenarios.md (effects)): fog (``fog_visibility_m`` or liquid water) or haze (a visibility
-set by the scenario). EO then uses Koschmieder with the optical visibility
-(fog visibility in fog); thermal the sensor's ``extinction_db_km`` with path
-radiance at the environment's ``temperature_k``.
+``atmosphere="auto"`` applies the path wherever ``csuas range`` applies one (docs/scenarios.md
+(effects)): for EO always (the EO range model applies Kruse's extinction at the optical
+visibility, 10 km clear air by default); for thermal with the MRTD and NETD models (Table 27's
+attenuation) or a declared rain, fog or haze. EO then uses Koschmieder with the optical visibility
+(fog visibility in fog) plus the rain's extinction; thermal the sensor's ``extinction_db_km``
+plus the rain's, with path radiance at the environment's ``temperature_k``: the same
+extinctions as ``csuas range`` in the physical convention (:func:`scenario_daylight`,
+:func:`scenario_thermal_scene`).
 """
 
 from __future__ import annotations
@@ -41,12 +44,42 @@ def _sensor(scenario, modality: str, name):
     raise ParameterError("sensor", None, f"a [sensors.NAME] with modality = '{modality}' in scenario {scenario.name!r}")
 
 
-def _atmosphere_on(scenario, atmosphere: str) -> bool:
+def _atmosphere_on(scenario, atmosphere: str, spec) -> bool:
+    """Whether a render applies the path: ``on``, ``off``, or ``auto`` = wherever ``csuas range`` applies one."""
     if atmosphere not in ATMOSPHERE_CHOICES:
         raise ParameterError("atmosphere", atmosphere, ", ".join(ATMOSPHERE_CHOICES))
     if atmosphere == "auto":
-        return bool({"fog", "haze"} & set(scenario.effects))
+        if spec.modality == "eo" or spec.params.get("model") in ("mrtd", "netd"):
+            return True
+        return bool({"fog", "haze", "rain"} & set(scenario.effects))
     return atmosphere == "on"
+
+
+def scenario_daylight(scenario) -> Daylight:
+    """Light and air of a scenario's EO render: its illuminance, optical visibility and rain extinction."""
+    from csuas.core.atmosphere import rain_extinction_per_km
+
+    return Daylight(
+        illuminance_lx=scenario.environment["illuminance_lx"],
+        visibility_km=scenario.optical_visibility_km,
+        rain_extinction_per_km=float(rain_extinction_per_km(scenario.environment["rain_rate_mm_h"])),
+    )
+
+
+def scenario_thermal_scene(scenario, spec) -> ThermalScene:
+    """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies (physical)."""
+    from csuas.core.ranges import thermal_extinction_db_km
+
+    env = scenario.environment
+    extinction, rain = thermal_extinction_db_km(scenario, spec, "physical")
+    return ThermalScene(
+        t_bg_k=env["t_bg_k"],
+        emissivity_bg=env["emissivity_bg"],
+        surroundings_k=env["temperature_k"],
+        extinction_db_km=float(extinction),
+        air_temperature_k=env["temperature_k"],
+        rain_db_km=float(rain),
+    )
 
 
 def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: str = "scene") -> list:
@@ -96,9 +129,7 @@ def eo_scenario(
 
     spec = _sensor(scenario, "eo", sensor)
     camera = EoSensor.from_params(spec.params)
-    light = Daylight(
-        illuminance_lx=scenario.environment["illuminance_lx"], visibility_km=scenario.optical_visibility_km
-    )
+    light = scenario_daylight(scenario)
     settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
@@ -107,7 +138,7 @@ def eo_scenario(
             View(r, azimuth_deg, elevation_deg),
             camera,
             light,
-            atmosphere=_atmosphere_on(scenario, atmosphere),
+            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
             settings=settings,
         )
         row = res.summary()
@@ -133,15 +164,9 @@ def tir_scenario(
     from csuas.render.imaging.tir import render_tir
 
     spec = _sensor(scenario, "tir", sensor)
-    env, target = scenario.environment, scenario.target
+    target = scenario.target
     camera = ThermalSensor.from_params(spec.params)
-    thermal_scene = ThermalScene(
-        t_bg_k=env["t_bg_k"],
-        emissivity_bg=env["emissivity_bg"],
-        surroundings_k=env["temperature_k"],
-        extinction_db_km=spec.params["extinction_db_km"],
-        air_temperature_k=env["temperature_k"],
-    )
+    thermal_scene = scenario_thermal_scene(scenario, spec)
     settings = RenderSettings(quality=quality, seed=seed, progress=progress)
     out = []
     for r in ranges_m:
@@ -150,7 +175,7 @@ def tir_scenario(
             View(r, azimuth_deg, elevation_deg),
             camera,
             thermal_scene,
-            atmosphere=_atmosphere_on(scenario, atmosphere),
+            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
             reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
             settings=settings,

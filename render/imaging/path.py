@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import db_transmittance, extinction_per_km, transmittance
+from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, db_transmittance, extinction_per_km, transmittance
 from csuas.core.radiometry import band_radiance
 
 
@@ -59,7 +59,13 @@ class PathEffect:
 NO_PATH = PathEffect(1.0, 0.0, ())
 
 
-def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, horizon_radiance: float) -> PathEffect:
+def eo_path(
+    range_m: float,
+    visibility_km: float | None,
+    wavelength_nm: float,
+    horizon_radiance: float,
+    rain_extinction_per_km: float = 0.0,
+) -> PathEffect:
     """Koschmieder transmittance and airlight for the visible band.
 
     Parameters
@@ -72,13 +78,34 @@ def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, h
         Sensor wavelength for Kruse's q (Eq. 20) [nm].
     horizon_radiance : float
         Horizon sky luminance L_h [cd m^-2] (the airlight source).
+    rain_extinction_per_km : float
+        Extinction of rain [1/km] (:func:`csuas.core.atmosphere.rain_extinction_per_km`), added to the
+        aerosol's; the rain scatters the same horizon light, so it adds to the airlight alike.
     """
     if visibility_km is None:
         return NO_PATH
-    beta = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
+    aerosol = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
+    beta = aerosol + float(rain_extinction_per_km)
     tau = float(transmittance(beta, range_m, "physical"))
-    terms = (
-        {"name": "extinction_per_km", "value": beta, "unit": "1/km", "source": "Kruse/Kim Eqs. 19-20 (physical)"},
+    rain_terms = (
+        (
+            {
+                "name": "rain_extinction_per_km",
+                "value": float(rain_extinction_per_km),
+                "unit": "1/km",
+                "source": RAIN_EXTINCTION_SOURCE,
+            },
+        )
+        if rain_extinction_per_km > 0
+        else ()
+    )
+    terms = rain_terms + (
+        {
+            "name": "extinction_per_km",
+            "value": beta,
+            "unit": "1/km",
+            "source": "Kruse/Kim Eqs. 19-20 (physical)" + (" + rain" if rain_terms else ""),
+        },
         {"name": "transmittance", "value": tau, "unit": "-", "source": "Beer-Lambert exp(-beta R)"},
         {
             "name": "airlight",
@@ -90,7 +117,9 @@ def eo_path(range_m: float, visibility_km: float | None, wavelength_nm: float, h
     return PathEffect(tau, horizon_radiance * (1.0 - tau), terms)
 
 
-def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: float, band) -> PathEffect:
+def tir_path(
+    range_m: float, extinction_db_km: float | None, air_temperature_k: float, band, rain_db_km: float = 0.0
+) -> PathEffect:
     """Band transmittance and path radiance for the thermal infrared.
 
     Parameters
@@ -102,6 +131,9 @@ def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: 
     air_temperature_k : float
         Temperature of the air along the path [K].
     band : str or (float, float)
+    rain_db_km : float
+        The part of ``extinction_db_km`` that is rain [dB/km], listed as its own term; the drops, near
+        the air's temperature, emit with the rest of the path.
     """
     if extinction_db_km is None:
         return NO_PATH
@@ -109,8 +141,25 @@ def tir_path(range_m: float, extinction_db_km: float | None, air_temperature_k: 
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
     tau = float(db_transmittance(extinction_db_km, range_m))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
-    terms = (
-        {"name": "extinction_db_km", "value": float(extinction_db_km), "unit": "dB/km", "source": "Table 27"},
+    rain_terms = (
+        (
+            {
+                "name": "rain_extinction_db_km",
+                "value": float(rain_db_km),
+                "unit": "dB/km",
+                "source": RAIN_EXTINCTION_SOURCE,
+            },
+        )
+        if rain_db_km > 0
+        else ()
+    )
+    terms = rain_terms + (
+        {
+            "name": "extinction_db_km",
+            "value": float(extinction_db_km),
+            "unit": "dB/km",
+            "source": "Table 27" + (" + rain" if rain_terms else ""),
+        },
         {"name": "transmittance", "value": tau, "unit": "-", "source": "10^(-sigma R/10)"},
         {
             "name": "path_radiance",

@@ -119,6 +119,8 @@ class Daylight:
     visibility_km : float or None
         Visibility of the Koschmieder transmittance and airlight [km]; used when the render's
         ``atmosphere`` switch is on.
+    rain_extinction_per_km : float
+        Extinction of the scene's rain [1/km], added to the visibility's with the atmosphere on.
     """
 
     illuminance_lx: float = 70000.0
@@ -128,6 +130,7 @@ class Daylight:
     ground_reflectance: float = 0.2
     background: str | float = "sky"
     visibility_km: float | None = None
+    rain_extinction_per_km: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -145,6 +148,8 @@ class ThermalScene:
         Path attenuation [dB/km]; used when the render's ``atmosphere`` switch is on.
     air_temperature_k : float
         Air temperature of the path radiance [K].
+    rain_db_km : float
+        The part of ``extinction_db_km`` that is rain [dB/km] (listed as its own term).
     """
 
     t_bg_k: float = 298.15
@@ -152,6 +157,7 @@ class ThermalScene:
     surroundings_k: float | None = None
     extinction_db_km: float | None = None
     air_temperature_k: float = 293.15
+    rain_db_km: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -151,7 +151,7 @@ def render_tir(
         bounds=bounds,
         progress=progress,
     )
-    path = tir_path(r, extinction_db_km, air_temperature_k, band)
+    path = tir_path(r, extinction_db_km, air_temperature_k, band, scene.rain_db_km)
 
     def to_temperature(radiance):
         return radiance_temperature(radiance, band)

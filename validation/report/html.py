@@ -22,6 +22,7 @@ GROUPS = {
     "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
     "terrain": "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
     "engage": "Engagements: false alarms, M-of-N first tracks, GOSPA, bird RCS and clutter vs closed forms",
+    "propagation": "Propagation the paper leaves out (physical): gases (ITU-R P.676), outdoor sound (ISO 9613)",
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.

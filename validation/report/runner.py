@@ -31,6 +31,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_detection:SPECS",
     "csuas.validation.report.checks_terrain:SPECS",
     "csuas.validation.report.checks_engage:SPECS",
+    "csuas.validation.report.checks_propagation:SPECS",
 )
 
 
