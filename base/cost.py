@@ -123,22 +123,20 @@ def check_limits(estimate: Estimate, args, command: str) -> None:
     Raises
     ------
     ParameterError
-        Named ``max_seconds`` or ``max_memory_gb`` (the time first when both are exceeded).
+        Named ``max_seconds`` or ``max_memory_gb`` (the time first), one line naming every flag to raise.
     """
     max_seconds, max_memory_gb = limits_of(args)
     size = f"{_duration(estimate.seconds)} on 2 CPU cores and {estimate.bytes / GB:.3g} GB at its peak"
+    over = []
     if estimate.seconds > max_seconds:
-        raise ParameterError(
-            "max_seconds",
-            max_seconds,
-            f"at least the estimated {size} of {estimate.what}; raise --max-seconds to run it",
-        )
+        over.append(("max_seconds", max_seconds))
     if estimate.bytes > max_memory_gb * GB:
+        over.append(("max_memory_gb", round(max_memory_gb, 3)))
+    if over:
+        flags = " and ".join("--" + name.replace("_", "-") for name, _ in over)
+        machine = f" (this machine has {machine_memory_bytes() / GB:.3g} GB)" if over[-1][0] == "max_memory_gb" else ""
         raise ParameterError(
-            "max_memory_gb",
-            round(max_memory_gb, 3),
-            f"at least the estimated {size} of {estimate.what}; raise --max-memory-gb to run it "
-            f"(this machine has {machine_memory_bytes() / GB:.3g} GB)",
+            *over[0], f"at least the estimated {size} for {estimate.what}; raise {flags} to run it{machine}"
         )
     if estimate.seconds > ANNOUNCE_SECONDS:
         print(f"csuas {command}: {estimate.what}: about {size}", file=sys.stderr, flush=True)

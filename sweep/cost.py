@@ -126,7 +126,7 @@ def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, wo
     main = BASE_PROCESS_BYTES + axes_bytes
     peak = main + worker if scheduler == "serial" else main + n_workers * worker
     where = {"serial": "in this process"}.get(scheduler, f"on {n_workers} worker(s)")
-    return Estimate(f"sweep {job} of {points:,} points {where}", seconds, peak)
+    return Estimate(f"a {job} sweep of {points:,} points {where}", seconds, peak)
 
 
 def rcs_estimate(spec, base: Estimate, n_workers: int) -> Estimate:
