@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from csuas.base.cost import add_limit_arguments
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import atomic_path, prepare_output_dir, read_spec, write_text_atomic
 from csuas.commands.coverage_radio import radio_map_layers, radio_map_settings
@@ -53,6 +54,7 @@ def add_arguments(parser):
     """Declare the options of ``csuas coverage``."""
     parser.add_argument("site", help="site TOML file, or an embedded site (demo)")
     parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
+    add_limit_arguments(parser)
 
 
 def _load_dem(site: dict, site_path):
@@ -72,12 +74,7 @@ def _load_dem(site: dict, site_path):
         )
     import rasterio
 
-    path = Path(site["dem"])
-    if not path.is_absolute() and site_path is not None:
-        path = Path(site_path).parent / path
-    if not path.is_file():
-        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF file")
-    with rasterio.open(path) as src:
+    with rasterio.open(_dem_path(site, site_path)) as src:
         dem = src.read(1, masked=True).astype(float)
         transform, crs = src.transform, src.crs
     if crs is None or not crs.is_projected:
@@ -90,6 +87,44 @@ def _load_dem(site: dict, site_path):
     if np.ma.is_masked(dem):  # nodata holes: the lowest valid height, so they hide nothing
         dem = dem.filled(float(dem.min()))
     return np.asarray(dem), transform, str(crs), abs(transform.a)
+
+
+def _dem_path(site: dict, site_path) -> Path:
+    """The site's DEM file, relative to the site file's folder; a ParameterError naming ``dem`` if it is none."""
+    path = Path(site["dem"])
+    if not path.is_absolute() and site_path is not None:
+        path = Path(site_path).parent / path
+    if not path.is_file():
+        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF file")
+    return path
+
+
+def _dem_cells(site: dict, site_path) -> tuple[int, int]:
+    """Rows and columns of the site's DEM (the demo terrain's without one), read from its header alone."""
+    import rasterio
+    from rasterio.errors import RasterioIOError
+
+    if "dem" not in site:
+        return DEMO["cells"], DEMO["cells"]
+    path = _dem_path(site, site_path)
+    try:
+        with rasterio.open(path) as src:
+            return src.height, src.width
+    except RasterioIOError:
+        raise ParameterError("dem", str(site["dem"]), "a GeoTIFF file that GDAL reads") from None
+
+
+def _check_cost(site: dict, site_path, radio, args) -> None:
+    """Estimate the run from the DEM's header, the sensors and the levels; refuse it above the limits."""
+    from csuas.base.cost import check_limits
+    from csuas.core.coverage_cost import coverage_estimate
+
+    levels = len(site.get("altitudes_agl_m", [30.0, 120.0]))
+    maps = 0 if radio is None else len(radio["sensors"])
+    samples = 0 if radio is None else int(radio["samples"])
+    cells = _dem_cells(site, site_path)
+    estimate = coverage_estimate(cells, len(site["sensors"]), levels, "fusion_k" in site, maps, samples)
+    check_limits(estimate, args, "coverage")
 
 
 def _north_up(dem, transform):
@@ -174,6 +209,7 @@ def run(args) -> dict:
     scenario = load_scenario(site.get("scenario", "default"))
     radio, radio_errors = radio_map_settings(site, scenario)
     raise_all(_validate(site, scenario) + radio_errors)
+    _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
     dem, transform, crs, cell = _load_dem(site, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
