@@ -151,3 +151,60 @@ def _duration(seconds: float) -> str:
     if seconds < 172800.0:
         return f"{seconds / 3600.0:.3g} h"
     return f"{seconds / 86400.0:.3g} days"
+
+
+@dataclass(frozen=True)
+class Measured:
+    """The measured cost of a child process (:func:`run_measured`).
+
+    Attributes
+    ----------
+    code : int
+        Exit code (negative: the signal that ended it).
+    stderr : str
+        Its standard error.
+    seconds : float
+        Wall time from start to end [s].
+    bytes : float
+        Its peak resident memory (ru_maxrss of that child alone) [B].
+    killed : bool
+        Whether it was still running after the time limit and was killed.
+    """
+
+    code: int
+    stderr: str
+    seconds: float
+    bytes: float
+    killed: bool
+
+
+def run_measured(argv: list, cwd, kill_after_s: float) -> Measured:
+    """Run ``argv`` in ``cwd``; its exit code, standard error, wall time and peak memory (``os.wait4``).
+
+    A child still running after ``kill_after_s`` is killed (SIGKILL), so that runaway work cannot
+    exhaust the machine; standard output is discarded.
+    """
+    import signal
+    import subprocess
+    import tempfile
+    import time
+
+    start = time.perf_counter()
+    with tempfile.TemporaryFile("w+") as err:
+        child = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.DEVNULL, stderr=err)
+        killed = False
+        while True:
+            pid, status, usage = os.wait4(child.pid, os.WNOHANG)
+            if pid:
+                break
+            if time.perf_counter() - start > kill_after_s:
+                child.send_signal(signal.SIGKILL)
+                pid, status, usage = os.wait4(child.pid, 0)
+                killed = True
+                break
+            time.sleep(0.02)
+        seconds = time.perf_counter() - start
+        child.returncode = os.waitstatus_to_exitcode(status)
+        err.seek(0)
+        text = err.read()
+    return Measured(child.returncode, text, seconds, usage.ru_maxrss * 1024.0, killed)

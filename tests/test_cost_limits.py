@@ -1,26 +1,23 @@
 """Every expensive input is estimated and refused before work (issue 22, section 2).
 
 Each case runs the command line as a child process and measures its wall time and its peak
-resident memory (``os.wait4``'s ru_maxrss of that child alone): a refusal is exit 2, one line
-naming the flag that lifts it, within :data:`MAX_SECONDS` and :data:`MAX_RSS_BYTES`. A child
-still running after :data:`KILL_AFTER_S` is killed (the failure then says so) so that a
-regression cannot exhaust the machine's memory. The models' accuracy against measured costs is
-judged by the ``cost_models`` benchmark, not here.
+resident memory (:func:`csuas.base.cost.run_measured`: ``os.wait4``'s ru_maxrss of that child
+alone): a refusal is exit 2, one line naming the flag that lifts it, within :data:`MAX_SECONDS`
+and :data:`MAX_RSS_BYTES`. A child still running after :data:`KILL_AFTER_S` is killed (the
+failure then says so) so that a regression cannot exhaust the machine's memory. The models'
+accuracy against measured costs is judged by the ``cost_models`` benchmark, not here.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import signal
-import subprocess
 import sys
-import time
 from argparse import Namespace
 
 import pytest
 
-from csuas.base.cost import Estimate, check_limits, limits_of, machine_memory_bytes
+from csuas.base.cost import Estimate, check_limits, limits_of, machine_memory_bytes, run_measured
 from csuas.base.errors import ParameterError
 
 CSUAS = [sys.executable, "-m", "csuas.cli"]
@@ -31,37 +28,16 @@ MAX_RSS_BYTES = 2e9
 KILL_AFTER_S = 30.0
 
 
-def _run(args: list, cwd) -> tuple[int, str, float, float]:
-    """Exit code, standard error, wall time [s] and peak resident memory [B] of ``csuas ARGS``."""
-    err_path = os.path.join(cwd, "stderr.txt")
-    start = time.perf_counter()
-    with open(err_path, "w") as err:
-        child = subprocess.Popen([*CSUAS, *args], cwd=cwd, stdout=subprocess.DEVNULL, stderr=err)
-        while True:
-            pid, status, usage = os.wait4(child.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.perf_counter() - start > KILL_AFTER_S:
-                child.send_signal(signal.SIGKILL)
-                pid, status, usage = os.wait4(child.pid, 0)
-                break
-            time.sleep(0.05)
-    child.returncode = os.waitstatus_to_exitcode(status)
-    wall = time.perf_counter() - start
-    with open(err_path) as f:
-        text = f.read()
-    return child.returncode, text, wall, usage.ru_maxrss * 1024.0
-
-
 def _refused(args: list, cwd, flag: str) -> str:
     """Run ``csuas ARGS`` and check it is refused in time and memory with one line naming ``flag``."""
-    code, err, wall, rss = _run(args, cwd)
-    assert wall < KILL_AFTER_S, f"still running after {KILL_AFTER_S} s: the work started ({err[-300:]})"
-    assert code == 2, err[-500:]
+    run = run_measured([*CSUAS, *args], cwd, KILL_AFTER_S)
+    err = run.stderr
+    assert not run.killed, f"still running after {KILL_AFTER_S} s: the work started ({err[-300:]})"
+    assert run.code == 2, err[-500:]
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
     assert flag in err, err
-    assert wall < MAX_SECONDS, f"refused after {wall:.1f} s"
-    assert rss < MAX_RSS_BYTES, f"peak memory {rss / 1e9:.2f} GB"
+    assert run.seconds < MAX_SECONDS, f"refused after {run.seconds:.1f} s"
+    assert run.bytes < MAX_RSS_BYTES, f"peak memory {run.bytes / 1e9:.2f} GB"
     return err
 
 
