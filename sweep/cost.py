@@ -30,16 +30,19 @@ AXIS_SAMPLE_BYTES = 90.0
 #: Wall time of one point per sensor of the scenario [s]: range (vectorised, 10^5-3x10^6 points:
 #: 3-4.6 us a point of 6 sensors) and pd (a Pd curve per sensor: 47 ms a point of 6 sensors).
 SECONDS_PER_POINT_SENSOR = {"range": 0.7e-6, "pd": 8e-3}
-#: Wall time of one point of the simulator jobs at draft quality [s] (render: 9 EO points in 4.6 s;
-#: rcs: from the tubes, :func:`rcs_estimate`).
-SECONDS_PER_POINT = {"render": 0.5}
+#: Wall time of one point of the simulator jobs at draft quality [s] (render: 9 EO points in 7.1 s
+#: with the start; rcs: from the tubes, :func:`rcs_estimate`).
+SECONDS_PER_POINT = {"render": 0.3}
 #: Working memory of one point of a chunk per sensor [B] (range: 840 MB for 10^6 points of 6 sensors).
 CHUNK_BYTES_PER_POINT_SENSOR = {"range": 140.0, "pd": 2e4}
 #: Resident memory of a process running the job's chunks, before its points [B]: the interpreter
 #: with the job's libraries (pd: 180 MB a Dask worker; render 290 MB and rcs 365 MB serial runs).
 PROCESS_BYTES = {"range": 180e6, "pd": 180e6, "render": 300e6, "rcs": 370e6}
-#: Start of the work [s]: this process's imports and scenario, and a local Dask cluster's start.
+#: Start of the work [s]: this process's imports and scenario, and a local Dask cluster's start; the
+#: simulator jobs add Dr.Jit's and Mitsuba's imports, the target's engine and their first kernels
+#: (rcs: 1 to 6 frequencies of 7 aspects at draft, 10^4-10^6 tubes, took 7.5-9.5 s in all).
 START_SECONDS = {"serial": 1.5, "local": 5.0}
+SIMULATOR_START_SECONDS = 6.0
 
 
 def _count(key: str, value) -> int | None:
@@ -104,9 +107,10 @@ def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, wo
     """Time and peak memory of a sweep from its spec table and axis lengths (:func:`axis_lengths`).
 
     Time: the axes drawn (every sample), then every point's job time shared by the workers (at most
-    the CPU count of a local cluster run at once), plus the start. Memory: this process with the
-    axes; a local cluster adds per worker its process, a copy of the axes (each task carries the
-    spec) and one chunk's working memory. The ``rcs`` job's tubes are added by :func:`rcs_estimate`.
+    the CPU count of a local cluster run at once), plus the start. Memory: serial, one process with
+    the job's libraries, the axes and one chunk; on a cluster, this process with the axes, and per
+    worker its process, a copy of the axes (each task carries the spec) and one chunk. The ``rcs``
+    job's tubes are added by :func:`rcs_estimate`.
     """
     job = data.get("job")
     combine = data.get("combine", "grid")
@@ -119,12 +123,14 @@ def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, wo
     per_point = SECONDS_PER_POINT_SENSOR[job] * max(n_sensors, 1) if job in SECONDS_PER_POINT_SENSOR else 0.0
     per_point = SECONDS_PER_POINT.get(job, per_point)
     seconds = START_SECONDS.get(scheduler, START_SECONDS["local"]) + samples * AXIS_SAMPLE_SECONDS
+    seconds += SIMULATOR_START_SECONDS if job in ("render", "rcs") else 0.0
     seconds += points * per_point / parallel
     chunk_bytes = CHUNK_BYTES_PER_POINT_SENSOR.get(job, 0.0) * max(n_sensors, 1) * min(chunk, points)
     axes_bytes = samples * AXIS_SAMPLE_BYTES
-    worker = PROCESS_BYTES[job] + chunk_bytes + 8.0 * samples
-    main = BASE_PROCESS_BYTES + axes_bytes
-    peak = main + worker if scheduler == "serial" else main + n_workers * worker
+    if scheduler == "serial":  # one process: the job's libraries, the axes and one chunk
+        peak = PROCESS_BYTES[job] + axes_bytes + chunk_bytes
+    else:  # this process with the axes, and every worker with a copy of them (float64) and a chunk
+        peak = BASE_PROCESS_BYTES + axes_bytes + n_workers * (PROCESS_BYTES[job] + 8.0 * samples + chunk_bytes)
     where = {"serial": "in this process"}.get(scheduler, f"on {n_workers} worker(s)")
     return Estimate(f"a {job} sweep of {points:,} points {where}", seconds, peak)
 

@@ -4,11 +4,13 @@ Each command with a cost model (:mod:`csuas.base.cost`) runs as a child process 
 its wall time and peak resident memory (:func:`csuas.base.cost.run_measured`) are compared with
 the model's estimate for the same input. A model is within its target when every ratio
 estimate / measured lies between 1/2 and 2 (issue 22). The figures depend on the machine and its
-load: the models' constants were measured on 2 CPU cores shared with other work.
+load (``load_average``: the 1-minute load when the run ended; the models are for 2 CPU cores
+running nothing else): the models' constants were measured on 2 CPU cores shared with other work.
 """
 
 from __future__ import annotations
 
+import os
 import sys
 import tempfile
 from pathlib import Path
@@ -28,6 +30,7 @@ def _row(model: str, size: str, estimate: Estimate, argv: list, folder: Path) ->
         raise RuntimeError(f"{model} {size}: exit {run.code}: {run.stderr[-400:]}")
     time_ratio, memory_ratio = estimate.seconds / run.seconds, estimate.bytes / run.bytes
     return {
+        "load_average": os.getloadavg()[0],
         "model": model,
         "size": size,
         "estimated_s": estimate.seconds,
