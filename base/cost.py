@@ -109,7 +109,7 @@ def limits_of(args) -> tuple[float, float]:
     return max_seconds, max_memory_gb
 
 
-def check_limits(estimate: Estimate, args, command: str) -> None:
+def check_limits(estimate: Estimate, args, command: str, announce: bool = True) -> None:
     """Refuse ``estimate`` above the limits of ``args`` (one line naming the flag); announce long work.
 
     Parameters
@@ -119,6 +119,8 @@ def check_limits(estimate: Estimate, args, command: str) -> None:
         With ``max_seconds`` and ``max_memory_gb`` (:func:`add_limit_arguments`).
     command : str
         The command's name, for the announcement on standard error.
+    announce : bool
+        Whether to announce work above :data:`ANNOUNCE_SECONDS` (False for a first, partial estimate).
 
     Raises
     ------
@@ -138,7 +140,7 @@ def check_limits(estimate: Estimate, args, command: str) -> None:
         raise ParameterError(
             *over[0], f"at least the estimated {size} for {estimate.what}; raise {flags} to run it{machine}"
         )
-    if estimate.seconds > ANNOUNCE_SECONDS:
+    if announce and estimate.seconds > ANNOUNCE_SECONDS:
         print(f"csuas {command}: {estimate.what}: about {size}", file=sys.stderr, flush=True)
 
 

@@ -47,7 +47,7 @@ def run(args) -> dict:
     if data.get("job") in SWEEP_JOBS:
         sensors = len(load_scenario(data.get("scenario", "default")).sensors) if data["job"] != "rcs" else 0
         estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
-        check_limits(estimate, args, "sweep")
+        check_limits(estimate, args, "sweep", announce=data["job"] != "rcs")
     spec = parse_spec(data)
     if spec.job == "rcs":  # the tubes, from the target's size and the frequencies
         estimate = rcs_estimate(spec, estimate, workers_of(args.scheduler, args.workers))
