@@ -321,17 +321,24 @@ def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None,
 
 
 def gather(out: Path, n_chunks: int) -> Path:
-    """Concatenate the chunk files in point order into ``results.parquet`` (written atomically)."""
-    import pyarrow as pa
+    """Append the chunk files in point order to ``results.parquet`` (written atomically).
+
+    One chunk is in memory at a time (a row group each), so gathering 10^8 points needs no more
+    memory than one chunk of them.
+    """
     import pyarrow.parquet as pq
 
     missing = [i for i in range(n_chunks) if not _chunk_path(out, i).exists()]
     if missing:
         raise CsuasError(f"sweep: {len(missing)} chunk(s) missing after the run, first {missing[0]}")
-    table = pa.concat_tables([pq.read_table(_chunk_path(out, i)) for i in range(n_chunks)])
     path = inside(out, "results.parquet")
     with atomic_path(path) as tmp:
-        pq.write_table(table, tmp)
+        first = pq.read_table(_chunk_path(out, 0))
+        with pq.ParquetWriter(tmp, first.schema) as writer:
+            writer.write_table(first)
+            del first
+            for i in range(1, n_chunks):
+                writer.write_table(pq.read_table(_chunk_path(out, i)))
     return path
 
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from csuas.base.cost import add_limit_arguments
 from csuas.base.errors import InputErrors, ParameterError, raise_all
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import file_name_part, inside
@@ -61,6 +62,7 @@ def add_arguments(parser):
     """Declare the options of ``csuas coverage``."""
     parser.add_argument("site", help="site TOML file, or an embedded site (demo)")
     parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
+    add_limit_arguments(parser)
 
 
 def _load_dem(dem: str | None, site_path):
@@ -80,11 +82,7 @@ def _load_dem(dem: str | None, site_path):
         )
     import rasterio
 
-    path = Path(dem)
-    if not path.is_absolute() and site_path is not None:
-        path = Path(site_path).parent / path
-    if not path.is_file():
-        raise ParameterError("dem", dem, "a GeoTIFF file")
+    path = _dem_path(dem, site_path)
     try:
         with rasterio.open(path) as src:
             heights = src.read(1, masked=True).astype(float)
@@ -112,6 +110,44 @@ def _check_dem(dem: str, heights, transform, crs) -> None:
     valid = heights.compressed() if np.ma.is_masked(heights) else np.asarray(heights).ravel()
     if valid.size == 0 or not np.isfinite(valid).all():
         raise ParameterError("dem", dem, "finite heights [m] (nodata cells marked as the GeoTIFF's nodata)")
+
+
+def _dem_path(dem: str, site_path) -> Path:
+    """The site's DEM file, relative to the site file's folder; a ParameterError naming ``dem`` if it is none."""
+    path = Path(dem)
+    if not path.is_absolute() and site_path is not None:
+        path = Path(site_path).parent / path
+    if not path.is_file():
+        raise ParameterError("dem", dem, "a GeoTIFF file")
+    return path
+
+
+def _dem_cells(dem: str | None, site_path) -> tuple[int, int]:
+    """Rows and columns of the site's DEM (the demo terrain's without one), read from its header alone."""
+    import rasterio
+
+    if dem is None:
+        return DEMO["cells"], DEMO["cells"]
+    path = _dem_path(dem, site_path)
+    try:
+        with rasterio.open(path) as src:
+            return src.height, src.width
+    except rasterio.errors.RasterioError as exc:
+        raise ParameterError("dem", dem, f"a GeoTIFF file GDAL can read ({exc})") from None
+
+
+def _check_cost(site, site_path, radio, args) -> None:
+    """Estimate the run from the DEM's header, the sensors and the levels; refuse it above the limits."""
+    from csuas.base.cost import check_limits
+    from csuas.core.coverage_cost import coverage_estimate
+
+    maps = 0 if radio is None else len(radio["sensors"])
+    samples = 0 if radio is None else int(radio["samples"])
+    cells = _dem_cells(site.dem, site_path)
+    estimate = coverage_estimate(
+        cells, len(site.sensors), len(site.altitudes_agl_m), site.fusion_k is not None, maps, samples
+    )
+    check_limits(estimate, args, "coverage")
 
 
 def _north_up(dem, transform):
@@ -169,6 +205,7 @@ def run(args) -> dict:
     source = Path(args.site)
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
     radio = radio_map_settings(site, scenario)
+    _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
     dem, transform, crs, cell = _load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []

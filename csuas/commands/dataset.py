@@ -9,20 +9,30 @@ from __future__ import annotations
 
 import sys
 
+from csuas.base.cost import add_limit_arguments
+
 
 def add_arguments(parser):
     """Declare the options of ``csuas dataset``."""
     parser.add_argument("spec", help="dataset spec TOML file, or an embedded spec (example)")
     parser.add_argument("--out", required=True, help="output folder (images/, labels/, records/, annotations.json)")
+    add_limit_arguments(parser)
 
 
 def run(args) -> dict:
     """Render what is not yet on disk, and write the labels."""
-    from csuas.render.imaging.dataset import generate, load_dataset_spec
+    from csuas.base.cost import check_limits
+    from csuas.core.scenario import load_scenario
+    from csuas.render.imaging.dataset import generate, imaging_sensor, load_dataset_spec
+    from csuas.render.imaging.dataset_cost import dataset_estimate
 
     spec = load_dataset_spec(args.spec)
+    params = imaging_sensor(load_scenario(spec.scenario), spec.sensor).params
+    estimate = dataset_estimate(spec, (int(params["n_h"]), int(params["n_v"])), args.out)
+    check_limits(estimate, args, "dataset")  # before any image is drawn
     summary = generate(spec, args.out, progress=sys.stderr)
     summary["out"] = str(args.out)
+    summary["cost_estimate"] = estimate.as_dict()
     return summary
 
 

@@ -6,11 +6,11 @@ Method: docs/simulation.md; JSON keys: docs/command-line.md.
 from __future__ import annotations
 
 import math
-import sys
 import time
 
 import numpy as np
 
+from csuas.base.cost import Estimate, add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
 from csuas.core.units import wavelength_m
@@ -112,6 +112,7 @@ def add_arguments(parser) -> None:
         default=1e9,
         help="refuse work estimated above this many tubes in all (default 1e9, a few minutes on 2 CPU cores)",
     )
+    add_limit_arguments(parser)
     parser.add_argument(
         "--plot",
         metavar="PNG",
@@ -236,6 +237,9 @@ def run(args) -> dict:
     return out
 
 
+#: Peak resident memory of the command [B]: Dr.Jit, the engine and its tube batches, whose size bounds
+#: the memory whatever the tube count (``csuas bench --only rcs_memory``; 365 MB in a sweep's process).
+PROCESS_BYTES = 350e6
 #: An error estimate above this [dB] says the estimate itself failed (the half-density run hit
 #: little or nothing); it is reported as a warning, never as a bound.
 UNRELIABLE_ERROR_DB = 10.0
@@ -300,11 +304,8 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
             f"min on 2 CPU cores) for this target, frequency and --rays-per-wavelength "
             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
         )
-    if cost["seconds_2_cpu_cores"] > 10.0:
-        print(
-            f"csuas rcs: about {tubes:.3g} tubes, roughly {cost['seconds_2_cpu_cores']:.0f} s on 2 CPU cores",
-            file=sys.stderr,
-        )
+    what = f"{tubes:.3g} tubes over {aspects} aspect(s) at --rays-per-wavelength {rays_per_wavelength:g}"
+    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], PROCESS_BYTES), args, "rcs")
     return cost
 
 

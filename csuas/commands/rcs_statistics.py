@@ -11,6 +11,7 @@ import datetime
 import sys
 from importlib import resources
 
+from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
 from csuas.drone_models.presets import list_presets
@@ -37,6 +38,7 @@ def add_arguments(parser):
         "--accuracy-db", type=float, default=0.5, help="95 %% bound of each Eq. 6 mean [dB] (default 0.5)"
     )
     parser.add_argument("--max-aspects", type=int, default=8192, help="aspect budget per band (default 8192)")
+    add_limit_arguments(parser)
     target = parser.add_mutually_exclusive_group()
     target.add_argument("--out", metavar="CSV", default=None, help="write the table to this file")
     target.add_argument("--write-defaults", action="store_true", help=f"replace the shipped defaults/{DEFAULTS_FILE}")
@@ -66,9 +68,12 @@ def _progress(done: int, total: int, seconds: float) -> None:
 
 def run(args) -> dict:
     """The rows, and where they were written."""
+    from csuas.validation.rcs.statistics_cost import statistics_estimate
     from csuas.validation.rcs.statistics_table import drone_statistics, write_table
 
     _validate(args)
+    presets = sorted(list_presets()) if args.presets is None else args.presets
+    check_limits(statistics_estimate(presets, args.bands_ghz, args.quality, args.max_aspects), args, "rcs-statistics")
     rows = drone_statistics(
         args.presets,
         args.bands_ghz,

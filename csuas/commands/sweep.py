@@ -10,6 +10,11 @@ from __future__ import annotations
 
 import sys
 
+from csuas.base.cost import add_limit_arguments
+
+#: Jobs a sweep runs (the spec's validator names any other).
+SWEEP_JOBS = ("range", "pd", "render", "rcs")
+
 
 def add_arguments(parser):
     """Declare the options of ``csuas sweep``."""
@@ -32,19 +37,36 @@ def add_arguments(parser):
         help=f"stop (exit 2) when the cluster has had no worker for S seconds; written chunks stay and the same "
         f"command resumes (default {NO_WORKER_TIMEOUT_S:g})",
     )
+    add_limit_arguments(parser)
 
 
 def run(args) -> dict:
     """Validate the spec, run or resume the sweep, and return its provenance."""
+    from csuas.base.cost import check_limits
     from csuas.base.errors import ParameterError
-    from csuas.sweep import load_spec, read_results, run_sweep
+    from csuas.base.fileio import read_spec
+    from csuas.core.scenario import load_scenario
+    from csuas.defaults import sweep_path
+    from csuas.sweep import parse_spec, read_results, run_sweep
+    from csuas.sweep.cost import axis_lengths, rcs_estimate, sweep_estimate, workers_of
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError("workers", args.workers, "a whole number >= 1")
-    spec = load_spec(args.spec)
+    data = read_spec(args.spec, sweep_path, "sweep spec")
+    lengths = axis_lengths(data)  # before any axis is drawn
+    estimate = None
+    if data.get("job") in SWEEP_JOBS:
+        sensors = len(load_scenario(data.get("scenario", "default")).sensors) if data["job"] != "rcs" else 0
+        estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
+        check_limits(estimate, args, "sweep", announce=data["job"] != "rcs")
+    spec = parse_spec(data)
+    if spec.job == "rcs":  # the tubes, from the target's size and the frequencies
+        estimate = rcs_estimate(spec, estimate, workers_of(args.scheduler, args.workers))
+        check_limits(estimate, args, "sweep")
     provenance = run_sweep(
         spec, args.out, args.scheduler, args.workers, progress=sys.stderr, no_worker_timeout_s=args.no_worker_timeout_s
     )
+    provenance["cost_estimate"] = estimate.as_dict()
     provenance["columns"] = list(read_results(provenance["results"]))
     return provenance
 

@@ -141,7 +141,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     from csuas.core.scenario import load_scenario
 
     scenario = load_scenario(spec.scenario)
-    sensor = _imaging_sensor(scenario, spec.sensor)
+    sensor = imaging_sensor(scenario, spec.sensor)
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
     out = prepare_output_dir(out_dir)
@@ -213,7 +213,8 @@ def _unreadable(record: Path, out: Path) -> str | None:
     return None
 
 
-def _imaging_sensor(scenario, name):
+def imaging_sensor(scenario, name):
+    """The scenario's EO or thermal sensor ``name`` (None: the first), or a ParameterError naming ``sensor``."""
     candidates = {n: s for n, s in scenario.sensors.items() if s.modality in ("eo", "tir")}
     if name is None and candidates:
         return next(iter(candidates.values()))

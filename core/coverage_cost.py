@@ -1,0 +1,81 @@
+"""Cost of ``csuas coverage`` (time and peak memory), from the DEM's size, the sensors and the flight levels.
+
+Each sensor traces one viewshed per flight level (:func:`csuas.core.terrain.viewshed`, in
+proportion to the cells), every layer is written as a GeoTIFF and a PNG map (a fixed part and a
+part in proportion to the cells), and a radio map costs one Sionna RT run per sensor and level.
+The process holds the DEM, every sensor's grids per level, the fused grids and, at its peak,
+one viewshed's rays and one map's images.
+
+Measured with ``csuas coverage`` on 2 CPU cores of a machine loaded by other work (ru_maxrss and
+wall time): synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6 levels took
+14.9, 18.0, 41.2 and 48.5 s and 201, 289, 757 and 306 MB; one sensor's layers at 400^2-1600^2
+cells 0.48-2.1 s a level pair; the demo site's two radio maps about 100 s. The ``cost_models``
+benchmark compares the model with measurements on three sizes.
+"""
+
+from __future__ import annotations
+
+from csuas.base.cost import Estimate
+
+#: Start: imports (rasterio, matplotlib), the scenario and the DEM [s].
+START_SECONDS = 3.0
+#: One viewshed and Pd map of one sensor and level: fixed part [s] and per cell [s].
+TRACE_SECONDS = 0.2
+TRACE_CELL_SECONDS = 0.8e-6
+#: One layer written (GeoTIFF, PNG map, GeoJSON): fixed part [s] and per cell [s].
+LAYER_SECONDS = 0.36
+LAYER_CELL_SECONDS = 1.6e-6
+#: One Sionna RT radio map of one sensor and level at :data:`RADIO_MAP_SAMPLES` rays per replica [s]; other
+#: ray counts in proportion (assumed: tracing dominates).
+RADIO_MAP_SECONDS = 50.0
+RADIO_MAP_SAMPLES = 2**20
+#: Resident memory before the grids (interpreter, rasterio, matplotlib) [B]; with a radio map, Sionna's [B].
+PROCESS_BYTES = 140e6
+RADIO_PROCESS_BYTES = 350e6
+#: Memory per cell at the peak (the DEM, hillshade, one viewshed's rays, one map's images) [B].
+CELL_BYTES = 950.0
+#: Memory per cell and level of each sensor's kept grids (visible, detected, Pd, regard) [B], and of
+#: the fused grids per level [B].
+SENSOR_LEVEL_CELL_BYTES = 11.0
+FUSED_LEVEL_CELL_BYTES = 24.0
+#: Layers per sensor and level (visible, detected, Pd); per level of the fused grids (count, detected,
+#: Pd, and with a k-of-n rule two more); per radio map (path gain, its bound, detected, Pd).
+SENSOR_LAYERS, FUSED_LAYERS, FUSED_K_LAYERS, RADIO_LAYERS = 3, 3, 2, 4
+
+
+def coverage_estimate(
+    cells: tuple[int, int], sensors: int, levels: int, k_of_n: bool, radio_maps: int = 0, radio_samples: int = 2**20
+) -> Estimate:
+    """Time and peak memory of a coverage run.
+
+    Parameters
+    ----------
+    cells : (int, int)
+        The DEM's rows and columns.
+    sensors : int
+        Sited sensors.
+    levels : int
+        Flight levels (``altitudes_agl_m``).
+    k_of_n : bool
+        Whether the fused k-of-n layers are written (``fusion_k``).
+    radio_maps : int
+        Sensors with a radio map (each mapped at every level).
+    radio_samples : int
+        Rays per replica of each radio map.
+    """
+    n = float(cells[0]) * float(cells[1])
+    layers = sensors * (SENSOR_LAYERS * levels + 1) + (FUSED_LAYERS + (FUSED_K_LAYERS if k_of_n else 0)) * levels
+    layers += RADIO_LAYERS * radio_maps * levels
+    seconds = START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
+    seconds += (
+        layers * (LAYER_SECONDS + LAYER_CELL_SECONDS * n)
+        + radio_maps * levels * RADIO_MAP_SECONDS * radio_samples / RADIO_MAP_SAMPLES
+    )
+    kept = levels * (SENSOR_LEVEL_CELL_BYTES * (sensors + radio_maps) + FUSED_LEVEL_CELL_BYTES)
+    peak = (RADIO_PROCESS_BYTES if radio_maps else PROCESS_BYTES) + n * (CELL_BYTES + kept)
+    what = (
+        f"coverage of {cells[0]:,} x {cells[1]:,} cells, {sensors} sensor(s), {levels} flight level(s)"
+        + (f", {radio_maps} radio map(s) a level" if radio_maps else "")
+        + f" ({layers:,} layers)"
+    )
+    return Estimate(what, seconds, peak)

@@ -1,0 +1,64 @@
+"""Cost of ``csuas dataset`` (time and peak memory), from the spec and the sensor's frame before any draw.
+
+An image costs the render of the window around the target (by quality preset, nearly independent
+of the frame) and the sensor chain over the full frame (in proportion to its pixels); the
+process holds two frames (one rendered while the previous one is written), every image's draw
+and COCO entry, and Mitsuba. Measured with ``csuas dataset`` on 2 CPU cores of a machine loaded by
+other work (ru_maxrss and wall time; draft: 640 x 360 px 0.45 s and 208 MB, 1920 x 1080 px
+1.5-1.75 s and 375 MB, 4000 x 2250 px 9.3 s and 1040 MB an image; reference 640 x 360 px 1.3 s);
+the ``cost_models`` benchmark compares the model with measurements on three frame sizes.
+
+A frame is one array through the sensor chain (its PSF and noise act on the whole frame), so a
+frame too large for memory is refused, not split.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from csuas.base.cost import Estimate
+
+#: Start: imports of Mitsuba and its kernels [s].
+START_SECONDS = 3.0
+#: Render of the target's window, per image and quality preset [s].
+WINDOW_SECONDS = {"draft": 0.25, "standard": 0.5, "reference": 1.1}
+#: The sensor chain and the PNG over the full frame, per pixel [s].
+PIXEL_SECONDS = 0.85e-6
+#: Resident memory of the process with Mitsuba loaded, before a frame [B].
+PROCESS_BYTES = 176e6
+#: Memory per frame pixel: two frames' signal, noise and DN arrays and the chain's temporaries [B].
+PIXEL_BYTES = 96.0
+#: Memory per image of the spec: its draw (625 B measured for 10^5 draws) and its COCO entry [B].
+IMAGE_BYTES = 1250.0
+#: Time to draw one image's drone, range, aspect and offset [s] (98 us measured for 10^5 draws).
+DRAW_SECONDS = 1e-4
+
+
+def image_count(spec) -> int:
+    """Images of a spec: the product of its list axes' lengths (``drones`` is drawn) times ``count``."""
+    listed = [len(v) for name, v in spec.axes.items() if name != "drones" and not isinstance(v, dict)]
+    return math.prod(listed) * spec.count
+
+
+def dataset_estimate(spec, frame_px: tuple[int, int], out_dir) -> Estimate:
+    """Time and peak memory of rendering the images of ``spec`` not yet in ``out_dir``.
+
+    Parameters
+    ----------
+    spec : DatasetSpec
+    frame_px : (int, int)
+        The sensor's frame, width and height [px].
+    out_dir : str or Path
+        The output folder: images whose record is already there are not rendered again.
+    """
+    images = image_count(spec)
+    records = Path(out_dir) / "records"
+    done = sum(1 for _ in records.glob("*.json")) if records.is_dir() else 0
+    todo = max(images - done, 0)
+    pixels = float(frame_px[0]) * float(frame_px[1])
+    per_image = WINDOW_SECONDS[spec.quality] + PIXEL_SECONDS * pixels
+    seconds = START_SECONDS + images * DRAW_SECONDS + todo * per_image
+    peak = PROCESS_BYTES + PIXEL_BYTES * pixels + IMAGE_BYTES * images
+    what = f"a dataset of {images:,} images ({todo:,} to render) of {frame_px[0]} x {frame_px[1]} px at {spec.quality}"
+    return Estimate(what, seconds, peak)
