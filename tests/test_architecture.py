@@ -4,8 +4,8 @@ Layers, lowest first: base <- defaults <- core <- drone_models <- render <- swee
 (``csuas.cli``, ``csuas.commands``). A module may import its own layer and the layers below it.
 Every way of importing counts: ``import`` and ``from`` statements at any depth (a lazy import is still
 a dependency), relative imports (resolved against the module's package), ``importlib.import_module``
-and ``__import__`` calls with a literal name, and registry strings ``"csuas.x.y:attribute"`` that
-:func:`csuas.base.registry.resolve` imports when used. A self-test plants each kind of upward import
+``__import__`` and ``resolve`` calls with a literal name, and registry strings ``"csuas.x.y:attribute"``
+that :func:`csuas.base.registry.resolve` imports when used. A self-test plants each kind of upward import
 in a copy of the package and sees the checker fail.
 
 ``KNOWN_DEBTS`` records the functions longer than 100 lines or with more than 8 parameters (the
@@ -46,8 +46,9 @@ THIRD_PARTY = {
     "core": {"numpy", "scipy", "tomli", "numba"},
 }
 
-#: A registry entry or dynamic import target: a literal module path of the package.
-_MODULE_STRING = re.compile(r"^csuas(\.[A-Za-z_][A-Za-z0-9_]*)+(:[A-Za-z_][A-Za-z0-9_.]*)?$")
+#: A registry entry: ``"csuas.package.module:attribute"`` (a bare dotted name counts when it is passed to
+#: ``resolve``, ``import_module`` or ``__import__``; a ``python -m csuas.cli`` argument is a process, not an import).
+_REGISTRY_STRING = re.compile(r"^csuas(\.[A-Za-z_][A-Za-z0-9_]*)+:[A-Za-z_][A-Za-z0-9_.]*$")
 
 #: Limits of CONTRIBUTING.md.
 MAX_LINES = 100
@@ -145,7 +146,7 @@ def _relative(node: ast.ImportFrom, package: list[str]) -> list[str]:
 
 def _dynamic(node: ast.Call) -> str | None:
     name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
-    if name in ("import_module", "__import__") and node.args and isinstance(node.args[0], ast.Constant):
+    if name in ("import_module", "__import__", "resolve") and node.args and isinstance(node.args[0], ast.Constant):
         return str(node.args[0].value)
     return None
 
@@ -166,7 +167,7 @@ def _imports(path: Path, root: Path = ROOT):
                 yield node.module
         elif isinstance(node, ast.Call) and (target := _dynamic(node)):
             yield target
-        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and _MODULE_STRING.match(node.value):
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and _REGISTRY_STRING.match(node.value):
             yield node.value.partition(":")[0]
 
 
@@ -215,6 +216,7 @@ PLANTED = {
     "relative module": ("render/rcs/planted.py", "from ... import sweep\n"),
     "importlib": ("core/planted.py", "import importlib\nimportlib.import_module('csuas.render.backend')\n"),
     "__import__": ("base/planted.py", "__import__('csuas.core.radar')\n"),
+    "resolve": ("core/planted.py", "from csuas.base.registry import resolve\nresolve('csuas.render.backend')\n"),
     "registry": ("render/planted.py", "MODES = {'x': 'csuas.validation.report.runner:SPEC_LISTS'}\n"),
     "third party in core": ("core/planted.py", "import mitsuba\n"),
 }
