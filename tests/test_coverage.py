@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -231,8 +233,11 @@ def test_geojson_polygons_cover_exactly_the_detected_cells_and_the_reach_bounds_
     """Behind a ridge (shadows, holes): each detected layer's GeoJSON polygons, in the DEM's CRS, have the
     layer's area exactly (the same cells); the visible layer is nodata (NaN) beyond the sensor's mapped reach;
     the 2-of-2 layer is the cells both sensors detect."""
+    import pyogrio.raw
     import rasterio
+    import shapely
     import shapely.geometry
+    from rasterio.warp import transform_geom
 
     dem = np.full((60, 60), 50.0)
     dem[20:40, 25] = 75.0  # a wall east of the sensors
@@ -255,13 +260,22 @@ def test_geojson_polygons_cover_exactly_the_detected_cells_and_the_reach_bounds_
         ("fused", "k_of_n"),
     }
     for layer in polygons:
-        collection = json.loads((tmp_path / "g" / layer["geojson"]).read_text())
-        assert collection["crs"] == {"type": "name", "properties": {"name": "EPSG:32633"}}
-        area = sum(shapely.geometry.shape(f["geometry"]).area for f in collection["features"])
+        # the GeoPackage holds the polygons in the DEM's CRS: exactly the layer's cells
+        stem = layer["geojson"].removesuffix(".geojson")
+        geometries = pyogrio.raw.read(tmp_path / "g" / summary["vectors"]["geopackage"], layer=stem)[2]
+        native = [shapely.from_wkb(g) for g in geometries]
+        area = sum(p.area for p in native)
         assert area / 1e6 == pytest.approx(layer["area_km2"], rel=1e-12) and area > 0
         with rasterio.open(tmp_path / "g" / layer["path"]) as src:
             bounds = shapely.geometry.box(*src.bounds)
-        assert all(bounds.covers(shapely.geometry.shape(f["geometry"])) for f in collection["features"])
+        assert all(bounds.covers(p) for p in native)
+        # the GeoJSON: RFC 7946, longitude and latitude on WGS 84, no crs member; back in UTM, the same area
+        collection = json.loads((tmp_path / "g" / layer["geojson"]).read_text())
+        assert "crs" not in collection
+        back = [transform_geom("EPSG:4326", "EPSG:32633", f["geometry"]) for f in collection["features"]]
+        assert sum(shapely.geometry.shape(g).area for g in back) == pytest.approx(area, rel=1e-9)
+        lon, lat = np.array([c for f in collection["features"] for c in f["geometry"]["coordinates"][0]]).T
+        assert np.all((13.0 < lon) & (lon < 15.0)) and np.all((45.0 < lat) & (lat < 46.0))
     with rasterio.open(tmp_path / "g" / "acoustic_visible_10m.tif") as src:
         visible = src.read(1)
     with rasterio.open(tmp_path / "g" / "acoustic_detected_10m.tif") as src:
@@ -452,3 +466,30 @@ def test_a_radio_map_traces_only_the_sensors_sector(tmp_path, capsys):
     assert mapped[np.abs(off) < 40.0].mean() > 0.5
     (stats,) = summary["radio_maps"]["maps"]["rf"]
     assert stats["mapped_cells"] >= mapped.sum()  # every mapped cell in the sector; some got no ray
+
+
+@pytest.mark.skipif(shutil.which("gdalinfo") is None, reason="GDAL's programs are not installed")
+def test_gis_files_open_in_gdal_and_ogr_without_a_warning(tmp_path, capsys):
+    """GeoTIFFs tiled, DEFLATE-compressed, with a band description, unit and NaN nodata; the GeoJSON, the
+    GeoPackage (one table per vector layer) and the KML read by OGR with nothing on its error stream."""
+    dem_path = tmp_path / "flat.tif"
+    _write_dem(dem_path, np.full((60, 60), 50.0))
+    site = tmp_path / "site.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\naltitudes_agl_m = [10.0]\nfusion_k = 1\n'
+        "[sensors.acoustic]\nx = 401000.0\ny = 5008500.0\nmast_m = 5.0\n"
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "g"), "--json"]) == 0
+    capsys.readouterr()
+    out = tmp_path / "g"
+    info = subprocess.run(["gdalinfo", out / "acoustic_pd_10m.tif"], capture_output=True, text=True, check=True)
+    assert info.stderr == ""
+    expected = ("COMPRESSION=DEFLATE", "Block=256x256", "Description = acoustic: pd at 10 m AGL", "NoData Value=nan")
+    assert all(text in info.stdout for text in expected), info.stdout
+    assert "Unit Type: Pd" in info.stdout
+    layers = {"acoustic_detected_10m", "fused_detected_10m", "fused_k_of_n_10m"}
+    for name in ("coverage.gpkg", "coverage.kml", "acoustic_detected_10m.geojson"):
+        listing = subprocess.run(["ogrinfo", "-ro", "-so", "-al", out / name], capture_output=True, text=True)
+        assert listing.returncode == 0 and listing.stderr == "", (name, listing.stderr)
+    tables = subprocess.run(["ogrinfo", "-ro", "-q", out / "coverage.gpkg"], capture_output=True, text=True).stdout
+    assert {line.split(":")[1].split("(")[0].strip() for line in tables.splitlines() if ":" in line} == layers

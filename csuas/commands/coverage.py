@@ -21,9 +21,18 @@ import numpy as np
 
 from csuas.base.cost import add_limit_arguments
 from csuas.base.errors import InputErrors, ParameterError, raise_all
-from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
+from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import file_name_part, inside
 from csuas.base.schema import validate
+from csuas.commands.coverage_files import (
+    covered_polygons,
+    to_wgs84,
+    write_geojson,
+    write_geopackage,
+    write_geotiff,
+    write_kml,
+    write_map_png,
+)
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
 from csuas.commands.coverage_schema import TAGS, SiteSchema
 from csuas.core.coverage import POINTING
@@ -39,6 +48,17 @@ RADIO_KINDS = (
 )
 #: Layers that also get a GeoJSON of their covered cells.
 GEOJSON_KINDS = ("detected", "k_of_n", "detected_multipath")
+#: Pd maps show the cells at this Pd or more (a faint wash of low Pd hides where a sensor detects).
+PD_SHOWN = 0.5
+#: Every vector layer together: a GeoPackage in the DEM's CRS and a KML on WGS 84.
+VECTOR_FILES = ("coverage.gpkg", "coverage.kml")
+#: Unit of the GeoTIFF band of layers without a physical unit.
+BAND_UNITS = {
+    "visible": "1 = in sight",
+    "detected": "1 = detected",
+    "k_of_n": "1 = detected",
+    "detected_multipath": "1 = detected",
+}
 #: Each sensor's layers at every flight level, and the fused layers' quantities (with fusion_k: and k of n).
 SENSOR_KINDS = ("visible", "detected", "pd")
 FUSED_QUANTITIES = ("count", "detected", "pd")
@@ -236,6 +256,7 @@ def run(args) -> dict:
             "hillshade": hillshade,
             "sited": sited,
             "cell_km2": cell * cell / 1e6,
+            "vectors": [],
         }
         for name, grids in per_sensor.items():
             for i, altitude in enumerate(altitudes):
@@ -274,6 +295,7 @@ def run(args) -> dict:
                 for n, g in per_sensor.items()
             },
             "layers": layers,
+            "vectors": _write_vectors(out, where),
         }
         if radio is not None:
             settings = {key: radio[key] for key in ("ground", "step", "max_depth", "seed", "accuracy_db")}
@@ -310,7 +332,7 @@ def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
     layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
     fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
     layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
-    names = ["coverage.json"]
+    names = ["coverage.json", *VECTOR_FILES]
     for sensor, altitude, kind in layers:
         suffixes = (".tif", ".png") + ((".geojson",) if kind in GEOJSON_KINDS else ())
         names += [_stem(sensor, altitude, kind) + suffix for suffix in suffixes]
@@ -319,26 +341,12 @@ def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
 
 def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> dict:
     """Write one layer (GeoTIFF, PNG and, for a detected layer, GeoJSON) and describe it for coverage.json."""
-    import rasterio
-
     stem = _stem(sensor, altitude, kind)
     tif, png = inside(out, f"{stem}.tif"), inside(out, f"{stem}.png")
-    profile = {
-        "driver": "GTiff",
-        "height": grid.shape[0],
-        "width": grid.shape[1],
-        "count": 1,
-        "dtype": "float32",
-        "crs": where["crs"],
-        "transform": where["transform"],
-        "nodata": float("nan"),
-    }
-    with atomic_path(tif) as tmp:
-        with rasterio.open(tmp, "w", **profile) as dst:
-            dst.write(grid, 1)
     title = f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL")
     every_value, unit = kind in VALUE_KINDS, UNITS.get(kind, "")
-    _map(png, grid, where["hillshade"], title, where["sited"], every_value=every_value, unit=unit)
+    write_geotiff(tif, grid, where, title, unit or BAND_UNITS.get(kind, ""))
+    write_map_png(png, grid, where, title, _legend(kind, every_value, unit))
     covered = np.isfinite(grid) if kind in VALUE_KINDS else np.nan_to_num(grid) > 0
     layer = {
         "sensor": sensor,
@@ -350,52 +358,38 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
     }
     if kind in GEOJSON_KINDS:
         geojson = inside(out, f"{stem}.geojson")
-        write_text_atomic(
-            geojson,
-            json.dumps(
-                _polygons(
-                    covered, where["transform"], where["crs"], {"sensor": sensor, "altitude_m": altitude, "kind": kind}
-                )
-            ),
-        )
+        native = covered_polygons(covered, where["transform"])
+        properties = {"sensor": sensor, "altitude_m": altitude, "kind": kind}
+        write_geojson(geojson, to_wgs84(native, where["crs"]), properties)
+        where["vectors"].append((stem, native, properties))
         layer["geojson"] = geojson.name
     return layer
 
 
-def _polygons(covered: np.ndarray, transform, crs: str, properties: dict) -> dict:
-    """GeoJSON FeatureCollection of the covered cells: one polygon per 4-connected patch, in the DEM's CRS."""
-    from rasterio.features import shapes
-
-    features = [
-        {"type": "Feature", "geometry": geometry, "properties": properties}
-        for geometry, _ in shapes(covered.astype(np.uint8), mask=covered, transform=transform)
-    ]
-    return {
-        "type": "FeatureCollection",
-        "crs": {"type": "name", "properties": {"name": crs}},
-        "features": features,
-    }
+def _legend(kind: str, every_value: bool, unit: str) -> dict:
+    """How a layer's map shows it: a colour scale with its unit, Pd from PD_SHOWN up, or a yes/no patch."""
+    if kind.startswith("pd"):
+        return {"scale": f"Pd (cells at {PD_SHOWN:g} or more)", "low": PD_SHOWN, "high": 1.0}
+    if every_value or kind == "count":
+        return {"scale": unit, "low": None, "high": None}
+    return {"patch": BAND_UNITS.get(kind, "1 = yes").split("= ", 1)[-1]}
 
 
-def _map(path: Path, grid, hillshade, title: str, sited, every_value: bool = False, unit: str = "") -> None:
-    from csuas.base.plots import _pyplot
+def _write_vectors(out: Path, where: dict) -> dict:
+    """Every vector layer in one GeoPackage (the DEM's CRS) and one KML (WGS 84); their names."""
+    vectors = where["vectors"]
+    if not vectors:
+        return {}
+    write_geopackage(inside(out, VECTOR_FILES[0]), vectors, where["crs"])
+    write_kml(inside(out, VECTOR_FILES[1]), [(name, to_wgs84(g, where["crs"])) for name, g, _ in vectors])
+    return {"geopackage": VECTOR_FILES[0], "kml": VECTOR_FILES[1]}
 
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(5.5, 5.0))
-    ax.imshow(hillshade, cmap="gray", vmin=0, vmax=1)
-    shown = np.ma.masked_where(~np.isfinite(grid) | (~every_value & (grid <= 0)), grid)
-    image = ax.imshow(shown, cmap="viridis", alpha=0.6)
-    for name, s in sited.items():
-        ax.plot(s.col, s.row, "r^", ms=7)
-        ax.annotate(name, (s.col, s.row), color="red", fontsize=8, xytext=(4, 4), textcoords="offset points")
-    ax.set_title(title, fontsize=10)
-    ax.set_xticks([])
-    ax.set_yticks([])
-    if np.unique(grid[np.isfinite(grid)]).size > 2:  # yes/no layers need no scale
-        fig.colorbar(image, ax=ax, fraction=0.046, label=unit)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
-    plt.close(fig)
+
+def area_text(km2: float) -> str:
+    """An area with three significant digits, in m^2 below a hectare and in km^2 above (0 as 0 m^2)."""
+    if km2 < 0.01:
+        return f"{float(f'{km2 * 1e6:.3g}'):,.0f} m^2"
+    return f"{float(f'{km2:.3g}'):,g} km^2"
 
 
 def render_text(result: dict) -> str:
@@ -404,14 +398,14 @@ def render_text(result: dict) -> str:
     for layer in result["layers"]:
         if layer["kind"] == "detected" or layer.get("quantity") == "detected":
             lines.append(
-                f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2"
+                f"  {layer['sensor']:<10} detected at {layer['altitude_m']:g} m AGL: {area_text(layer['area_km2'])}"
             )
         elif layer["kind"] == "detected_multipath":
             lines.append(
                 f"  {layer['sensor']:<10} detected with multipath at {layer['altitude_m']:g} m AGL: "
-                f"{layer['area_km2']:.2f} km^2 (radio map)"
+                f"{area_text(layer['area_km2'])} (radio map)"
             )
         elif layer.get("quantity") == "k_of_n":
             what = f"{layer['k']} of {layer['n']}"
-            lines.append(f"  {what:<10} detected at {layer['altitude_m']:g} m AGL: {layer['area_km2']:.2f} km^2")
+            lines.append(f"  {what:<10} detected at {layer['altitude_m']:g} m AGL: {area_text(layer['area_km2'])}")
     return "\n".join(lines)

@@ -1,0 +1,190 @@
+"""The GIS files of ``csuas coverage``: layers GIS users open as they are (docs/coverage.md).
+
+* GeoTIFF: tiled (256 x 256), DEFLATE-compressed with the floating-point predictor, NaN as nodata,
+  the band's description and unit set (GDAL's band metadata, ``gdalinfo`` shows both).
+* GeoJSON: RFC 7946 (IETF, 2016): longitude and latitude on WGS 84, no ``crs`` member (Section 4);
+  polygons reprojected from the DEM's CRS with rasterio (PROJ), vertex by vertex.
+* GeoPackage (OGC 12-128r18): one file holding every vector layer in the DEM's own CRS, written with
+  pyogrio (GDAL/OGR); one table per layer.
+* KML (OGC 07-147r2): every vector layer as a folder of polygons on WGS 84, for a quick look in a
+  virtual globe.
+* PNG maps: over the DEM's hillshade, axes in the DEM's CRS [km], a scale bar, a north arrow, the
+  sensors, and a legend: a colour bar with its unit, or a patch naming what a yes/no layer marks.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from xml.sax.saxutils import escape
+
+import numpy as np
+
+from csuas.base.fileio import atomic_path, write_text_atomic
+
+#: GeoTIFF creation options (GDAL's GTiff driver).
+GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockxsize": 256, "blockysize": 256}
+#: GeoPackage version written: 1.2 opens without a warning in GDAL 3.6 and later, 1.4 warns before 3.12.
+GEOPACKAGE_VERSION = "1.2"
+#: Geographic CRS of GeoJSON (RFC 7946 Section 4) and KML.
+WGS84 = "EPSG:4326"
+
+
+def write_geotiff(path: Path, grid: np.ndarray, where: dict, description: str, unit: str) -> None:
+    """One float32 band with its description and unit, tiled and compressed; NaN is nodata."""
+    import rasterio
+
+    profile = {
+        "driver": "GTiff",
+        "height": grid.shape[0],
+        "width": grid.shape[1],
+        "count": 1,
+        "dtype": "float32",
+        "crs": where["crs"],
+        "transform": where["transform"],
+        "nodata": float("nan"),
+        **GEOTIFF_OPTIONS,
+    }
+    with atomic_path(path) as tmp:
+        with rasterio.open(tmp, "w", **profile) as dst:
+            dst.write(grid.astype(np.float32), 1)
+            dst.set_band_description(1, description)
+            dst.units = (unit,)
+
+
+def covered_polygons(covered: np.ndarray, transform) -> list[dict]:
+    """GeoJSON geometries of the covered cells in the grid's CRS: one polygon per 4-connected patch."""
+    from rasterio.features import shapes
+
+    return [geometry for geometry, _ in shapes(covered.astype(np.uint8), mask=covered, transform=transform)]
+
+
+def to_wgs84(geometries: list[dict], crs: str) -> list[dict]:
+    """Geometries reprojected from ``crs`` to longitude and latitude on WGS 84 [deg]."""
+    from rasterio.warp import transform_geom
+
+    return [transform_geom(crs, WGS84, geometry) for geometry in geometries]
+
+
+def write_geojson(path: Path, geometries_wgs84: list[dict], properties: dict) -> None:
+    """An RFC 7946 FeatureCollection (no ``crs`` member: WGS 84 longitude and latitude by definition)."""
+    features = [{"type": "Feature", "geometry": g, "properties": properties} for g in geometries_wgs84]
+    write_text_atomic(path, json.dumps({"type": "FeatureCollection", "features": features}))
+
+
+def write_geopackage(path: Path, layers: list[tuple[str, list[dict], dict]], crs: str) -> None:
+    """Every vector layer, ``(name, geometries in crs, properties)``, as a table of one GeoPackage."""
+    import pyogrio.raw
+    import shapely.geometry
+
+    with atomic_path(path) as tmp:
+        tmp.unlink(missing_ok=True)  # GDAL creates the file itself
+        for index, (name, geometries, properties) in enumerate(layers):
+            wkb = np.array([shapely.geometry.shape(g).wkb for g in geometries], dtype=object)
+            fields = list(properties)
+            values = [np.array([properties[k]] * len(geometries), dtype=_field_type(properties[k])) for k in fields]
+            pyogrio.raw.write(
+                str(tmp),
+                wkb,
+                values,
+                fields,
+                layer=name,
+                driver="GPKG",
+                crs=crs,
+                geometry_type="Polygon",
+                append=index > 0,
+                dataset_options=None if index else {"VERSION": GEOPACKAGE_VERSION},
+            )
+
+
+def _field_type(value) -> type:
+    return object if isinstance(value, str) or value is None else float
+
+
+def write_kml(path: Path, layers: list[tuple[str, list[dict]]]) -> None:
+    """Every vector layer, ``(name, geometries on WGS 84)``, as a folder of KML polygons."""
+    folders = []
+    for name, geometries in layers:
+        marks = "".join(f"<Placemark><name>{escape(name)}</name>{_kml_polygon(g)}</Placemark>" for g in geometries)
+        folders.append(f"<Folder><name>{escape(name)}</name>{marks}</Folder>")
+    text = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n<kml xmlns="http://www.opengis.net/kml/2.2"><Document>'
+        f"<name>csuas coverage</name>{''.join(folders)}</Document></kml>\n"
+    )
+    write_text_atomic(path, text)
+
+
+def _kml_ring(ring) -> str:
+    return "<LinearRing><coordinates>" + " ".join(f"{x:.7f},{y:.7f}" for x, y in ring) + "</coordinates></LinearRing>"
+
+
+def _kml_polygon(geometry: dict) -> str:
+    outer, *holes = geometry["coordinates"]
+    inner = "".join(f"<innerBoundaryIs>{_kml_ring(h)}</innerBoundaryIs>" for h in holes)
+    return f"<Polygon><outerBoundaryIs>{_kml_ring(outer)}</outerBoundaryIs>{inner}</Polygon>"
+
+
+def _nice_length_m(span_m: float) -> float:
+    """A round scale-bar length about a fifth of ``span_m`` [m]: 1, 2 or 5 times a power of ten."""
+    target = span_m / 5.0
+    power = 10.0 ** np.floor(np.log10(target))
+    return float(max(m * power for m in (1.0, 2.0, 5.0) if m * power <= target))
+
+
+def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend: dict) -> None:
+    """A layer over the hillshade with CRS axes [km], a scale bar, a north arrow, the sensors and a legend.
+
+    ``legend`` is ``{"scale": label, "low": v, "high": v}`` (values from ``low`` up on a colour bar; None:
+    every finite value) or ``{"patch": what}`` (cells above 0 in one colour, named in the legend).
+    """
+    from matplotlib.patches import Patch
+    from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+    from csuas.base.plots import _pyplot
+
+    plt = _pyplot()
+    transform, rows, cols = where["transform"], grid.shape[0], grid.shape[1]
+    west, north = transform * (0, 0)
+    east, south = transform * (cols, rows)
+    extent = (west / 1e3, east / 1e3, south / 1e3, north / 1e3)
+    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    ax.imshow(where["hillshade"], cmap="gray", vmin=0, vmax=1, extent=extent)
+    finite = np.isfinite(grid)
+    if "patch" in legend:
+        shown = np.ma.masked_where(~finite | (np.nan_to_num(grid) <= 0), grid)
+        ax.imshow(shown, cmap="winter", vmin=0, vmax=1, alpha=0.55, extent=extent)
+        ax.legend(
+            handles=[Patch(color=plt.get_cmap("winter")(1.0), alpha=0.55, label=legend["patch"])], loc="lower left"
+        )
+    else:
+        low = legend["low"]
+        shown = np.ma.masked_where(
+            ~finite | (np.nan_to_num(grid, nan=-np.inf) < (low if low is not None else -np.inf)), grid
+        )
+        image = ax.imshow(shown, cmap="viridis", vmin=low, vmax=legend["high"], alpha=0.7, extent=extent)
+        fig.colorbar(image, ax=ax, fraction=0.046, label=legend["scale"])
+    for name, sensor in where["sited"].items():
+        x, y = transform * (sensor.col + 0.5, sensor.row + 0.5)
+        ax.plot(x / 1e3, y / 1e3, "r^", ms=7)
+        ax.annotate(name, (x / 1e3, y / 1e3), color="red", fontsize=8, xytext=(4, 4), textcoords="offset points")
+    length = _nice_length_m(abs(east - west))
+    label = f"{length / 1e3:g} km" if length >= 1e3 else f"{length:g} m"
+    bar = AnchoredSizeBar(
+        ax.transData, length / 1e3, label, "lower right", frameon=True, size_vertical=abs(north - south) / 250e3
+    )
+    ax.add_artist(bar)
+    ax.annotate(
+        "N",
+        xy=(0.95, 0.95),
+        xytext=(0.95, 0.82),
+        xycoords="axes fraction",
+        ha="center",
+        fontsize=10,
+        arrowprops={"arrowstyle": "-|>", "color": "k"},
+    )
+    ax.set_xlabel(f"easting [km] ({where['crs']})")
+    ax.set_ylabel("northing [km]")
+    ax.set_title(title, fontsize=10)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
+    plt.close(fig)
