@@ -16,7 +16,9 @@ import pytest
 
 from csuas.base.errors import CsuasError, ParameterError
 from csuas.core import (
+    acoustic,
     camera,
+    checks,
     itu,
     mrtd,
     pd_curves,
@@ -151,11 +153,11 @@ def test_section_4_9_models_reproduce_the_papers_printed_ranges():
 def test_table_52_platforms_match_the_printed_table():
     table = sensitivity.table_52_platforms()
     printed = {"dji_mini_4_pro": (555.5, 445.3, 100.0), "black_hornet_3": (137.4, 250.4, 5.6)}
-    for name, (eo, radar_m, acoustic) in printed.items():
+    for name, (eo, radar_m, acoustic_m) in printed.items():
         computed = table[name]["computed_m"]
         assert computed["eo"] == pytest.approx(eo, abs=0.12)  # the paper rounds d_crit x N_H / HFOV
         assert computed["radar"] == pytest.approx(radar_m, abs=0.05)
-        assert computed["acoustic"] == pytest.approx(acoustic, abs=0.05)
+        assert computed["acoustic"] == pytest.approx(acoustic_m, abs=0.05)
     target_terms = ("d_crit_m", "sigma_radar_m2", "sl_db")
     sensors = [
         {k: v for k, v in sensitivity._section_defaults(section).items() if k not in target_terms}
@@ -172,16 +174,106 @@ def test_power_sum_eq_108():
     assert float(units.power_sum_db(42.0, -np.inf)) == pytest.approx(42.0, rel=1e-12)
 
 
-def test_default_range_grid_spans_one_metre_to_three_times_the_longest_range():
+def test_default_range_grid_spans_one_metre_to_three_times_the_longest_reach():
+    """The longest reach: each sensor's deterministic range, or its line-of-sight horizon where nearer (the
+    reference 2 m sensor and 120 m drone of csuas range, 4/3 Earth for radio, refraction 0.13 for light)."""
+    from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
+
     sc = scenario.load_scenario("default")
-    longest = max(
-        float(np.max(ranges.evaluate(sc, None)[name].range_m)) for name in sc.sensors if name in ranges.evaluate(sc)
-    )
+    horizon = {
+        "rf": K_RADIO,
+        "radar": K_RADIO,
+        "eo": K_OPTICAL,
+        "tir": K_OPTICAL,
+        "lidar": K_OPTICAL,
+    }
+    reach = []
+    for name, prediction in ranges.evaluate(sc).items():
+        k = horizon.get(sc.sensors[name].modality)
+        limit = math.inf if k is None else float(line_of_sight_limit_m(2.0, 120.0, k))
+        reach.append(min(float(np.max(prediction.range_m)), limit))
     grid = pd_curves.default_range_grid(sc)
-    assert grid[0] == 1.0 and grid[-1] == pytest.approx(3.0 * longest, rel=1e-12)
+    assert grid[0] == 1.0 and grid[-1] == pytest.approx(3.0 * max(reach), rel=1e-12)
     assert np.allclose(np.diff(np.log(grid)), np.log(grid[1] / grid[0]))
 
 
 def test_errors_are_csuas_errors():
     with pytest.raises(CsuasError):
         radiometry.band_limits_um("uv")
+
+
+@pytest.mark.parametrize(
+    "frequency_hz, index", [(20.0, 0), (63.0, 0), (800.0, 4), (1000.0, 4), (1250.0, 4), (20000.0, 7)]
+)
+def test_octave_band_index_holds_each_third_octave_in_its_octave(frequency_hz, index):
+    # ISO 9613-2 Table 3's octaves 63 Hz to 8 kHz: 800 and 1250 Hz lie in the 1 kHz octave's thirds
+    assert int(acoustic.octave_band_index(frequency_hz)) == index
+
+
+def test_vapour_pressures_itu_r_p453_and_p676():
+    itu453 = pytest.importorskip("itur.models.itu453")
+    reference = float(np.asarray(itu453.saturation_vapour_pressure(20.0, 1013.25, "water")))
+    assert float(itu.saturation_vapour_pressure_hpa(293.15, 1013.25)) == pytest.approx(reference, rel=1e-6)
+    assert float(itu.water_vapour_pressure_hpa(7.5, 288.15)) == pytest.approx(7.5 * 288.15 / 216.7, rel=1e-12)
+
+
+def test_gas_loss_matters_only_above_a_hundredth_of_a_db():
+    # 0.17 dB/km: one way over 50 m is 0.0085 dB (no term), two ways 0.017 dB (a term)
+    assert not bool(itu.gas_loss_matters(0.17, 50.0, ways=1))
+    assert bool(itu.gas_loss_matters(0.17, 50.0, ways=2))
+
+
+def test_scenario_gas_attenuation_is_p676_in_the_physical_convention_only():
+    itu676 = pytest.importorskip("itur.models.itu676")
+    sc = scenario.load_scenario("default")
+    assert float(ranges.gas_attenuation_db_km(sc, 24.0, "paper")) == 0.0
+    t_k, p_hpa, rho = 288.15, 1013.25, 7.5  # ITU-R P.835 sea level
+    dry = p_hpa - rho * t_k / 216.7  # ITU-Rpy takes the dry-air pressure
+    expected = float(np.asarray(itu676.gamma_exact(24.0, dry, rho, t_k)))
+    assert float(ranges.gas_attenuation_db_km(sc, 24.0, "physical")) == pytest.approx(expected, rel=1e-6)
+
+
+def test_thermal_extinction_adds_marshall_palmer_rain_in_the_physical_convention():
+    sc = scenario.load_scenario("default")
+    sensor = sc.sensors["tir"]
+    table_27 = sensor.params["extinction_db_km"]
+    assert [float(v) for v in ranges.thermal_extinction_db_km(sc, sensor, "paper")] == [table_27, 0.0]
+    rainy = dataclasses.replace(sc, environment={**sc.environment, "rain_rate_mm_h": 30.0})
+    total, rain = (float(v) for v in ranges.thermal_extinction_db_km(rainy, sensor, "physical"))
+    # Marshall-Palmer N(D) = N0 exp(-Lambda D), N0 = 8000 m^-3 mm^-1, Lambda = 4.1 R^-0.21 mm^-1, extinction
+    # efficiency 2: beta = 2 (pi / 4) N0 int D^2 exp(-Lambda D) dD = pi N0 / Lambda^3 [1/km after 1e-6 * 1e3]
+    beta = math.pi * 8000.0 / (4.1 * 30.0**-0.21) ** 3 * 1e-3
+    expected_rain = 10 * math.log10(math.e) * beta
+    assert rain == pytest.approx(expected_rain, rel=1e-9) and total == pytest.approx(table_27 + expected_rain)
+
+
+def test_registry_bounds_refuse_nan_and_values_above_parameters_toml():
+    keys = {"g_tx_db": "radar.g_tx_db"}
+    checks.require_registry_bounds({"g_tx_db": 25.0}, keys)
+    for bad in (3026.0, float("nan")):
+        with pytest.raises(ParameterError, match="g_tx_db"):
+            checks.require_registry_bounds({"g_tx_db": bad}, keys)
+
+
+def test_spectral_acoustic_range_meets_the_budget_in_the_band_that_reaches_farthest():
+    """Every band solved apart by Brent's method: the returned range is the largest band's root of
+    budget_b - 20 log10 R - alpha_b R / 1000 = 0 (no ground)."""
+    from scipy.optimize import brentq
+
+    from csuas.core import acoustic_spectrum as spectrum
+
+    air = {"temperature_k": 293.15, "relative_humidity_pct": 70.0, "pressure_kpa": 101.325}
+    wind = {"wind_speed_m_s": 0.3, "diameter_m": 0.01}
+    kwargs = {"sl_db": 80.0, "blade_passing_hz": 200.0, "snr_req_db": 10.0, "g_array_db": 6.0, "noise_level_db": 35.0}
+    result = spectrum.spectral_acoustic_range(**kwargs, air=air, wind=wind)
+    bands = spectrum.third_octave_bands_hz()
+    noise = 10 * np.log10(
+        10 ** (spectrum.ambient_spectrum_db(35.0) / 10) + 10 ** (spectrum.wind_noise_spectrum_db(0.3, 0.01) / 10)
+    )
+    budget = spectrum.rotor_spectrum_db(80.0, 200.0) - noise + 6.0 - 10.0
+    alpha = acoustic.iso9613_absorption_db_km(bands, 20.0, 70.0, 101.325)
+    roots = [
+        brentq(lambda r, b=b, a=a: b - 20 * math.log10(r) - a * r / 1000.0, 1e-6, 1e8) if b > 0 else 0.0
+        for b, a in zip(budget, alpha)
+    ]
+    assert float(result.range_m) == pytest.approx(max(roots), rel=1e-6)
