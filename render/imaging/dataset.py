@@ -58,6 +58,7 @@ SPEC_KEYS = (
     "exr",
     "cloud_cover",
     "sky_temperature_k",
+    "previews",
 )
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
@@ -80,6 +81,7 @@ class DatasetSpec:
     exr: bool = False
     cloud_cover: float = 0.0
     sky_temperature_k: float | None = None
+    previews: bool = True
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -143,6 +145,9 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         isinstance(sky_k, (int, float)) and not isinstance(sky_k, bool) and 3 <= sky_k <= 400
     ):
         errors.append(ParameterError("sky_temperature_k", sky_k, "an apparent sky temperature of 3 to 400 K"))
+    previews = data.get("previews", True)
+    if not isinstance(previews, bool):
+        errors.append(ParameterError("previews", previews, "true or false"))
     scenario, sensor = data.get("scenario", "default"), data.get("sensor")
     if not isinstance(scenario, str):
         errors.append(ParameterError("scenario", scenario, "a scenario file or embedded name"))
@@ -162,6 +167,7 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         exr,
         float(cloud_cover),
         None if sky_k is None else float(sky_k),
+        previews,
     )
 
 
@@ -200,8 +206,10 @@ def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
 def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     """Render every image of the spec not yet on disk; write images, labels and ``annotations.json``.
 
-    Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN), ``labels/NAME.txt`` (YOLO),
-    ``records/NAME.json`` (the image's COCO entries, for resuming) and ``annotations.json`` (COCO).
+    Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN in its high bits), ``previews/NAME.png``
+    (8-bit sRGB), ``labels/NAME.txt`` (YOLO), ``records/NAME.json`` (the image's COCO entries, for
+    resuming), ``annotations.json`` (COCO), ``data.yaml`` (YOLO) and ``contact_sheet.png``
+    (:mod:`csuas.render.imaging.dataset_files`).
 
     Returns
     -------
@@ -215,7 +223,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
     out = prepare_output_dir(out_dir)
-    for sub in ("images", "labels", "records"):
+    for sub in ("images", "labels", "records", *(("previews",) if spec.previews else ())):
         (out / sub).mkdir(exist_ok=True)
     items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered = time.perf_counter(), 0
@@ -239,6 +247,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
         if writing is not None:
             writing.result()
     annotations = _coco(spec, sensor, items, out)
+    _write_dataset_files(spec, sensor, items, out)
     return {
         "images": len(items),
         "rendered": rendered,
@@ -269,22 +278,21 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
 
 def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) -> None:
     """Write a frame's image, optional EXR, YOLO label and, last, its record (what resuming looks for)."""
-    from PIL import Image
-
+    from csuas.render.imaging.dataset_files import preview, write_dn_png, write_preview
     from csuas.render.imaging.labels import yolo_line
 
     p = sensor.params
     thermal = sensor.modality == "tir"
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
-    with atomic_path(out / "images" / f"{item['name']}.png") as tmp:
-        pixels = dn.astype(np.uint8) if spec.bits == 8 else dn.astype(np.uint16)
-        # zlib's fastest level: a noisy frame shrinks little more at the default level, in 20 times the time
-        Image.fromarray(pixels).save(tmp, format="PNG", compress_level=1)
+    write_dn_png(out / "images" / f"{item['name']}.png", dn, spec.bits)
+    if spec.previews:
+        write_preview(out / "previews" / f"{item['name']}.png", preview(dn, spec.bits, thermal))
     if spec.exr:
         unit = "K" if thermal else "electrons"
         _write_signal_exr(out / "images" / f"{item['name']}.exr", frame["chain"]["signal"], item, unit)
-    yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
+    class_index = class_names(spec).index(item["drone"])
+    yolo = yolo_line(lab["bbox"], width, height, class_index) + "\n" if lab["bbox"] else ""
     write_text_atomic(out / "labels" / f"{item['name']}.txt", yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
@@ -295,7 +303,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     }
     if lab["in_frame"]:
         entry["annotation"] = {
-            "category_id": 1,
+            "category_id": class_index + 1,
             "bbox": lab["bbox"],
             "area": lab["area"],
             "segmentation": lab["segmentation"],
@@ -412,10 +420,41 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         )
         if entry["annotation"] is not None:
             annotations.append({"id": len(annotations) + 1, "image_id": image_id, **entry["annotation"]})
+    from csuas.render.imaging.dataset_files import PNG_BITS, dn_scale
+
+    info = {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario, "bits": spec.bits}
+    info.update(png_bits=8 if spec.bits == 8 else PNG_BITS, dn_scale=dn_scale(spec.bits))
     coco = {
-        "info": {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario},
+        "info": info,
         "images": images,
         "annotations": annotations,
-        "categories": [{"id": 1, "name": "drone"}],
+        "categories": [
+            {"id": index, "name": name, "supercategory": "drone"} for index, name in enumerate(class_names(spec), 1)
+        ],
     }
     return write_text_atomic(out / "annotations.json", json.dumps(coco, indent=1))
+
+
+def class_names(spec: DatasetSpec) -> list:
+    """The dataset's classes, one per drone model in the spec's order (COCO id = index + 1, YOLO class = index)."""
+    return list(dict.fromkeys(spec.axes["drones"]))
+
+
+def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
+    """``data.yaml`` and the contact sheet of the first frames (:mod:`csuas.render.imaging.dataset_files`)."""
+    from csuas.render.imaging.dataset_files import (
+        SHEET_FRAMES,
+        preview,
+        read_dn_png,
+        write_contact_sheet,
+        write_yolo_dataset_file,
+    )
+
+    write_yolo_dataset_file(out, class_names(spec))
+    sheet = []
+    for item in items[:SHEET_FRAMES]:
+        entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+        dn = read_dn_png(out / entry["image"]["file_name"])
+        boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
+        sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes))
+    write_contact_sheet(out / "contact_sheet.png", sheet)

@@ -21,6 +21,8 @@ from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
 from csuas.core.checks import require
 from csuas.render.imaging.background import clear_sky_frame
+from csuas.render.imaging.camera import SensorGeometry
+from csuas.render.imaging.common import silhouette_box_px
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
 from csuas.render.imaging.labels import label
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
@@ -147,10 +149,26 @@ def eo_frame(
         "target_excess_e": float(np.sum(frame[rows, cols] - behind)) * electrons_per_nit * exposure,
         "background_behind_e": float(np.mean(behind)) * electrons_per_nit * exposure,
         "chain": apply_chain(electrons, settings, seed),
-        "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
+        "label": frame_label(target, view, res, sensor.n_h, sensor.n_v),
         "exposure_s": exposure,
         "background_luminance": background,
     }
+
+
+def frame_label(target, view: View, result, n_h: int, n_v: int) -> dict:
+    """The target's label (:func:`csuas.render.imaging.labels.label`) from the render's coverage, with ``clipped``
+    set whenever any part of the silhouette (its projected mesh, :func:`silhouette_box_px`) lies outside the frame:
+    the render's window stops at the frame's edge, so its coverage cannot show what lies beyond."""
+    window = result.window
+    out = label(result.coverage, window.x0, window.y0, n_h, n_v)
+    geometry = SensorGeometry(result.ifov_rad, n_h, n_v)
+    cx, cy = geometry.default_target_px()
+    centre = (cx + view.target_offset_px[0], cy + view.target_offset_px[1])
+    x_lo, x_hi, y_lo, y_hi = silhouette_box_px(
+        target, view.range_m, view.azimuth_deg, view.elevation_deg, geometry, centre
+    )
+    out["clipped"] = bool(out["clipped"] or x_lo < 0 or y_lo < 0 or x_hi > n_h or y_hi > n_v)
+    return out
 
 
 def target_snr(frame: dict, read_noise_e: float) -> float:
@@ -229,7 +247,7 @@ def tir_frame(
         "result": res,
         "temperature": temperature,
         "chain": apply_chain(temperature, chain, seed, thermal=True),
-        "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
+        "label": frame_label(target, view, res, sensor.n_h, sensor.n_v),
         "background_k": background_k,
         "target_excess_k": excess,
         "delta_t_k": float(res.values["delta_t_k"]) + background_k - behind_target_k,
