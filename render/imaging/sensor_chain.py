@@ -5,6 +5,16 @@ Input: the mean signal of each pixel of a rendered frame, already integrated ove
 (:func:`csuas.core.camera.electron_rate` times the exposure) or as apparent temperature [K] for
 thermal frames. Only the stages named in ``stages`` run, in this order:
 
+``frame_exposure``
+    A video camera integrates at most one frame period: the exposure becomes min(``exposure_s``,
+    1 / ``frame_rate_hz``) and an EO signal (electrons at ``exposure_s``) scales by the same ratio; the
+    later stages (``motion``, ``dark_current``) use that exposure.
+``rolling_shutter``
+    Rows read one after another, ``line_time_s`` apart: row r samples the scene at time
+    tau = (r - r_mid) ``line_time_s`` (r_mid the middle row, the frame's reference time), when the scene
+    moving at ``velocity_px_s`` (vx, vy) has moved by tau (vx, vy); a vertical edge moving along x is
+    skewed by vx ``line_time_s`` pixels per row (Liang, Chang and Chen, IEEE Trans. Image Processing 17,
+    1323-1330, 2008). Sampled by linear interpolation, the frame's edge pixels extended.
 ``psf``
     Diffraction of a circular aperture at the f-number and wavelength, MTF
     (2/pi)(acos x - x sqrt(1 - x^2)), x = nu / nu_c, nu_c = 1 / (lambda N) (Goodman, *Introduction to
@@ -15,7 +25,8 @@ thermal frames. Only the stages named in ``stages`` run, in this order:
     A uniform blur disk of ``defocus_px`` diameter (geometric defocus), MTF 2 J1(pi b nu) / (pi b nu).
 ``motion``
     Linear motion of ``motion_px`` during the exposure along ``motion_angle_deg`` (from +x toward +y,
-    the image's rows downward), MTF sinc(L nu . u).
+    the image's rows downward), MTF sinc(L nu . u); with ``motion_px`` 0 and a ``velocity_px_s``, the
+    motion during the exposure: |v| t_exp along v.
 ``shot_noise``
     Poisson photoelectrons (EO).
 ``dark_current``
@@ -45,7 +56,8 @@ photon-transfer curve (EMVA 1288).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import special
@@ -54,6 +66,8 @@ from csuas.base.errors import InputErrors, ParameterError
 
 #: Stage names in the order they run.
 STAGES = (
+    "frame_exposure",
+    "rolling_shutter",
     "psf",
     "defocus",
     "motion",
@@ -86,6 +100,9 @@ class ChainSettings:
         Thermal: temporal noise [K rms] and the temperature span of the DN range [K].
     bits : int
         Quantisation depth, 8, 10, 12, 14 or 16.
+    frame_rate_hz, line_time_s, velocity_px_s : float, float, (float, float)
+        Video: frames per second [Hz], the rolling shutter's time between rows [s] and the scene's
+        image velocity (x right, y down) [px/s].
     """
 
     stages: tuple = ("psf", "shot_noise", "read_noise", "quantise")
@@ -106,6 +123,9 @@ class ChainSettings:
     defocus_px: float = 0.0
     motion_px: float = 0.0
     motion_angle_deg: float = 0.0
+    frame_rate_hz: float = 30.0
+    line_time_s: float = 0.0
+    velocity_px_s: tuple = (0.0, 0.0)
     agc_percentile: float = 99.0
     agc_level: float = 0.8
     jpeg_quality: int = 85
@@ -130,10 +150,15 @@ class ChainSettings:
             "netd_k",
             "defocus_px",
             "motion_px",
+            "line_time_s",
         ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 errors.append(ParameterError(name, value, "0 <= x < inf"))
+        if not (np.isfinite(self.frame_rate_hz) and self.frame_rate_hz > 0):
+            errors.append(ParameterError("frame_rate_hz", self.frame_rate_hz, "0 < x < inf"))
+        if len(self.velocity_px_s) != 2 or not np.isfinite(np.asarray(self.velocity_px_s, float)).all():
+            errors.append(ParameterError("velocity_px_s", self.velocity_px_s, "two finite numbers [px/s]"))
         if self.bits not in (8, 10, 12, 14, 16):
             errors.append(ParameterError("bits", self.bits, "8, 10, 12, 14 or 16"))
         if not (0.0 < self.agc_percentile <= 100.0):
@@ -233,7 +258,8 @@ def apply_chain(
     -------
     dict
         ``signal`` (float32, the last stage before quantisation, electrons or K) and, with
-        ``quantise``, ``dn`` (uint16) and ``saturated`` (the fraction of pixels clipped).
+        ``quantise``, ``dn`` (uint16) and ``saturated`` (the fraction of pixels clipped); with
+        ``frame_exposure``, ``exposure_s`` (the exposure the frame rate allows [s]).
     """
     settings.validate()
     image = np.asarray(signal, dtype=float)
@@ -241,6 +267,16 @@ def apply_chain(
         raise ParameterError("signal", f"array of shape {image.shape}", "a finite 2-D frame, >= 0 for EO")
     rng = np.random.default_rng([int(seed), 0])
     stages = set(settings.stages)
+    out: dict = {}
+    if "frame_exposure" in stages:
+        exposure = min(settings.exposure_s, 1.0 / settings.frame_rate_hz)
+        if not thermal:
+            image = image * (exposure / settings.exposure_s)
+        settings = replace(settings, exposure_s=exposure)
+        out["exposure_s"] = exposure
+    if "rolling_shutter" in stages:
+        image = rolling_shutter(image, settings.line_time_s, settings.velocity_px_s)
+    settings = _motion_from_velocity(settings)
     if stages & {"psf", "defocus", "motion"}:
         image = _blur(image, settings, stages)
         if not thermal:
@@ -262,7 +298,7 @@ def apply_chain(
                 image = image + settings.dsnu_e * offset_pattern
         if "read_noise" in stages:
             image = image + settings.read_noise_e * rng.standard_normal(image.shape)
-    out = {"signal": image.astype(np.float32)}
+    out["signal"] = image.astype(np.float32)
     top = 2**settings.bits - 1
     t_min, t_max, gain = settings.t_min_k, settings.t_max_k, settings.gain_e_per_dn
     if "agc" in stages:
@@ -280,6 +316,41 @@ def apply_chain(
     if "jpeg" in stages:
         out["dn"] = _jpeg(out["dn"].astype(np.uint8), settings.jpeg_quality)
     return out
+
+
+def rolling_shutter(image: np.ndarray, line_time_s: float, velocity_px_s, first_row: int = 0, rows: int | None = None):
+    """The frame as a rolling shutter reads it (module docstring): row r shows the scene at tau = (r - r_mid) t_line.
+
+    Parameters
+    ----------
+    image : ndarray (H, W)
+        The scene at the frame's reference time (the middle row's read).
+    line_time_s : float
+        Time between the reads of successive rows [s].
+    velocity_px_s : (float, float)
+        The scene's image velocity, x right and y down [px/s].
+    first_row, rows : int
+        Frame row of ``image``'s first row, and the frame's height (default: ``image`` is the whole frame).
+    """
+    from scipy import ndimage
+
+    height, width = image.shape
+    frame_rows = height if rows is None else int(rows)
+    row = np.arange(height, dtype=float)[:, None]
+    tau = (first_row + row - (frame_rows - 1) / 2.0) * float(line_time_s)
+    vx, vy = (float(v) for v in velocity_px_s)
+    y = np.broadcast_to(row - vy * tau, (height, width))
+    x = np.arange(width, dtype=float)[None, :] - vx * tau
+    return ndimage.map_coordinates(image, [y, x], order=1, mode="nearest")
+
+
+def _motion_from_velocity(settings: ChainSettings) -> ChainSettings:
+    """Settings whose ``motion`` is the image velocity's path over the exposure, when no ``motion_px`` is set."""
+    vx, vy = (float(v) for v in settings.velocity_px_s)
+    if settings.motion_px > 0 or (vx == 0 and vy == 0) or "motion" not in settings.stages:
+        return settings
+    length = math.hypot(vx, vy) * settings.exposure_s
+    return replace(settings, motion_px=length, motion_angle_deg=math.degrees(math.atan2(vy, vx)))
 
 
 def _jpeg(image: np.ndarray, quality: int) -> np.ndarray:
