@@ -59,7 +59,10 @@ SPEC_KEYS = (
     "cloud_cover",
     "sky_temperature_k",
     "previews",
+    "sequence",
 )
+#: Chain stages of thermal frames.
+THERMAL_STAGES = ("rolling_shutter", "psf", "defocus", "motion", "netd", "agc", "quantise")
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -82,12 +85,14 @@ class DatasetSpec:
     cloud_cover: float = 0.0
     sky_temperature_k: float | None = None
     previews: bool = True
+    sequence: object = None
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
     """Validate a spec's TOML table; every mistake at once (:class:`InputErrors`)."""
     from csuas.drone_models.presets import list_presets
     from csuas.render.imaging.sensor_chain import STAGES
+    from csuas.render.imaging.sequence import parse_sequence
 
     errors = []
     for key in data:
@@ -145,6 +150,12 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         isinstance(sky_k, (int, float)) and not isinstance(sky_k, bool) and 3 <= sky_k <= 400
     ):
         errors.append(ParameterError("sky_temperature_k", sky_k, "an apparent sky temperature of 3 to 400 K"))
+    sequence = None
+    if "sequence" in data:
+        sequence, sequence_errors = parse_sequence(data["sequence"])
+        errors += sequence_errors
+        fixed = [k for k in ("range_m", "azimuth_deg", "elevation_deg", "position") if k in data]
+        errors += [ParameterError(k, data[k], "left out with a sequence (its trajectory sets it)") for k in fixed]
     previews = data.get("previews", True)
     if not isinstance(previews, bool):
         errors.append(ParameterError("previews", previews, "true or false"))
@@ -168,6 +179,7 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         float(cloud_cover),
         None if sky_k is None else float(sky_k),
         previews,
+        sequence,
     )
 
 
@@ -225,7 +237,12 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     out = prepare_output_dir(out_dir)
     for sub in ("images", "labels", "records", *(("previews",) if spec.previews else ())):
         (out / sub).mkdir(exist_ok=True)
-    items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
+    if spec.sequence is not None:
+        from csuas.render.imaging.sequence import sequence_items
+
+        items = sequence_items(spec.sequence, spec.axes["drones"], spec.count, spec.seed, sensor.params)
+    else:
+        items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered = time.perf_counter(), 0
     # one frame's files are written (PNG compression releases the GIL) while the next is rendered
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
@@ -248,6 +265,8 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
             writing.result()
     annotations = _coco(spec, sensor, items, out)
     _write_dataset_files(spec, sensor, items, out)
+    if spec.sequence is not None:
+        _write_mot(spec, sensor, items, out)
     return {
         "images": len(items),
         "rendered": rendered,
@@ -271,7 +290,7 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
     """Render, expose and degrade the image of one draw (:func:`_visible` or :func:`_thermal`)."""
     from csuas.render.imaging.records import View
 
-    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
+    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], tuple(item["target_offset_px"]))
     seed = spec.seed * 1_000_003 + item["index"]
     return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
 
@@ -298,7 +317,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
     contrast_value = float(frame["delta_t_k"] if thermal else res.values.get(contrast_key, float("nan")))
     entry = {
-        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
+        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
         "annotation": None,
     }
     if lab["in_frame"]:
@@ -322,9 +341,13 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
                 "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
                 "clipped": lab["clipped"],
                 "subpixel": lab["subpixel"],
-                "exposure_s": frame.get("exposure_s"),
+                "exposure_s": frame["chain"].get("exposure_s", frame.get("exposure_s")),
+                "visibility": lab["visibility"],
+                **_motion_keys(item),
             },
         }
+        if "track_id" in item:
+            entry["annotation"].update(track_id=item["track_id"], instance_id=item["track_id"])
     write_text_atomic(out / "records" / f"{item['name']}.json", json.dumps(entry, indent=1))
 
 
@@ -342,6 +365,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         read_noise_e=p["read_noise_e"],
         dark_current_e_s=p["dark_current_e_s"],
         bits=spec.bits,
+        **_video_chain(item),
     )
     light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
     frame = eo_frame(
@@ -368,12 +392,13 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
 
     env = scenario.environment
     chain = ChainSettings(
-        stages=tuple(s for s in spec.chain if s in ("psf", "defocus", "motion", "netd", "agc", "quantise")),
+        stages=tuple(s for s in spec.chain if s in THERMAL_STAGES),
         f_number=p["f_number"],
         wavelength_um=10.0 if p["band"] == "lwir" else 4.0,
         pixel_pitch_um=p["pitch_um"],
         netd_k=p["netd_mk"] / 1000.0,
         bits=spec.bits,
+        **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
     frame = tir_frame(
@@ -432,6 +457,8 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
             {"id": index, "name": name, "supercategory": "drone"} for index, name in enumerate(class_names(spec), 1)
         ],
     }
+    if spec.sequence is not None:
+        coco["videos"] = _videos(items)
     return write_text_atomic(out / "annotations.json", json.dumps(coco, indent=1))
 
 
@@ -458,3 +485,61 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
         boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
         sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes))
     write_contact_sheet(out / "contact_sheet.png", sheet)
+
+
+def _video_chain(item: dict) -> dict:
+    """The chain settings a sequence frame adds (frame rate, line time, image velocity); none for a still."""
+    if "video_id" not in item:
+        return {}
+    keys = ("frame_rate_hz", "line_time_s", "velocity_px_s")
+    return {key: tuple(item[key]) if key == "velocity_px_s" else item[key] for key in keys}
+
+
+def _video_keys(item: dict) -> dict:
+    """COCO video keys of a sequence frame's image (``video_id`` 1-based, ``frame_id`` 0-based)."""
+    return {"video_id": item["video_id"], "frame_id": item["frame_id"]} if "video_id" in item else {}
+
+
+def _motion_keys(item: dict) -> dict:
+    """A sequence frame's time, image velocity and the drone's position in the annotation's ``csuas`` block."""
+    keys = ("time_s", "velocity_px_s", "position_m")
+    return {key: item[key] for key in keys} if "video_id" in item else {}
+
+
+def _videos(items: list) -> list:
+    """COCO's ``videos``: one per video of a sequence dataset, with its frame rate and frame count."""
+    videos: dict = {}
+    for item in items:
+        video = videos.setdefault(
+            item["video_id"],
+            {
+                "id": item["video_id"],
+                "name": f"{item['video_id']:03d}_{item['drone']}",
+                "frame_rate_hz": item["frame_rate_hz"],
+            },
+        )
+        video["frames"] = video.get("frames", 0) + 1
+    return list(videos.values())
+
+
+def _write_mot(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
+    """MOTChallenge ground truth of every video: ``mot/VIDEO/gt/gt.txt`` and ``seqinfo.ini`` (1-based frames)."""
+    from csuas.render.imaging.dataset_files import mot_line, seqinfo
+
+    p = sensor.params
+    for video in _videos(items):
+        lines = []
+        for item in (i for i in items if i["video_id"] == video["id"]):
+            entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+            annotation = entry["annotation"]
+            if annotation is not None:
+                block = annotation["csuas"]
+                class_id = annotation["category_id"]
+                lines.append(
+                    mot_line(item["frame_id"] + 1, item["track_id"], annotation["bbox"], class_id, block["visibility"])
+                )
+        folder = out / "mot" / video["name"]
+        (folder / "gt").mkdir(parents=True, exist_ok=True)
+        write_text_atomic(folder / "gt" / "gt.txt", "".join(line + "\n" for line in lines))
+        info = seqinfo(video["name"], video["frame_rate_hz"], video["frames"], int(p["n_h"]), int(p["n_v"]))
+        write_text_atomic(folder / "seqinfo.ini", info)
