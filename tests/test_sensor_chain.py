@@ -184,3 +184,20 @@ def test_the_frame_rate_caps_the_exposure_and_the_motion_blur_follows_it():
     centroid = float(np.sum(np.arange(128) * profile) / profile.sum())
     width = 2 * np.sqrt(3 * float(np.sum((np.arange(128) - centroid) ** 2 * profile) / profile.sum()))
     assert centroid == pytest.approx(40.0, abs=0.01) and width == pytest.approx(10.0, rel=0.05)  # sd = L / sqrt 12
+
+
+def test_the_normal_shot_noise_keeps_the_poisson_mean_and_variance_and_exact_draws_below_its_threshold():
+    frame = np.full((400, 500), 2000.0)
+    frame[:, :50] = 4.0  # dim pixels stay Poisson
+    settings = ChainSettings(stages=("shot_noise",), normal_shot_noise_above_e=1000.0)
+    counts = apply_chain(frame, settings, seed=3)["signal"].astype(float)
+    bright, dim = counts[:, 50:], counts[:, :50]
+    n = (
+        bright.size
+    )  # 180,000: standard error of the mean sqrt(2000 / n) = 0.105 e, of the variance 2000 sqrt(2 / n) = 6.7 e^2
+    assert bright.mean() == pytest.approx(2000.0, abs=4 * 0.105) and bright.var() == pytest.approx(2000.0, abs=4 * 6.7)
+    assert np.array_equal(counts, np.rint(counts)) and n == 180_000
+    # Poisson(4): P(0) = e^-4 = 0.0183 over 20,000 pixels (standard error 0.00095); a clipped normal draw would give 0.040
+    assert np.mean(dim == 0) == pytest.approx(np.exp(-4.0), abs=4 * 0.00095)
+    with pytest.raises(InputErrors, match="normal_shot_noise_above_e"):
+        apply_chain(frame, ChainSettings(stages=("shot_noise",), normal_shot_noise_above_e=10.0), seed=0)

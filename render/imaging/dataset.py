@@ -27,8 +27,10 @@ not redone.
 
 from __future__ import annotations
 
+import collections
 import itertools
 import json
+import math
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -60,9 +62,12 @@ SPEC_KEYS = (
     "sky_temperature_k",
     "previews",
     "sequence",
+    "normal_shot_noise_above_e",
 )
 #: Chain stages of thermal frames.
 THERMAL_STAGES = ("rolling_shutter", "psf", "defocus", "motion", "netd", "agc", "quantise")
+#: Threads writing frames' files while the next frame renders (at most this many frames held in memory).
+WRITERS = 2
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -86,6 +91,7 @@ class DatasetSpec:
     sky_temperature_k: float | None = None
     previews: bool = True
     sequence: object = None
+    normal_shot_noise_above_e: float = math.inf
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -156,6 +162,9 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         errors += sequence_errors
         fixed = [k for k in ("range_m", "azimuth_deg", "elevation_deg", "position") if k in data]
         errors += [ParameterError(k, data[k], "left out with a sequence (its trajectory sets it)") for k in fixed]
+    normal_above = data.get("normal_shot_noise_above_e", math.inf)
+    if not (isinstance(normal_above, (int, float)) and not isinstance(normal_above, bool) and normal_above >= 100):
+        errors.append(ParameterError("normal_shot_noise_above_e", normal_above, "a mean of at least 100 electrons"))
     previews = data.get("previews", True)
     if not isinstance(previews, bool):
         errors.append(ParameterError("previews", previews, "true or false"))
@@ -180,6 +189,7 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         None if sky_k is None else float(sky_k),
         previews,
         sequence,
+        float(normal_above),
     )
 
 
@@ -244,16 +254,16 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     else:
         items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered = time.perf_counter(), 0
-    # one frame's files are written (PNG compression releases the GIL) while the next is rendered
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
-        writing = None
+    # frames' files are written by a pool (PNG compression releases the GIL) while the next is rendered
+    with ThreadPoolExecutor(max_workers=WRITERS, thread_name_prefix="csuas-dataset-writer") as writer:
+        writing: collections.deque = collections.deque()
         for done, item in enumerate(items, 1):
             record = out / "records" / f"{item['name']}.json"
             if not record.exists():
                 frame = _frame(spec, scenario, sensor, item)
-                if writing is not None:
-                    writing.result()
-                writing = writer.submit(_write_image, spec, sensor, item, frame, out)
+                while len(writing) >= WRITERS:
+                    writing.popleft().result()
+                writing.append(writer.submit(_write_image, spec, sensor, item, frame, out))
                 rendered += 1
             if progress is not None:
                 elapsed = time.perf_counter() - start
@@ -261,8 +271,8 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
                 print(
                     f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress
                 )
-        if writing is not None:
-            writing.result()
+        while writing:
+            writing.popleft().result()
     annotations = _coco(spec, sensor, items, out)
     _write_dataset_files(spec, sensor, items, out)
     if spec.sequence is not None:
@@ -365,6 +375,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         read_noise_e=p["read_noise_e"],
         dark_current_e_s=p["dark_current_e_s"],
         bits=spec.bits,
+        normal_shot_noise_above_e=spec.normal_shot_noise_above_e,
         **_video_chain(item),
     )
     light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
