@@ -222,7 +222,21 @@ def test_an_interrupted_dataset_keeps_only_whole_images_and_resumes(tmp_path):
     """Ctrl-C while frames render and the previous one is written: every record has its image and label,
     no temporary file is left, and the next run renders only what is missing."""
     out_dir = tmp_path / "set"
-    code, _, err = _interrupt(["dataset", "example", "--out", str(out_dir)], 3.0, signal.SIGINT, tmp_path)
+    proc = subprocess.Popen(
+        [*CSUAS, "dataset", "example", "--out", str(out_dir)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+    deadline = time.monotonic() + 600.0
+    while proc.poll() is None and time.monotonic() < deadline:  # until the first image is done, however loaded
+        if (out_dir / "records").is_dir() and any((out_dir / "records").iterdir()):
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    code = proc.returncode
     assert code in (130, -signal.SIGINT), err
     assert "Traceback" not in err
     records = sorted(p.stem for p in (out_dir / "records").iterdir())

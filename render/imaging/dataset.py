@@ -494,7 +494,7 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
         entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
         dn = read_dn_png(out / entry["image"]["file_name"])
         boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
-        sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes))
+        sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
     write_contact_sheet(out / "contact_sheet.png", sheet)
 
 

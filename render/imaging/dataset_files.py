@@ -14,7 +14,7 @@ MOTChallenge ground truth and a contact sheet (docs/datasets.md).
 * ``gt/gt.txt`` and ``seqinfo.ini``: MOTChallenge ground truth of a sequence, one line per box,
   ``frame, id, left, top, width, height, 1, class, visibility`` with 1-based frames and pixel boxes
   (Dendorfer et al., *MOTChallenge*, IJCV 2021, and the MOT17 devkit's format).
-* ``contact_sheet.png``: the first frames' previews reduced onto one sheet with their boxes in red.
+* ``contact_sheet.png``: the first frames' previews reduced onto one sheet, named, with their boxes in red.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from csuas.base.fileio import atomic_path, write_text_atomic
 #: Bit depth of a written PNG above 8 bits.
 PNG_BITS = 16
 #: Contact sheet: frames on it, columns and the width of one frame on it [px].
-SHEET_FRAMES, SHEET_COLUMNS, SHEET_TILE_PX = 16, 4, 480
+SHEET_FRAMES, SHEET_COLUMNS, SHEET_TILE_PX, SHEET_GUTTER_PX = 16, 4, 480, 4
 #: Thermal previews: the percentiles mapped to black and white.
 THERMAL_STRETCH_PERCENTILES = (0.5, 99.5)
 
@@ -117,12 +117,13 @@ def seqinfo(name: str, frame_rate_hz: float, length: int, width: int, height: in
 
 
 def write_contact_sheet(path, frames: list) -> Path:
-    """The first frames reduced onto one sheet, their boxes drawn in red (at least 5 px across, to be seen).
+    """The first frames reduced onto one sheet, 4 px apart, each named in its corner, their boxes drawn in red
+    (at least 5 px across, to be seen).
 
     Parameters
     ----------
-    frames : list of (ndarray, list)
-        Each frame's 8-bit preview (H, W) and its COCO boxes [x, y, w, h] in pixels.
+    frames : list of (ndarray, list, str)
+        Each frame's 8-bit preview (H, W), its COCO boxes [x, y, w, h] in pixels and its name.
     """
     from PIL import Image, ImageDraw
 
@@ -130,17 +131,21 @@ def write_contact_sheet(path, frames: list) -> Path:
     height, width = shown[0][0].shape
     scale = SHEET_TILE_PX / width
     tile_h = round(height * scale)
-    rows = -(-len(shown) // SHEET_COLUMNS)
-    sheet = Image.new("RGB", (SHEET_TILE_PX * min(len(shown), SHEET_COLUMNS), tile_h * rows), (40, 40, 40))
+    step_x, step_y = SHEET_TILE_PX + SHEET_GUTTER_PX, tile_h + SHEET_GUTTER_PX
+    rows, columns = -(-len(shown) // SHEET_COLUMNS), min(len(shown), SHEET_COLUMNS)
+    sheet = Image.new("RGB", (step_x * columns - SHEET_GUTTER_PX, step_y * rows - SHEET_GUTTER_PX), (20, 20, 20))
     draw = ImageDraw.Draw(sheet)
-    for index, (image, boxes) in enumerate(shown):
-        left, top = SHEET_TILE_PX * (index % SHEET_COLUMNS), tile_h * (index // SHEET_COLUMNS)
+    for index, (image, boxes, name) in enumerate(shown):
+        left, top = step_x * (index % SHEET_COLUMNS), step_y * (index // SHEET_COLUMNS)
         tile = Image.fromarray(image).convert("RGB").resize((SHEET_TILE_PX, tile_h), Image.Resampling.BOX)
         sheet.paste(tile, (left, top))
+        draw.text((left + 4, top + 2), name, fill=(255, 255, 0))
         for x, y, w, h in boxes:
             cx, cy = left + (x + w / 2) * scale, top + (y + h / 2) * scale
             half_w, half_h = max(w * scale / 2 + 1, 2.5), max(h * scale / 2 + 1, 2.5)
-            draw.rectangle([cx - half_w, cy - half_h, cx + half_w, cy + half_h], outline=(255, 0, 0), width=1)
+            x0, x1 = max(cx - half_w, left), min(cx + half_w, left + SHEET_TILE_PX - 1)
+            y0, y1 = max(cy - half_h, top), min(cy + half_h, top + tile_h - 1)
+            draw.rectangle([x0, y0, x1, y1], outline=(255, 0, 0), width=1)  # kept inside its tile
     with atomic_path(path) as tmp:
         sheet.save(tmp, format="PNG")
     return Path(path)
