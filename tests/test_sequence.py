@@ -156,3 +156,21 @@ def test_the_embedded_sequence_spec_keeps_the_drone_in_view_for_all_its_frames()
     assert len(items) == 30 and items[-1]["time_s"] == pytest.approx(29 / 30)
     assert all(abs(i["target_offset_px"][0]) < 960 for i in items)
     assert items[0]["line_time_s"] == pytest.approx(1 / (30 * 1080))  # one frame period over the rows
+
+
+def test_rotor_blades_turn_at_their_rpm_and_are_built_at_each_frames_phase():
+    from csuas.render.imaging.sequence import blade_phase_deg, sequence_target
+
+    assert blade_phase_deg(6000.0, 0.0025) == pytest.approx(90.0)  # 100 rev/s: a quarter turn in 2.5 ms
+    assert blade_phase_deg(6000.0, 0.01) == pytest.approx(0.0, abs=1e-9)  # a whole turn
+    assert sequence_target({"drone": "dji_mini_4_pro"}) == "dji_mini_4_pro"  # swept discs without rotor_rpm
+    quarter = sequence_target({"drone": "dji_mini_4_pro", "blade_phase_deg": 90.0})
+    straight = sequence_target({"drone": "dji_mini_4_pro", "blade_phase_deg": 0.0})
+    assert quarter.propellers == "blades"
+    blades = [p for p in quarter.parts if "prop" in p.name or "blade" in p.name]
+    turned = [p for p in straight.parts if "prop" in p.name or "blade" in p.name]
+    assert blades and not np.allclose(blades[0].mesh.vertices, turned[0].mesh.vertices)
+    spec, errors = parse_sequence(
+        {"frames": 2, "waypoints_m": [[0, 50, 5], [5, 50, 5]], "speed_m_s": 5, "rotor_rpm": -1}
+    )
+    assert [e.name for e in errors] == ["sequence.rotor_rpm"]

@@ -366,6 +366,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.render.imaging.sequence import sequence_target
 
     chain = ChainSettings(
         stages=spec.chain,
@@ -380,7 +381,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     )
     light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
     frame = eo_frame(
-        item["drone"],
+        sequence_target(item),
         view,
         EoSensor.from_params(p),
         light,
@@ -400,6 +401,7 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     from csuas.render.imaging.frame import tir_frame
     from csuas.render.imaging.records import ThermalScene, ThermalSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.render.imaging.sequence import sequence_target
 
     env = scenario.environment
     chain = ChainSettings(
@@ -413,7 +415,7 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
     frame = tir_frame(
-        item["drone"],
+        sequence_target(item),
         view,
         ThermalSensor.from_params(p),
         scene,
@@ -513,8 +515,8 @@ def _video_keys(item: dict) -> dict:
 
 def _motion_keys(item: dict) -> dict:
     """A sequence frame's time, image velocity and the drone's position in the annotation's ``csuas`` block."""
-    keys = ("time_s", "velocity_px_s", "position_m")
-    return {key: item[key] for key in keys} if "video_id" in item else {}
+    keys = ("time_s", "velocity_px_s", "position_m", "blade_phase_deg")
+    return {key: item[key] for key in keys if key in item} if "video_id" in item else {}
 
 
 def _videos(items: list) -> list:
