@@ -96,14 +96,21 @@ def _check_yolo_folder(root, names: list) -> int:
     return boxes
 
 
-@pytest.mark.slow
-def test_a_dataset_opens_in_pycocotools_torchvision_and_yolo_readers(tmp_path, capsys):
-    spec = tmp_path / "spec.toml"
+@pytest.fixture(scope="module")
+def small_dataset(tmp_path_factory):
+    """Two frames, one of each drone model, centred at 60 m."""
+    root = tmp_path_factory.mktemp("small_dataset")
+    spec = root / "spec.toml"
     spec.write_text(
         'seed = 4\ncount = 2\ndrones = ["dji_mini_4_pro", "black_hornet_3"]\nrange_m = [60.0]\nposition = "centre"\n'
     )
-    out = tmp_path / "d"
-    assert cli.main(["dataset", str(spec), "--out", str(out)]) == 0
+    assert cli.main(["dataset", str(spec), "--out", str(root / "d")]) == 0
+    return root / "d"
+
+
+@pytest.mark.slow
+def test_a_dataset_opens_in_pycocotools_pillow_and_yolo_readers(small_dataset, capsys):
+    out = small_dataset
     capsys.readouterr()
     from pycocotools.coco import COCO
 
@@ -131,11 +138,29 @@ def test_a_dataset_opens_in_pycocotools_torchvision_and_yolo_readers(tmp_path, c
     for name in ("contact_sheet.png", *(f"previews/{p.name}" for p in (out / "previews").iterdir())):
         shown = np.asarray(Image.open(out / name).convert("L"))
         assert shown.dtype == np.uint8 and np.median(shown) > 100  # a daylight sky, not a black frame
-    datasets = pytest.importorskip("torchvision.datasets")
+    # torchvision's CocoDetection loads Image.open(root / file_name).convert("RGB"): Pillow clips a 16-bit frame to
+    # white there, so such loaders take annotations_previews.json, the same labels on the 8-bit previews
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        loaded = datasets.CocoDetection(str(out), str(out / "annotations.json"))
-        _, targets = loaded[0]
+        shown = COCO(str(out / "annotations_previews.json"))
+    capsys.readouterr()
+    assert shown.getAnnIds() == coco.getAnnIds() and shown.loadAnns(1)[0]["bbox"] == coco.loadAnns(1)[0]["bbox"]
+    for image in shown.loadImgs(shown.getImgIds()):
+        rgb = np.asarray(Image.open(out / image["file_name"]).convert("RGB"))
+        assert rgb.shape == (1080, 1920, 3) and 100 < np.median(rgb) < 250  # a grey sky, neither black nor clipped
+
+
+@pytest.mark.slow
+def test_torchvisions_coco_detection_loads_the_previews_and_their_boxes(small_dataset):
+    datasets = pytest.importorskip("torchvision.datasets")
+    from pycocotools.coco import COCO
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loaded = datasets.CocoDetection(str(small_dataset), str(small_dataset / "annotations_previews.json"))
+        picture, targets = loaded[0]
+    assert 100 < np.median(np.asarray(picture)) < 250
+    coco = COCO(str(small_dataset / "annotations.json"))
     assert targets[0]["bbox"] == coco.loadAnns(coco.getAnnIds(imgIds=[1]))[0]["bbox"]
 
 

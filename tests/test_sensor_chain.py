@@ -197,7 +197,7 @@ def test_the_normal_shot_noise_keeps_the_poisson_mean_and_variance_and_exact_dra
     )  # 180,000: standard error of the mean sqrt(2000 / n) = 0.105 e, of the variance 2000 sqrt(2 / n) = 6.7 e^2
     assert bright.mean() == pytest.approx(2000.0, abs=4 * 0.105) and bright.var() == pytest.approx(2000.0, abs=4 * 6.7)
     assert np.array_equal(counts, np.rint(counts)) and n == 180_000
-    # Poisson(4): P(0) = e^-4 = 0.0183 over 20,000 pixels (standard error 0.00095); a clipped normal draw would give 0.040
+    # Poisson(4): P(0) = e^-4 = 0.0183 over 20,000 pixels (standard error 0.00095); a clipped normal: 0.040
     assert np.mean(dim == 0) == pytest.approx(np.exp(-4.0), abs=4 * 0.00095)
     with pytest.raises(InputErrors, match="normal_shot_noise_above_e"):
         apply_chain(frame, ChainSettings(stages=("shot_noise",), normal_shot_noise_above_e=10.0), seed=0)

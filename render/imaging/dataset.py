@@ -230,7 +230,8 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
 
     Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN in its high bits), ``previews/NAME.png``
     (8-bit sRGB), ``labels/NAME.txt`` (YOLO), ``records/NAME.json`` (the image's COCO entries, for
-    resuming), ``annotations.json`` (COCO), ``data.yaml`` (YOLO) and ``contact_sheet.png``
+    resuming), ``annotations.json`` (COCO), ``annotations_previews.json`` (the same on the previews),
+    ``data.yaml`` (YOLO) and ``contact_sheet.png``
     (:mod:`csuas.render.imaging.dataset_files`).
 
     Returns
@@ -472,6 +473,10 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
     }
     if spec.sequence is not None:
         coco["videos"] = _videos(items)
+    if spec.previews:  # the same labels on the 8-bit previews, for loaders that read through Pillow's 8-bit modes
+        shown = [{**image, "file_name": "previews/" + image["file_name"].split("/", 1)[1]} for image in images]
+        on_previews = {**coco, "info": {**info, "bits": 8, "png_bits": 8, "dn_scale": 1, "encoding": "sRGB"}}
+        write_text_atomic(out / "annotations_previews.json", json.dumps({**on_previews, "images": shown}, indent=1))
     return write_text_atomic(out / "annotations.json", json.dumps(coco, indent=1))
 
 
