@@ -277,7 +277,7 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     annotations = _coco(spec, sensor, items, out)
     _write_dataset_files(spec, sensor, items, out)
     if spec.sequence is not None:
-        _write_mot(spec, sensor, items, out)
+        _write_mot(sensor, items, out)
     return {
         "images": len(items),
         "rendered": rendered,
@@ -540,7 +540,7 @@ def _videos(items: list) -> list:
     return list(videos.values())
 
 
-def _write_mot(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
+def _write_mot(sensor, items: list, out: Path) -> None:
     """MOTChallenge ground truth of every video: ``mot/VIDEO/gt/gt.txt`` and ``seqinfo.ini`` (1-based frames)."""
     from csuas.render.imaging.dataset_files import mot_line, seqinfo
 

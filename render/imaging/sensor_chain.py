@@ -359,11 +359,13 @@ def rolling_shutter(image: np.ndarray, line_time_s: float, velocity_px_s, first_
     """
     from scipy import ndimage
 
+    vx, vy = (float(v) for v in velocity_px_s)
+    if line_time_s == 0 or (vx == 0 and vy == 0):
+        return np.array(image, dtype=float)  # nothing moves between the rows' reads
     height, width = image.shape
     frame_rows = height if rows is None else int(rows)
     row = np.arange(height, dtype=float)[:, None]
     tau = (first_row + row - (frame_rows - 1) / 2.0) * float(line_time_s)
-    vx, vy = (float(v) for v in velocity_px_s)
     y = np.broadcast_to(row - vy * tau, (height, width))
     x = np.arange(width, dtype=float)[None, :] - vx * tau
     return ndimage.map_coordinates(image, [y, x], order=1, mode="nearest")
