@@ -174,3 +174,15 @@ def test_rotor_blades_turn_at_their_rpm_and_are_built_at_each_frames_phase():
         {"frames": 2, "waypoints_m": [[0, 50, 5], [5, 50, 5]], "speed_m_s": 5, "rotor_rpm": -1}
     )
     assert [e.name for e in errors] == ["sequence.rotor_rpm"]
+
+
+def test_the_sun_stays_put_in_the_world_while_the_drone_turns_under_it():
+    # east along y = 200 m, then north: the heading turns by 90 deg, the sun's body azimuth by -90 deg
+    spec = SequenceSpec(
+        frames=60, waypoints_m=((-20.0, 200.0, 10.0), (0.0, 200.0, 10.0), (0.0, 220.0, 10.0)), speed_m_s=20.0
+    )
+    frames = sequence_frames(spec, IFOV, (1920, 1080), 30.0, seed=0)
+    first, last = frames[0], frames[-1]
+    assert (first["sun_azimuth_deg"] - last["sun_azimuth_deg"]) % 360.0 == pytest.approx(90.0)
+    # the sun behind a camera looking about north: from the drone flying east it lies to the right, about -90 deg
+    assert first["sun_azimuth_deg"] == pytest.approx(-90.0, abs=5.0)

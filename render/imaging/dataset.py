@@ -380,7 +380,13 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         normal_shot_noise_above_e=spec.normal_shot_noise_above_e,
         **_video_chain(item),
     )
-    light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
+    light = Daylight(
+        illuminance_lx=scenario.environment["illuminance_lx"],
+        background=spec.background,
+        sun_azimuth_deg=item.get(
+            "sun_azimuth_deg"
+        ),  # a sequence's sun is fixed in the world; a still's behind the camera
+    )
     frame = eo_frame(
         sequence_target(item),
         view,

@@ -194,7 +194,9 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
     -------
     list of dict
         ``frame_id`` (0-based), ``time_s``, ``range_m``, ``azimuth_deg``, ``elevation_deg``,
-        ``target_offset_px``, ``velocity_px_s`` and ``position_m`` (east, north, up).
+        ``target_offset_px``, ``velocity_px_s``, ``position_m`` (east, north, up) and ``sun_azimuth_deg`` (the
+        sun's azimuth in the drone's body frame: the sun stays behind the camera's mean pointing in the world
+        while the drone turns under it).
 
     Raises
     ------
@@ -206,6 +208,7 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
     mean = np.mean([p / np.linalg.norm(p) for p in positions], axis=0)
     rng = np.random.default_rng([int(seed), 7])
     width, height = frame_size
+    sun_world = math.atan2(-mean[1], -mean[0])  # the sun behind the camera's mean pointing, fixed in the world
     out = []
     for k, (t, position) in enumerate(zip(times, positions)):
         if float(np.linalg.norm(position)) < 1.0:
@@ -224,7 +227,8 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
             film_offset(ahead, mean if spec.pointing == "fixed" else ahead, ifov_rad),
             film_offset(behind, mean if spec.pointing == "fixed" else behind, ifov_rad),
         ) / (2 * VELOCITY_STEP_S)
-        azimuth, elevation = body_view(position, _heading_rad(spec, float(t)))
+        heading = _heading_rad(spec, float(t))
+        azimuth, elevation = body_view(position, heading)
         out.append(
             {
                 "frame_id": k,
@@ -235,9 +239,15 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
                 "target_offset_px": offset,
                 "velocity_px_s": (float(velocity[0]), float(velocity[1])),
                 "position_m": [float(v) for v in position],
+                "sun_azimuth_deg": _wrapped_deg(sun_world - heading),
             }
         )
     return out
+
+
+def _wrapped_deg(angle_rad: float) -> float:
+    """An angle in degrees, -180 to 180."""
+    return (math.degrees(angle_rad) + 180.0) % 360.0 - 180.0
 
 
 def blade_phase_deg(rotor_rpm: float, time_s: float) -> float:
