@@ -108,3 +108,19 @@ def test_a_thermal_sky_needs_a_thermal_sensor_and_a_plausible_temperature(tmp_pa
     spec.write_text('count = 1\nsensor = "eo"\nsky_temperature_k = 230.0\n')
     assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "e")]) == 2
     assert "sky_temperature_k" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_dataset_rate_bench_runs_both_embedded_specs_and_each_lever():
+    from csuas.validation.imaging.bench import bench_dataset_rates
+
+    rows = bench_dataset_rates(1)
+    runs = [r for r in rows if "dataset" in r]
+    assert [(r["dataset"], r["shot_noise"]) for r in runs] == [
+        ("example", "poisson"),
+        ("example", "normal above 1000 e"),
+        ("sequence", "poisson"),
+        ("sequence", "normal above 1000 e"),
+    ]
+    assert all(r["frames"] == 1 and r["frames_per_s"] > 0 and r["cpu_s_per_frame"] > 0 for r in runs)
+    assert [r["lever"] for r in rows if "lever" in r] == ["blur FFT", "shot noise", "16-bit PNG"]
