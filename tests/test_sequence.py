@@ -186,3 +186,26 @@ def test_the_sun_stays_put_in_the_world_while_the_drone_turns_under_it():
     assert (first["sun_azimuth_deg"] - last["sun_azimuth_deg"]) % 360.0 == pytest.approx(90.0)
     # the sun behind a camera looking about north: from the drone flying east it lies to the right, about -90 deg
     assert first["sun_azimuth_deg"] == pytest.approx(-90.0, abs=5.0)
+
+
+def test_each_drone_and_draw_is_its_own_video_and_track_with_its_own_jitter():
+    from csuas.render.imaging.sequence import sequence_items
+
+    spec = SequenceSpec(
+        frames=3,
+        waypoints_m=((-5.0, 100.0, 5.0), (5.0, 100.0, 5.0)),
+        speed_m_s=10.0,
+        pointing="track",
+        jitter_urad=50.0,
+    )
+    params = {"look_rate_hz": 25.0, "n_h": 1920, "n_v": 1080, "hfov_deg": 10.0}
+    items = sequence_items(spec, ["dji_mini_4_pro", "black_hornet_3", "dji_mini_4_pro"], 2, 7, params)
+    assert [(i["video_id"], i["drone"]) for i in items[::3]] == [
+        (1, "dji_mini_4_pro"),
+        (2, "dji_mini_4_pro"),
+        (3, "black_hornet_3"),
+        (4, "black_hornet_3"),
+    ]
+    assert [i["track_id"] for i in items] == [i["video_id"] for i in items] and len({i["name"] for i in items}) == 12
+    assert items[1]["time_s"] == pytest.approx(1 / 25.0)  # the sensor's look rate
+    assert items[0]["target_offset_px"] != items[3]["target_offset_px"]  # each video draws its own jitter
