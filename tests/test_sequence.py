@@ -209,3 +209,13 @@ def test_each_drone_and_draw_is_its_own_video_and_track_with_its_own_jitter():
     assert [i["track_id"] for i in items] == [i["video_id"] for i in items] and len({i["name"] for i in items}) == 12
     assert items[1]["time_s"] == pytest.approx(1 / 25.0)  # the sensor's look rate
     assert items[0]["target_offset_px"] != items[3]["target_offset_px"]  # each video draws its own jitter
+
+
+def test_a_thermal_sequence_refuses_the_exposure_smear_it_does_not_have(tmp_path, capsys):
+    spec = tmp_path / "tir.toml"
+    spec.write_text(
+        'sensor = "tir"\nchain = ["psf", "motion", "netd", "quantise"]\n[sequence]\nframes = 2\n'
+        "approach = {bearing_deg = 0.0, range_m = 100.0, speed_m_s = 10.0}\n"
+    )
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "t")]) == 2
+    assert "chain" in capsys.readouterr().err

@@ -245,6 +245,9 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     sensor = _imaging_sensor(scenario, spec.sensor)
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
+    if spec.sequence is not None and sensor.modality == "tir" and "motion" in spec.chain:
+        # a microbolometer smears a moving drone over its thermal time constant (an exponential), not an exposure
+        raise ParameterError("chain", "motion", "left out of a thermal sequence (its smear is not modelled yet)")
     out = prepare_output_dir(out_dir)
     for sub in ("images", "labels", "records", *(("previews",) if spec.previews else ())):
         (out / sub).mkdir(exist_ok=True)
