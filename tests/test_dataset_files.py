@@ -70,7 +70,7 @@ def test_yolo_data_file_and_mot_lines_follow_their_formats():
     yaml = pytest.importorskip("yaml")
     parsed = yaml.safe_load(data_yaml(["dji_mini_4_pro", "black_hornet_3"]))
     assert parsed["names"] == {0: "dji_mini_4_pro", 1: "black_hornet_3"} and parsed["nc"] == 2
-    assert parsed["path"] == "." and parsed["train"] == parsed["val"] == "images"
+    assert "path" not in parsed and parsed["train"] == parsed["val"] == "images"  # the root: data.yaml's folder
     fields = mot_line(3, 1, [10, 20, 5, 4], 1, 0.5).split(",")
     assert fields == ["3", "1", "10", "20", "5", "4", "1", "1", "0.5000"]
 
@@ -81,7 +81,7 @@ def _check_yolo_folder(root, names: list) -> int:
     import yaml
 
     config = yaml.safe_load((root / "data.yaml").read_text())
-    images = root / config["path"] / config["train"]
+    images = root / config["train"]  # Ultralytics without ``path``: relative to data.yaml's folder
     assert config["names"] == dict(enumerate(names))
     boxes = 0
     for image in sorted(images.glob("*.png")):

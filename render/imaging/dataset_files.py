@@ -9,8 +9,8 @@ MOTChallenge ground truth and a contact sheet (docs/datasets.md).
 * Previews: 8-bit sRGB. EO: the DN over the DN range is linear in electrons, encoded by the sRGB transfer
   function (IEC 61966-2-1, through colour-science); thermal: the DN stretched linearly between the
   frame's 0.5th and 99.5th percentiles (temperature, not light, so no display gamma).
-* ``data.yaml``: the Ultralytics dataset file (``path``, ``train``, ``val``, ``names``); its readers find
-  ``labels/NAME.txt`` beside ``images/NAME.png`` by the folder name.
+* ``data.yaml``: the Ultralytics dataset file (``train``, ``val``, ``nc``, ``names``, no ``path``: the root is
+  the file's own folder); its readers find ``labels/NAME.txt`` beside ``images/NAME.png`` by the folder name.
 * ``gt/gt.txt`` and ``seqinfo.ini``: MOTChallenge ground truth of a sequence, one line per box,
   ``frame, id, left, top, width, height, 1, class, visibility`` with 1-based frames and pixel boxes
   (Dendorfer et al., *MOTChallenge*, IJCV 2021, and the MOT17 devkit's format).
@@ -96,7 +96,9 @@ def write_preview(path, image: np.ndarray) -> Path:
 
 def data_yaml(names: list) -> str:
     """The Ultralytics ``data.yaml`` of a dataset folder: every image for training and validation, class names."""
-    lines = ["# csuas dataset (docs/datasets.md): YOLO labels in labels/, images in images/", "path: ."]
+    # no ``path``: Ultralytics then takes data.yaml's own folder as the root, wherever the folder is moved to
+    # (a relative ``path`` resolves against the working directory or its DATASETS_DIR setting instead)
+    lines = ["# csuas dataset (docs/datasets.md): YOLO labels in labels/, images in images/, root: this folder"]
     lines += ["train: images", "val: images", f"nc: {len(names)}", "names:"]
     lines += [f"  {index}: {name}" for index, name in enumerate(names)]
     return "\n".join(lines) + "\n"
