@@ -111,9 +111,10 @@ def mot_line(frame_id: int, track_id: int, bbox, class_id: int, visibility: floa
 
 
 def seqinfo(name: str, frame_rate_hz: float, length: int, width: int, height: int) -> str:
-    """The MOTChallenge ``seqinfo.ini`` of a sequence written in this folder's layout."""
+    """The MOTChallenge ``seqinfo.ini`` of ``mot/VIDEO/``: its images lie in the dataset's ``images/`` (``imDir``
+    relative to it), named by the dataset rather than by frame number (COCO's ``frame_id`` maps them)."""
     return (
-        f"[Sequence]\nname={name}\nimDir=images\nframeRate={frame_rate_hz:g}\nseqLength={int(length)}\n"
+        f"[Sequence]\nname={name}\nimDir=../../images\nframeRate={frame_rate_hz:g}\nseqLength={int(length)}\n"
         f"imWidth={int(width)}\nimHeight={int(height)}\nimExt=.png\n"
     )
 
