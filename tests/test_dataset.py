@@ -64,7 +64,7 @@ def test_a_small_dataset_has_images_labels_and_the_same_bytes_for_the_same_seed(
     from PIL import Image
 
     image = np.asarray(Image.open(tmp_path / "a" / "images" / "000000_dji_mini_4_pro.png"))
-    assert image.shape == (1080, 1920) and image.max() < 4096  # 12-bit DN in a 16-bit PNG
+    assert image.shape == (1080, 1920) and image.max() < 65536 and not (image % 16).any()  # 12-bit DN << 4
     assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "b")]) == 0
     for name in ("000000_dji_mini_4_pro.png", "000001_dji_mini_4_pro.png"):
         assert (tmp_path / "a" / "images" / name).read_bytes() == (tmp_path / "b" / "images" / name).read_bytes()
@@ -108,3 +108,19 @@ def test_a_thermal_sky_needs_a_thermal_sensor_and_a_plausible_temperature(tmp_pa
     spec.write_text('count = 1\nsensor = "eo"\nsky_temperature_k = 230.0\n')
     assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "e")]) == 2
     assert "sky_temperature_k" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_dataset_rate_bench_runs_both_embedded_specs_and_each_lever():
+    from csuas.validation.imaging.bench import bench_dataset_rates
+
+    rows = bench_dataset_rates(1)
+    runs = [r for r in rows if "dataset" in r]
+    assert [(r["dataset"], r["shot_noise"]) for r in runs] == [
+        ("example", "poisson"),
+        ("example", "normal above 1000 e"),
+        ("sequence", "poisson"),
+        ("sequence", "normal above 1000 e"),
+    ]
+    assert all(r["frames"] == 1 and r["frames_per_s"] > 0 and r["cpu_s_per_frame"] > 0 for r in runs)
+    assert [r["lever"] for r in rows if "lever" in r] == ["blur FFT", "shot noise", "16-bit PNG"]

@@ -141,3 +141,63 @@ def test_a_frame_without_light_is_read_noise_only_and_zero_netd_adds_nothing():
     assert np.isfinite(electrons).all() and np.std(electrons) == pytest.approx(2.0, rel=0.01)  # 2 M pixels
     flat = apply_chain(np.full((8, 8), 300.0), ChainSettings(stages=("netd", "quantise"), netd_k=0.0), 0, thermal=True)
     assert np.all(flat["signal"] == 300.0)
+
+
+def test_a_rolling_shutter_skews_a_moving_edge_by_its_speed_times_the_line_time():
+    rows, line_time, vx = 200, 20e-6, 1500.0  # 0.03 px per row
+    edge = np.zeros((rows, 120))
+    edge[:, 60:] = 1.0  # a dark-to-bright step at the pixel edge x = 60
+    settings = ChainSettings(stages=("rolling_shutter",), line_time_s=line_time, velocity_px_s=(vx, 0.0))
+    skewed = apply_chain(edge, settings, seed=0)["signal"].astype(float)
+    position = 120 - skewed.sum(axis=1)  # a step's position from the light it lets through (any sampling)
+    middle = (rows - 1) / 2.0
+    expected = 60.0 + vx * line_time * (np.arange(rows) - middle)  # x(r) = x0 + v t_line (r - r_mid)
+    assert np.max(np.abs(position - expected)) < 1e-4
+    # moving down at vy, row r reads the scene row r - vy tau(r): the step at y0 = 80 lands where
+    # r (1 - vy t) + vy t r_mid = y0, a stretch of 1 / (1 - vy t) about the middle row
+    vy = 3000.0
+    horizontal = np.zeros((rows, 40))
+    horizontal[80:, :] = 1.0
+    settings = ChainSettings(stages=("rolling_shutter",), line_time_s=line_time, velocity_px_s=(0.0, vy))
+    stretched = apply_chain(horizontal, settings, seed=0)["signal"].astype(float)
+    r = np.arange(rows, dtype=float)[:, None]
+    read = r - vy * line_time * (r - middle)  # the scene row each frame row reads
+    assert np.max(np.abs(stretched - np.clip(read - 79.0, 0.0, 1.0))) < 1e-6  # the step's linear ramp, 79 to 80
+
+
+def test_the_frame_rate_caps_the_exposure_and_the_motion_blur_follows_it():
+    flat = np.full((8, 8), 1000.0)
+    settings = ChainSettings(stages=("frame_exposure",), exposure_s=0.05, frame_rate_hz=60.0)
+    out = apply_chain(flat, settings, seed=0)
+    assert out["exposure_s"] == pytest.approx(1 / 60) and out["signal"][0, 0] == pytest.approx(1000.0 * (1 / 60) / 0.05)
+    short = ChainSettings(stages=("frame_exposure",), exposure_s=0.004, frame_rate_hz=60.0)
+    assert apply_chain(flat, short, seed=0)["signal"][0, 0] == pytest.approx(1000.0)  # shorter than a frame: kept
+    # a point moving at 600 px/s for 1/60 s: a 10 px line, its sum kept, along x
+    point = np.full((64, 128), 100.0)  # on a pedestal: the band-limited blur's ringing stays above zero
+    point[32, 40] += 100.0
+    moving = ChainSettings(
+        stages=("frame_exposure", "motion"), exposure_s=0.05, frame_rate_hz=60.0, velocity_px_s=(600.0, 0.0)
+    )
+    smeared = apply_chain(point, moving, seed=0)["signal"].astype(float)
+    profile = smeared[32] - 100.0 / 3.0
+    assert profile.sum() == pytest.approx(100.0 / 3.0, rel=1e-4)
+    centroid = float(np.sum(np.arange(128) * profile) / profile.sum())
+    width = 2 * np.sqrt(3 * float(np.sum((np.arange(128) - centroid) ** 2 * profile) / profile.sum()))
+    assert centroid == pytest.approx(40.0, abs=0.01) and width == pytest.approx(10.0, rel=0.05)  # sd = L / sqrt 12
+
+
+def test_the_normal_shot_noise_keeps_the_poisson_mean_and_variance_and_exact_draws_below_its_threshold():
+    frame = np.full((400, 500), 2000.0)
+    frame[:, :50] = 4.0  # dim pixels stay Poisson
+    settings = ChainSettings(stages=("shot_noise",), normal_shot_noise_above_e=1000.0)
+    counts = apply_chain(frame, settings, seed=3)["signal"].astype(float)
+    bright, dim = counts[:, 50:], counts[:, :50]
+    n = (
+        bright.size
+    )  # 180,000: standard error of the mean sqrt(2000 / n) = 0.105 e, of the variance 2000 sqrt(2 / n) = 6.7 e^2
+    assert bright.mean() == pytest.approx(2000.0, abs=4 * 0.105) and bright.var() == pytest.approx(2000.0, abs=4 * 6.7)
+    assert np.array_equal(counts, np.rint(counts)) and n == 180_000
+    # Poisson(4): P(0) = e^-4 = 0.0183 over 20,000 pixels (standard error 0.00095); a clipped normal: 0.040
+    assert np.mean(dim == 0) == pytest.approx(np.exp(-4.0), abs=4 * 0.00095)
+    with pytest.raises(InputErrors, match="normal_shot_noise_above_e"):
+        apply_chain(frame, ChainSettings(stages=("shot_noise",), normal_shot_noise_above_e=10.0), seed=0)

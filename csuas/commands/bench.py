@@ -19,6 +19,7 @@ SUITES = {
     "lidar_lcs": "csuas.validation.lidar.bench:bench",
     "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",
     "dataset_frames": "csuas.validation.imaging.bench:bench_frames",
+    "dataset_rates": "csuas.validation.imaging.bench:bench_dataset_rates",
     "detection_pd": "csuas.validation.detection.bench:bench_pd",
     "sweep_dask": "csuas.validation.sweep.bench:bench_sweep",
     "cost_models": "csuas.validation.cost.bench:bench_cost_models",

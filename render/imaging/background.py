@@ -71,7 +71,8 @@ def view_rays(n_h: int, n_v: int, ifov_rad: float, azimuth_deg: float, elevation
     x = (np.arange(n_h) + 0.5 - cx) * ifov_rad
     y = (np.arange(n_v) + 0.5 - cy) * ifov_rad
     rays = -d[None, None, :] + x[None, :, None] * h[None, None, :] - y[:, None, None] * v[None, None, :]
-    return rays / np.linalg.norm(rays, axis=2, keepdims=True)
+    # d, h and v are orthonormal: |rays|^2 = 1 + x^2 + y^2, without a norm over the frame's 3-vectors
+    return rays / np.sqrt(1.0 + x[None, :, None] ** 2 + y[:, None, None] ** 2)
 
 
 def clear_sky_frame(

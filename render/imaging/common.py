@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from csuas.base.errors import ParameterError
 from csuas.render.imaging.camera import SensorGeometry, full_frame, target_bounds, target_window
 from csuas.render.imaging.scene import normalise_target
@@ -43,6 +45,30 @@ def prepare(target, *, range_m, hfov_deg, n_h, n_v, azimuth_deg, elevation_deg, 
     window = full_frame(sensor) if full else target_window(sensor, r, normalised.radius_m, target_px)
     bounds = None if full else target_bounds(sensor, r, normalised.radius_m, target_px)
     return r, sensor, normalised, window, target_px, bounds
+
+
+def silhouette_box_px(target, range_m: float, azimuth_deg: float, elevation_deg: float, sensor, target_px) -> tuple:
+    """Film-coordinate box (x_lo, x_hi, y_lo, y_hi) of the target's silhouette, from its projected mesh.
+
+    The pinhole camera of the render (:func:`csuas.render.imaging.camera.ray_directions`, the camera on
+    the render frame's +z axis at ``range_m``) maps each vertex to the film; a triangle's image lies in the
+    hull of its vertices' images, so their extremes are the silhouette's exact extent.
+
+    Parameters
+    ----------
+    target : str, Drone or list of parts
+    range_m, azimuth_deg, elevation_deg : float
+        The view (:class:`csuas.render.imaging.records.View`) [m], [deg].
+    sensor : SensorGeometry
+    target_px : (float, float)
+        Film coordinates of the target's centre.
+    """
+    normalised = normalise_target(target, azimuth_deg, elevation_deg)
+    vertices = np.concatenate([part.vertices for part in normalised.parts])
+    depth = check_range(range_m) / normalised.radius_m - vertices[:, 2]
+    x = target_px[0] + vertices[:, 0] / depth / sensor.ifov_rad
+    y = target_px[1] - vertices[:, 1] / depth / sensor.ifov_rad
+    return float(x.min()), float(x.max()), float(y.min()), float(y.max())
 
 
 def progress_printer(label: str, stream):

@@ -27,8 +27,10 @@ not redone.
 
 from __future__ import annotations
 
+import collections
 import itertools
 import json
+import math
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -46,6 +48,10 @@ from csuas.render.imaging.dataset_schema import TAGS, DatasetSchema
 AXES = ("drones", "range_m", "azimuth_deg", "elevation_deg")
 #: Keys a spec may hold (the schema's).
 SPEC_KEYS = tuple(DatasetSchema.model_fields)
+#: Chain stages of thermal frames.
+THERMAL_STAGES = ("rolling_shutter", "psf", "defocus", "motion", "netd", "agc", "quantise")
+#: Threads writing frames' files while the next frame renders (at most this many frames held in memory).
+WRITERS = 2
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -67,6 +73,9 @@ class DatasetSpec:
     exr: bool = False
     cloud_cover: float = 0.0
     sky_temperature_k: float | None = None
+    previews: bool = True
+    sequence: object = None
+    normal_shot_noise_above_e: float = math.inf
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -78,6 +87,15 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         raise InputErrors([exc]) from None
     axes = {name: getattr(spec, name) for name in AXES}  # a {min, max} given in the file as its model
     axes.update({name: axis.model_dump() for name, axis in axes.items() if not isinstance(axis, (list, dict))})
+    sequence = None
+    if spec.sequence is not None:
+        from csuas.render.imaging.sequence import parse_sequence
+
+        sequence, errors = parse_sequence(spec.sequence)
+        fixed = [k for k in ("range_m", "azimuth_deg", "elevation_deg", "position") if k in data]
+        errors += [ParameterError(k, data[k], "left out with a sequence (its trajectory sets it)") for k in fixed]
+        if errors:
+            raise InputErrors(errors)
     return DatasetSpec(
         spec.seed,
         spec.count,
@@ -92,6 +110,9 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         spec.exr,
         float(spec.cloud_cover),
         spec.sky_temperature_k,
+        spec.previews,
+        sequence,
+        float(spec.normal_shot_noise_above_e),
     )
 
 
@@ -130,8 +151,11 @@ def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
 def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     """Render every image of the spec not yet on disk; write images, labels and ``annotations.json``.
 
-    Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN), ``labels/NAME.txt`` (YOLO),
-    ``records/NAME.json`` (the image's COCO entries, for resuming) and ``annotations.json`` (COCO).
+    Layout: ``images/NAME.png`` (16-bit grey, the sensor's DN in its high bits), ``previews/NAME.png``
+    (8-bit sRGB), ``labels/NAME.txt`` (YOLO), ``records/NAME.json`` (the image's COCO entries, for
+    resuming), ``annotations.json`` (COCO), ``annotations_previews.json`` (the same on the previews),
+    ``data.yaml`` (YOLO) and ``contact_sheet.png``
+    (:mod:`csuas.render.imaging.dataset_files`).
 
     Returns
     -------
@@ -144,8 +168,11 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     sensor = imaging_sensor(scenario, spec.sensor)
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
+    if spec.sequence is not None and sensor.modality == "tir" and "motion" in spec.chain:
+        # a microbolometer smears a moving drone over its thermal time constant (an exponential), not an exposure
+        raise ParameterError("chain", "motion", "left out of a thermal sequence (its smear is not modelled yet)")
     out = prepare_output_dir(out_dir)
-    for sub in ("images", "labels", "records"):
+    for sub in ("images", "labels", "records", *(("previews",) if spec.previews else ())):
         sub_folder(out, sub)
     inside(out, "annotations.json")  # a special file there is refused now, not after the work
     with exclusive_lock(out / LOCK_NAME, "--out"):
@@ -158,11 +185,16 @@ LOCK_NAME = ".csuas-dataset.lock"
 
 def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -> dict:
     """The body of :func:`generate`, holding the folder's lock."""
-    items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
+    if spec.sequence is not None:
+        from csuas.render.imaging.sequence import sequence_items
+
+        items = sequence_items(spec.sequence, spec.axes["drones"], spec.count, spec.seed, sensor.params)
+    else:
+        items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered, redone = time.perf_counter(), 0, []
-    # one frame's files are written (PNG compression releases the GIL) while the next is rendered
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="csuas-dataset-writer") as writer:
-        writing = None
+    # frames' files are written by a pool (PNG compression releases the GIL) while the next is rendered
+    with ThreadPoolExecutor(max_workers=WRITERS, thread_name_prefix="csuas-dataset-writer") as writer:
+        writing: collections.deque = collections.deque()
         for done, item in enumerate(items, 1):
             record = out / "records" / f"{item['name']}.json"
             problem = _unreadable(record, out) if record.exists() else None
@@ -172,9 +204,9 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
                     print(f"csuas dataset: warning: {problem}: image {item['name']} redone", file=progress)
             if problem is not None or not record.exists():
                 frame = _frame(spec, scenario, sensor, item)
-                if writing is not None:
-                    writing.result()
-                writing = writer.submit(_write_image, spec, sensor, item, frame, out)
+                while len(writing) >= WRITERS:
+                    writing.popleft().result()
+                writing.append(writer.submit(_write_image, spec, sensor, item, frame, out))
                 rendered += 1
             if progress is not None:
                 elapsed = time.perf_counter() - start
@@ -182,9 +214,12 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
                 print(
                     f"csuas dataset: {done}/{len(items)} images, {elapsed:.0f} s, about {eta:.0f} s left", file=progress
                 )
-        if writing is not None:
-            writing.result()
+        while writing:
+            writing.popleft().result()
     annotations = _coco(spec, sensor, items, out)
+    _write_dataset_files(spec, sensor, items, out)
+    if spec.sequence is not None:
+        _write_mot(sensor, items, out)
     return {
         "images": len(items),
         "rendered": rendered,
@@ -228,40 +263,39 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
     """Render, expose and degrade the image of one draw (:func:`_visible` or :func:`_thermal`)."""
     from csuas.render.imaging.records import View
 
-    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
+    view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], tuple(item["target_offset_px"]))
     seed = spec.seed * 1_000_003 + item["index"]
     return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
 
 
 def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) -> None:
     """Write a frame's image, optional EXR, YOLO label and, last, its record (what resuming looks for)."""
-    from PIL import Image
-
+    from csuas.render.imaging.dataset_files import preview, write_dn_png, write_preview
     from csuas.render.imaging.labels import yolo_line
 
     p = sensor.params
     thermal = sensor.modality == "tir"
     res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
-    with atomic_path(inside(out, "images", f"{item['name']}.png")) as tmp:
-        pixels = dn.astype(np.uint8) if spec.bits == 8 else dn.astype(np.uint16)
-        # zlib's fastest level: a noisy frame shrinks little more at the default level, in 20 times the time
-        Image.fromarray(pixels).save(tmp, format="PNG", compress_level=1)
+    write_dn_png(inside(out, "images", f"{item['name']}.png"), dn, spec.bits)
+    if spec.previews:
+        write_preview(inside(out, "previews", f"{item['name']}.png"), preview(dn, spec.bits, thermal))
     if spec.exr:
         unit = "K" if thermal else "electrons"
         _write_signal_exr(inside(out, "images", f"{item['name']}.exr"), frame["chain"]["signal"], item, unit)
-    yolo = yolo_line(lab["bbox"], width, height) + "\n" if lab["bbox"] else ""
+    class_index = class_names(spec).index(item["drone"])
+    yolo = yolo_line(lab["bbox"], width, height, class_index) + "\n" if lab["bbox"] else ""
     write_text_atomic(inside(out, "labels", f"{item['name']}.txt"), yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
     contrast_value = float(frame["delta_t_k"] if thermal else res.values.get(contrast_key, float("nan")))
     entry = {
-        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height},
+        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
         "annotation": None,
     }
     if lab["in_frame"]:
         entry["annotation"] = {
-            "category_id": 1,
+            "category_id": class_index + 1,
             "bbox": lab["bbox"],
             "area": lab["area"],
             "segmentation": lab["segmentation"],
@@ -280,9 +314,13 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
                 "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
                 "clipped": lab["clipped"],
                 "subpixel": lab["subpixel"],
-                "exposure_s": frame.get("exposure_s"),
+                "exposure_s": frame["chain"].get("exposure_s", frame.get("exposure_s")),
+                "visibility": lab["visibility"],
+                **_motion_keys(item),
             },
         }
+        if "track_id" in item:
+            entry["annotation"].update(track_id=item["track_id"], instance_id=item["track_id"])
     write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
 
 
@@ -291,6 +329,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.render.imaging.sequence import sequence_target
 
     chain = ChainSettings(
         stages=spec.chain,
@@ -300,10 +339,18 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         read_noise_e=p["read_noise_e"],
         dark_current_e_s=p["dark_current_e_s"],
         bits=spec.bits,
+        normal_shot_noise_above_e=spec.normal_shot_noise_above_e,
+        **_video_chain(item),
     )
-    light = Daylight(illuminance_lx=scenario.environment["illuminance_lx"], background=spec.background)
+    light = Daylight(
+        illuminance_lx=scenario.environment["illuminance_lx"],
+        background=spec.background,
+        sun_azimuth_deg=item.get(
+            "sun_azimuth_deg"
+        ),  # a sequence's sun is fixed in the world; a still's behind the camera
+    )
     frame = eo_frame(
-        item["drone"],
+        sequence_target(item),
         view,
         EoSensor.from_params(p),
         light,
@@ -323,19 +370,21 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     from csuas.render.imaging.frame import tir_frame
     from csuas.render.imaging.records import ThermalScene, ThermalSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.render.imaging.sequence import sequence_target
 
     env = scenario.environment
     chain = ChainSettings(
-        stages=tuple(s for s in spec.chain if s in ("psf", "defocus", "motion", "netd", "agc", "quantise")),
+        stages=tuple(s for s in spec.chain if s in THERMAL_STAGES),
         f_number=p["f_number"],
         wavelength_um=10.0 if p["band"] == "lwir" else 4.0,
         pixel_pitch_um=p["pitch_um"],
         netd_k=p["netd_mk"] / 1000.0,
         bits=spec.bits,
+        **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
     frame = tir_frame(
-        item["drone"],
+        sequence_target(item),
         view,
         ThermalSensor.from_params(p),
         scene,
@@ -378,10 +427,106 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         )
         if entry["annotation"] is not None:
             annotations.append({"id": len(annotations) + 1, "image_id": image_id, **entry["annotation"]})
+    from csuas.render.imaging.dataset_files import PNG_BITS, dn_scale
+
+    info = {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario, "bits": spec.bits}
+    info.update(png_bits=8 if spec.bits == 8 else PNG_BITS, dn_scale=dn_scale(spec.bits))
     coco = {
-        "info": {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario},
+        "info": info,
         "images": images,
         "annotations": annotations,
-        "categories": [{"id": 1, "name": "drone"}],
+        "categories": [
+            {"id": index, "name": name, "supercategory": "drone"} for index, name in enumerate(class_names(spec), 1)
+        ],
     }
+    if spec.sequence is not None:
+        coco["videos"] = _videos(items)
+    if spec.previews:  # the same labels on the 8-bit previews, for loaders that read through Pillow's 8-bit modes
+        shown = [{**image, "file_name": "previews/" + image["file_name"].split("/", 1)[1]} for image in images]
+        on_previews = {**coco, "info": {**info, "bits": 8, "png_bits": 8, "dn_scale": 1, "encoding": "sRGB"}}
+        write_text_atomic(
+            inside(out, "annotations_previews.json"), json.dumps({**on_previews, "images": shown}, indent=1)
+        )
     return write_text_atomic(inside(out, "annotations.json"), json.dumps(coco, indent=1))
+
+
+def class_names(spec: DatasetSpec) -> list:
+    """The dataset's classes, one per drone model in the spec's order (COCO id = index + 1, YOLO class = index)."""
+    return list(dict.fromkeys(spec.axes["drones"]))
+
+
+def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
+    """``data.yaml`` and the contact sheet of the first frames (:mod:`csuas.render.imaging.dataset_files`)."""
+    from csuas.render.imaging.dataset_files import (
+        SHEET_FRAMES,
+        preview,
+        read_dn_png,
+        write_contact_sheet,
+        write_yolo_dataset_file,
+    )
+
+    write_yolo_dataset_file(inside(out, "data.yaml"), class_names(spec))
+    sheet = []
+    for item in items[:SHEET_FRAMES]:
+        entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+        dn = read_dn_png(out / entry["image"]["file_name"])
+        boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
+        sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
+    write_contact_sheet(inside(out, "contact_sheet.png"), sheet)
+
+
+def _video_chain(item: dict) -> dict:
+    """The chain settings a sequence frame adds (frame rate, line time, image velocity); none for a still."""
+    if "video_id" not in item:
+        return {}
+    keys = ("frame_rate_hz", "line_time_s", "velocity_px_s")
+    return {key: tuple(item[key]) if key == "velocity_px_s" else item[key] for key in keys}
+
+
+def _video_keys(item: dict) -> dict:
+    """COCO video keys of a sequence frame's image (``video_id`` 1-based, ``frame_id`` 0-based)."""
+    return {"video_id": item["video_id"], "frame_id": item["frame_id"]} if "video_id" in item else {}
+
+
+def _motion_keys(item: dict) -> dict:
+    """A sequence frame's time, image velocity and the drone's position in the annotation's ``csuas`` block."""
+    keys = ("time_s", "velocity_px_s", "position_m", "blade_phase_deg")
+    return {key: item[key] for key in keys if key in item} if "video_id" in item else {}
+
+
+def _videos(items: list) -> list:
+    """COCO's ``videos``: one per video of a sequence dataset, with its frame rate and frame count."""
+    videos: dict = {}
+    for item in items:
+        video = videos.setdefault(
+            item["video_id"],
+            {
+                "id": item["video_id"],
+                "name": f"{item['video_id']:03d}_{item['drone']}",
+                "frame_rate_hz": item["frame_rate_hz"],
+            },
+        )
+        video["frames"] = video.get("frames", 0) + 1
+    return list(videos.values())
+
+
+def _write_mot(sensor, items: list, out: Path) -> None:
+    """MOTChallenge ground truth of every video: ``mot/VIDEO/gt/gt.txt`` and ``seqinfo.ini`` (1-based frames)."""
+    from csuas.render.imaging.dataset_files import mot_line, seqinfo
+
+    p = sensor.params
+    for video in _videos(items):
+        lines = []
+        for item in (i for i in items if i["video_id"] == video["id"]):
+            entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+            annotation = entry["annotation"]
+            if annotation is not None:
+                block = annotation["csuas"]
+                class_id = annotation["category_id"]
+                lines.append(
+                    mot_line(item["frame_id"] + 1, item["track_id"], annotation["bbox"], class_id, block["visibility"])
+                )
+        folder = sub_folder(sub_folder(out, "mot"), video["name"])
+        write_text_atomic(inside(sub_folder(folder, "gt"), "gt.txt"), "".join(line + "\n" for line in lines))
+        info = seqinfo(video["name"], video["frame_rate_hz"], video["frames"], int(p["n_h"]), int(p["n_v"]))
+        write_text_atomic(inside(folder, "seqinfo.ini"), info)

@@ -6,6 +6,8 @@ A numeric axis (``range_m``, ``azimuth_deg``, ``elevation_deg``) is a list (a gr
 
 from __future__ import annotations
 
+import math
+
 from typing import Annotated, Any
 
 from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
@@ -88,6 +90,18 @@ class DatasetSchema(Schema):
     )
     sky_temperature_k: number(3.0, 400.0, "K") | None = key(
         None, "thermal sensors: a sky of this apparent temperature above the horizon"
+    )
+    previews: bool = key(True, "also 8-bit sRGB previews (previews/, annotations_previews.json)", "true or false")
+    sequence: dict[str, Any] | None = key(
+        None,
+        "a video along a trajectory instead of drawn views (docs/datasets.md, Sequences: frames, waypoints_m "
+        "and speed_m_s or approach, frame_rate_hz, pointing, jitter_urad, line_time_us, rotor_rpm)",
+        "a table of the sequence keys",
+    )
+    normal_shot_noise_above_e: number(100.0, None, "electrons") = key(
+        math.inf,
+        "shot noise drawn from the normal approximation above this mean (exact Poisson below)",
+        shown_default="inf (exact Poisson everywhere)",
     )
 
     @field_validator("chain")

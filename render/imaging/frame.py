@@ -21,6 +21,8 @@ from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
 from csuas.core.checks import require
 from csuas.render.imaging.background import clear_sky_frame
+from csuas.render.imaging.camera import SensorGeometry
+from csuas.render.imaging.common import silhouette_box_px
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
 from csuas.render.imaging.labels import label
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
@@ -147,10 +149,47 @@ def eo_frame(
         "target_excess_e": float(np.sum(frame[rows, cols] - behind)) * electrons_per_nit * exposure,
         "background_behind_e": float(np.mean(behind)) * electrons_per_nit * exposure,
         "chain": apply_chain(electrons, settings, seed),
-        "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
+        "label": frame_label(target, view, res, sensor.n_h, sensor.n_v, chain),
         "exposure_s": exposure,
         "background_luminance": background,
     }
+
+
+def frame_label(target, view: View, result, n_h: int, n_v: int, chain: ChainSettings | None = None) -> dict:
+    """The target's label (:func:`csuas.render.imaging.labels.label`) from the render's coverage.
+
+    ``clipped`` is set whenever any part of the silhouette (its projected mesh, :func:`silhouette_box_px`) lies
+    outside the frame: the render's window stops at the frame's edge, so its coverage cannot show what lies
+    beyond; ``visibility`` is the share of the silhouette's box inside the frame. With the chain's
+    ``rolling_shutter`` the coverage is read row by row as the frame is
+    (:func:`csuas.render.imaging.sensor_chain.rolling_shutter`), so the box follows the skewed drone.
+    """
+    window = result.window
+    coverage, x0, y0 = result.coverage, window.x0, window.y0
+    if chain is not None and "rolling_shutter" in chain.stages and chain.line_time_s > 0:
+        coverage, x0, y0 = _read_by_rows(coverage, x0, y0, chain, n_v)
+    out = label(coverage, x0, y0, n_h, n_v)
+    geometry = SensorGeometry(result.ifov_rad, n_h, n_v)
+    cx, cy = geometry.default_target_px()
+    centre = (cx + view.target_offset_px[0], cy + view.target_offset_px[1])
+    x_lo, x_hi, y_lo, y_hi = silhouette_box_px(
+        target, view.range_m, view.azimuth_deg, view.elevation_deg, geometry, centre
+    )
+    out["clipped"] = bool(out["clipped"] or x_lo < 0 or y_lo < 0 or x_hi > n_h or y_hi > n_v)
+    inside = max(min(x_hi, n_h) - max(x_lo, 0.0), 0.0) * max(min(y_hi, n_v) - max(y_lo, 0.0), 0.0)
+    out["visibility"] = float(inside / max((x_hi - x_lo) * (y_hi - y_lo), 1e-12))
+    return out
+
+
+def _read_by_rows(coverage: np.ndarray, x0: int, y0: int, chain: ChainSettings, n_v: int) -> tuple:
+    """A window's coverage as the rolling shutter reads it, padded by the farthest its rows move, and its origin."""
+    from csuas.render.imaging.sensor_chain import rolling_shutter
+
+    farthest_s = max(abs(y0 - (n_v - 1) / 2.0), abs(y0 + coverage.shape[0] - (n_v - 1) / 2.0)) * chain.line_time_s
+    pad = int(math.ceil(math.hypot(*chain.velocity_px_s) * farthest_s)) + 2
+    padded = np.pad(coverage, pad)
+    read = rolling_shutter(padded, chain.line_time_s, chain.velocity_px_s, first_row=y0 - pad, rows=n_v)
+    return np.clip(read, 0.0, 1.0), x0 - pad, y0 - pad
 
 
 def target_snr(frame: dict, read_noise_e: float) -> float:
@@ -229,7 +268,7 @@ def tir_frame(
         "result": res,
         "temperature": temperature,
         "chain": apply_chain(temperature, chain, seed, thermal=True),
-        "label": label(res.coverage, window.x0, window.y0, sensor.n_h, sensor.n_v),
+        "label": frame_label(target, view, res, sensor.n_h, sensor.n_v, chain),
         "background_k": background_k,
         "target_excess_k": excess,
         "delta_t_k": float(res.values["delta_t_k"]) + background_k - behind_target_k,
