@@ -7,7 +7,6 @@ A numeric axis (``range_m``, ``azimuth_deg``, ``elevation_deg``) is a list (a gr
 from __future__ import annotations
 
 import math
-
 from typing import Annotated, Any
 
 from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
