@@ -78,7 +78,8 @@ def test_a_second_run_into_the_same_folder_is_refused(command, tmp_path, capsys)
         code, err, _ = _run(make_argv(tmp_path, out), capsys)
     assert code == 2, err
     assert len(err) == 1 and "no other csuas run is writing into" in err[0], err
-    assert sorted(p.name for p in out.iterdir() if p.name != lock) in ([], ["chunks"], ["images", "labels", "records"])
+    made = sorted(p.name for p in out.iterdir() if p.name != lock)
+    assert made in ([], ["chunks"], ["images", "labels", "records"], ["images", "labels", "previews", "records"])
 
 
 # --- resume over damaged files ------------------------------------------------------------------------

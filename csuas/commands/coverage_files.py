@@ -144,8 +144,8 @@ def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend:
 
     plt = _pyplot()
     transform, rows, cols = where["transform"], grid.shape[0], grid.shape[1]
-    west, north = transform * (0, 0)
-    east, south = transform * (cols, rows)
+    west, north = transform @ (0, 0)
+    east, south = transform @ (cols, rows)
     extent = (west / 1e3, east / 1e3, south / 1e3, north / 1e3)
     fig, ax = plt.subplots(figsize=(6.4, 5.6))
     ax.imshow(where["hillshade"], cmap="gray", vmin=0, vmax=1, extent=extent)
@@ -164,7 +164,7 @@ def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend:
         image = ax.imshow(shown, cmap="viridis", vmin=low, vmax=legend["high"], alpha=0.7, extent=extent)
         fig.colorbar(image, ax=ax, fraction=0.046, label=legend["scale"])
     for name, sensor in where["sited"].items():
-        x, y = transform * (sensor.col + 0.5, sensor.row + 0.5)
+        x, y = transform @ (sensor.col + 0.5, sensor.row + 0.5)
         ax.plot(x / 1e3, y / 1e3, "r^", ms=7)
         ax.annotate(name, (x / 1e3, y / 1e3), color="red", fontsize=8, xytext=(4, 4), textcoords="offset points")
     length = _nice_length_m(abs(east - west))

@@ -55,7 +55,7 @@ def run(args) -> dict:
     data = read_spec(args.spec, sweep_path, "sweep spec")
     lengths = axis_lengths(data)  # before any axis is drawn
     estimate = None
-    if data.get("job") in SWEEP_JOBS:
+    if data.get("job") in SWEEP_JOBS and isinstance(data.get("scenario", "default"), str):  # else the schema says
         sensors = len(load_scenario(data.get("scenario", "default")).sensors) if data["job"] != "rcs" else 0
         estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
         check_limits(estimate, args, "sweep", announce=data["job"] != "rcs")
