@@ -34,8 +34,6 @@ from csuas.defaults.scenario_schema import TAGS as SCHEMA_TAGS
 
 #: Keys of a scenario file (its schema: :func:`csuas.defaults.scenario_schema.scenario_schema`).
 TOP_LEVEL_KEYS = ("name", "description", "convention", "target", "environment", "sensors")
-#: Default presets of the target and the environment.
-DEFAULT_PRESETS = {"target": "dji_mini_4_pro", "environment": "clear_day"}
 
 
 @dataclass
@@ -186,8 +184,6 @@ def _apply(section: str, values: dict, given: dict, explicit: set, origin: dict,
 
 def _given(table) -> dict:
     """The values a validated table gives, in the file's order (``preset`` and ``modality`` aside)."""
-    if isinstance(table, dict):
-        return {}
     return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality")}
 
 
@@ -281,9 +277,9 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
     """
     model = _validated(data)
     sections, explicit, origin = {}, {}, {}
-    for section, default_preset in DEFAULT_PRESETS.items():
+    for section in ("target", "environment"):
         table = getattr(model, section)
-        preset = default_preset if isinstance(table, dict) else table.preset
+        preset = table.preset
         values, given, where = _defaults(section), set[str](), dict[str, str]()
         _apply(section, values, _preset(section, preset), given, where, f"preset {preset}")
         _apply(section, values, _given(table), given, where, "scenario")

@@ -14,7 +14,7 @@ from __future__ import annotations
 import functools
 from typing import Annotated, Any
 
-from pydantic import Discriminator, Field, Tag, create_model
+from pydantic import BaseModel, Discriminator, Field, Tag, create_model
 
 from csuas.base.schema import Schema, key, number, one_of, text, toml_text, whole
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables
@@ -116,6 +116,8 @@ class UnknownModality(Schema, extra="allow"):
 
 
 def _modality(table) -> str | None:
+    if isinstance(table, BaseModel):  # a validated table, when dumped
+        return table.modality if table.modality in MODALITIES else UNKNOWN
     if not isinstance(table, dict):
         return None
     return table["modality"] if table.get("modality") in MODALITIES else UNKNOWN
@@ -136,14 +138,16 @@ def sensor_type() -> Any:
 @functools.cache
 def scenario_schema(conventions: tuple[str, ...]):
     """The model of a scenario file; ``conventions`` are the core's (:data:`csuas.core.result.CONVENTIONS`)."""
+    target = section_schema("target", "target", "dji_mini_4_pro")
+    environment = section_schema("environment", "environment", "clear_day")
     return create_model(
         "ScenarioSchema",
         __base__=Schema,
         name=(text("a string") | None, key(None, "the scenario's name (default: the file's name)")),
         description=(text("a string") | None, key(None, "free text")),
         convention=(one_of(*conventions, allowed=" or ".join(conventions)), key(conventions[0], "docs/conventions.md")),
-        target=(section_schema("target", "target", "dji_mini_4_pro"), key({}, None)),
-        environment=(section_schema("environment", "environment", "clear_day"), key({}, None)),
+        target=(target, key(target(), None)),
+        environment=(environment, key(environment(), None)),
         sensors=(
             Annotated[dict[str, sensor_type()], Field(min_length=1)],
             key(
