@@ -31,8 +31,9 @@ import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, ScenarioError, raise_all
 from csuas.base.schema import validate
-from csuas.core.scenario import Scenario, check_value, load_scenario
+from csuas.core.scenario import Scenario, load_scenario
 from csuas.defaults import load_parameters
+from csuas.defaults.scenario_schema import checked_values
 from csuas.sweep.schema import CHUNK_POINTS, JOB_AXES, MAX_POINTS, SCHEMAS, TAGS
 
 JOBS = ("range", "pd", "render", "rcs", "dataset")
@@ -143,7 +144,7 @@ def _check_axis(job: str, scenario: Scenario, key: str, values: list):
     if key in JOB_AXES[job]:
         return _own_axis(job, key, values)
     spec = _parameter_of(job, scenario, key, values)
-    checked = [check_value(f"axes.{key}.{i}", spec, v) for i, v in enumerate(values)]
+    checked = checked_values(f"axes.{key}", spec, values)
     return np.asarray(checked, dtype=object if "choices" in spec else float)
 
 
