@@ -51,7 +51,7 @@ MISSING = Missing()
 class Schema(BaseModel):
     """Base of the input-file schemas: unknown keys refused, no coercion, frozen."""
 
-    model_config = ConfigDict(extra="forbid", strict=True, frozen=True, populate_by_name=True)
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
 
 
 def _refuse(allowed: str):
@@ -109,44 +109,44 @@ def number(
 
     ``allowed`` replaces the generated text (``[0, 360] deg``) in errors and docs.
     """
-    text = allowed or "a number " + _range_text(low, high, unit, low_open, high_open)
+    words = allowed or "a number " + _range_text(low, high, unit, low_open, high_open)
     return Annotated[
         float,
-        BeforeValidator(_finite(text)),
-        AfterValidator(_bounded(low, high, text, low_open, high_open)),
-        Field(json_schema_extra={"allowed": text}),
+        BeforeValidator(_finite(words)),
+        AfterValidator(_bounded(low, high, words, low_open, high_open)),
+        Field(json_schema_extra={"allowed": words}),
     ]
 
 
 def whole(low: int | None = None, high: int | None = None, allowed: str | None = None, lenient: bool = False) -> Any:
     """A whole number (never a boolean) within ``[low, high]``; ``lenient``: also a float without fraction."""
-    text = allowed or "a whole number " + _range_text(low, high, "", False, False)
+    words = allowed or "a whole number " + _range_text(low, high, "", False, False)
 
     def check(value):
         if lenient and isinstance(value, float) and math.isfinite(value) and value == int(value):
             value = int(value)
         if isinstance(value, bool) or not isinstance(value, int):
-            _refuse(text)
+            _refuse(words)
         return value
 
     return Annotated[
         int,
         BeforeValidator(check),
-        AfterValidator(_bounded(low, high, text)),
-        Field(json_schema_extra={"allowed": text}),
+        AfterValidator(_bounded(low, high, words)),
+        Field(json_schema_extra={"allowed": words}),
     ]
 
 
 def one_of(*choices, allowed: str | None = None) -> Any:
     """One of ``choices`` exactly (``8`` is not ``8.0``, ``1`` is not ``true``)."""
-    text = allowed or ", ".join(str(c) for c in choices)
+    words = allowed or ", ".join(str(c) for c in choices)
 
     def check(value):
         if not any(type(value) is type(c) and value == c for c in choices):
-            _refuse(text)
+            _refuse(words)
         return value
 
-    return Annotated[Any, BeforeValidator(check), Field(json_schema_extra={"allowed": text})]
+    return Annotated[Any, BeforeValidator(check), Field(json_schema_extra={"allowed": words})]
 
 
 def text(allowed: str) -> Any:
@@ -196,19 +196,19 @@ def _field_allowed(field) -> str | None:
 
 def _models_in(annotation) -> list[type[BaseModel]]:
     """The schema models an annotation may hold (through Annotated, unions, lists and dicts)."""
+    return [model for model, _ in _tagged_models(annotation)]
+
+
+def _tagged_models(annotation, tag: str | None = None) -> list[tuple[type[BaseModel], str | None]]:
+    """(model, the union tag that chooses it) of every model an annotation may hold."""
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return [annotation]
+        return [(annotation, tag)]
+    for meta in getattr(annotation, "__metadata__", ()):
+        tag = getattr(meta, "tag", tag)
     found = []
     for arg in typing.get_args(annotation):
-        found.extend(_models_in(arg))
+        found.extend(_tagged_models(arg, tag))
     return found
-
-
-def _field_of(model: type[BaseModel], name: str):
-    for field_name, field in model.model_fields.items():
-        if name in (field_name, field.alias):
-            return field
-    return None
 
 
 def _path(data, loc: tuple, tags: Iterable[str]) -> list:
@@ -241,20 +241,21 @@ def _value_at(data, path: list):
     return here
 
 
-def _describe(root, path: list, data) -> tuple[str | None, list[str]]:
-    """(what the schema allows at ``path``, the keys allowed beside it) by walking the models."""
-    models = _models_in(root)
-    allowed, keys = None, []
-    for depth, part in enumerate(path):
-        keys = [f.alias or n for m in models for n, f in m.model_fields.items()]
-        fields = [f for f in (_field_of(m, str(part)) for m in models) if f is not None]
+def _describe(root, loc: tuple, tags: set) -> tuple[str | None, list[str]]:
+    """(what the schema allows at pydantic's location ``loc``, the keys allowed beside it), by walking the
+    models along it: a union tag in ``loc`` picks its member."""
+    models, allowed, keys = _tagged_models(root), None, []
+    for part in loc:
+        chosen = [(m, t) for m, t in models if t == part]
+        if part in tags and chosen:
+            models = chosen
+            continue
+        keys = [name for m, _ in models for name in m.model_fields]
+        fields = [m.model_fields[part] for m, _ in models if isinstance(part, str) and part in m.model_fields]
         if fields:
             allowed = _field_allowed(fields[0])
-            models = [m for f in fields for m in _models_in(f.annotation)]
-            continue
-        if models and depth < len(path) - 1 and isinstance(_value_at(data, path[: depth + 1]), (dict, list)):
-            continue  # a name of a dict of models (sensors.NAME) or an index: the same models below
-        allowed = None
+            models = [pair for f in fields for pair in _tagged_models(f.annotation)]
+        # else: a name in a table of tables (sensors.NAME) or a list index: the same models below
     return allowed, keys
 
 
@@ -291,7 +292,7 @@ def parameter_errors(error: ValidationError, data, root, prefix: str = "", tags:
     for item in error.errors(include_url=False):
         path = _path(data, tuple(item["loc"]), tags)
         value = _value_at(data, path) if path else data
-        allowed, keys = _describe(root, path, data)
+        allowed, keys = _describe(root, tuple(item["loc"]), tags)
         name = ".".join(str(p) for p in ([prefix] if prefix else []) + path) or "file"
         found.append(ParameterError(name, value, _allowed_text(item, allowed, keys)))
     return found
@@ -377,7 +378,7 @@ def key_rows(model: type[BaseModel], prefix: str = "") -> list[tuple[str, str, s
     (``radio_map.step``), a table of tables' with ``NAME`` (``sensors.NAME.x``)."""
     rows = []
     for name, field in model.model_fields.items():
-        full = f"{prefix}{field.alias or name}"
+        full = f"{prefix}{name}"
         tables = _table_of_tables(field.annotation)
         nested = _models_in(field.annotation)
         if tables is not None:

@@ -29,13 +29,11 @@ from csuas.base.schema import validate
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import load_parameters, load_presets, load_tables, scenario_path
-from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, scenario_schema
+from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, checked_values, scenario_schema
 from csuas.defaults.scenario_schema import TAGS as SCHEMA_TAGS
 
 #: Keys of a scenario file (its schema: :func:`csuas.defaults.scenario_schema.scenario_schema`).
 TOP_LEVEL_KEYS = ("name", "description", "convention", "target", "environment", "sensors")
-#: Default presets of the target and the environment.
-DEFAULT_PRESETS = {"target": "dji_mini_4_pro", "environment": "clear_day"}
 
 
 @dataclass
@@ -130,28 +128,12 @@ def _fail(key: str, value, allowed: str) -> NoReturn:
 
 
 def check_value(key: str, spec: dict, value):
-    """Validate one value against its parameter spec; return it (as float/int/str/list)."""
-    if "choices" in spec:
-        if not isinstance(value, str) or value not in spec["choices"]:
-            _fail(key, value, "one of " + ", ".join(spec["choices"]))
-        return value
-    if isinstance(value, list):
-        if not spec.get("list"):
-            _fail(key, value, f"a number [{spec['unit']}]")
-        return [check_value(key, {**spec, "list": False}, v) for v in value]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        _fail(key, value, f"a number [{spec['unit']}] in [{spec['min']:g}, {spec['max']:g}]")
-    if isinstance(value, float) and math.isnan(value):
-        _fail(key, value, "a number, not NaN")
-    low_ok = value > spec["min"] if spec.get("min_exclusive") else value >= spec["min"]
-    if not (low_ok and value <= spec["max"]):
-        bracket = "(" if spec.get("min_exclusive") else "["
-        _fail(key, value, f"{bracket}{spec['min']:g}, {spec['max']:g}] {spec['unit']}")
-    if isinstance(spec.get("value"), int) and not isinstance(spec.get("value"), bool):
-        if value != int(value):
-            _fail(key, value, "a whole number")
-        return int(value)
-    return float(value)
+    """Validate one value against its parameter spec (its schema field,
+    :func:`csuas.defaults.scenario_schema.parameter_type`); return it (as float/int/str/list)."""
+    try:
+        return checked_values(key, spec, [value], indexed=False)[0]
+    except ParameterError as exc:
+        raise ScenarioError(str(exc)) from None
 
 
 def _class_value(param: str, value):
@@ -186,8 +168,6 @@ def _apply(section: str, values: dict, given: dict, explicit: set, origin: dict,
 
 def _given(table) -> dict:
     """The values a validated table gives, in the file's order (``preset`` and ``modality`` aside)."""
-    if isinstance(table, dict):
-        return {}
     return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality")}
 
 
@@ -281,9 +261,9 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
     """
     model = _validated(data)
     sections, explicit, origin = {}, {}, {}
-    for section, default_preset in DEFAULT_PRESETS.items():
+    for section in ("target", "environment"):
         table = getattr(model, section)
-        preset = default_preset if isinstance(table, dict) else table.preset
+        preset = table.preset
         values, given, where = _defaults(section), set[str](), dict[str, str]()
         _apply(section, values, _preset(section, preset), given, where, f"preset {preset}")
         _apply(section, values, _given(table), given, where, "scenario")

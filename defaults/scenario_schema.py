@@ -12,10 +12,12 @@ resolver, :func:`csuas.core.scenario.parse_scenario`.
 from __future__ import annotations
 
 import functools
+import json
 from typing import Annotated, Any
 
-from pydantic import Discriminator, Field, Tag, create_model
+from pydantic import BaseModel, Discriminator, Field, Tag, TypeAdapter, ValidationError, create_model
 
+from csuas.base.errors import ParameterError
 from csuas.base.schema import Schema, key, number, one_of, text, toml_text, whole
 from csuas.defaults import MODALITIES, load_parameters, load_presets, load_tables
 
@@ -39,14 +41,27 @@ def allowed_range(spec: dict) -> str:
     return f"{bracket}{spec['min']:g}, {spec['max']:g}] {spec['unit']}"
 
 
-def _scalar_type(spec: dict) -> Any:
+def parameter_allowed(spec: dict) -> str:
+    """What one parameter of ``parameters.toml`` allows, as its errors and the docs say it."""
     if "choices" in spec:
-        return one_of(*spec["choices"], allowed="one of " + ", ".join(spec["choices"]))
+        return "one of " + ", ".join(spec["choices"])
+    if spec.get("list"):
+        return "a number or a list of numbers in " + allowed_range(spec)
     default = spec.get("value")
     if isinstance(default, int) and not isinstance(default, bool):
-        return whole(spec["min"], spec["max"], allowed="a whole number in " + allowed_range(spec), lenient=True)
+        return "a whole number in " + allowed_range(spec)
+    return allowed_range(spec)
+
+
+def _scalar_type(spec: dict) -> Any:
+    scalar = {**spec, "list": False}
+    if "choices" in spec:
+        return one_of(*spec["choices"], allowed=parameter_allowed(scalar))
+    default = spec.get("value")
+    if isinstance(default, int) and not isinstance(default, bool):
+        return whole(spec["min"], spec["max"], allowed=parameter_allowed(scalar), lenient=True)
     low_open = bool(spec.get("min_exclusive"))
-    return number(spec["min"], spec["max"], spec["unit"], low_open=low_open, allowed=allowed_range(spec))
+    return number(spec["min"], spec["max"], spec["unit"], low_open=low_open, allowed=parameter_allowed(scalar))
 
 
 def _kind(value) -> str:
@@ -58,11 +73,10 @@ def parameter_type(spec: dict, classes: dict | None = None) -> Any:
     parameter takes one; a class name of ``classes`` (a table of ``tables.toml``) beside a number."""
     scalar = _scalar_type(spec)
     if spec.get("list"):
-        text_ = "a number or a list of numbers in " + allowed_range(spec)
         return Annotated[
             Annotated[list[scalar], Field(min_length=1), Tag("list")] | Annotated[scalar, Tag("number")],
             Discriminator(_kind),
-            Field(json_schema_extra={"allowed": text_}),
+            Field(json_schema_extra={"allowed": parameter_allowed(spec)}),
         ]
     if classes is None:
         return scalar
@@ -73,6 +87,28 @@ def parameter_type(spec: dict, classes: dict | None = None) -> Any:
         Discriminator(_kind),
         Field(json_schema_extra={"allowed": text_}),
     ]
+
+
+@functools.lru_cache(maxsize=256)
+def _values_adapter(spec_json: str) -> TypeAdapter:
+    return TypeAdapter(list[parameter_type(json.loads(spec_json))])
+
+
+def checked_values(key: str, spec: dict, values: list, indexed: bool = True) -> list:
+    """``values`` of one parameter (a sweep's axis, a sensitivity's bounds), each checked by the parameter's
+    schema field (:func:`parameter_type`) in one call.
+
+    Raises
+    ------
+    ParameterError
+        The first bad value, named ``key.INDEX`` (``key`` with ``indexed=False``).
+    """
+    try:
+        return _values_adapter(json.dumps(spec, sort_keys=True)).validate_python(values)
+    except ValidationError as exc:
+        index = exc.errors()[0]["loc"][0]
+        value = values[index] if isinstance(index, int) else values
+        raise ParameterError(f"{key}.{index}" if indexed else key, value, parameter_allowed(spec)) from None
 
 
 def _shown(spec: dict) -> str:
@@ -116,6 +152,8 @@ class UnknownModality(Schema, extra="allow"):
 
 
 def _modality(table) -> str | None:
+    if isinstance(table, BaseModel):  # a validated table, when dumped
+        return table.modality if table.modality in MODALITIES else UNKNOWN
     if not isinstance(table, dict):
         return None
     return table["modality"] if table.get("modality") in MODALITIES else UNKNOWN
@@ -136,14 +174,16 @@ def sensor_type() -> Any:
 @functools.cache
 def scenario_schema(conventions: tuple[str, ...]):
     """The model of a scenario file; ``conventions`` are the core's (:data:`csuas.core.result.CONVENTIONS`)."""
+    target = section_schema("target", "target", "dji_mini_4_pro")
+    environment = section_schema("environment", "environment", "clear_day")
     return create_model(
         "ScenarioSchema",
         __base__=Schema,
         name=(text("a string") | None, key(None, "the scenario's name (default: the file's name)")),
         description=(text("a string") | None, key(None, "free text")),
         convention=(one_of(*conventions, allowed=" or ".join(conventions)), key(conventions[0], "docs/conventions.md")),
-        target=(section_schema("target", "target", "dji_mini_4_pro"), key({}, None)),
-        environment=(section_schema("environment", "environment", "clear_day"), key({}, None)),
+        target=(target, key(target(), None)),
+        environment=(environment, key(environment(), None)),
         sensors=(
             Annotated[dict[str, sensor_type()], Field(min_length=1)],
             key(

@@ -10,7 +10,7 @@ from __future__ import annotations
 from math import isfinite
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Discriminator, Field, Tag, ValidationInfo, field_validator
+from pydantic import BaseModel, BeforeValidator, Discriminator, Field, Tag, ValidationInfo, field_validator
 
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 
@@ -48,7 +48,7 @@ class Draw(Schema):
 
 
 def _axis_kind(value) -> str | None:
-    return "list" if isinstance(value, list) else "draw" if isinstance(value, dict) else None
+    return "list" if isinstance(value, list) else "draw" if isinstance(value, (dict, BaseModel)) else None
 
 
 Axis = Annotated[

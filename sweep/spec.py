@@ -31,8 +31,9 @@ import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, ScenarioError, raise_all
 from csuas.base.schema import validate
-from csuas.core.scenario import Scenario, check_value, load_scenario
+from csuas.core.scenario import Scenario, load_scenario
 from csuas.defaults import load_parameters
+from csuas.defaults.scenario_schema import checked_values
 from csuas.sweep.schema import CHUNK_POINTS, JOB_AXES, MAX_POINTS, SCHEMAS, TAGS
 
 JOBS = ("range", "pd", "render", "rcs", "dataset")
@@ -117,7 +118,7 @@ def _own_axis(job: str, key: str, values: list):
     return np.asarray(values, dtype=float)
 
 
-def _parameter_of(job: str, scenario: Scenario, key: str) -> dict:
+def _parameter_of(job: str, scenario: Scenario, key: str, values: list) -> dict:
     """The parameter spec (defaults/parameters.toml) an axis key names; ParameterError when none."""
     parts = key.split(".")
     spec = None
@@ -129,12 +130,12 @@ def _parameter_of(job: str, scenario: Scenario, key: str) -> dict:
         own = ", ".join(JOB_AXES.get(job, {})) or "none"
         raise ParameterError(
             f"axes.{key}",
-            "(an axis)",
+            values,
             f"target.<param>, environment.<param> or sensors.<name>.<param> (sensors: {', '.join(scenario.sensors)}); "
             f"the job's own axes: {own}",
         )
     if not TAKES_SCENARIO[job]:
-        raise ParameterError(f"axes.{key}", "(an axis)", f"job {job} takes only {', '.join(JOB_AXES[job])}")
+        raise ParameterError(f"axes.{key}", values, f"job {job} takes only {', '.join(JOB_AXES[job])}")
     return spec
 
 
@@ -142,8 +143,8 @@ def _check_axis(job: str, scenario: Scenario, key: str, values: list):
     """Validated values of one axis, as an array (ParameterError naming the first bad value)."""
     if key in JOB_AXES[job]:
         return _own_axis(job, key, values)
-    spec = _parameter_of(job, scenario, key)
-    checked = [check_value(f"axes.{key}.{i}", spec, v) for i, v in enumerate(values)]
+    spec = _parameter_of(job, scenario, key, values)
+    checked = checked_values(f"axes.{key}", spec, values)
     return np.asarray(checked, dtype=object if "choices" in spec else float)
 
 

@@ -77,20 +77,22 @@ def _ground_errors(ground, names: list, scenario) -> list:
     return errors
 
 
-def radio_map_errors(site: dict, scenario) -> list:
-    """What a site's ``[radio_map]`` asks that its scenario or sensors cannot give (the schema checks types)."""
-    table = site.get("radio_map")
-    if not isinstance(table, dict):
-        return []
-    sited = site.get("sensors") if isinstance(site.get("sensors"), dict) else {}
+def _mapped_sensors(table: dict, sited: dict, scenario) -> tuple[list, list]:
+    """(the RF and radar sensors the table maps, the errors of its ``sensors``)."""
     radio = _radio_sensors(sited, scenario)
     names = table.get("sensors", radio)
+    if not isinstance(names, list):
+        return [], []  # the schema names it
     errors = []
-    if isinstance(names, list) and (not names or any(n not in radio for n in names)):
+    if not names or any(n not in radio for n in names):
         found = ", ".join(radio) or "none on this site"
         errors.append(ParameterError("radio_map.sensors", names, f"RF or radar sensors of the site: {found}"))
-    names = [n for n in names if n in radio] if isinstance(names, list) else []
-    errors += _ground_errors(table.get("ground", RadioMapTable.model_fields["ground"].default), names, scenario)
+    return [n for n in names if n in radio], errors
+
+
+def _height_errors(site: dict, sited: dict, names: list) -> list:
+    """Masts and flight levels above the terrain: a radio map's antennas and measurement surfaces."""
+    errors = []
     for name in names:
         mast = sited[name].get("mast_m", 10.0) if isinstance(sited[name], dict) else None
         if isinstance(mast, (int, float)) and mast <= 0:
@@ -115,6 +117,17 @@ def sector_window(aimed: np.ndarray, window: tuple[slice, slice], row: float, co
         slice(max(low_row, window[0].start), min(high_row + 1, window[0].stop)),
         slice(max(low_col, window[1].start), min(high_col + 1, window[1].stop)),
     )
+
+
+def radio_map_errors(site: dict, scenario) -> list:
+    """What a site's ``[radio_map]`` asks that its scenario or sensors cannot give (the schema checks types)."""
+    table = site.get("radio_map")
+    if not isinstance(table, dict):
+        return []
+    sited = site.get("sensors") if isinstance(site.get("sensors"), dict) else {}
+    names, errors = _mapped_sensors(table, sited, scenario)
+    ground = table.get("ground", RadioMapTable.model_fields["ground"].default)
+    return errors + _ground_errors(ground, names, scenario) + _height_errors(site, sited, names)
 
 
 def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_sensor: dict, settings: dict) -> dict:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
+from pydantic import BaseModel, Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
 
 from csuas.base.schema import Schema, key, number, text, whole
 from csuas.core.coverage import POINTING
@@ -70,7 +70,7 @@ class GroundConstants(Schema):
 
 
 def _ground_kind(value) -> str | None:
-    return "material" if isinstance(value, str) else "constants" if isinstance(value, dict) else None
+    return "material" if isinstance(value, str) else "constants" if isinstance(value, (dict, BaseModel)) else None
 
 
 Ground = Annotated[

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any
 
-from pydantic import Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
+from pydantic import BaseModel, Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
 
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 from csuas.drone_models.presets import list_presets
@@ -39,7 +39,7 @@ def _axis(name: str) -> Any:
         min=(value, key(description="lowest value")),
         max=(value, key(description="highest value")),
     )
-    kind = lambda v: "list" if isinstance(v, list) else "span" if isinstance(v, dict) else None
+    kind = lambda v: "list" if isinstance(v, list) else "span" if isinstance(v, (dict, BaseModel)) else None
     return Annotated[
         Annotated[list[value], Field(min_length=1), Tag("list")] | Annotated[span, Tag("span")],
         Discriminator(kind, custom_error_type="csuas", custom_error_message="a non-empty list, or {min, max}"),
