@@ -357,7 +357,7 @@ def test_coverage_checks_exactly_the_files_it_writes(tmp_path, capsys):
 
     site = tmp_path / "site.toml"
     site.write_text(
-        'altitudes_agl_m = [30.0]\nfusion_k = 1\n[sensors.eo]\nx = 505000.0\ny = 5005000.0\n', encoding="utf-8"
+        "altitudes_agl_m = [30.0]\nfusion_k = 1\n[sensors.eo]\nx = 505000.0\ny = 5005000.0\n", encoding="utf-8"
     )
     out = tmp_path / "out"
     code, err = _run(["coverage", site, "--out", out], capsys)
