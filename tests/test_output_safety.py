@@ -380,3 +380,23 @@ def test_a_device_node_named_like_a_coverage_layer_survives_and_is_refused_befor
 def test_a_site_sensor_named_fused_is_refused(tmp_path, capsys):
     out = tmp_path / "out"
     _refused(["coverage", _site(tmp_path, "fused"), "--out", out], capsys, tmp_path, out, "fused layers")
+
+
+#: Every command with an output folder, its argv with {} for the folder (cheap settings: refused before work).
+OUT_FOLDER_COMMANDS = {
+    "render": ["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--out", "{}"],
+    "sensitivity": ["sensitivity", "--analysis", "eo", "--out", "{}"],
+    "dataset": ["dataset", "example", "--out", "{}"],
+    "sweep": ["sweep", "range_rain", "--scheduler", "serial", "--out", "{}"],
+    "coverage": ["coverage", "demo", "--out", "{}"],
+    "report": ["report", "--out", "{}"],
+}
+
+
+@pytest.mark.parametrize("command", sorted(OUT_FOLDER_COMMANDS))
+@pytest.mark.parametrize("bad", ["nul", "long"])
+def test_an_output_folder_with_a_nul_or_an_overlong_name_is_refused_before_work(command, bad, tmp_path, capsys):
+    folder = str(tmp_path / ("a\0b" if bad == "nul" else "x" * 300))
+    argv = [folder if a == "{}" else a for a in OUT_FOLDER_COMMANDS[command]]
+    _refused(argv, capsys, tmp_path, tmp_path / "none", "out =")
+    assert not list(tmp_path.iterdir())
