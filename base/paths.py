@@ -104,6 +104,14 @@ def checked_path(path, option: str) -> Path:
     return Path(text)
 
 
+def _resolved(path: Path, option: str) -> Path:
+    """``path`` with every symbolic link followed; a loop of links is refused naming ``option``."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError) as exc:  # Python 3.11 raises RuntimeError on a loop
+        raise ParameterError(option, str(path), f"a path without a loop of symbolic links ({exc})") from None
+
+
 def output_file(path, option: str) -> Path:
     """A single output file the user named (``--plot``, ``--export``): checked before any work.
 
@@ -134,9 +142,9 @@ def inside(folder, *parts: str, option: str = "--out") -> Path:
         special file.
     """
     named = checked_path(folder, option)
-    root = named.resolve()
+    root = _resolved(named, option)
     joined = checked_path(named.joinpath(*parts), option)
-    parent = joined.parent.resolve()
+    parent = _resolved(joined.parent, option)
     if joined.name in ("", ".", "..") or (parent != root and root not in parent.parents):
         raise ParameterError(option, str(joined), f"a path inside the output folder {root}")
     return refuse_special(joined, option)
@@ -154,8 +162,8 @@ def sub_folder(folder, name: str, option: str = "--out") -> Path:
         Naming ``option`` when ``folder/name`` leads outside ``folder`` or is not a folder.
     """
     named = checked_path(folder, option)
-    root, path = named.resolve(), named / name
-    if root not in path.resolve().parents:
+    root, path = _resolved(named, option), named / name
+    if root not in _resolved(path, option).parents:
         raise ParameterError(option, str(path), f"a path inside the output folder {root}")
     kind = _kind(path)
     if kind not in (None, "a folder"):

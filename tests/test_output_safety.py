@@ -111,6 +111,13 @@ def test_a_linked_sub_folder_is_followed_and_refused(tmp_path):
         inside(out, "images", "a.png")
 
 
+def test_a_loop_of_links_is_refused_naming_the_option(tmp_path):
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    with pytest.raises(ParameterError, match="--out"):
+        inside(tmp_path / "a", "x.png")
+
+
 def test_a_linked_output_folder_is_the_users_choice(tmp_path):
     real = tmp_path / "real"
     real.mkdir()
