@@ -15,7 +15,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.base.interrupts import raise_if_interrupted
-from csuas.base.paths import refuse_special
+from csuas.base.paths import checked_path, refuse_special
 
 
 def _umask() -> int:
@@ -110,7 +110,7 @@ def prepare_output_dir(path: str | os.PathLike, option: str = "--out") -> Path:
         When ``path`` is an existing non-folder, cannot be created, or refuses a file, naming
         ``option`` and the operating system's reason.
     """
-    folder = Path(path)
+    folder = checked_path(path, option)  # no NUL, no name longer than the file system's
     if folder.exists() and not folder.is_dir():
         raise ParameterError(option, str(folder), "a folder (this path is an existing file)")
     try:

@@ -88,7 +88,14 @@ def raise_if_interrupted() -> None:
 
 @contextlib.contextmanager
 def handling_interrupts():
-    """Record SIGINT and SIGTERM while the block runs; restore the previous handlers afterwards."""
+    """Record SIGINT and SIGTERM while the block runs; restore the previous handlers afterwards.
+
+    What was recorded is forgotten when the block ends, so that a later checkpoint outside it (a
+    library call after an interrupted command, in the same process) raises nothing.
+    """
     _received.clear()
-    with _handlers(_handler):
-        yield
+    try:
+        with _handlers(_handler):
+            yield
+    finally:
+        _received.clear()

@@ -94,8 +94,8 @@ def refuse_special(path, option: str) -> Path:
     return target
 
 
-def _plain_path(path, option: str) -> Path:
-    """``path`` as a Path; refused when it holds a NUL or a file name longer than the file system's."""
+def checked_path(path, option: str) -> Path:
+    """``path`` as a Path; refused (naming ``option``) when it holds a NUL or a name longer than the file system's."""
     text = os.fspath(path)
     if "\0" in text:
         raise ParameterError(option, text, "a path without NUL characters")
@@ -104,13 +104,21 @@ def _plain_path(path, option: str) -> Path:
     return Path(text)
 
 
+def _resolved(path: Path, option: str) -> Path:
+    """``path`` with every symbolic link followed; a loop of links is refused naming ``option``."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError) as exc:  # Python 3.11 raises RuntimeError on a loop
+        raise ParameterError(option, str(path), f"a path without a loop of symbolic links ({exc})") from None
+
+
 def output_file(path, option: str) -> Path:
     """A single output file the user named (``--plot``, ``--export``): checked before any work.
 
     Its folder is the file's own parent (created when written); the file itself must be a new name
     or a regular file (:func:`refuse_special`), its folder not an existing non-folder.
     """
-    target = _plain_path(path, option)
+    target = checked_path(path, option)
     refuse_special(target, option)
     parent = _kind(target.parent)
     if parent is not None and parent != "a folder":
@@ -133,10 +141,10 @@ def inside(folder, *parts: str, option: str = "--out") -> Path:
         Naming ``option`` when the path leaves ``folder``, holds a NUL, has a name too long, or is a
         special file.
     """
-    named = _plain_path(folder, option)
-    root = named.resolve()
-    joined = _plain_path(named.joinpath(*parts), option)
-    parent = joined.parent.resolve()
+    named = checked_path(folder, option)
+    root = _resolved(named, option)
+    joined = checked_path(named.joinpath(*parts), option)
+    parent = _resolved(joined.parent, option)
     if joined.name in ("", ".", "..") or (parent != root and root not in parent.parents):
         raise ParameterError(option, str(joined), f"a path inside the output folder {root}")
     return refuse_special(joined, option)
@@ -153,9 +161,9 @@ def sub_folder(folder, name: str, option: str = "--out") -> Path:
     ParameterError
         Naming ``option`` when ``folder/name`` leads outside ``folder`` or is not a folder.
     """
-    named = _plain_path(folder, option)
-    root, path = named.resolve(), named / name
-    if root not in path.resolve().parents:
+    named = checked_path(folder, option)
+    root, path = _resolved(named, option), named / name
+    if root not in _resolved(path, option).parents:
         raise ParameterError(option, str(path), f"a path inside the output folder {root}")
     kind = _kind(path)
     if kind not in (None, "a folder"):

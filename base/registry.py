@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import importlib
 
+from csuas.base.interrupts import raise_if_interrupted
+
 
 def resolve(reference: str):
     """The object a registry entry names.
@@ -21,6 +23,7 @@ def resolve(reference: str):
     """
     module_name, _, attribute = reference.partition(":")
     found = importlib.import_module(module_name)
+    raise_if_interrupted()  # an interrupt that a C extension swallowed while the module loaded
     for part in filter(None, attribute.split(".")):
         found = getattr(found, part)
     return found

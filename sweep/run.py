@@ -160,7 +160,7 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
 
     A window of tasks is in flight: one a worker for simulators (a worker due for recycling is idle
     when its task returns), two a worker otherwise. While none finishes, the cluster's workers are
-    counted every poll; none for ``no_worker_timeout_s`` stops the run (:func:`_check_workers`).
+    counted every poll; none for ``no_worker_timeout_s`` stops the run (:class:`_Watchdog`).
     """
     from distributed import wait
 
@@ -178,22 +178,17 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
 
     queue = iter(todo)
     pending = {submit(i) for _, i in zip(range(max(1, n_workers) * (1 if simulator else 2)), queue)}
-    pids, tasks_by_worker, done, alone_since = set(), {}, 0, None
-    poll_s = min(1.0, no_worker_timeout_s / 4.0)
+    pids, tasks_by_worker, done = set(), {}, 0
+    watchdog = _Watchdog(client, no_worker_timeout_s, out, progress)
     while pending:
         try:
-            finished, pending = wait(pending, timeout=poll_s, return_when="FIRST_COMPLETED")
+            finished, pending = wait(pending, timeout=watchdog.poll_s, return_when="FIRST_COMPLETED")
         except TimeoutError:
-            try:
-                alone_since = _check_workers(client, alone_since, no_worker_timeout_s, done, out)
-            except CsuasError:
-                if progress is not None and done:
-                    progress.write("\n")  # end the progress line before the error's
-                raise
+            watchdog.idle(done)
             continue
-        alone_since = None
         for future in finished:
-            pid, address = future.result()
+            pid, address = watchdog.result(future, done)
+            watchdog.progressed()
             pids.add(pid)
             done += 1
             tasks_by_worker[address] = tasks_by_worker.get(address, 0) + 1
@@ -207,26 +202,53 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
     return n_workers, pids
 
 
-def _check_workers(client, alone_since: float | None, timeout_s: float, done: int, out: Path) -> float | None:
-    """When the cluster has had no worker since ``alone_since`` for ``timeout_s`` [s], stop the sweep.
+class _Watchdog:
+    """Stops a sweep whose cluster has had no worker for ``timeout_s`` [s], wherever the client waits.
 
-    Returns the moment the cluster was first seen without workers (None while it has some).
-
-    Raises
-    ------
-    CsuasError
-        One line: how long, how many chunks this run wrote (they stay) and how to resume.
+    The client waits in two places: for a task to finish, and for a finished task's result, which
+    lives on the worker that ran it (a worker killed after finishing leaves the task to be run again).
+    Both wait at most :attr:`poll_s` at a time and then count the cluster's workers (:meth:`idle`).
     """
-    if client.scheduler_info().get("workers"):
-        return None
-    now = time.monotonic()
-    alone_since = now if alone_since is None else alone_since
-    if now - alone_since >= timeout_s:
+
+    def __init__(self, client, timeout_s: float, out: Path, progress):
+        self.client, self.timeout_s, self.out, self.progress = client, timeout_s, out, progress
+        self.poll_s = min(1.0, timeout_s / 4.0)
+        self.alone_since: float | None = None
+
+    def progressed(self) -> None:
+        """A task's result arrived: the cluster works."""
+        self.alone_since = None
+
+    def result(self, future, done: int):
+        """``future.result()``, polling the cluster's workers while it waits."""
+        while True:
+            try:
+                return future.result(timeout=self.poll_s)
+            except TimeoutError:
+                self.idle(done)
+
+    def idle(self, done: int) -> None:
+        """Nothing arrived for :attr:`poll_s`: count the workers; none for ``timeout_s`` stops the sweep.
+
+        Raises
+        ------
+        CsuasError
+            One line: how long, how many chunks are written (they stay) and how to resume.
+        """
+        if self.client.scheduler_info().get("workers"):
+            self.alone_since = None
+            return
+        now = time.monotonic()
+        self.alone_since = now if self.alone_since is None else self.alone_since
+        if now - self.alone_since < self.timeout_s:
+            return
+        if self.progress is not None and done:
+            self.progress.write("\n")  # end the progress line before the error's
+        written = len(list((self.out / "chunks").glob("chunk-*.parquet")))
         raise CsuasError(
-            f"no Dask worker for {timeout_s:g} s (--no-worker-timeout-s): stopped; the {done} chunk(s) this run "
-            f"wrote stay in {out / 'chunks'}; start workers and run the same command again to resume"
+            f"no Dask worker for {self.timeout_s:g} s (--no-worker-timeout-s): stopped; the {written} chunk(s) "
+            f"written stay in {self.out / 'chunks'}; start workers and run the same command again to resume"
         )
-    return alone_since
 
 
 def _progress(done: int, total: int, started: float, stream) -> None:

@@ -260,6 +260,6 @@ def test_an_interrupted_dataset_keeps_only_whole_images_and_resumes(tmp_path):
     assert 0 < len(records) < 20  # the interrupt landed mid-set
     assert {p.stem for p in (out_dir / "images").iterdir()} >= set(records)
     assert {p.stem for p in (out_dir / "labels").iterdir()} >= set(records)
-    assert not [p for p in out_dir.rglob("*") if p.name.startswith(".")]  # temporaries
+    assert not [p for p in out_dir.rglob("*") if TEMP_MARKER in p.name]  # temporaries (the folder's lock stays)
     assert cli.main(["dataset", "example", "--out", str(out_dir), "--json"]) == 0
     assert len(list((out_dir / "records").iterdir())) == 20

@@ -166,6 +166,25 @@ def test_an_interrupt_while_the_command_loads_ends_the_run_with_130(monkeypatch,
     assert not out.exists()
 
 
+def _swallowed(sig: int) -> None:
+    """An interrupt that a C extension swallowed: recorded by csuas's handler, its exception gone."""
+    with pytest.raises(KeyboardInterrupt):
+        os.kill(os.getpid(), sig)
+        time.sleep(5.0)  # the handler raises at the next bytecode; this never completes
+    # (here a C extension would have dropped the exception; csuas still holds the signal)
+
+
+def test_a_swallowed_interrupt_ends_the_run_at_the_next_module_load_and_is_then_forgotten():
+    from csuas.base.interrupts import handling_interrupts, raise_if_interrupted
+    from csuas.base.registry import resolve
+
+    with handling_interrupts():
+        _swallowed(signal.SIGTERM)
+        with pytest.raises(KeyboardInterrupt):
+            resolve("csuas.base.paths:inside")  # a checkpoint: every registry import
+    raise_if_interrupted()  # outside the block: nothing left to raise in later library calls
+
+
 def _handlers_installed(pid: int) -> bool:
     """True once the process catches SIGTERM: csuas's interrupt handlers are in place (Python's own never catch it)."""
     try:

@@ -111,6 +111,13 @@ def test_a_linked_sub_folder_is_followed_and_refused(tmp_path):
         inside(out, "images", "a.png")
 
 
+def test_a_loop_of_links_is_refused_naming_the_option(tmp_path):
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    with pytest.raises(ParameterError, match="--out"):
+        inside(tmp_path / "a", "x.png")
+
+
 def test_a_linked_output_folder_is_the_users_choice(tmp_path):
     real = tmp_path / "real"
     real.mkdir()
@@ -357,7 +364,7 @@ def test_coverage_checks_exactly_the_files_it_writes(tmp_path, capsys):
 
     site = tmp_path / "site.toml"
     site.write_text(
-        'altitudes_agl_m = [30.0]\nfusion_k = 1\n[sensors.eo]\nx = 505000.0\ny = 5005000.0\n', encoding="utf-8"
+        "altitudes_agl_m = [30.0]\nfusion_k = 1\n[sensors.eo]\nx = 505000.0\ny = 5005000.0\n", encoding="utf-8"
     )
     out = tmp_path / "out"
     code, err = _run(["coverage", site, "--out", out], capsys)
@@ -380,3 +387,23 @@ def test_a_device_node_named_like_a_coverage_layer_survives_and_is_refused_befor
 def test_a_site_sensor_named_fused_is_refused(tmp_path, capsys):
     out = tmp_path / "out"
     _refused(["coverage", _site(tmp_path, "fused"), "--out", out], capsys, tmp_path, out, "fused layers")
+
+
+#: Every command with an output folder, its argv with {} for the folder (cheap settings: refused before work).
+OUT_FOLDER_COMMANDS = {
+    "render": ["render", "eo", "default", "--range-m", "100", "--quality", "draft", "--out", "{}"],
+    "sensitivity": ["sensitivity", "--analysis", "eo", "--out", "{}"],
+    "dataset": ["dataset", "example", "--out", "{}"],
+    "sweep": ["sweep", "range_rain", "--scheduler", "serial", "--out", "{}"],
+    "coverage": ["coverage", "demo", "--out", "{}"],
+    "report": ["report", "--out", "{}"],
+}
+
+
+@pytest.mark.parametrize("command", sorted(OUT_FOLDER_COMMANDS))
+@pytest.mark.parametrize("bad", ["nul", "long"])
+def test_an_output_folder_with_a_nul_or_an_overlong_name_is_refused_before_work(command, bad, tmp_path, capsys):
+    folder = str(tmp_path / ("a\0b" if bad == "nul" else "x" * 300))
+    argv = [folder if a == "{}" else a for a in OUT_FOLDER_COMMANDS[command]]
+    _refused(argv, capsys, tmp_path, tmp_path / "none", "out =")
+    assert not list(tmp_path.iterdir())

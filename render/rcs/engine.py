@@ -69,6 +69,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.base.interrupts import raise_if_interrupted
 from csuas.core.units import wavelength_m
 from csuas.drone_models.geometry import direction_vector
 
@@ -426,6 +427,7 @@ class SbrEngine:
             escape_needed = radiate == "exit" and max_bounces > 1
             dev["clean"] = self._exact_first_hits(dev, tab, n_obs, escape_needed, acc, stats)
         for lo in range(0, total, self.batch_size):
+            raise_if_interrupted()  # an interrupt a C extension swallowed ends the trace here, not after it
             hi = min(total, lo + self.batch_size)
             g = np.arange(lo, hi, dtype=np.int64)
             job = np.searchsorted(offsets, g, side="right") - 1
