@@ -80,11 +80,13 @@ def curves(
 def _plain_log_ticks(axis, values=None) -> None:
     """Log-axis ticks labelled as plain numbers (``0.002``, ``50``), no minor labels.
 
-    1, 2 and 5 per decade over up to three decades of ``values``; one per decade beyond.
+    1, 2 and 5 per decade over up to two decades of ``values`` (or of the axis' limits when None),
+    one per decade beyond, so that the labels never run into each other.
     """
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-    wide = values is not None and np.max(values) / max(np.min(values), 1e-300) > 1e3
+    low, high = (np.min(values), np.max(values)) if values is not None else sorted(axis.get_view_interval())
+    wide = high / max(low, 1e-300) > 1e2
     axis.set_major_locator(LogLocator(base=10.0, subs=(1.0,) if wide else (1.0, 2.0, 5.0)))
     axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     axis.set_minor_formatter(NullFormatter())
@@ -197,7 +199,7 @@ def accuracy_vs_time(
     fig, (left, right) = plt.subplots(1, 2, figsize=(9.6, 3.8))
     if numeric:
         left.loglog(x, e, "o-", color="C0", label="measured |error|")
-        _plain_log_ticks(left.xaxis)
+        _plain_log_ticks(left.xaxis, x)
     else:
         left.semilogy(x, e, "o-", color="C0", label="measured |error|")
         left.set_xticks(x, [str(v) for v in k], rotation=30, fontsize=8)
@@ -212,10 +214,7 @@ def accuracy_vs_time(
             ax.plot(px, e[i], "o", ms=13, mfc="none", mec="C3", mew=1.5)
     span = _at_least_a_decade(right, t)
     _plain_log_ticks(right.xaxis)
-    if span < 10.0:
-        right.text(
-            0.02, 0.02, f"measured times span only x{span:.2g}", transform=right.transAxes, fontsize=8, color="0.3"
-        )
+    notes = [f"measured times span only x{span:.2g}"] if span < 10.0 else []
     left.set_xlabel(knob + ("  (red rings: quality presets)" if presets else ""))
     right.set_xlabel("wall time [s]  (labels: " + knob + ")")
     shown = np.concatenate([e, se]) if stderr_key is not None else e
@@ -232,11 +231,16 @@ def accuracy_vs_time(
         marks["left"] += list(zip(x, se))
         marks["right"] += list(zip(t, se))
     left_out = _label_points(left, [(preset, x[i], e[i], "C3") for preset, i in ringed], marks["left"])
-    knob_labels = [(f"{v:g}" if numeric else str(v), xt, y, "black") for v, xt, y in zip(k, t, e)]
-    left_out += _label_points(right, [(p, t[i], e[i], "C3") for p, i in ringed] + knob_labels, marks["right"])
-    if left_out:
-        right.text(0.98, 0.02, f"{left_out} crowded label(s) left out", transform=right.transAxes, fontsize=8,
-                   color="0.3", ha="right")  # fmt: skip
+    preset_at = {i: preset for preset, i in ringed}
+    knob_labels = [
+        (f"{v:g}" if numeric else str(v)) + (f" ({preset_at[i]})" if i in preset_at else "") for i, v in enumerate(k)
+    ]
+    order = sorted(range(len(k)), key=lambda i: i not in preset_at)  # presets' labels first
+    right_labels = [(knob_labels[i], t[i], e[i], "C3" if i in preset_at else "black") for i in order]
+    left_out += _label_points(right, right_labels, marks["right"])
+    notes += [f"{left_out} crowded label(s) left out"] if left_out else []
+    if notes:  # under the axis, where they cover nothing (the saved bounding box grows to hold them)
+        right.set_xlabel(right.get_xlabel() + "\n" + "; ".join(notes))
     return Figure(name, title, _png(fig), caption)
 
 
