@@ -241,7 +241,7 @@ def accuracy_vs_time(
     notes += [f"{left_out} crowded label(s) left out"] if left_out else []
     if notes:  # under the axis, where they cover nothing (the saved bounding box grows to hold them)
         right.set_xlabel(right.get_xlabel() + "\n" + "; ".join(notes))
-    return Figure(name, title, _png(fig), caption)
+    return Figure(name, title, _png(fig), caption, wide=True)
 
 
 def image(name: str, title: str, rgb: np.ndarray, caption: str = "", min_px: int = 192) -> Figure:
