@@ -24,7 +24,7 @@ GROUPS = {
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.
-COLLAPSE_ABOVE = 6
+COLLAPSE_ABOVE = 3
 
 #: Side-by-side tables longer than this fold into a <details> element [rows].
 COLLAPSE_ROWS_ABOVE = 12
@@ -46,7 +46,7 @@ table{border-collapse:collapse;margin:8px 0;font-size:0.86em} td,th{border:1px s
 vertical-align:top} th{background:#f3f3f3;text-align:left} td.num{text-align:right;font-family:monospace}
 td.src{min-width:280px} .ok{background:#e6f4ea} .known{background:#fff4d6} .FAIL{background:#fde2e1;font-weight:bold}
 .meta{color:#555;font-size:0.88em;margin:2px 0} .dev{font-size:0.82em;color:#6a4a00} .summary td{font-size:1.05em}
-figure{display:inline-block;margin:8px;vertical-align:top;max-width:640px} figure img{max-width:100%;
+figure{display:inline-block;margin:6px;vertical-align:top;max-width:620px} figure img{max-width:100%;
 border:1px solid #ddd} figure.wide{display:block;max-width:100%} figcaption{font-size:0.85em;color:#444}
 pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap}
 """
@@ -100,9 +100,11 @@ def shared_fields(checks: list) -> dict:
     return shared
 
 
-def _checks_table(checks: list, shared: dict) -> str:
-    """A table of checks; the fields in ``shared`` are printed once above it (:func:`shared_fields`), not per row."""
-    varying = [(key, label) for key, label in SHARED_FIELDS if key not in shared]
+def _checks_table(checks: list, said: dict) -> str:
+    """A table of checks; a field's text in ``said`` (field -> text printed above the table) is not repeated per row."""
+    varying = [
+        (key, label) for key, label in SHARED_FIELDS if any(c.get(key) not in ("", None, said.get(key)) for c in checks)
+    ]
     rows = [
         "<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
         "<th>error est.</th><th>unit</th><th>time [s]</th>" + ("<th>source / method</th>" if varying else "") + "</tr>"
@@ -116,7 +118,7 @@ def _checks_table(checks: list, shared: dict) -> str:
         )
         previous = c
         err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
-        texts = [(label, c.get(key)) for key, label in varying if c.get(key)]
+        texts = [(label, c.get(key)) for key, label in varying if c.get(key) and c.get(key) != said.get(key)]
         own = "<br>".join(f'<span class="meta">{label}:</span> {_e(text)}' for label, text in texts)
         rows.append(
             f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
@@ -165,7 +167,7 @@ def _spec_checks(checks: list, tolerance_why: str) -> str:
     """A spec's checks: those needing attention in full, passing ones folded when there are many.
 
     Text every row shares is printed once above the table; a tolerance source equal to the spec's own
-    ``tolerance_why`` (printed under its heading) not at all.
+    ``tolerance_why`` (printed under its heading) is not printed again, above the table or in a row.
     """
     shared = shared_fields(checks)
     once = [
@@ -174,17 +176,18 @@ def _spec_checks(checks: list, tolerance_why: str) -> str:
         if shared.get(key) and not (key == "tolerance_source" and shared[key] == tolerance_why)
     ]
     out = [f"<p class='meta'>{'<br>'.join(once)}</p>"] if once else []
+    said = {"tolerance_source": tolerance_why, **shared}
     passing = [c for c in checks if c["verdict"] == "ok"]
     if len(passing) > COLLAPSE_ABOVE:  # long lists: show what needs attention, fold the rest
         others = [c for c in checks if c["verdict"] != "ok"]
         if others:
-            out.append(_checks_table(others, shared))
+            out.append(_checks_table(others, said))
         out.append(
             f"<details class='rows'><summary>{len(passing)} passing checks</summary>"
-            f"{_checks_table(passing, shared)}</details>"
+            f"{_checks_table(passing, said)}</details>"
         )
     elif checks:
-        out.append(_checks_table(checks, shared))
+        out.append(_checks_table(checks, said))
     return "\n".join(out)
 
 
