@@ -223,7 +223,16 @@ def _signal_this_thread(sig) -> None:
     signal.pthread_kill(threading.get_ident(), sig)
 
 
-def test_a_signal_during_an_extension_import_is_delivered_after_it():
+@pytest.fixture
+def python_sigint():
+    """SIGINT raises KeyboardInterrupt, as in a terminal, even where pytest was started with SIGINT ignored
+    (a background job of a non-interactive shell: ``make test &``, a CI step), which Python then keeps."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_a_signal_during_an_extension_import_is_delivered_after_it(python_sigint):
     """SIGINT inside a nanobind import aborted the process (exit -6); it is held and raised after the block."""
     reached_end_of_block = False
     with pytest.raises(KeyboardInterrupt):

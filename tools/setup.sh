@@ -26,7 +26,7 @@ apt_lock_wait_s=600
 # SHOW_RE as they come and, after quiet_s seconds without a printed line, WHAT, the time so far and
 # COMMAND's last line. Returns COMMAND's exit status; Ctrl-C or SIGTERM stop COMMAND too.
 watched() {
-  local what=$1 log=$2 show=$3 pid running seen=0 n new last rc started_at=$SECONDS quiet_since=$SECONDS
+  local what=$1 log=$2 show=$3 pid running seen=0 n new last shown_last='' rc started_at=$SECONDS quiet_since=$SECONDS
   shift 3
   "$@" >"$log" 2>&1 &
   pid=$!
@@ -42,8 +42,13 @@ watched() {
     fi
     [ "$running" = 1 ] || break
     if [ $((SECONDS - quiet_since)) -ge "$quiet_s" ]; then
-      last=$(tr '\r' '\n' <"$log" | grep -v '^[[:space:]]*$' | tail -n 1 | cut -c1-150 || true)
-      say "  $what: $((SECONDS - started_at)) s so far${last:+ (last: $last)}"
+      last=$(tr '\r' '\n' <"$log" | grep -v '^[[:space:]]*$' | tail -n 1 | cut -c1-110 || true)
+      if [ -n "$last" ] && [ "$last" = "$shown_last" ]; then
+        say "  $what: $((SECONDS - started_at)) s so far (same step)"
+      else
+        say "  $what: $((SECONDS - started_at)) s so far${last:+ (now: $last)}"
+      fi
+      shown_last=$last
       quiet_since=$SECONDS
     fi
     sleep 1
@@ -97,7 +102,10 @@ fi
 
 if [ ! -x "$venv/bin/python" ]; then
   say "creating the virtual environment $venv"
-  python3 -m venv "$venv" || { say "python3 -m venv failed: install python3-venv (apt-get install python3-venv)"; exit 1; }
+  log=$(mktemp)
+  watched "python3 -m venv" "$log" '^Error' python3 -m venv "$venv" \
+    || { rm -f "$log"; say "python3 -m venv failed: install python3-venv (apt-get install python3-venv)"; exit 1; }
+  rm -f "$log"
 fi
 
 stamp="$venv/.csuas-installed"
@@ -112,9 +120,10 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     tail -n 30 "$log" | sed 's/^/setup:   /' >&2
     rm -f "$log"; say "pip install failed (exit $rc): the lines above say why"; exit 1
   fi
+  say "checking that csuas and its simulators import"
+  watched "import check" "$log" "Error" "$venv/bin/python" -c "import csuas, mitsuba, drjit, sionna.rt, trimesh, mapbox_earcut" \
+    || { rm -f "$log"; say "import check failed: the install above did not complete"; exit 1; }
   rm -f "$log"
-  "$venv/bin/python" -c "import csuas, mitsuba, drjit, sionna.rt, trimesh, mapbox_earcut" \
-    || { say "import check failed: the install above did not complete"; exit 1; }
   echo "$want" > "$stamp"
 else
   say "$venv is up to date with pyproject.toml"

@@ -80,11 +80,13 @@ def curves(
 def _plain_log_ticks(axis, values=None) -> None:
     """Log-axis ticks labelled as plain numbers (``0.002``, ``50``), no minor labels.
 
-    1, 2 and 5 per decade over up to three decades of ``values``; one per decade beyond.
+    1, 2 and 5 per decade over up to two decades of ``values`` (or of the axis' limits when None),
+    one per decade beyond, so that the labels never run into each other.
     """
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-    wide = values is not None and np.max(values) / max(np.min(values), 1e-300) > 1e3
+    low, high = (np.min(values), np.max(values)) if values is not None else sorted(axis.get_view_interval())
+    wide = high / max(low, 1e-300) > 1e2
     axis.set_major_locator(LogLocator(base=10.0, subs=(1.0,) if wide else (1.0, 2.0, 5.0)))
     axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
     axis.set_minor_formatter(NullFormatter())
@@ -97,6 +99,65 @@ def _at_least_a_decade(ax, t: np.ndarray) -> float:
         centre = math.sqrt(float(t.max() * t.min()))
         ax.set_xlim(centre / math.sqrt(10.0) / 1.2, centre * math.sqrt(10.0) * 1.2)
     return span
+
+
+#: Where a point's label may go, tried in turn: offset [pt], horizontal and vertical alignment.
+_LABEL_SPOTS = (
+    ((5, 4), "left", "bottom"), ((5, -4), "left", "top"), ((-5, 4), "right", "bottom"),
+    ((-5, -4), "right", "top"), ((0, 8), "center", "bottom"), ((0, -8), "center", "top"),
+    ((9, 0), "left", "center"), ((-9, 0), "right", "center"),
+)  # fmt: skip
+
+#: Clearance kept between a label and any other marked point [display px].
+_MARK_RADIUS_PX = 5.0
+
+
+def _label_points(ax, labels, marks, fontsize: float = 8.0) -> int:
+    """Write each ``(text, x, y, colour)`` label beside its data point where it covers nothing else.
+
+    Tries the positions of ``_LABEL_SPOTS`` in turn and keeps the first whose box lies inside the
+    axes and clear of the labels already placed, the legend (frozen where it stands) and every other
+    point of ``marks`` (data coordinates); a label without a clear position is left out, never
+    printed over another. Call it on the final layout (after ``tight_layout``).
+
+    Returns
+    -------
+    int
+        The number of labels left out.
+    """
+    renderer = ax.figure.canvas.get_renderer()
+    inside = ax.get_window_extent(renderer)
+    taken = []
+    legend = ax.get_legend()
+    if legend is not None:
+        box = legend.get_window_extent(renderer)
+        legend.set_loc(tuple(ax.transAxes.inverted().transform((box.x0, box.y0))))  # 'best' stays put
+        taken.append(box)
+    dots = ax.transData.transform(np.asarray(marks, float).reshape(-1, 2))
+    left_out = 0
+    for text, px, py, colour in labels:
+        own = ax.transData.transform((px, py))
+        others = dots[np.hypot(*(dots - own).T) > 1.0]
+        for (dx, dy), ha, va in _LABEL_SPOTS:
+            note = ax.annotate(
+                text, (px, py), xytext=(dx, dy), textcoords="offset points", ha=ha, va=va, fontsize=fontsize,
+                color=colour,
+            )  # fmt: skip
+            box = note.get_window_extent(renderer).expanded(1.1, 1.2)
+            r = _MARK_RADIUS_PX
+            clear = (
+                inside.contains(box.x0, box.y0)
+                and inside.contains(box.x1, box.y1)
+                and not any(box.overlaps(b) for b in taken)
+                and not any(box.x0 - r < u < box.x1 + r and box.y0 - r < v < box.y1 + r for u, v in others)
+            )
+            if clear:
+                taken.append(box)
+                break
+            note.remove()
+        else:
+            left_out += 1
+    return left_out
 
 
 def accuracy_vs_time(
@@ -138,31 +199,22 @@ def accuracy_vs_time(
     fig, (left, right) = plt.subplots(1, 2, figsize=(9.6, 3.8))
     if numeric:
         left.loglog(x, e, "o-", color="C0", label="measured |error|")
-        _plain_log_ticks(left.xaxis)
+        _plain_log_ticks(left.xaxis, x)
     else:
         left.semilogy(x, e, "o-", color="C0", label="measured |error|")
-        left.set_xticks(x, [str(v) for v in k], rotation=30, fontsize=7)
+        left.set_xticks(x, [str(v) for v in k], rotation=30, fontsize=8)
     if stderr_key is not None:
         se = np.array([max(abs(float(r[stderr_key])), 1e-12) for r in rows])
         left.plot(x, se, "s--", color="C1", label=stderr_label)
         right.loglog(t, se, "s--", color="C1", label=stderr_label)
     right.loglog(t, e, "o-", color="C0", label="measured |error|")
-    for label, xt, y in zip(k, t, e):
-        right.annotate(
-            f"{label:g}" if numeric else str(label), (xt, y), xytext=(4, 4), textcoords="offset points", fontsize=8
-        )
-    for preset, value in (presets or {}).items():
-        hits = [i for i, v in enumerate(k) if v == value]
-        for i in hits:
-            for ax, px in ((left, x[i]), (right, t[i])):
-                ax.plot(px, e[i], "o", ms=13, mfc="none", mec="C3", mew=1.5)
-                ax.annotate(preset, (px, e[i]), xytext=(-6, -14), textcoords="offset points", fontsize=8, color="C3")
+    ringed = [(preset, i) for preset, value in (presets or {}).items() for i, v in enumerate(k) if v == value]
+    for _, i in ringed:
+        for ax, px in ((left, x[i]), (right, t[i])):
+            ax.plot(px, e[i], "o", ms=13, mfc="none", mec="C3", mew=1.5)
     span = _at_least_a_decade(right, t)
     _plain_log_ticks(right.xaxis)
-    if span < 10.0:
-        right.text(
-            0.02, 0.02, f"measured times span only x{span:.2g}", transform=right.transAxes, fontsize=7, color="0.3"
-        )
+    notes = [f"measured times span only x{span:.2g}"] if span < 10.0 else []
     left.set_xlabel(knob + ("  (red rings: quality presets)" if presets else ""))
     right.set_xlabel("wall time [s]  (labels: " + knob + ")")
     shown = np.concatenate([e, se]) if stderr_key is not None else e
@@ -170,10 +222,26 @@ def accuracy_vs_time(
         _plain_log_ticks(ax.yaxis, shown)
         ax.set_ylabel(error_label)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    return Figure(name, title, _png(fig), caption)
+    # labels last, on the final layout: each beside its point where it covers no other label, point or legend
+    marks = {"left": [(px, y) for px, y in zip(x, e)], "right": [(xt, y) for xt, y in zip(t, e)]}
+    if stderr_key is not None:
+        marks["left"] += list(zip(x, se))
+        marks["right"] += list(zip(t, se))
+    left_out = _label_points(left, [(preset, x[i], e[i], "C3") for preset, i in ringed], marks["left"])
+    preset_at = {i: preset for preset, i in ringed}
+    knob_labels = [
+        (f"{v:g}" if numeric else str(v)) + (f" ({preset_at[i]})" if i in preset_at else "") for i, v in enumerate(k)
+    ]
+    order = sorted(range(len(k)), key=lambda i: i not in preset_at)  # presets' labels first
+    right_labels = [(knob_labels[i], t[i], e[i], "C3" if i in preset_at else "black") for i in order]
+    left_out += _label_points(right, right_labels, marks["right"])
+    notes += [f"{left_out} crowded label(s) left out"] if left_out else []
+    if notes:  # under the axis, where they cover nothing (the saved bounding box grows to hold them)
+        right.set_xlabel(right.get_xlabel() + "\n" + "; ".join(notes))
+    return Figure(name, title, _png(fig), caption, wide=True)
 
 
 def image(name: str, title: str, rgb: np.ndarray, caption: str = "", min_px: int = 192) -> Figure:

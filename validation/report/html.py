@@ -26,7 +26,10 @@ GROUPS = {
 }
 
 #: Sections with more passing checks than this fold them into a <details> element.
-COLLAPSE_ABOVE = 6
+COLLAPSE_ABOVE = 3
+
+#: Side-by-side tables longer than this fold into a <details> element [rows].
+COLLAPSE_ROWS_ABOVE = 12
 
 #: Verdicts in the order the contents table counts them: (verdict, column heading, CSS class).
 VERDICTS = (("ok", "passed", "ok"), ("FAIL", "failed", "FAIL"), ("known", "known deviations", "known"),
@@ -38,17 +41,16 @@ SHARED_FIELDS = (("tolerance_source", "tolerance"), ("source", "source"), ("meth
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px;color:#222;max-width:1300px}
 h1{font-size:1.6em} h2{font-size:1.3em;margin-top:1.4em} h3{margin-top:1.4em;margin-bottom:0.2em}
-details.group>summary h2{display:inline}
-details.group{border-top:2px solid #ccc;margin-top:1.2em;padding-top:6px}
+details.group{border-top:2px solid #ccc;margin-top:1.2em;padding-top:6px} details.group>summary h2{display:inline}
 details.group>summary{cursor:pointer;padding:4px 0} .counts{color:#555;font-size:0.9em;margin-left:8px}
+details.rows>summary{cursor:pointer;color:#2a5a2a;font-size:0.9em;margin:4px 0}
 table{border-collapse:collapse;margin:8px 0;font-size:0.86em} td,th{border:1px solid #ddd;padding:3px 6px;
 vertical-align:top} th{background:#f3f3f3;text-align:left} td.num{text-align:right;font-family:monospace}
-.ok{background:#e6f4ea} .known{background:#fff4d6} .FAIL{background:#fde2e1;font-weight:bold}
-.meta{color:#555;font-size:0.88em;margin:2px 0} figure{display:inline-block;margin:8px;vertical-align:top;
-max-width:100%} figure img{max-width:100%;border:1px solid #ddd} figcaption{font-size:0.85em;color:#444;
-max-width:640px} pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap}
-.summary td{font-size:1.05em} .dev{font-size:0.82em;color:#6a4a00} details.rows>summary{cursor:pointer;
-color:#2a5a2a;font-size:0.9em;margin:4px 0}
+td.src{min-width:280px} .ok{background:#e6f4ea} .known{background:#fff4d6} .FAIL{background:#fde2e1;font-weight:bold}
+.meta{color:#555;font-size:0.88em;margin:2px 0} .dev{font-size:0.82em;color:#6a4a00} .summary td{font-size:1.05em}
+figure{display:inline-block;margin:6px;vertical-align:top;max-width:620px} figure img{max-width:100%;
+border:1px solid #ddd} figure.wide{display:block;max-width:100%} figcaption{font-size:0.85em;color:#444}
+pre{background:#f7f7f7;padding:6px;font-size:0.8em;white-space:pre-wrap}
 """
 
 
@@ -83,8 +85,9 @@ def knob_text(name, value) -> str:
 
 def _img(figure) -> str:
     data = base64.b64encode(figure.png).decode("ascii")
+    kind = " class='wide'" if figure.wide else ""
     return (
-        f'<figure><img alt="{_e(figure.title)}" src="data:image/png;base64,{data}">'
+        f'<figure{kind}><img alt="{_e(figure.title)}" src="data:image/png;base64,{data}">'
         f"<figcaption><b>{_e(figure.title)}</b>. {_e(figure.caption)}</figcaption></figure>"
     )
 
@@ -99,26 +102,32 @@ def shared_fields(checks: list) -> dict:
     return shared
 
 
-def _checks_table(checks: list, shared: dict) -> str:
-    """A table of checks; the fields in ``shared`` are printed once above it (:func:`shared_fields`), not per row."""
-    varying = [(key, label) for key, label in SHARED_FIELDS if key not in shared]
+def _checks_table(checks: list, said: dict) -> str:
+    """A table of checks; a field's text in ``said`` (field -> text printed above the table) is not repeated per row."""
+    varying = [
+        (key, label) for key, label in SHARED_FIELDS if any(c.get(key) not in ("", None, said.get(key)) for c in checks)
+    ]
     rows = [
         "<table><tr><th>verdict</th><th>check</th><th>expected</th><th>measured</th><th>tolerance</th>"
         "<th>error est.</th><th>unit</th><th>time [s]</th>" + ("<th>source / method</th>" if varying else "") + "</tr>"
     ]
+    previous: dict = {}
     for c in checks:
-        dev = f'<div class="dev">known deviation: {_e(c["known_deviation"])}</div>' if c["known_deviation"] else ""
-        if c.get("limitation"):
-            dev += f'<div class="dev">limit of csuas\'s model: {_e(c["limitation"])}</div>'
+        dev = "".join(
+            f'<div class="dev">{label}: {"as above" if c[key] == previous.get(key) else _e(c[key])}</div>'
+            for key, label in (("known_deviation", "known deviation"), ("limitation", "limit of csuas's model"))
+            if c.get(key)
+        )
+        previous = c
         err = f'<div class="dev">{_e(c["details"].get("error", ""))}</div>' if c["details"].get("error") else ""
-        texts = [(label, c.get(key)) for key, label in varying if c.get(key)]
+        texts = [(label, c.get(key)) for key, label in varying if c.get(key) and c.get(key) != said.get(key)]
         own = "<br>".join(f'<span class="meta">{label}:</span> {_e(text)}' for label, text in texts)
         rows.append(
             f'<tr class="{c["verdict"]}"><td>{c["verdict"]}</td><td>{_e(c["name"])}{dev}{err}</td>'
             f'<td class="num">{fmt(c["expected"])}</td><td class="num">{fmt(c["measured"])}</td>'
             f'<td class="num">{fmt(c["tolerance"], 3)}</td><td class="num">{fmt(c["error_estimate"], 3)}</td>'
             f'<td>{_e(c["unit"])}</td><td class="num">{c["time_s"]:.3f}</td>'
-            + (f"<td>{own}</td>" if varying else "")
+            + (f"<td class='src'>{own}</td>" if varying else "")
             + "</tr>"
         )
     rows.append("</table>")
@@ -160,7 +169,7 @@ def _spec_checks(checks: list, tolerance_why: str) -> str:
     """A spec's checks: those needing attention in full, passing ones folded when there are many.
 
     Text every row shares is printed once above the table; a tolerance source equal to the spec's own
-    ``tolerance_why`` (printed under its heading) not at all.
+    ``tolerance_why`` (printed under its heading) is not printed again, above the table or in a row.
     """
     shared = shared_fields(checks)
     once = [
@@ -169,17 +178,18 @@ def _spec_checks(checks: list, tolerance_why: str) -> str:
         if shared.get(key) and not (key == "tolerance_source" and shared[key] == tolerance_why)
     ]
     out = [f"<p class='meta'>{'<br>'.join(once)}</p>"] if once else []
+    said = {"tolerance_source": tolerance_why, **shared}
     passing = [c for c in checks if c["verdict"] == "ok"]
     if len(passing) > COLLAPSE_ABOVE:  # long lists: show what needs attention, fold the rest
         others = [c for c in checks if c["verdict"] != "ok"]
         if others:
-            out.append(_checks_table(others, shared))
+            out.append(_checks_table(others, said))
         out.append(
             f"<details class='rows'><summary>{len(passing)} passing checks</summary>"
-            f"{_checks_table(passing, shared)}</details>"
+            f"{_checks_table(passing, said)}</details>"
         )
     elif checks:
-        out.append(_checks_table(checks, shared))
+        out.append(_checks_table(checks, said))
     return "\n".join(out)
 
 
@@ -275,7 +285,10 @@ def render_html(report: dict, sections: list) -> str:
                 f"<p class='meta'>compares: {_e(spec.compares)}<br>tolerance: {_e(spec.tolerance_why)}{knob}"
                 f"<br>time: {section.time_s:.2f} s</p>"
             )
-            out.append(_side_by_side(section.table))
+            table = _side_by_side(section.table)
+            if len(section.table) > COLLAPSE_ROWS_ABOVE:
+                table = f"<details class='rows'><summary>table of {len(section.table)} rows</summary>{table}</details>"
+            out.append(table)
             out.append(_spec_checks(by_spec.get(spec.name, []), spec.tolerance_why))
             out.extend(_img(f) for f in section.figures)
             if section.error:

@@ -30,12 +30,14 @@ QUALITIES = ("quick", "full")
 
 @dataclass
 class Figure:
-    """A plot or image of a section, as PNG bytes."""
+    """A plot or image of a section, as PNG bytes; ``wide`` ones (two panels) are shown at full size on a row
+    of their own, the others at most 640 px wide, two to a row."""
 
     name: str
     title: str
     png: bytes
     caption: str = ""
+    wide: bool = False
 
 
 @dataclass
