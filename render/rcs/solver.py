@@ -39,7 +39,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
 
-from .engine import DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
+from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
@@ -254,6 +254,21 @@ def estimate_seconds(tubes: float, max_bounces: int) -> float:
     Most tubes of a drone leave after one or two reflections; ``max_bounces`` caps the count.
     """
     return tubes * min(2, max_bounces) / TUBE_BOUNCES_PER_S_CPU
+
+
+#: Resident memory of a process with Dr.Jit and an SBR engine of a drone, before tracing [B], and per tube
+#: of a batch in flight [B]: a sweep of 7 aspects of the DJI Mini 4 Pro at 35 GHz (``csuas bench --only
+#: cost_models``, 2 CPU cores) peaked at 412, 692 and 818 MB for 2.5e5, 1e6 and 4e6 tubes a call.
+ENGINE_PROCESS_BYTES = 370e6
+TUBE_BYTES = 450.0
+
+
+def estimate_peak_bytes(tubes_per_call: float) -> float:
+    """Peak resident memory of tracing ``tubes_per_call`` tubes in one call, on CPU [B].
+
+    The engine traces at most ``BATCH_SIZE_CPU`` tubes at once, so the memory stops growing there.
+    """
+    return ENGINE_PROCESS_BYTES + TUBE_BYTES * min(float(tubes_per_call), float(BATCH_SIZE_CPU))
 
 
 _ENGINES: dict = {}
