@@ -163,8 +163,7 @@ def rcs_estimate(spec, base: Estimate, n_workers: int) -> Estimate:
     per_point = [float(estimate_tubes(radius, float(f), rays)) * REPLICAS for f in frequencies]
     tubes = sum(t * int(c) for t, c in zip(per_point, counts))
     seconds = estimate_seconds(tubes, bounces) / min(n_workers, os.cpu_count() or 1)
-    # a call traces one frequency's points of a chunk; each worker holds its batch of tubes
-    per_call = max(per_point) * min(spec.chunk_points, spec.n_points)
-    batch = estimate_peak_bytes(per_call) - PROCESS_BYTES["rcs"]
+    # each worker holds the tubes of one grid (an aspect's replica) in flight at a time
+    batch = estimate_peak_bytes(max(per_point) / REPLICAS) - PROCESS_BYTES["rcs"]
     what = f"{base.what} ({tubes:.3g} tubes at {rays:g} rays per wavelength)"
     return Estimate(what, base.seconds + seconds, base.bytes + n_workers * max(batch, 0.0))

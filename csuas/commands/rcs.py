@@ -296,7 +296,7 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
         )
     what = f"{tubes:.3g} tubes over {aspects} aspect(s) at --rays-per-wavelength {rays_per_wavelength:g}"
-    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_aspect)), args, "rcs")
+    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid)), args, "rcs")
     return cost
 
 

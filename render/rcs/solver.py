@@ -257,18 +257,19 @@ def estimate_seconds(tubes: float, max_bounces: int) -> float:
 
 
 #: Resident memory of a process with Dr.Jit and an SBR engine of a drone, before tracing [B], and per tube
-#: of a batch in flight [B]: a sweep of 7 aspects of the DJI Mini 4 Pro at 35 GHz (``csuas bench --only
-#: cost_models``, 2 CPU cores) peaked at 412, 692 and 818 MB for 2.5e5, 1e6 and 4e6 tubes a call.
+#: of the grid in flight [B]: a sweep of 7 aspects of the DJI Mini 4 Pro at 35 GHz (``csuas bench --only
+#: cost_models``, 2 CPU cores) peaked at 398, 677 and 803 MB for grids of 6.4e4, 2.5e5 and 1e6 tubes.
 ENGINE_PROCESS_BYTES = 370e6
 TUBE_BYTES = 450.0
 
 
-def estimate_peak_bytes(tubes_per_call: float) -> float:
-    """Peak resident memory of tracing ``tubes_per_call`` tubes in one call, on CPU [B].
+def estimate_peak_bytes(tubes_per_grid: float) -> float:
+    """Peak resident memory of tracing grids of ``tubes_per_grid`` tubes (one aspect's), on CPU [B].
 
-    The engine traces at most ``BATCH_SIZE_CPU`` tubes at once, so the memory stops growing there.
+    A grid's tubes are in flight together, at most ``BATCH_SIZE_CPU`` of them, so the memory stops
+    growing there whatever the aspects, replicas and frequencies.
     """
-    return ENGINE_PROCESS_BYTES + TUBE_BYTES * min(float(tubes_per_call), float(BATCH_SIZE_CPU))
+    return ENGINE_PROCESS_BYTES + TUBE_BYTES * min(float(tubes_per_grid), float(BATCH_SIZE_CPU))
 
 
 _ENGINES: dict = {}
