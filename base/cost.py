@@ -169,6 +169,9 @@ class Measured:
         Wall time from start to end [s].
     bytes : float
         Its peak resident memory (ru_maxrss of that child alone) [B].
+    cpu_seconds : float
+        Its processor time, user and system, of all its threads [s] (wall time on an idle machine
+        for single-threaded work: a check of timings on a loaded one).
     killed : bool
         Whether it was still running after the time limit and was killed.
     """
@@ -177,6 +180,7 @@ class Measured:
     stderr: str
     seconds: float
     bytes: float
+    cpu_seconds: float
     killed: bool
 
 
@@ -209,4 +213,5 @@ def run_measured(argv: list, cwd, kill_after_s: float) -> Measured:
         child.returncode = os.waitstatus_to_exitcode(status)
         err.seek(0)
         text = err.read()
-    return Measured(child.returncode, text, seconds, usage.ru_maxrss * 1024.0, killed)
+    cpu = usage.ru_utime + usage.ru_stime
+    return Measured(child.returncode, text, seconds, usage.ru_maxrss * 1024.0, cpu, killed)

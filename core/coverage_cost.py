@@ -6,11 +6,13 @@ part in proportion to the cells), and a radio map costs one Sionna RT run per se
 The process holds the DEM, every sensor's grids per level, the fused grids and, at its peak,
 one viewshed's rays and one map's images.
 
-Measured with ``csuas coverage`` on 2 CPU cores of a machine loaded by other work (ru_maxrss and
-wall time): synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6 levels took
-14.9, 18.0, 41.2 and 48.5 s and 201, 289, 757 and 306 MB; one sensor's layers at 400^2-1600^2
-cells 0.48-2.1 s a level pair; the demo site's two radio maps about 100 s. The ``cost_models``
-benchmark compares the model with measurements on three sizes.
+Times are for 2 idle CPU cores: the viewshed's 0.55 s for 10^6 cells (docs/performance.md), the
+demo site's 13.5 s of which 9.6 s its two radio maps (README), the rest of the demo (400^2 cells, 3
+sensors, 2 levels, 39 layers) giving the layers' share, split between a fixed and a per-cell part
+as measured under load (synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6
+levels took 14.9, 18.0, 41.2 and 48.5 s on 2 CPU cores at a load average of 10-20, about 7 times
+the idle figures). Memory does not depend on the load: 201, 289, 757 and 306 MB (ru_maxrss) for
+those runs. The ``cost_models`` benchmark compares the model with measurements on three sizes.
 """
 
 from __future__ import annotations
@@ -18,16 +20,16 @@ from __future__ import annotations
 from csuas.base.cost import Estimate
 
 #: Start: imports (rasterio, matplotlib), the scenario and the DEM [s].
-START_SECONDS = 3.0
+START_SECONDS = 1.0
 #: One viewshed and Pd map of one sensor and level: fixed part [s] and per cell [s].
-TRACE_SECONDS = 0.2
-TRACE_CELL_SECONDS = 0.8e-6
+TRACE_SECONDS = 0.02
+TRACE_CELL_SECONDS = 0.6e-6
 #: One layer written (GeoTIFF, PNG map, GeoJSON): fixed part [s] and per cell [s].
-LAYER_SECONDS = 0.36
-LAYER_CELL_SECONDS = 1.6e-6
+LAYER_SECONDS = 0.033
+LAYER_CELL_SECONDS = 0.15e-6
 #: One Sionna RT radio map of one sensor and level at :data:`RADIO_MAP_SAMPLES` rays per replica [s]; other
 #: ray counts in proportion (assumed: tracing dominates).
-RADIO_MAP_SECONDS = 50.0
+RADIO_MAP_SECONDS = 4.8
 RADIO_MAP_SAMPLES = 2**20
 #: Resident memory before the grids (interpreter, rasterio, matplotlib) [B]; with a radio map, Sionna's [B].
 PROCESS_BYTES = 140e6

@@ -36,7 +36,8 @@ SECONDS_PER_POINT = {"render": 0.3}
 #: Working memory of one point of a chunk per sensor [B] (range: 840 MB for 10^6 points of 6 sensors).
 CHUNK_BYTES_PER_POINT_SENSOR = {"range": 140.0, "pd": 2e4}
 #: Resident memory of a process running the job's chunks, before its points [B]: the interpreter
-#: with the job's libraries (pd: 180 MB a Dask worker; render 290 MB and rcs 365 MB serial runs).
+#: with the job's libraries (pd: 180 MB a Dask worker; render 290 MB and rcs 365 MB serial runs;
+#: rcs: :data:`~csuas.render.rcs.solver.ENGINE_PROCESS_BYTES`, its tubes added by :func:`rcs_estimate`).
 PROCESS_BYTES = {"range": 180e6, "pd": 180e6, "render": 300e6, "rcs": 370e6}
 #: Start of the work [s]: this process's imports and scenario, and a local Dask cluster's start; the
 #: simulator jobs add Dr.Jit's and Mitsuba's imports, the target's engine and their first kernels
@@ -145,7 +146,13 @@ def rcs_estimate(spec, base: Estimate, n_workers: int) -> Estimate:
     import numpy as np
 
     from csuas.render.rcs.geometry import load_target
-    from csuas.render.rcs.solver import REPLICAS, estimate_seconds, estimate_tubes, resolve_quality
+    from csuas.render.rcs.solver import (
+        REPLICAS,
+        estimate_peak_bytes,
+        estimate_seconds,
+        estimate_tubes,
+        resolve_quality,
+    )
 
     rays, bounces = resolve_quality(spec.options["quality"], spec.options["rays_per_wavelength"])
     radius = load_target(str(spec.options["target"] or spec.scenario.target_preset)).bounding_radius_m
@@ -153,7 +160,10 @@ def rcs_estimate(spec, base: Estimate, n_workers: int) -> Estimate:
     frequencies, counts = np.unique(axis, return_counts=True)
     if spec.combine == "grid":
         counts = counts * (spec.n_points // len(axis))  # every frequency meets every other axis's values
-    tubes = sum(float(estimate_tubes(radius, float(f), rays)) * REPLICAS * int(c) for f, c in zip(frequencies, counts))
+    per_point = [float(estimate_tubes(radius, float(f), rays)) * REPLICAS for f in frequencies]
+    tubes = sum(t * int(c) for t, c in zip(per_point, counts))
     seconds = estimate_seconds(tubes, bounces) / min(n_workers, os.cpu_count() or 1)
+    # each worker holds the tubes of one grid (an aspect's replica) in flight at a time
+    batch = estimate_peak_bytes(max(per_point) / REPLICAS) - PROCESS_BYTES["rcs"]
     what = f"{base.what} ({tubes:.3g} tubes at {rays:g} rays per wavelength)"
-    return Estimate(what, base.seconds + seconds, base.bytes)
+    return Estimate(what, base.seconds + seconds, base.bytes + n_workers * max(batch, 0.0))

@@ -92,11 +92,11 @@ def test_ten_thousand_local_workers_are_refused_by_their_memory(tmp_path):
 FRAME = 'name = "big"\n[sensors.eo]\nmodality = "eo"\nn_h = {n}\nn_v = {n}\n'
 
 
-@pytest.mark.parametrize("pixels, flag", [(20_000, "--max-memory-gb"), (100_000, "--max-seconds")])
-def test_a_huge_dataset_frame_is_refused_before_it_is_rendered(tmp_path, pixels, flag):
+@pytest.mark.parametrize("pixels", [20_000, 100_000])
+def test_a_huge_dataset_frame_is_refused_before_it_is_rendered(tmp_path, pixels):
     scenario = _write(tmp_path / "big.toml", FRAME.format(n=pixels))
     spec = _write(tmp_path / "d.toml", f'count = 1\nscenario = "{scenario}"\n')
-    err = _refused(["dataset", spec, "--out", str(tmp_path / "o")], tmp_path, flag)
+    err = _refused(["dataset", spec, "--out", str(tmp_path / "o")], tmp_path, "--max-memory-gb")
     assert f"{pixels} x {pixels} px" in err
 
 
@@ -137,10 +137,12 @@ def test_a_20000_square_dem_is_refused_from_its_header(tmp_path):
 
 
 def test_a_thousand_flight_levels_are_refused(tmp_path):
+    """The demo terrain's three sensors (no radio map) at 1000 levels."""
     levels = ", ".join(str(10.0 + 5.0 * i) for i in range(1000))
-    site = _write(tmp_path / "site.toml", SITE.format(levels=levels, x=505_000.0, y=5_005_000.0))
-    err = _refused(["coverage", site, "--out", str(tmp_path / "o")], tmp_path, "--max-seconds")
-    assert "1000 flight level(s)" in err and "6,001 layers" in err  # 3 + 3 fused a level, + min_altitude
+    site = SITE.format(levels=levels, x=505_000.0, y=5_005_000.0)
+    site += "[sensors.rf]\nx = 502500.0\ny = 5007000.0\n[sensors.eo]\nx = 507000.0\ny = 5003000.0\n"
+    err = _refused(["coverage", _write(tmp_path / "site.toml", site), "--out", str(tmp_path / "o")], tmp_path, "--max")
+    assert "1000 flight level(s)" in err and "12,003 layers" in err  # 3 a sensor and level + 3 fused, + min_altitude
 
 
 def test_rcs_statistics_with_an_absurd_aspect_budget_is_refused(tmp_path):

@@ -237,9 +237,6 @@ def run(args) -> dict:
     return out
 
 
-#: Peak resident memory of the command [B]: Dr.Jit, the engine and its tube batches, whose size bounds
-#: the memory whatever the tube count (``csuas bench --only rcs_memory``; 365 MB in a sweep's process).
-PROCESS_BYTES = 350e6
 #: An error estimate above this [dB] says the estimate itself failed (the half-density run hit
 #: little or nothing); it is reported as a warning, never as a bound.
 UNRELIABLE_ERROR_DB = 10.0
@@ -280,7 +277,7 @@ def _validate(args) -> None:
 
 def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int) -> dict:
     """Tubes and time of the whole command, estimated before tracing; refused above ``--max-tubes``."""
-    from csuas.render.rcs.solver import REPLICAS, estimate_seconds, estimate_tubes
+    from csuas.render.rcs.solver import REPLICAS, estimate_peak_bytes, estimate_seconds, estimate_tubes
 
     per_grid = estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
     # the aspect itself on REPLICAS shifted grids (one without an error estimate); the sphere average's first
@@ -305,7 +302,7 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
         )
     what = f"{tubes:.3g} tubes over {aspects} aspect(s) at --rays-per-wavelength {rays_per_wavelength:g}"
-    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], PROCESS_BYTES), args, "rcs")
+    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid)), args, "rcs")
     return cost
 
 

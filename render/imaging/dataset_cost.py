@@ -3,10 +3,16 @@
 An image costs the render of the window around the target (by quality preset, nearly independent
 of the frame) and the sensor chain over the full frame (in proportion to its pixels); the
 process holds two frames (one rendered while the previous one is written), every image's draw
-and COCO entry, and Mitsuba. Measured with ``csuas dataset`` on 2 CPU cores of a machine loaded by
-other work (ru_maxrss and wall time; draft: 640 x 360 px 0.45 s and 208 MB, 1920 x 1080 px
-1.5-1.75 s and 375 MB, 4000 x 2250 px 9.3 s and 1040 MB an image; reference 640 x 360 px 1.3 s);
-the ``cost_models`` benchmark compares the model with measurements on three frame sizes.
+and COCO entry, and Mitsuba.
+
+Times are for 2 idle CPU cores, from the figures measured there (README: the example's 20 frames
+of 1920 x 1080 px at draft in 4.6 s, start included; docs/performance.md: 0.016 s of render and
+0.117 s of chain a frame over 1000 frames) and, for the other presets and the per-pixel share,
+from runs on 2 CPU cores under a load average of 10-20, scaled down by their ratio to those
+(about 10: draft 640 x 360 px 0.45 s, 1920 x 1080 px 1.5-1.75 s, 4000 x 2250 px 9.3 s an image;
+reference 640 x 360 px 1.3 s). Memory does not depend on the load: ru_maxrss 208 MB, 375 MB and
+1040 MB for those three frames. The ``cost_models`` benchmark compares the model with measurements
+on three frame sizes.
 
 A frame is one array through the sensor chain (its PSF and noise act on the whole frame), so a
 frame too large for memory is refused, not split.
@@ -20,11 +26,11 @@ from pathlib import Path
 from csuas.base.cost import Estimate
 
 #: Start: imports of Mitsuba and its kernels [s].
-START_SECONDS = 3.0
-#: Render of the target's window, per image and quality preset [s].
-WINDOW_SECONDS = {"draft": 0.25, "standard": 0.5, "reference": 1.1}
-#: The sensor chain and the PNG over the full frame, per pixel [s].
-PIXEL_SECONDS = 0.85e-6
+START_SECONDS = 2.0
+#: Render of the target's window and its labels, per image and quality preset [s].
+WINDOW_SECONDS = {"draft": 0.02, "standard": 0.04, "reference": 0.1}
+#: The sensor chain over the full frame, per pixel [s] (0.117 s for 2.07 Mpx; the PNG is written meanwhile).
+PIXEL_SECONDS = 5.7e-8
 #: Resident memory of the process with Mitsuba loaded, before a frame [B].
 PROCESS_BYTES = 176e6
 #: Memory per frame pixel: two frames' signal, noise and DN arrays and the chain's temporaries [B].

@@ -39,7 +39,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
 
-from .engine import DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
+from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
@@ -254,6 +254,22 @@ def estimate_seconds(tubes: float, max_bounces: int) -> float:
     Most tubes of a drone leave after one or two reflections; ``max_bounces`` caps the count.
     """
     return tubes * min(2, max_bounces) / TUBE_BOUNCES_PER_S_CPU
+
+
+#: Resident memory of a process with Dr.Jit and an SBR engine of a drone, before tracing [B], and per tube
+#: of the grid in flight [B]: a sweep of 7 aspects of the DJI Mini 4 Pro at 35 GHz (``csuas bench --only
+#: cost_models``, 2 CPU cores) peaked at 398, 677 and 803 MB for grids of 6.4e4, 2.5e5 and 1e6 tubes.
+ENGINE_PROCESS_BYTES = 370e6
+TUBE_BYTES = 450.0
+
+
+def estimate_peak_bytes(tubes_per_grid: float) -> float:
+    """Peak resident memory of tracing grids of ``tubes_per_grid`` tubes (one aspect's), on CPU [B].
+
+    A grid's tubes are in flight together, at most ``BATCH_SIZE_CPU`` of them, so the memory stops
+    growing there whatever the aspects, replicas and frequencies.
+    """
+    return ENGINE_PROCESS_BYTES + TUBE_BYTES * min(float(tubes_per_grid), float(BATCH_SIZE_CPU))
 
 
 _ENGINES: dict = {}

@@ -35,6 +35,7 @@ def _row(model: str, size: str, estimate: Estimate, argv: list, folder: Path) ->
         "size": size,
         "estimated_s": estimate.seconds,
         "measured_s": run.seconds,
+        "measured_cpu_s": run.cpu_seconds,
         "time_ratio": time_ratio,
         "estimated_gb": estimate.bytes / 1e9,
         "measured_gb": run.bytes / 1e9,
@@ -49,18 +50,20 @@ def _toml(path: Path, text: str) -> str:
 
 
 def bench_sweeps(folder: Path) -> list[dict]:
-    """The sweep model (:mod:`csuas.sweep.cost`) on range, pd and rcs jobs, three sizes each, serial."""
+    """The sweep model (:mod:`csuas.sweep.cost`), serial: range sweeps of 10^5 to 3x10^6 points, pd sweeps of 12
+    to 96 points, rcs sweeps of 7 aspects at 35 GHz and 5, 10 and 20 rays per wavelength (2x10^6 to 3x10^7
+    tubes)."""
     from csuas.base.fileio import read_spec
     from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec
     from csuas.sweep.cost import axis_lengths, rcs_estimate, sweep_estimate
 
     drawn = 'job = "{job}"\n[axes]\n"environment.rain_rate_mm_h" = {{min = 0.0, max = 50.0, samples = {n}}}\n'
-    rcs = 'job = "rcs"\n[options]\ntarget = "dji_mini_4_pro"\nquality = "draft"\n[axes]\nfrequency_ghz = [{f}]\n'
-    rcs += "azimuth_deg = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]\n"
+    rcs = 'job = "rcs"\n[options]\ntarget = "dji_mini_4_pro"\nquality = "draft"\nrays_per_wavelength = {f}\n'
+    rcs += "[axes]\nfrequency_ghz = [35.0]\nazimuth_deg = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]\n"
     cases = [("range", n, drawn.format(job="range", n=n)) for n in (100_000, 1_000_000, 3_000_000)]
     cases += [("pd", n, drawn.format(job="pd", n=n)) for n in (12, 48, 96)]
-    cases += [("rcs", f, rcs.format(f=f)) for f in ("2.4", "2.4, 9.4, 24.0", "2.4, 5.8, 9.4, 16.0, 24.0, 35.0")]
+    cases += [("rcs", f"{n} rays per wavelength", rcs.format(f=n)) for n in (5.0, 10.0, 20.0)]
     rows = []
     for i, (job, size, text) in enumerate(cases):
         spec_file = _toml(folder / f"sweep{i}.toml", text)
