@@ -63,7 +63,7 @@ KNOWN_DEBTS = {
     ("render/links/terrain_map.py", "terrain_radio_map", "lines"): 143,
     ("render/rcs/edges.py", "find_edges", "lines"): 132,
     ("render/rcs/engine.py", "SbrEngine._interact", "lines"): 171,
-    ("render/rcs/solver.py", "compute_rcs", "lines"): 136,
+    ("render/rcs/solver.py", "compute_rcs", "lines"): 123,
     ("render/rcs/sweep.py", "sphere_average", "lines"): 127,
     ("validation/core/checks.py", "sensor_checks", "lines"): 111,
     ("validation/imaging/checks.py", "_eo_checks", "lines"): 107,
