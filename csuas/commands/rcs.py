@@ -151,6 +151,7 @@ def run(args) -> dict:
     warnings = _warnings(sigma, err, res.tubes, args.frequency_ghz, target.bounding_radius_m)
     if sigma <= 0.0 or (err is not None and not (math.isfinite(err) and err <= UNRELIABLE_ERROR_DB)):
         err = None
+    bound = _error_bound(err, float(res.model_error_db[0]), args.frequency_ghz, target.bounding_radius_m)
     out = {
         "target": args.mesh_or_preset,
         "frequency_ghz": args.frequency_ghz,
@@ -163,7 +164,8 @@ def run(args) -> dict:
         "observe_elevation_deg": float(res.observe_elevation_deg.ravel()[0]),
         "rcs_m2": sigma,
         "rcs_dbsm": _dbsm(sigma),
-        "error_db": err,
+        "error_db": bound["total_db"],
+        "error_bound": bound,
         "warnings": warnings,
         "cost_estimate": cost,
         "rcs_m2_by_polarisation": {p: float(res.rcs_m2(p).ravel()[0]) for p in POLARISATIONS},
@@ -171,10 +173,7 @@ def run(args) -> dict:
         "rays": res.tubes,
         "rays_per_wavelength": res.rays_per_wavelength,
         "max_bounces": res.max_bounces,
-        "bounces": {
-            "exits_by_bounce": res.exits_by_bounce.tolist(),
-            "max_reached": int(np.flatnonzero(res.exits_by_bounce)[-1]) if res.exits_by_bounce.any() else 0,
-        },
+        "bounces": _bounces(res.exits_by_bounce),
         "ray_casts": res.ray_casts,
         "rays_x_bounces_per_s": res.rays_x_bounces_per_s,
         "materials": res.materials,
@@ -302,6 +301,33 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
     return cost
 
 
+def _bounces(exits_by_bounce: np.ndarray) -> dict:
+    """Tubes radiating after 0 (missed), 1, 2, ... bounces, and the most bounces any tube made."""
+    return {
+        "exits_by_bounce": exits_by_bounce.tolist(),
+        "max_reached": int(np.flatnonzero(exits_by_bounce)[-1]) if exits_by_bounce.any() else 0,
+    }
+
+
+def _error_bound(discretisation_db, model_db: float, frequency_ghz: float, bounding_radius_m: float) -> dict:
+    """The bound against the exact answer and its terms [dB] (:mod:`csuas.render.rcs.model_error`).
+
+    ``total_db`` (the ``error_db`` key) is null where the discretisation bound is withheld or the
+    target is too small for the model (k a < 2, no model bound).
+    """
+    from csuas.render.rcs.model_error import PO_MODEL_COEFFICIENT, electrical_size, total_bound_db
+
+    total = None if discretisation_db is None else float(total_bound_db(discretisation_db, model_db))
+    return {
+        "total_db": total if total is not None and math.isfinite(total) else None,
+        "discretisation_db": discretisation_db,
+        "model_db": model_db if math.isfinite(model_db) else None,
+        "model_ka": float(electrical_size(frequency_ghz, bounding_radius_m)),
+        "model": f"physical optics against the exact answer: relative amplitude {PO_MODEL_COEFFICIENT:g}/(k a), "
+        "a the bounding radius, calibrated on the Mie series of PEC spheres at ka 2-50",
+    }
+
+
 def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bounding_radius_m: float) -> list[str]:
     """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity."""
     warnings = []
@@ -351,7 +377,7 @@ def render_text(result: dict) -> str:
         f"({result['polarisation']}):",
         f"  {result['rcs_m2']:.4g} m^2"
         + ("" if result["rcs_dbsm"] is None else f" = {result['rcs_dbsm']:.2f} dBsm")
-        + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
+        + ("" if result["error_db"] is None else f"  (bound {result['error_db']:.2f} dB against the exact answer)"),
         "  "
         + "  ".join(f"{p} {'-' if v is None else f'{v:.2f}'}" for p, v in result["rcs_dbsm_by_polarisation"].items())
         + " dBsm",
