@@ -54,6 +54,13 @@ def test_rcs_of_a_mesh_file_json(tmp_path, capsys):
     assert data["rcs_m2"] == pytest.approx(data["rcs_m2_by_polarisation"]["VV"])
     assert data["rays"] > 0 and data["materials"] == ["pec"]
     assert data["bounces"]["max_reached"] == 1
+    # the bound against the exact answer: discretisation and PO's model term 1.5/(k a), a = half the diagonal
+    bound = data["error_bound"]
+    ka = 2 * math.pi / (C / 10e9) * 0.1 / math.sqrt(2)
+    assert bound["model_ka"] == pytest.approx(ka, rel=1e-6)
+    assert bound["model_db"] == pytest.approx(-20 * math.log10(1 - 1.5 / ka), rel=1e-6)
+    e_total = 1.5 / ka + 1 - 10 ** (-bound["discretisation_db"] / 20)
+    assert data["error_db"] == bound["total_db"] == pytest.approx(-20 * math.log10(1 - e_total), rel=1e-6)
 
 
 def test_rcs_of_a_drone_preset_with_plot_and_text(tmp_path, capsys):
