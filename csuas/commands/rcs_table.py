@@ -109,7 +109,7 @@ def run(args) -> dict:
     n, bounces = resolve_quality(args.quality)
     engine = get_engine(args.mesh_or_preset, args.material)
     aspects = (len(azimuth) - 1) * len(args.elevation_deg)
-    cost = estimate_cost(engine.target.bounding_radius_m, args.frequency_ghz, aspects, n, bounces)
+    cost = estimate_cost(engine.target, args.frequency_ghz, aspects, n, bounces)
     if cost["seconds_2_cpu_cores"] > args.max_seconds:
         raise ParameterError(
             "max_seconds",
