@@ -70,3 +70,20 @@ def test_bound_covers_plates_at_normal_incidence_and_the_efie_records():
     for side, efie_minus_po_db in EFIE_PLATE_RECORDS.items():
         half_diagonal = side * lam / math.sqrt(2.0)
         assert abs(efie_minus_po_db) <= float(model_error_db(f, half_diagonal))
+
+
+def test_truncation_term_sees_the_bounces_the_limit_cuts_off():
+    """Square trihedral on its axis: the return needs three bounces (12 pi a^4 / lambda^2, Knott et al. ch. 5)."""
+    a, f = 0.1, 10.0
+    exact_dbsm = 10 * math.log10(12 * math.pi * a**4 / wavelength_m(f) ** 2)
+    mesh = canonical.trihedral(a)
+    el = math.degrees(math.asin(1 / math.sqrt(3)))
+    cut = compute_rcs(mesh, f, 45.0, el, material="pec", quality="standard", max_bounces=2)
+    # two bounces miss the triple reflection: the live tubes outweigh the result, no bound
+    assert np.isinf(cut.truncation_db("VV")).all() and np.isinf(cut.bound_db("VV")).all()
+    full = compute_rcs(mesh, f, 45.0, el, material="pec", quality="standard", max_bounces=3)
+    # after three bounces every tube on the axis leaves: nothing is truncated
+    assert float(full.truncation_db("VV").ravel()[0]) == 0.0
+    assert abs(float(full.rcs_dbsm("VV").ravel()[0]) - exact_dbsm) <= float(full.bound_db("VV").ravel()[0])
+    plate = compute_rcs(canonical.plate(0.1), f, 0.0, 90.0, material="pec", quality="draft", max_bounces=1)
+    assert float(plate.truncation_db("HH").ravel()[0]) == 0.0

@@ -69,10 +69,11 @@ def model_error_db(frequency_ghz, size_m: float) -> np.ndarray:
     return db_from_relative(model_relative_error(electrical_size(frequency_ghz, size_m)))
 
 
-def total_bound_db(discretisation_db, model_db) -> np.ndarray:
-    """Bound against the exact answer [dB]: the relative amplitude errors of both terms added.
+def total_bound_db(*terms_db) -> np.ndarray:
+    """Bound against the exact answer [dB]: the relative amplitude errors of every term added.
 
     A run within relative amplitude ``e_d`` of PO, whose PO is within ``e_m`` of the truth, is within
-    ``e_d + e_m`` of it (the triangle inequality, to first order in the smaller term).
+    ``e_d + e_m`` of it (the triangle inequality, to first order in the smaller term); the bounce
+    limit's truncation adds its own term alike.
     """
-    return db_from_relative(relative_from_db(discretisation_db) + relative_from_db(model_db))
+    return db_from_relative(sum(relative_from_db(t) for t in terms_db))

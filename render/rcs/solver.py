@@ -41,7 +41,7 @@ from csuas.core.units import wavelength_m
 
 from .engine import DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
-from .model_error import model_error_db, total_bound_db
+from .model_error import db_from_relative, model_error_db, total_bound_db
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
 #: against closed forms are in :data:`PRESET_MEASURED_ERROR_DB` (see convergence.py).
@@ -162,6 +162,9 @@ class RcsResult:
     model_error_db : ndarray (F,) or None
         Bound of physical optics' own error against the exact answer [dB]
         (:mod:`csuas.render.rcs.model_error`, from the target's bounding radius).
+    truncated_sigma_m2 : ndarray (F, A, 2) or None
+        RCS [m^2] the tubes still alive at the bounce limit could add, per transmit polarisation (V, H)
+        (:class:`csuas.render.rcs.engine.TraceResult` ``live_sigma_m2``, mean of the replicas).
     """
 
     sigma_m2: np.ndarray
@@ -183,6 +186,7 @@ class RcsResult:
     variant: str = ""
     replicas: int = 1
     model_error_db: np.ndarray | None = None
+    truncated_sigma_m2: np.ndarray | None = None
 
     def rcs_m2(self, polarisation: str = "VV") -> np.ndarray:
         """RCS (F, A, M) [m^2] of one polarisation ("VV", "HH", "HV", "VH")."""
@@ -200,15 +204,30 @@ class RcsResult:
         rx, tx = _polarisation(polarisation)
         return self.error_db[..., rx, tx]
 
-    def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
-        """Bound (F, A, M) [dB] against the exact answer: discretisation and PO's model error together.
+    def truncation_db(self, polarisation: str = "VV") -> np.ndarray | None:
+        """The bounce limit's term (F, A, M) [dB]: relative amplitude sqrt(truncated sigma / sigma).
 
-        None without an error estimate or a model term; ``inf`` where either term has no bound.
+        The tubes still alive at the limit re-radiating once more at random phase (their sum's rms);
+        0 dB where none is alive, ``inf`` where they could outweigh the result.
+        """
+        if self.truncated_sigma_m2 is None:
+            return None
+        _, tx = _polarisation(polarisation)
+        sigma = self.rcs_m2(polarisation)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(sigma > 0.0, self.truncated_sigma_m2[..., tx][..., None] / sigma, np.inf)
+        return db_from_relative(np.sqrt(np.where(self.truncated_sigma_m2[..., tx][..., None] > 0.0, ratio, 0.0)))
+
+    def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
+        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and truncation together.
+
+        None without an error estimate or a model term; ``inf`` where a term has no bound.
         """
         disc = self.error_estimate_db(polarisation)
         if disc is None or self.model_error_db is None:
             return None
-        return total_bound_db(disc, self.model_error_db[:, None, None])
+        truncation = self.truncation_db(polarisation)
+        return total_bound_db(disc, self.model_error_db[:, None, None], 0.0 if truncation is None else truncation)
 
     @property
     def rays_x_bounces_per_s(self) -> float:
@@ -411,9 +430,8 @@ def compute_rcs(
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
     amplitude = main.amplitude.reshape((replicas, *shape))
     if edge_diffraction:
-        amplitude = amplitude + _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel).reshape(
-            shape
-        )
+        edge = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
+        amplitude = amplitude + edge.reshape(shape)
     error_db, error_time = None, 0.0
     if replicas > 1:
         amplitude, error_db = replica_error_db(amplitude)
@@ -439,4 +457,5 @@ def compute_rcs(
         engine.variant,
         replicas,
         model_error_db(freq, engine.target.bounding_radius_m),
+        main.live_sigma_m2.reshape(replicas, n_f, n_a, 2).mean(axis=0),
     )
