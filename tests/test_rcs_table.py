@@ -71,6 +71,7 @@ def test_mat_round_trip_in_rcssignature_layout(plate_table, tmp_path):
     np.testing.assert_array_equal(data["pattern"], np.transpose(plate_table.rcs_dbsm[0], (1, 2, 0)))
     np.testing.assert_array_equal(data["pattern_HV"], np.transpose(plate_table.rcs_dbsm[2], (1, 2, 0)))
     np.testing.assert_array_equal(data["bound_db_HH"], np.transpose(plate_table.bound_db[1], (1, 2, 0)))
+    np.testing.assert_array_equal(data["truncation_db_VV"], np.transpose(plate_table.truncation_db[0], (1, 2, 0)))
     np.testing.assert_array_equal(data["azimuth"], [plate_table.azimuth_deg])
     np.testing.assert_array_equal(data["elevation"], [plate_table.elevation_deg])
     np.testing.assert_array_equal(data["frequency"], [[9e9, 12e9]])
@@ -92,6 +93,7 @@ def test_csv_round_trip_one_row_per_cell(plate_table, tmp_path):
         assert float(row["bound_db"]) == plate_table.bound_db[i, k, q, p]
         assert float(row["discretisation_db"]) == plate_table.discretisation_db[i, k, q, p]
         assert float(row["model_db"]) == plate_table.model_db[k]
+        assert float(row["truncation_db"]) == plate_table.truncation_db[i, k, q, p]
 
 
 def test_netcdf_round_trip_with_units(plate_table, tmp_path):
@@ -103,6 +105,7 @@ def test_netcdf_round_trip_with_units(plate_table, tmp_path):
         assert nc.variables["rcs_dbsm"].dimensions == ("polarisation", "frequency", "elevation", "azimuth")
         np.testing.assert_array_equal(nc.variables["rcs_dbsm"][:], plate_table.rcs_dbsm)
         np.testing.assert_array_equal(nc.variables["bound_db"][:], plate_table.bound_db)
+        np.testing.assert_array_equal(nc.variables["truncation_db"][:], plate_table.truncation_db)
         np.testing.assert_array_equal(nc.variables["azimuth"][:], plate_table.azimuth_deg)
         np.testing.assert_array_equal(nc.variables["frequency"][:], plate_table.frequency_ghz)
         assert [b"".join(p).decode() for p in nc.variables["polarisation"][:]] == ["VV", "HH", "HV"]

@@ -3,8 +3,9 @@
 :func:`signature_table` traces a target (a drone preset, a mesh file or a mesh) on a grid of
 monostatic aspects in one launch of :func:`csuas.render.rcs.solver.compute_rcs` and returns a
 :class:`SignatureTable`: the RCS [dBsm] of every cell and its bound against the exact answer, the
-discretisation term (the grid replicas' spread, :mod:`csuas.render.rcs.solver`) and PO's model term
-(:mod:`csuas.render.rcs.model_error`) added as relative amplitudes. The azimuth axis runs from -180
+discretisation term (the grid replicas' spread, :mod:`csuas.render.rcs.solver`), PO's model term
+(:mod:`csuas.render.rcs.model_error`) and the bounce limit's truncation term
+(:meth:`csuas.render.rcs.solver.RcsResult.truncation_db`) added as relative amplitudes. The azimuth axis runs from -180
 to +180 deg inclusive (MATLAB ``rcsSignature``'s default span): the +180 deg column is the -180 deg
 aspect, traced once. :mod:`csuas.render.rcs.signature_files` writes the table in the layouts other
 tools load.
@@ -40,12 +41,14 @@ class SignatureTable:
     rcs_dbsm : ndarray (N, K, Q, P)
         Monostatic RCS [dBsm], floored at -300 dBsm.
     bound_db : ndarray (N, K, Q, P)
-        Bound against the exact answer [dB]: ``discretisation_db`` and ``model_db`` together;
-        ``inf`` where none exists.
+        Bound against the exact answer [dB]: ``discretisation_db``, ``model_db`` and
+        ``truncation_db`` together; ``inf`` where none exists.
     discretisation_db : ndarray (N, K, Q, P)
         The SBR run's bound against physical optics [dB] (99 % level, solver module docstring).
     model_db : ndarray (K,)
         PO's own error bound against the exact answer [dB], per frequency.
+    truncation_db : ndarray (N, K, Q, P)
+        The bounce limit's term [dB]: what the tubes it stopped could add.
     quality : str
     rays_per_wavelength, max_bounces : float, int
     tubes : int
@@ -63,6 +66,7 @@ class SignatureTable:
     bound_db: np.ndarray
     discretisation_db: np.ndarray
     model_db: np.ndarray
+    truncation_db: np.ndarray
     quality: str
     rays_per_wavelength: float
     max_bounces: int
@@ -143,9 +147,9 @@ def signature_table(
     res = compute_rcs(engine, frequency_ghz, grid_az.ravel(), grid_el.ravel(), quality=quality)
     shape = (len(res.frequency_ghz), len(el), len(traced))
     columns = np.r_[np.arange(len(traced)), 0] if wraps else np.arange(len(traced))
-    rcs, disc, bound = (
+    rcs, disc, bound, truncation = (
         np.stack([getter(p)[..., 0].reshape(shape)[..., columns] for p in polarisations])
-        for getter in (res.rcs_dbsm, res.error_estimate_db, res.bound_db)
+        for getter in (res.rcs_dbsm, res.error_estimate_db, res.bound_db, res.truncation_db)
     )
     return SignatureTable(
         target=res.target_name,
@@ -157,6 +161,7 @@ def signature_table(
         bound_db=bound,
         discretisation_db=disc,
         model_db=np.asarray(res.model_error_db, float),
+        truncation_db=truncation,
         quality=quality,
         rays_per_wavelength=res.rays_per_wavelength,
         max_bounces=res.max_bounces,

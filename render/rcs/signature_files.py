@@ -7,8 +7,8 @@ The format follows the file's suffix (:data:`FORMATS`); every file is written wh
   R2021a and later): ``pattern`` [dBsm] is elevation x azimuth x frequency (Q x P x K), with the
   row vectors ``azimuth`` and ``elevation`` [deg] and ``frequency`` [Hz]. ``pattern`` holds the
   first polarisation of the table (VV by default); ``pattern_VV``, ``pattern_HH``, ... every one,
-  ``bound_db_<pol>`` and ``discretisation_db_<pol>`` their bounds [dB] and ``model_db`` (1 x K)
-  PO's model term. Loaded in MATLAB by::
+  ``bound_db_<pol>`` their bounds [dB] with the terms ``discretisation_db_<pol>``,
+  ``truncation_db_<pol>`` and ``model_db`` (1 x K, PO's model term). Loaded in MATLAB by::
 
       s = load('table.mat');
       sig = rcsSignature('Pattern', s.pattern, 'Azimuth', s.azimuth, ...
@@ -19,7 +19,7 @@ The format follows the file's suffix (:data:`FORMATS`); every file is written wh
   VehicleAttributes": monostatic RCS tabulated over the viewing angle, typically in 1-degree
   steps): columns :data:`CSV_COLUMNS`, angles in the object's body frame, azimuth fastest.
 * ``.nc`` -- NetCDF 3 (classic, through :class:`scipy.io.netcdf_file`, so that no netCDF library is
-  needed), variables ``rcs_dbsm``, ``bound_db`` and ``discretisation_db`` on the dimensions
+  needed), variables ``rcs_dbsm``, ``bound_db``, ``discretisation_db`` and ``truncation_db`` on the dimensions
   (polarisation, frequency, elevation, azimuth), ``model_db`` on (frequency), every variable with a
   ``units`` attribute; ``xarray.open_dataset(path)`` reads it with its scipy engine.
 """
@@ -45,6 +45,7 @@ CSV_COLUMNS = (
     "bound_db",
     "discretisation_db",
     "model_db",
+    "truncation_db",
 )
 
 #: What each file says about the method, in its metadata.
@@ -73,6 +74,7 @@ def write_mat(table, path) -> None:
         data[f"pattern_{pol}"] = qpk(table.rcs_dbsm[i])
         data[f"bound_db_{pol}"] = qpk(table.bound_db[i])
         data[f"discretisation_db_{pol}"] = qpk(table.discretisation_db[i])
+        data[f"truncation_db_{pol}"] = qpk(table.truncation_db[i])
     with atomic_path(path) as tmp:
         savemat(tmp, data, oned_as="row")
 
@@ -96,6 +98,7 @@ def csv_text(table) -> str:
                             repr(float(table.bound_db[i, k, q, p])),
                             repr(float(table.discretisation_db[i, k, q, p])),
                             repr(float(table.model_db[k])),
+                            repr(float(table.truncation_db[i, k, q, p])),
                         ]
                     )
     return out.getvalue()
@@ -138,6 +141,7 @@ def write_netcdf(table, path) -> None:
             _variable(nc, "rcs_dbsm", grid, table.rcs_dbsm, "dBsm", "monostatic radar cross-section")
             _variable(nc, "bound_db", grid, table.bound_db, "dB", "bound against the exact answer")
             _variable(nc, "discretisation_db", grid, table.discretisation_db, "dB", "bound against physical optics")
+            _variable(nc, "truncation_db", grid, table.truncation_db, "dB", "bounce limit's truncation term")
             _variable(nc, "model_db", ("frequency",), table.model_db, "dB", "physical optics' model error bound")
         finally:
             nc.close()
