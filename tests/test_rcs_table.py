@@ -154,7 +154,10 @@ def test_cli_rejects_unknown_suffix_and_bad_grid_at_once(tmp_path, capsys):
             "7",
             "--elevation-deg",
             "95",
+            "--max-bounces",
+            "0",
         ]
     )
     err = capsys.readouterr().err
     assert code == 2 and "out" in err and "azimuth_step_deg" in err and "elevation_deg" in err
+    assert "max_bounces" in err

@@ -59,6 +59,13 @@ def add_arguments(parser) -> None:
     )
     parser.add_argument("--quality", choices=QUALITIES, default="standard", help="SBR quality (default standard)")
     parser.add_argument(
+        "--max-bounces",
+        type=int,
+        default=None,
+        help="reflections per tube (default the quality's: 3, 5, 8); raise it where the truncation term leaves "
+        "cells without a bound (csuas rcs --truncation-fraction finds the limit at one aspect)",
+    )
+    parser.add_argument(
         "--material", default=None, help="one material for all faces (default: a preset's parts, PEC for a mesh)"
     )
     parser.add_argument(
@@ -73,6 +80,7 @@ def _validate(args) -> None:
     """Every option checked before the mesh is loaded; all mistakes at once."""
     from csuas.render.rcs.signature import azimuth_axis
     from csuas.render.rcs.signature_files import check_suffix
+    from csuas.render.rcs.solver import MAX_BOUNCES
 
     errors = []
     for check in (lambda: check_suffix(args.out), lambda: azimuth_axis(args.azimuth_step_deg)):
@@ -92,6 +100,8 @@ def _validate(args) -> None:
         errors.append(ParameterError("frequency_ghz", args.frequency_ghz, "increasing, without repeats"))
     if len(set(args.polarisations)) != len(args.polarisations):
         errors.append(ParameterError("polarisations", args.polarisations, "each of VV, HH, HV, VH at most once"))
+    if args.max_bounces is not None and not (1 <= args.max_bounces <= MAX_BOUNCES):
+        errors.append(ParameterError("max_bounces", args.max_bounces, f"an integer from 1 to {MAX_BOUNCES}"))
     if not (math.isfinite(args.max_seconds) and args.max_seconds > 0.0):
         errors.append(ParameterError("max_seconds", args.max_seconds, "a finite number > 0 [s]"))
     raise_all(errors)
@@ -106,7 +116,7 @@ def run(args) -> dict:
     start = time.perf_counter()
     _validate(args)
     azimuth = azimuth_axis(args.azimuth_step_deg)
-    n, bounces = resolve_quality(args.quality)
+    n, bounces = resolve_quality(args.quality, None, args.max_bounces)
     engine = get_engine(args.mesh_or_preset, args.material)
     aspects = (len(azimuth) - 1) * len(args.elevation_deg)
     cost = estimate_cost(engine.target, args.frequency_ghz, aspects, n, bounces)
@@ -120,7 +130,13 @@ def run(args) -> dict:
     if cost["seconds_2_cpu_cores"] > 10.0:
         print(f"csuas rcs-table: roughly {cost['seconds_2_cpu_cores']:.0f} s on 2 CPU cores", file=sys.stderr)
     table = signature_table(
-        engine, azimuth, args.elevation_deg, args.frequency_ghz, polarisations=args.polarisations, quality=args.quality
+        engine,
+        azimuth,
+        args.elevation_deg,
+        args.frequency_ghz,
+        polarisations=args.polarisations,
+        quality=args.quality,
+        max_bounces=bounces,
     )
     write_signature(table, args.out)
     finite = table.bound_db[np.isfinite(table.bound_db)]
@@ -135,6 +151,7 @@ def run(args) -> dict:
         "cost_estimate": cost,
         "rays": table.tubes,
         "quality": args.quality,
+        "max_bounces": table.max_bounces,
         "model_db": table.model_db.tolist(),
         "bound_db_median": float(np.median(finite)) if finite.size else None,
         "cells_without_bound": int(table.bound_db.size - finite.size),

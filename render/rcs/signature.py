@@ -121,6 +121,7 @@ def signature_table(
     *,
     polarisations=tuple(POLARISATIONS),
     quality: str = "standard",
+    max_bounces: int | None = None,
 ) -> SignatureTable:
     """Trace the grid and return its :class:`SignatureTable` (module docstring).
 
@@ -138,13 +139,15 @@ def signature_table(
         Which of "VV", "HH", "HV", "VH" to keep.
     quality : str
         SBR quality preset (:data:`csuas.render.rcs.solver.QUALITY_PRESETS`).
+    max_bounces : int, optional
+        Bounce limit; default the preset's (a shelled drone needs more for a finite truncation term).
     """
     az = np.asarray(azimuth_deg, float)
     el = np.asarray(elevation_deg, float)
     wraps = len(az) > 1 and math.isclose(az[-1] - az[0], 360.0)
     traced = az[:-1] if wraps else az
     grid_el, grid_az = np.meshgrid(el, traced, indexing="ij")  # (Q, P')
-    res = compute_rcs(engine, frequency_ghz, grid_az.ravel(), grid_el.ravel(), quality=quality)
+    res = compute_rcs(engine, frequency_ghz, grid_az.ravel(), grid_el.ravel(), quality=quality, max_bounces=max_bounces)
     shape = (len(res.frequency_ghz), len(el), len(traced))
     columns = np.r_[np.arange(len(traced)), 0] if wraps else np.arange(len(traced))
     rcs, disc, bound, truncation = (
