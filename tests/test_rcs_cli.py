@@ -162,6 +162,10 @@ def test_truncation_fraction_raises_the_bounce_limit_until_the_corner_is_complet
     canonical.trihedral(0.1).export(path)
     el = math.degrees(math.asin(1 / math.sqrt(3)))
     argv = ["rcs", str(path), "--frequency-ghz", "10", "--azimuth-deg", "45", "--elevation-deg", str(el)]
+    code, out, _ = run_cli(capsys, *argv, "--max-bounces", "2", "--json")
+    data = json.loads(out)
+    assert data["error_db"] is None and data["error_bound"]["truncation_db"] is None
+    assert any("bounce limit (2)" in w for w in data["warnings"])
     code, out, _ = run_cli(capsys, *argv, "--max-bounces", "1", "--truncation-fraction", "0.01", "--json")
     data = json.loads(out)
     assert code == 0 and [t["max_bounces"] for t in data["bounces_tried"]] == [1, 2, 3]

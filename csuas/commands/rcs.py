@@ -148,7 +148,7 @@ def run(args) -> dict:
     err = res.error_estimate_db(pol)
     err = None if err is None else float(err.ravel()[0])
     target = engine.target
-    warnings = _warnings(sigma, err, res.tubes, args.frequency_ghz, target.bounding_radius_m)
+    warnings = _warnings(sigma, err, res, pol, target.bounding_radius_m)
     if sigma <= 0.0 or (err is not None and not (math.isfinite(err) and err <= UNRELIABLE_ERROR_DB)):
         err = None
     bound = _error_bound(err, res, pol, target.bounding_radius_m)
@@ -361,9 +361,16 @@ def _error_bound(discretisation_db, res, polarisation: str, bounding_radius_m: f
     }
 
 
-def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bounding_radius_m: float) -> list[str]:
-    """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity."""
+def _warnings(sigma_m2: float, error_db, res, polarisation: str, bounding_radius_m: float) -> list[str]:
+    """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity, bounces cut."""
+    tubes, frequency_ghz = res.tubes, float(res.frequency_ghz[0])
     warnings = []
+    truncation = float(res.truncation_db(polarisation).ravel()[0])
+    if sigma_m2 > 0.0 and not math.isfinite(truncation):
+        warnings.append(
+            f"the tubes the bounce limit ({res.max_bounces}) stopped could add more than the result: no bound "
+            "(error_db null); raise --max-bounces or give --truncation-fraction"
+        )
     if sigma_m2 <= 0.0:
         warnings.append(
             "no tube returned any field toward the receiver: the RCS is below what this tube grid "
