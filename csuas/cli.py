@@ -38,6 +38,8 @@ COMMANDS = {
     "rcs": "radar cross-section of a mesh or drone preset by shooting and bouncing rays (SBR-PO)",
     "rcs-statistics": "the drone presets' RCS over aspects per band and polarisation (mean, percentiles, "
     "log-normal and chi-square fits), the table the radar's aspect-fluctuation model reads",
+    "rcs-table": "per-aspect RCS table of a drone preset or mesh (azimuth x elevation x frequency x "
+    "polarisation, each cell's bound) as MATLAB rcsSignature .mat, OSI-style .csv or NetCDF .nc",
     "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
     "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",

@@ -54,6 +54,14 @@ def test_rcs_of_a_mesh_file_json(tmp_path, capsys):
     assert data["rcs_m2"] == pytest.approx(data["rcs_m2_by_polarisation"]["VV"])
     assert data["rays"] > 0 and data["materials"] == ["pec"]
     assert data["bounces"]["max_reached"] == 1
+    # the bound against the exact answer: discretisation and PO's model term 1.5/(k a), a = half the diagonal
+    bound = data["error_bound"]
+    ka = 2 * math.pi / (C / 10e9) * 0.1 / math.sqrt(2)
+    assert bound["model_ka"] == pytest.approx(ka, rel=1e-6)
+    assert bound["model_db"] == pytest.approx(-20 * math.log10(1 - 1.5 / ka), rel=1e-6)
+    assert bound["truncation_db"] == 0.0  # one bounce and out: nothing truncated
+    e_total = 1.5 / ka + 1 - 10 ** (-bound["discretisation_db"] / 20)
+    assert data["error_db"] == bound["total_db"] == pytest.approx(-20 * math.log10(1 - e_total), rel=1e-6)
 
 
 def test_rcs_of_a_drone_preset_with_plot_and_text(tmp_path, capsys):
@@ -87,6 +95,7 @@ def test_rcs_of_a_drone_preset_with_plot_and_text(tmp_path, capsys):
         (["--frequency-ghz", "10", "--material", "kryptonite"], "material"),
         (["--frequency-ghz", "10", "--max-bounces", "0"], "max_bounces"),
         (["--frequency-ghz", "10", "--elevation-deg", "120"], "elevation_deg"),
+        (["--frequency-ghz", "10", "--truncation-fraction", "1.5"], "truncation_fraction"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_code_2(tmp_path, capsys, argv, name):
@@ -145,3 +154,21 @@ def test_rcs_table_grid_for_link_simulators():
     broadside = 2 * math.pi * 0.05 * 0.09 / (C / 10e9)
     assert 10 * np.log10(table["rcs_m2"][:, 1]) == pytest.approx(np.full(3, 10 * math.log10(broadside)), abs=0.7)
     assert np.all(table["rcs_m2"][:, 0] < table["rcs_m2"][:, 1])  # broadside is the maximum
+
+
+def test_truncation_fraction_raises_the_bounce_limit_until_the_corner_is_complete(tmp_path, capsys):
+    """Square trihedral on its axis: its return needs three bounces, 12 pi a^4 / lambda^2 (Knott et al. ch. 5)."""
+    path = tmp_path / "corner.ply"
+    canonical.trihedral(0.1).export(path)
+    el = math.degrees(math.asin(1 / math.sqrt(3)))
+    argv = ["rcs", str(path), "--frequency-ghz", "10", "--azimuth-deg", "45", "--elevation-deg", str(el)]
+    code, out, _ = run_cli(capsys, *argv, "--max-bounces", "2", "--json")
+    data = json.loads(out)
+    assert data["error_db"] is None and data["error_bound"]["truncation_db"] is None
+    assert any("bounce limit (2)" in w for w in data["warnings"])
+    code, out, _ = run_cli(capsys, *argv, "--max-bounces", "1", "--truncation-fraction", "0.01", "--json")
+    data = json.loads(out)
+    assert code == 0 and [t["max_bounces"] for t in data["bounces_tried"]] == [1, 2, 3]
+    assert data["bounces_tried"][-1]["truncated_fraction"] == 0.0 and data["max_bounces"] == 3
+    exact = 12 * math.pi * 0.1**4 / (C / 10e9) ** 2
+    assert abs(data["rcs_dbsm"] - 10 * math.log10(exact)) <= data["error_db"]

@@ -82,17 +82,7 @@ def add_arguments(parser) -> None:
         default="VV",
         help="polarisation of rcs_m2 (receive, transmit); all four are reported",
     )
-    parser.add_argument(
-        "--no-error-estimate",
-        action="store_true",
-        help="trace one grid instead of the shifted replicas that bound the discretisation error "
-        "(a quarter of the time)",
-    )
-    parser.add_argument(
-        "--edge-diffraction",
-        action="store_true",
-        help="add the fringe field of conducting wedge edges and sheet rims (PTD equivalent edge currents)",
-    )
+    _add_error_arguments(parser)
     parser.add_argument(
         "--sphere-average",
         action="store_true",
@@ -121,9 +111,31 @@ def add_arguments(parser) -> None:
     )
 
 
+def _add_error_arguments(parser) -> None:
+    """Options of the error bound: replicas, edge diffraction, the bounce limit's truncation."""
+    parser.add_argument(
+        "--no-error-estimate",
+        action="store_true",
+        help="trace one grid instead of the shifted replicas that bound the discretisation error "
+        "(a quarter of the time)",
+    )
+    parser.add_argument(
+        "--edge-diffraction",
+        action="store_true",
+        help="add the fringe field of conducting wedge edges and sheet rims (PTD equivalent edge currents)",
+    )
+    parser.add_argument(
+        "--truncation-fraction",
+        type=float,
+        default=None,
+        help="raise the bounce limit (from --max-bounces or the preset's, by half each time) until the RCS the "
+        "tubes still alive at the limit could add is at most this fraction of the result (e.g. 0.01)",
+    )
+
+
 def run(args) -> dict:
     """Compute the RCS; returns the ``--json`` object (keys of docs/command-line.md plus details)."""
-    from csuas.render.rcs.solver import POLARISATIONS, compute_rcs, get_engine, resolve_quality
+    from csuas.render.rcs.solver import POLARISATIONS, get_engine, resolve_quality
 
     start = time.perf_counter()
     _validate(args)
@@ -131,28 +143,17 @@ def run(args) -> dict:
     shell = None if args.shell_thickness_mm is None else args.shell_thickness_mm / 1000.0
     engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
     cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
-    res = compute_rcs(
-        engine,
-        args.frequency_ghz,
-        args.azimuth_deg,
-        args.elevation_deg,
-        quality=args.quality,
-        rays_per_wavelength=args.rays_per_wavelength,
-        max_bounces=args.max_bounces,
-        error_estimate=not args.no_error_estimate,
-        edge_diffraction=args.edge_diffraction,
-        observe_azimuth_deg=args.observe_azimuth_deg,
-        observe_elevation_deg=args.observe_elevation_deg,
-    )
+    res, tried = _trace(args, engine)
     bistatic = args.observe_azimuth_deg is not None
     pol = args.polarisation
     sigma = float(res.rcs_m2(pol).ravel()[0])
     err = res.error_estimate_db(pol)
     err = None if err is None else float(err.ravel()[0])
     target = engine.target
-    warnings = _warnings(sigma, err, res.tubes, args.frequency_ghz, target.bounding_radius_m)
+    warnings = _warnings(sigma, err, res, pol, target.bounding_radius_m)
     if sigma <= 0.0 or (err is not None and not (math.isfinite(err) and err <= UNRELIABLE_ERROR_DB)):
         err = None
+    bound = _error_bound(err, res, pol, target.bounding_radius_m)
     out = {
         "target": args.mesh_or_preset,
         "frequency_ghz": args.frequency_ghz,
@@ -165,7 +166,8 @@ def run(args) -> dict:
         "observe_elevation_deg": float(res.observe_elevation_deg.ravel()[0]),
         "rcs_m2": sigma,
         "rcs_dbsm": _dbsm(sigma),
-        "error_db": err,
+        "error_db": bound["total_db"],
+        "error_bound": bound,
         "warnings": warnings,
         "cost_estimate": cost,
         "rcs_m2_by_polarisation": {p: float(res.rcs_m2(p).ravel()[0]) for p in POLARISATIONS},
@@ -173,10 +175,7 @@ def run(args) -> dict:
         "rays": res.tubes,
         "rays_per_wavelength": res.rays_per_wavelength,
         "max_bounces": res.max_bounces,
-        "bounces": {
-            "exits_by_bounce": res.exits_by_bounce.tolist(),
-            "max_reached": int(np.flatnonzero(res.exits_by_bounce)[-1]) if res.exits_by_bounce.any() else 0,
-        },
+        "bounces": _bounces(res.exits_by_bounce),
         "ray_casts": res.ray_casts,
         "rays_x_bounces_per_s": res.rays_x_bounces_per_s,
         "materials": res.materials,
@@ -192,6 +191,7 @@ def run(args) -> dict:
         + (", PTD fringe currents of conducting edges (Michaeli 1984)" if args.edge_diffraction else ""),
         "edge_diffraction": bool(args.edge_diffraction),
         "replicas": res.replicas,
+        "bounces_tried": tried,
     }
     if args.sphere_average:
         from csuas.render.rcs.sweep import sphere_average
@@ -265,6 +265,8 @@ def _validate(args) -> None:
         errors.append(ParameterError("shell_thickness_mm", args.shell_thickness_mm, "0 < t < 1000 [mm]"))
     if not (args.max_tubes >= 1.0 and math.isfinite(args.max_tubes)):
         errors.append(ParameterError("max_tubes", args.max_tubes, "a finite number >= 1"))
+    if args.truncation_fraction is not None and not (0.0 < args.truncation_fraction < 1.0):
+        errors.append(ParameterError("truncation_fraction", args.truncation_fraction, "0 < x < 1"))
     if not (0.0 < args.sphere_accuracy_db <= 10.0):
         errors.append(ParameterError("sphere_accuracy_db", args.sphere_accuracy_db, "0 < x <= 10 [dB]"))
     if args.plot:
@@ -306,9 +308,73 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
     return cost
 
 
-def _warnings(sigma_m2: float, error_db, tubes: int, frequency_ghz: float, bounding_radius_m: float) -> list[str]:
-    """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity."""
+def _trace(args, engine):
+    """The run of ``csuas rcs``, and the bounce limits tried with their truncated fraction (one without
+    ``--truncation-fraction``: the limit given, fraction of that run)."""
+    from csuas.render.rcs.bounces import rcs_until_truncated, truncated_fraction
+    from csuas.render.rcs.solver import compute_rcs
+
+    kwargs = {
+        "quality": args.quality,
+        "rays_per_wavelength": args.rays_per_wavelength,
+        "max_bounces": args.max_bounces,
+        "error_estimate": not args.no_error_estimate,
+        "edge_diffraction": args.edge_diffraction,
+        "observe_azimuth_deg": args.observe_azimuth_deg,
+        "observe_elevation_deg": args.observe_elevation_deg,
+    }
+    where = (engine, args.frequency_ghz, args.azimuth_deg, args.elevation_deg)
+    if args.truncation_fraction is not None:
+        res, tried = rcs_until_truncated(*where, fraction=args.truncation_fraction, **kwargs)
+        return res, [{"max_bounces": b, "truncated_fraction": f} for b, f in tried]
+    res = compute_rcs(*where, **kwargs)
+    return res, [{"max_bounces": res.max_bounces, "truncated_fraction": truncated_fraction(res)}]
+
+
+def _bounces(exits_by_bounce: np.ndarray) -> dict:
+    """Tubes radiating after 0 (missed), 1, 2, ... bounces, and the most bounces any tube made."""
+    return {
+        "exits_by_bounce": exits_by_bounce.tolist(),
+        "max_reached": int(np.flatnonzero(exits_by_bounce)[-1]) if exits_by_bounce.any() else 0,
+    }
+
+
+def _error_bound(discretisation_db, res, polarisation: str, bounding_radius_m: float) -> dict:
+    """The bound against the exact answer and its terms [dB] (:mod:`csuas.render.rcs.model_error`).
+
+    ``total_db`` (the ``error_db`` key) is null where the discretisation bound is withheld, the target
+    is too small for the model (k a < 2, no model bound) or the tubes the bounce limit stopped could
+    outweigh the result (raise --max-bounces).
+    """
+    from csuas.render.rcs.model_error import PO_MODEL_COEFFICIENT, electrical_size, total_bound_db
+
+    model_db = float(res.model_error_db[0])
+    truncation_db = float(res.truncation_db(polarisation).ravel()[0])
+    total = None
+    if discretisation_db is not None:
+        total = float(total_bound_db(discretisation_db, model_db, truncation_db))
+    return {
+        "total_db": total if total is not None and math.isfinite(total) else None,
+        "discretisation_db": discretisation_db,
+        "model_db": model_db if math.isfinite(model_db) else None,
+        "truncation_db": truncation_db if math.isfinite(truncation_db) else None,
+        "model_ka": float(electrical_size(res.frequency_ghz[0], bounding_radius_m)),
+        "model": f"physical optics against the exact answer: relative amplitude {PO_MODEL_COEFFICIENT:g}/(k a), "
+        "a the bounding radius, calibrated on the Mie series of PEC spheres at ka 2-50; truncation: the tubes "
+        "alive at the bounce limit re-radiating once more at random phase",
+    }
+
+
+def _warnings(sigma_m2: float, error_db, res, polarisation: str, bounding_radius_m: float) -> list[str]:
+    """What makes the figure less than it seems: nothing hit, too few tubes, ka below validity, bounces cut."""
+    tubes, frequency_ghz = res.tubes, float(res.frequency_ghz[0])
     warnings = []
+    truncation = float(res.truncation_db(polarisation).ravel()[0])
+    if sigma_m2 > 0.0 and not math.isfinite(truncation):
+        warnings.append(
+            f"the tubes the bounce limit ({res.max_bounces}) stopped could add more than the result: no bound "
+            "(error_db null); raise --max-bounces or give --truncation-fraction"
+        )
     if sigma_m2 <= 0.0:
         warnings.append(
             "no tube returned any field toward the receiver: the RCS is below what this tube grid "
@@ -355,7 +421,7 @@ def render_text(result: dict) -> str:
         f"({result['polarisation']}):",
         f"  {result['rcs_m2']:.4g} m^2"
         + ("" if result["rcs_dbsm"] is None else f" = {result['rcs_dbsm']:.2f} dBsm")
-        + ("" if result["error_db"] is None else f"  (error estimate {result['error_db']:.2f} dB)"),
+        + ("" if result["error_db"] is None else f"  (bound {result['error_db']:.2f} dB against the exact answer)"),
         "  "
         + "  ".join(f"{p} {'-' if v is None else f'{v:.2f}'}" for p, v in result["rcs_dbsm_by_polarisation"].items())
         + " dBsm",

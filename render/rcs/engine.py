@@ -197,6 +197,11 @@ class TraceResult:
         Wall time of the launch [s], including kernel compilation.
     trace_time_s : float
         Part of ``time_s`` spent in ray-scene intersection [s].
+    live_sigma_m2 : ndarray (J, 2)
+        Per job and transmit polarisation (V, H), the RCS [m^2] the tubes still alive at the bounce
+        limit could add if each radiated once more at random phase: ``sum k^2 A^2 P / pi`` over them,
+        with A a tube's cross-section and P its power relative to the incident tube (a flat aperture
+        A re-radiating power P has at most ``4 pi A^2 P / lambda^2``; Knott et al., ch. 5).
     """
 
     amplitude: np.ndarray
@@ -205,6 +210,7 @@ class TraceResult:
     exits_by_bounce: np.ndarray
     time_s: float
     trace_time_s: float
+    live_sigma_m2: np.ndarray | None = None
 
     @property
     def sigma_m2(self) -> np.ndarray:
@@ -421,7 +427,12 @@ class SbrEngine:
         acc = np.zeros((n_jobs, n_obs * 8))
         offsets = np.concatenate([[0], np.cumsum(tab["tubes"])])
         total = int(offsets[-1])
-        stats = {"casts": 0, "trace_s": 0.0, "exits": np.zeros(max_bounces + 1, np.int64)}
+        stats = {
+            "casts": 0,
+            "trace_s": 0.0,
+            "exits": np.zeros(max_bounces + 1, np.int64),
+            "live": np.zeros((n_jobs, 2)),
+        }
         dev["clean"] = None
         if exact_first_hits:
             escape_needed = radiate == "exit" and max_bounces > 1
@@ -435,8 +446,9 @@ class SbrEngine:
             self._trace_batch(dev, job.astype(np.uint32), local, n_obs, max_bounces, radiate, acc, stats)
         sums = acc.reshape(n_jobs, n_obs, 2, 2, 2)  # (job, obs, tx, rx, re/im)
         amplitude = (sums[..., 0] + 1j * sums[..., 1]).transpose(0, 1, 3, 2)  # -> (job, obs, rx, tx)
+        live = np.asarray(tab["k"], float)[:, None] ** 2 / math.pi * stats["live"]
         return TraceResult(
-            amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"]
+            amplitude, tab["tubes"], stats["casts"], stats["exits"], time.perf_counter() - start, stats["trace_s"], live
         )
 
     def _trace_batch(self, dev, job_np, local_np, n_obs, max_bounces, radiate, acc, stats):
@@ -514,6 +526,9 @@ class SbrEngine:
                 weak = dr.compress(~keep)
                 self._accumulate(acc, dr.gather(UInt, st_r["job"], weak), [dr.gather(Float, c, weak) for c in contrib])
             if last:
+                self._live_power(stats, st_r, keep)
+                if n_through:
+                    self._live_power(stats, st_t, has_t)
                 if n_through:
                     through = dr.compress(has_t)
                     self._accumulate(
@@ -791,6 +806,40 @@ class SbrEngine:
             eh_im=trans[1][5],
         )
         return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
+
+    def _live_power(self, stats, st, mask) -> None:
+        """Add ``|a1 x a2|^2 |E|^2`` (V, H transmit) of the tubes ``mask`` of ``st`` that would hit again to
+        ``stats["live"]`` per job.
+
+        These tubes still carry power when the bounce limit stops them: the cross-section squared times
+        the power relative to the incident tube is what :class:`TraceResult`'s ``live_sigma_m2`` scales.
+        """
+        mi, dr = self.mi, self.dr
+        idx = dr.compress(mask)
+        if dr.width(idx) == 0:
+            return
+        # alive: its next ray hits the target again (one more cast per stopped tube)
+        ray = mi.Ray3f(dr.gather(mi.Vector3f, st["o"], idx), dr.gather(mi.Vector3f, st["dir"], idx))
+        hit = self.scene.ray_intersect_preliminary(ray).is_valid()
+        dr.eval(hit)
+        stats["casts"] += dr.width(hit)
+        idx = dr.gather(mi.UInt32, idx, dr.compress(hit))
+        if dr.width(idx) == 0:
+            return
+        job = dr.gather(mi.UInt32, st["job"], idx)
+        area2 = dr.squared_norm(dr.cross(dr.gather(mi.Vector3f, st["a1"], idx), dr.gather(mi.Vector3f, st["a2"], idx)))
+        powers = [
+            area2
+            * (
+                dr.squared_norm(dr.gather(mi.Vector3f, st[re], idx))
+                + dr.squared_norm(dr.gather(mi.Vector3f, st[im], idx))
+            )
+            for re, im in (("ev_re", "ev_im"), ("eh_re", "eh_im"))
+        ]
+        dr.eval(job, powers)
+        job_np = np.asarray(job)
+        for pol, power in enumerate(powers):
+            np.add.at(stats["live"][:, pol], job_np, np.asarray(power, dtype=np.float64))
 
     def _accumulate(self, acc, job, parts):
         """Add contributions (float32, 8 per receiver and tube) to the float64 sums ``acc`` of their jobs.

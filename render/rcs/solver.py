@@ -41,6 +41,7 @@ from csuas.core.units import wavelength_m
 
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
+from .model_error import db_from_relative, model_error_db, total_bound_db
 
 #: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
 #: against closed forms are in :data:`PRESET_MEASURED_ERROR_DB` (see convergence.py).
@@ -158,6 +159,12 @@ class RcsResult:
         the cost of the error estimate.
     replicas : int
         Shifted grids averaged (module docstring); 1 without an error estimate.
+    model_error_db : ndarray (F,) or None
+        Bound of physical optics' own error against the exact answer [dB]
+        (:mod:`csuas.render.rcs.model_error`, from the target's bounding radius).
+    truncated_sigma_m2 : ndarray (F, A, 2) or None
+        RCS [m^2] the tubes still alive at the bounce limit could add, per transmit polarisation (V, H)
+        (:class:`csuas.render.rcs.engine.TraceResult` ``live_sigma_m2``, mean of the replicas).
     """
 
     sigma_m2: np.ndarray
@@ -178,6 +185,8 @@ class RcsResult:
     materials: list = field(default_factory=list)
     variant: str = ""
     replicas: int = 1
+    model_error_db: np.ndarray | None = None
+    truncated_sigma_m2: np.ndarray | None = None
 
     def rcs_m2(self, polarisation: str = "VV") -> np.ndarray:
         """RCS (F, A, M) [m^2] of one polarisation ("VV", "HH", "HV", "VH")."""
@@ -194,6 +203,31 @@ class RcsResult:
             return None
         rx, tx = _polarisation(polarisation)
         return self.error_db[..., rx, tx]
+
+    def truncation_db(self, polarisation: str = "VV") -> np.ndarray | None:
+        """The bounce limit's term (F, A, M) [dB]: relative amplitude sqrt(truncated sigma / sigma).
+
+        The tubes still alive at the limit re-radiating once more at random phase (their sum's rms);
+        0 dB where none is alive, ``inf`` where they could outweigh the result.
+        """
+        if self.truncated_sigma_m2 is None:
+            return None
+        _, tx = _polarisation(polarisation)
+        sigma = self.rcs_m2(polarisation)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(sigma > 0.0, self.truncated_sigma_m2[..., tx][..., None] / sigma, np.inf)
+        return db_from_relative(np.sqrt(np.where(self.truncated_sigma_m2[..., tx][..., None] > 0.0, ratio, 0.0)))
+
+    def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
+        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and truncation together.
+
+        None without an error estimate or a model term; ``inf`` where a term has no bound.
+        """
+        disc = self.error_estimate_db(polarisation)
+        if disc is None or self.model_error_db is None:
+            return None
+        truncation = self.truncation_db(polarisation)
+        return total_bound_db(disc, self.model_error_db[:, None, None], 0.0 if truncation is None else truncation)
 
     @property
     def rays_x_bounces_per_s(self) -> float:
@@ -300,6 +334,24 @@ def _edge_amplitude(engine: SbrEngine, az, el, frequency_ghz, observe_az, observ
     return edge_amplitude(engine.edges, az, el, frequency_ghz, oaz, oel, visible=visible)
 
 
+def _receivers(az, el, observe_azimuth_deg, observe_elevation_deg) -> tuple[np.ndarray, np.ndarray]:
+    """Receiver directions (A, M) [deg]: the incidence (monostatic) or the observe angles broadcast."""
+    if observe_azimuth_deg is None and observe_elevation_deg is None:
+        return az[:, None], el[:, None]
+    if observe_azimuth_deg is None or observe_elevation_deg is None:
+        raise ParameterError(
+            "observe_elevation_deg" if observe_elevation_deg is None else "observe_azimuth_deg",
+            None,
+            "both observe angles, or neither (monostatic)",
+        )
+    oaz, oel = np.broadcast_arrays(
+        np.atleast_1d(np.asarray(observe_azimuth_deg, float)), np.atleast_1d(np.asarray(observe_elevation_deg, float))
+    )
+    oaz = np.broadcast_to(oaz if oaz.ndim == 2 else oaz[None, :], (len(az), oaz.shape[-1]))
+    oel = np.broadcast_to(oel if oel.ndim == 2 else oel[None, :], (len(az), oel.shape[-1]))
+    return oaz, oel
+
+
 def compute_rcs(
     target,
     frequency_ghz,
@@ -375,21 +427,7 @@ def compute_rcs(
     )
     az, el = az.ravel(), el.ravel()
     n_f, n_a = len(freq), len(az)
-    if observe_azimuth_deg is None and observe_elevation_deg is None:
-        oaz, oel = az[:, None], el[:, None]
-    elif observe_azimuth_deg is None or observe_elevation_deg is None:
-        raise ParameterError(
-            "observe_elevation_deg" if observe_elevation_deg is None else "observe_azimuth_deg",
-            None,
-            "both observe angles, or neither (monostatic)",
-        )
-    else:
-        oaz, oel = np.broadcast_arrays(
-            np.atleast_1d(np.asarray(observe_azimuth_deg, float)),
-            np.atleast_1d(np.asarray(observe_elevation_deg, float)),
-        )
-        oaz = np.broadcast_to(oaz if oaz.ndim == 2 else oaz[None, :], (n_a, oaz.shape[-1]))
-        oel = np.broadcast_to(oel if oel.ndim == 2 else oel[None, :], (n_a, oel.shape[-1]))
+    oaz, oel = _receivers(az, el, observe_azimuth_deg, observe_elevation_deg)
     engine = get_engine(target, material, batch_size, shell_thickness_m)
     f_job = np.repeat(freq, n_a)
 
@@ -408,9 +446,8 @@ def compute_rcs(
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
     amplitude = main.amplitude.reshape((replicas, *shape))
     if edge_diffraction:
-        amplitude = amplitude + _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel).reshape(
-            shape
-        )
+        edge = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
+        amplitude = amplitude + edge.reshape(shape)
     error_db, error_time = None, 0.0
     if replicas > 1:
         amplitude, error_db = replica_error_db(amplitude)
@@ -435,4 +472,6 @@ def compute_rcs(
         [m.name for m in engine.target.materials],
         engine.variant,
         replicas,
+        model_error_db(freq, engine.target.bounding_radius_m),
+        main.live_sigma_m2.reshape(replicas, n_f, n_a, 2).mean(axis=0),
     )

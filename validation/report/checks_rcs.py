@@ -284,6 +284,62 @@ def drone_statistics(_knob=None) -> Section:
     return s
 
 
+#: Spheres of the bound's coverage check per report quality (random ka in 2-50, one aspect each).
+BOUND_SPHERES = {"quick": 16, "full": 96}
+#: Coverage the bound against the exact answer claims.
+BOUND_COVERAGE = 0.95
+
+
+def bound_vs_exact(cases: int) -> Section:
+    """Each SBR-PO figure of PEC spheres (ka 2-50, random aspects) against the Mie series, within its bound.
+
+    One check per sphere and polarisation (tolerance: the figure's own bound against the exact answer,
+    discretisation and PO's model error) and one for the coverage of the population, beside the
+    coverage of the discretisation bound alone.
+    """
+    from csuas.validation.rcs.model_error import sphere_coverage
+
+    s = Section()
+    r = sphere_coverage(cases=cases, seed=26)
+    n = len(r["error_db"])
+    for i in range(n):
+        s.outcomes.append(
+            Check(
+                f"rcs.bound.sphere_ka{r['ka'][i]:.3g}.az{r['azimuth_deg'][i]:.0f}_el{r['elevation_deg'][i]:.0f}."
+                f"{r['polarisation'][i]}",
+                float(r["mie_dbsm"][i]),
+                float(r["sbr_dbsm"][i]),
+                float(r["bound_db"][i]),
+                "dBsm",
+                error_estimate=float(r["bound_db"][i]),
+                time_s=r["time_s"] / n,
+                source="exact Mie series of the PEC sphere (radius 1 m)",
+                method="SBR-PO, PEC, standard quality, icosphere of 81 920 faces",
+                tolerance_source="the figure's bound against the exact answer (discretisation + PO's 1.5/(k a))",
+                details={"discretisation_db": float(r["discretisation_db"][i])},
+            )
+        )
+    s.outcomes.append(
+        Check(
+            "rcs.bound.sphere_coverage",
+            1.0,
+            r["coverage_total"],
+            1.0 - BOUND_COVERAGE,
+            "fraction",
+            time_s=r["time_s"],
+            source=f"Mie series; {n} entries (ka log-uniform in 2-50, random aspects, VV and HH)",
+            method="fraction of entries whose bound against the exact answer covers the error",
+            tolerance_source=f"the claimed coverage, {BOUND_COVERAGE:.0%}",
+            details={"coverage_discretisation_only": r["coverage_discretisation"]},
+        )
+    )
+    s.notes.append(
+        f"The discretisation bound alone (against PO) covers {r['coverage_discretisation']:.0%} of these entries; "
+        f"with PO's model error, {r['coverage_total']:.0%}."
+    )
+    return s
+
+
 def _plot_statistics(rows, path):
     import matplotlib
     import matplotlib.ticker
@@ -381,6 +437,17 @@ SPECS = [
         None,
         {},
         False,
+    ),
+    CheckSpec(
+        "rcs.bound",
+        "Bounds against the exact answer: SBR-PO spheres vs Mie",
+        "rcs",
+        "SBR-PO of PEC spheres at random ka 2-50 and aspects vs the Mie series, within each figure's bound",
+        "each figure's bound (discretisation + PO's model error); 95 % coverage of the population",
+        bound_vs_exact,
+        "spheres",
+        BOUND_SPHERES,
+        True,
     ),
     CheckSpec(
         "rcs.drone_polar",
