@@ -1,6 +1,6 @@
 """The report's HTML opens in a real browser: a headless Chromium screenshot shows the page and its plots.
 
-Skipped when no Chromium is installed (Debian: ``apt-get install chromium``).
+Skipped when no Chromium is installed (Debian: ``apt-get install chromium``, which tools/setup.sh does).
 """
 
 import shutil
@@ -8,6 +8,7 @@ import subprocess
 
 import numpy as np
 import pytest
+from waiting import PATIENCE_S
 
 from csuas.base.checks import Check
 from csuas.validation.report import runner
@@ -53,7 +54,7 @@ def test_report_html_renders_in_headless_chromium(tmp_path):
         ],
         check=True,
         capture_output=True,
-        timeout=120,
+        timeout=PATIENCE_S,  # ends a hung browser only; a loaded machine just takes longer
     )
     from matplotlib import image as mpimg
 

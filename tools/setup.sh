@@ -17,8 +17,9 @@ venv="${CSUAS_VENV:-.venv}"
 say() { printf 'setup: %s\n' "$*" >&2; }
 started=$(date +%s)
 
-#: Longest silence of a step [s]; after it, the step prints its elapsed time and last line of output.
-quiet_s=10
+#: Silence after which a step prints its elapsed time and last line of output [s]; checked every
+#: second, so that set-up is never silent for more than 10 s.
+quiet_s=9
 #: How long set-up waits for apt's locks held by another process [s].
 apt_lock_wait_s=600
 
