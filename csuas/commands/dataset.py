@@ -1,8 +1,8 @@
 """``csuas dataset SPEC --out DIR``: labelled EO frames of drones drawn from a spec (docs/datasets.md).
 
 JSON (``--json``): ``images``, ``rendered``, ``resumed``, ``redone`` (images whose record an earlier run
-left unreadable, rendered again), ``annotations`` (the COCO file's path),
-``time_s`` and ``out``.
+left unreadable, rendered again), ``annotations`` (the COCO file's path), ``time_s``, ``out`` and
+``cost_estimate`` (:mod:`csuas.render.imaging.dataset_cost`, checked before any image is drawn).
 """
 
 from __future__ import annotations

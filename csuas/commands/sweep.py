@@ -3,7 +3,7 @@
 JSON (``--json``): the provenance of ``DIR/sweep.json`` (``csuas_version``, ``spec_digest``,
 ``job``, ``scenario``, ``seed``, ``scheduler``, ``workers``, ``worker_processes``, ``points``,
 ``chunks``, ``chunks_run``, ``chunks_resumed``, ``chunks_redone``, ``wall_time_s``, ``results``), plus ``columns`` of
-``DIR/results.parquet``.
+``DIR/results.parquet`` and ``cost_estimate`` (:mod:`csuas.sweep.cost`, checked before any axis is drawn).
 """
 
 from __future__ import annotations
@@ -54,11 +54,12 @@ def run(args) -> dict:
         raise ParameterError("workers", args.workers, "a whole number >= 1")
     data = read_spec(args.spec, sweep_path, "sweep spec")
     lengths = axis_lengths(data)  # before any axis is drawn
-    estimate = None
-    if data.get("job") in SWEEP_JOBS and isinstance(data.get("scenario", "default"), str):  # else the schema says
-        sensors = len(load_scenario(data.get("scenario", "default")).sensors) if data["job"] != "rcs" else 0
-        estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
-        check_limits(estimate, args, "sweep", announce=data["job"] != "rcs")
+    if data.get("job") not in SWEEP_JOBS or not isinstance(data.get("scenario", "default"), str):
+        parse_spec(data)  # refuses the job or the scenario, with every other mistake of the spec
+    job = data["job"]
+    sensors = 0 if job == "rcs" else len(load_scenario(data.get("scenario", "default")).sensors)
+    estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
+    check_limits(estimate, args, "sweep", announce=job != "rcs")
     spec = parse_spec(data)
     if spec.job == "rcs":  # the tubes, from the target's size and the frequencies
         estimate = rcs_estimate(spec, estimate, workers_of(args.scheduler, args.workers))
