@@ -31,7 +31,7 @@ QUALITIES = ("quick", "full")
 @dataclass
 class Figure:
     """A plot or image of a section, as PNG bytes; ``wide`` ones (two panels) are shown at full size on a row
-    of their own, the others at most 640 px wide, two to a row."""
+    of their own, the others at most 620 px wide, two to a row."""
 
     name: str
     title: str
