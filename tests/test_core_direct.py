@@ -172,13 +172,20 @@ def test_power_sum_eq_108():
     assert float(units.power_sum_db(42.0, -np.inf)) == pytest.approx(42.0, rel=1e-12)
 
 
-def test_default_range_grid_spans_one_metre_to_three_times_the_longest_range():
+def test_default_range_grid_spans_one_metre_to_three_times_the_longest_reach():
+    """The longest reach: each sensor's deterministic range, or its line-of-sight horizon where nearer (the
+    reference 2 m sensor and 120 m drone of csuas range, 4/3 Earth for radio, refraction 0.13 for light)."""
+    from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
+
     sc = scenario.load_scenario("default")
-    longest = max(
-        float(np.max(ranges.evaluate(sc, None)[name].range_m)) for name in sc.sensors if name in ranges.evaluate(sc)
-    )
+    horizon = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL}
+    reach = []
+    for name, prediction in ranges.evaluate(sc).items():
+        k = horizon.get(sc.sensors[name].modality)
+        limit = math.inf if k is None else float(line_of_sight_limit_m(2.0, 120.0, k))
+        reach.append(min(float(np.max(prediction.range_m)), limit))
     grid = pd_curves.default_range_grid(sc)
-    assert grid[0] == 1.0 and grid[-1] == pytest.approx(3.0 * longest, rel=1e-12)
+    assert grid[0] == 1.0 and grid[-1] == pytest.approx(3.0 * max(reach), rel=1e-12)
     assert np.allclose(np.diff(np.log(grid)), np.log(grid[1] / grid[0]))
 
 
