@@ -180,13 +180,7 @@ def test_default_range_grid_spans_one_metre_to_three_times_the_longest_reach():
     from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
 
     sc = scenario.load_scenario("default")
-    horizon = {
-        "rf": K_RADIO,
-        "radar": K_RADIO,
-        "eo": K_OPTICAL,
-        "tir": K_OPTICAL,
-        "lidar": K_OPTICAL,
-    }
+    horizon = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL}
     reach = []
     for name, prediction in ranges.evaluate(sc).items():
         k = horizon.get(sc.sensors[name].modality)
