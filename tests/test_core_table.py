@@ -291,6 +291,7 @@ COVERED_ELSEWHERE = {
     "terrain.cells_around": "tests/test_terrain.py (exact index arithmetic)",
     "terrain.gaussian_hills": "tests/test_terrain_gdal.py (the terrain of the GDAL and sight-line cross-checks)",
     "terrain.lowest_visible_height_m": "tests/test_terrain.py (a wall's sight line, the viewshed at 4 levels)",
+    "coverage_cost.coverage_estimate": "tests/test_core_direct.py (the measured demo site)",
     "terrain.height_at": "tests/test_terrain.py and tests/test_coverage.py (flat and ridged DEMs)",
     "coverage.sensor_layers": "tests/test_coverage.py (flat terrain: the slant-range rule cell by cell)",
     "coverage.fused_layers": "tests/test_coverage.py (the OR covers each sensor)",
