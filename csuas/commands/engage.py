@@ -153,7 +153,12 @@ def build(spec, spec_dir: Path | None):
 
 
 def estimate_seconds(engagement, runs: int) -> float:
-    """Estimated run time [s]: runs x sum over sensors of looks x (SECONDS_PER_LOOK + detections per look x SECONDS_PER_DETECTION)."""
+    """Estimated run time [s] on one process.
+
+    runs x the sum over sensors of looks x (SECONDS_PER_LOOK + detections per look x SECONDS_PER_DETECTION),
+    the detections per look being the false alarms, the clutter alarms, BIRDS_SEEN of the birds and the
+    drone's mean Pd.
+    """
     west, east, south, north = engagement.bird_box()
     birds = engagement.birds.density_per_km2 * (east - west) * (north - south) / 1e6
     per_run = 0.0
@@ -257,7 +262,8 @@ def render_text(result: dict) -> str:
     lines = [
         f"engage: {result['runs']} runs in {result['time_s']:.1f} s ({result['runs_per_second']:.2f} runs/s)",
         f"warning time: median {fmt(w['median'], 's')} (p10 {fmt(w['p10'], 's')}, p90 {fmt(w['p90'], 's')})",
-        f"first track at {fmt(f['median'], 'm')} from the protected point (median); never in {100 * f['never_fraction']:.0f} % of runs",
+        f"first track {fmt(f['median'], 'm')} before the protected point (median); "
+        f"never in {100 * f['never_fraction']:.0f} % of runs",
         "false tracks per hour: {:.1f} ({})".format(
             m["false_tracks_per_hour"]["total"],
             ", ".join(f"{c} {v:.1f}" for c, v in m["false_tracks_per_hour"]["by_cause"].items()),
@@ -265,7 +271,8 @@ def render_text(result: dict) -> str:
     ]
     for name, a in m["false_alarms_per_hour"].items():
         lines.append(
-            f"false alarms per hour, {name}: {a['total']:.0f} (noise {a['noise']:.0f}, expected {a['noise_expected']:.0f}; clutter {a['clutter']:.0f})"
+            f"false alarms per hour, {name}: {a['total']:.0f} (noise {a['noise']:.0f}, expected "
+            f"{a['noise_expected']:.0f}; clutter {a['clutter']:.0f})"
         )
     lines.append(f"track continuity {m['track_continuity']}, mean GOSPA {m['gospa_mean']}")
     lines.append(f"files: {result['out']}/engage.json, {result['map_png']}, {result['curve_png']}")

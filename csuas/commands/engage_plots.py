@@ -135,7 +135,8 @@ def map_plot(path: Path, engagement, records: list, metrics: dict) -> Path:
     ax.set_title(
         f"Engagement over {len(records)} runs: median warning {median}, "
         f"{f['total']:.0f} false tracks per hour "
-        f"(birds {f['by_cause']['birds']:.0f}, noise {f['by_cause']['noise']:.0f}, clutter {f['by_cause']['clutter']:.0f})",
+        f"(birds {f['by_cause']['birds']:.0f}, noise {f['by_cause']['noise']:.0f}, "
+        f"clutter {f['by_cause']['clutter']:.0f})",
         fontsize=10,
     )
     fig.tight_layout()
@@ -146,7 +147,7 @@ def map_plot(path: Path, engagement, records: list, metrics: dict) -> Path:
 
 
 def curve_plot(path: Path, engagement, curves: dict, metrics: dict) -> Path:
-    """Cumulative probability of a confirmed drone track against its distance to the protected point, per sensor beside."""
+    """Cumulative probability of a confirmed drone track against the distance still to fly, each sensor's beside."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9.5, 5.8))
     d = np.array(curves["distance_m"]) / 1000
@@ -184,7 +185,8 @@ def curve_plot(path: Path, engagement, curves: dict, metrics: dict) -> Path:
     w = metrics["warning_time_s"]
     if w["median"] is not None:
         ax.set_title(
-            f"Warning: median {w['median']:.0f} s (p10 {w['p10']:.0f} s, p90 {w['p90']:.0f} s); never confirmed in {100 * metrics['first_track_time_s']['never_fraction']:.0f} % of runs",
+            f"Warning: median {w['median']:.0f} s (p10 {w['p10']:.0f} s, p90 {w['p90']:.0f} s); never confirmed "
+            f"in {100 * metrics['first_track_time_s']['never_fraction']:.0f} % of runs",
             fontsize=10,
         )
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)

@@ -11,9 +11,10 @@ sqrt(1 - rho_k^2) e_k, detected when Phi(z_k) < Pd_k: each look keeps its Pd exa
 draws share the RCS fluctuation as the sensor's rule dictates (:meth:`SensorModel.look_correlation`).
 
 Per run: the first confirmed track of the drone (its time, and the distance the drone still had to
-fly to the protected point, the last waypoint: the straight-line distance on a straight approach), the warning time (arrival at the protected point minus that
-time; 0 when never confirmed), every false track (a confirmed track whose detections at confirmation
-came mostly from noise, clutter or birds) with its cause, the false alarms of each sensor, GOSPA
+fly to the protected point, the last waypoint: the straight-line distance on a straight approach), the
+warning time (arrival at the protected point minus that time; 0 when never confirmed), every false
+track (a confirmed track whose detections at confirmation came mostly from noise, clutter or birds)
+with its cause, the false alarms of each sensor, GOSPA
 (Stone Soup's metric; the drone is the only truth, birds are confusers) averaged over the looks, and
 the track continuity (the share of looks from the first track to arrival at which a confirmed track
 lies within GOSPA_C_M of the drone).
