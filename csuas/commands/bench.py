@@ -21,6 +21,7 @@ SUITES = {
     "dataset_frames": "csuas.validation.imaging.bench:bench_frames",
     "detection_pd": "csuas.validation.detection.bench:bench_pd",
     "sweep_dask": "csuas.validation.sweep.bench:bench_sweep",
+    "engage_runs": "csuas.commands.engage:bench_runs",
 }
 
 

@@ -277,3 +277,35 @@ def render_text(result: dict) -> str:
     lines.append(f"track continuity {m['track_continuity']}, mean GOSPA {m['gospa_mean']}")
     lines.append(f"files: {result['out']}/engage.json, {result['map_png']}, {result['curve_png']}")
     return "\n".join(lines)
+
+
+def bench_runs(runs: int = 4) -> list[dict]:
+    """Runs per second of the embedded example, on one process and on two, and without birds (``csuas bench``).
+
+    Lives beside the command because the example's site is read by the command line's site loader. Each
+    figure times only the runs (the engagement is built before the timer).
+    """
+    from csuas.base.fileio import read_spec
+    from csuas.render.engagement.spec import parse_spec
+
+    data = read_spec("example", _spec_source, "engagement spec")
+    out = []
+    for label, birds, workers in (("example", None, 1), ("example", None, 2), ("example without birds", 0.0, 1)):
+        spec_data = dict(data)
+        if birds is not None:
+            spec_data["confusers"] = {**data["confusers"], "birds_per_km2": birds}
+        engagement = build(parse_spec(spec_data), None)
+        started = time.perf_counter()
+        run_all(engagement, runs, workers)
+        elapsed = time.perf_counter() - started
+        out.append(
+            {
+                "case": label,
+                "workers": workers,
+                "runs": runs,
+                "time_s": elapsed,
+                "runs_per_second": runs / elapsed,
+                "estimated_s": estimate_seconds(engagement, runs) / workers,
+            }
+        )
+    return out
