@@ -229,6 +229,7 @@ def test_registry_declares_every_check():
         "imaging",
         "detection",
         "terrain",
+        "engage",
     }
     assert {f"conv.{n}" for n in range(1, 11)} <= set(names)
     for s in specs:
