@@ -21,11 +21,8 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 
-#: Seconds per look of a sensor, and per detection in it, on this repository's machine (one core):
-#: the cost model of the estimate (benchmarked by ``csuas bench engage``).
-SECONDS_PER_LOOK, SECONDS_PER_DETECTION = 2.0e-3, 1.0e-3
-#: Share of the birds of a run that a sensor detects at a look, on average (for the estimate).
-BIRDS_SEEN = 0.25
+#: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`).
+PILOT_LOOKS = 10
 #: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
 LOOK_DEFAULTS = {
     "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
@@ -153,22 +150,22 @@ def build(spec, spec_dir: Path | None):
 
 
 def estimate_seconds(engagement, runs: int) -> float:
-    """Estimated run time [s] on one process.
+    """Estimated run time [s] on one process: runs x the looks of a run x the measured seconds per look.
 
-    runs x the sum over sensors of looks x (SECONDS_PER_LOOK + detections per look x SECONDS_PER_DETECTION),
-    the detections per look being the false alarms, the clutter alarms, BIRDS_SEEN of the birds and the
-    drone's mean Pd.
+    The seconds per look come from a pilot run over the first PILOT_LOOKS looks of every sensor (a
+    tentative track lives at most N looks, so the tracker's load has settled by then; the run's own
+    draws, seeded apart from the real runs), which is what the cost grows with: false alarms, birds and
+    the tentative tracks they start (their pairs grow as the square of the detections per look).
     """
-    west, east, south, north = engagement.bird_box()
-    birds = engagement.birds.density_per_km2 * (east - west) * (north - south) / 1e6
-    per_run = 0.0
-    for name, sensor in engagement.sensors.items():
-        looks = engagement.looks[name]
-        per_look = (
-            sensor.false_alarms_per_look + float(sensor.clutter_rate.sum()) + 0.5 * birds + float(looks.pd.mean())
-        )
-        per_run += len(looks.t_s) * (SECONDS_PER_LOOK + per_look * SECONDS_PER_DETECTION)
-    return runs * per_run
+    from csuas.render.engagement.simulate import run_once
+
+    revisit = max(sensor.settings.revisit_s for sensor in engagement.sensors.values())
+    until = (PILOT_LOOKS - 1) * revisit
+    looks = sum(len(seen.t_s) for seen in engagement.looks.values())
+    piloted = sum(int(np.sum(seen.t_s <= until + 1e-9)) for seen in engagement.looks.values())
+    started = time.perf_counter()
+    run_once(engagement, runs, until_s=until)
+    return runs * (time.perf_counter() - started) * looks / max(piloted, 1)
 
 
 def run_all(engagement, runs: int, workers: int) -> list:

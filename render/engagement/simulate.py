@@ -239,8 +239,11 @@ def _look_detections(rng, sensor: SensorModel, t_s: float, truth: dict) -> tuple
     return detections, {"noise": len(noise), "clutter": len(clutter)}
 
 
-def run_once(engagement: Engagement, index: int, keep_paths: bool = False) -> dict:
-    """One Monte Carlo run (seeded by the engagement's seed and ``index``): its metrics (module docstring)."""
+def run_once(engagement: Engagement, index: int, keep_paths: bool = False, until_s: float | None = None) -> dict:
+    """One Monte Carlo run (seeded by the engagement's seed and ``index``): its metrics (module docstring).
+
+    ``until_s`` stops the tracker after that time (a pilot run that times the cost of the looks).
+    """
     started = time.perf_counter()
     rng = np.random.default_rng([engagement.seed, index])
     times = np.unique(np.concatenate([looks.t_s for looks in engagement.looks.values()]))
@@ -262,6 +265,8 @@ def run_once(engagement: Engagement, index: int, keep_paths: bool = False) -> di
             alarms[name]["clutter"] += counts["clutter"]
             scans.append((float(t), order, name, detections))
     scans.sort(key=lambda s: (s[0], s[1]))
+    if until_s is not None:
+        scans = [scan for scan in scans if scan[0] <= until_s]
     tracker = EngagementTracker(*engagement.confirm, engagement.delete_after_misses)
     gospa_values, held = [], []
     for i, (t, _, name, detections) in enumerate(scans):
