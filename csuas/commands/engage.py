@@ -21,8 +21,9 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 
-#: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`).
-PILOT_LOOKS = 10
+#: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`), and
+#: the most time it may take [s] (it then counts the looks it took).
+PILOT_LOOKS, PILOT_BUDGET_S = 10, 20.0
 #: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
 LOOK_DEFAULTS = {
     "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
@@ -154,18 +155,18 @@ def estimate_seconds(engagement, runs: int) -> float:
 
     The seconds per look come from a pilot run over the first PILOT_LOOKS looks of every sensor (a
     tentative track lives at most N looks, so the tracker's load has settled by then; the run's own
-    draws, seeded apart from the real runs), which is what the cost grows with: false alarms, birds and
-    the tentative tracks they start (their pairs grow as the square of the detections per look).
+    draws, seeded apart from the real runs; stopped after PILOT_BUDGET_S). The cost grows with false
+    alarms, birds and the tentative tracks they start (their pairs grow as the square of the detections
+    per look), which a fixed cost per look would miss.
     """
     from csuas.render.engagement.simulate import run_once
 
     revisit = max(sensor.settings.revisit_s for sensor in engagement.sensors.values())
     until = (PILOT_LOOKS - 1) * revisit
     looks = sum(len(seen.t_s) for seen in engagement.looks.values())
-    piloted = sum(int(np.sum(seen.t_s <= until + 1e-9)) for seen in engagement.looks.values())
     started = time.perf_counter()
-    run_once(engagement, runs, until_s=until)
-    return runs * (time.perf_counter() - started) * looks / max(piloted, 1)
+    pilot = run_once(engagement, runs, until_s=until, budget_s=PILOT_BUDGET_S)
+    return runs * (time.perf_counter() - started) * looks / max(pilot["looks_tracked"], 1)
 
 
 def run_all(engagement, runs: int, workers: int) -> list:

@@ -239,10 +239,13 @@ def _look_detections(rng, sensor: SensorModel, t_s: float, truth: dict) -> tuple
     return detections, {"noise": len(noise), "clutter": len(clutter)}
 
 
-def run_once(engagement: Engagement, index: int, keep_paths: bool = False, until_s: float | None = None) -> dict:
+def run_once(
+    engagement: Engagement, index: int, keep_paths: bool = False, until_s: float | None = None, budget_s=None
+) -> dict:
     """One Monte Carlo run (seeded by the engagement's seed and ``index``): its metrics (module docstring).
 
-    ``until_s`` stops the tracker after that time (a pilot run that times the cost of the looks).
+    ``until_s`` stops the tracker after that time and ``budget_s`` once it has run that long [s] (a pilot
+    run that times the looks); the record's ``looks_tracked`` says how many looks it took.
     """
     started = time.perf_counter()
     rng = np.random.default_rng([engagement.seed, index])
@@ -269,13 +272,19 @@ def run_once(engagement: Engagement, index: int, keep_paths: bool = False, until
         scans = [scan for scan in scans if scan[0] <= until_s]
     tracker = EngagementTracker(*engagement.confirm, engagement.delete_after_misses)
     gospa_values, held = [], []
+    tracked = 0
     for i, (t, _, name, detections) in enumerate(scans):
+        if budget_s is not None and time.perf_counter() - started > budget_s:
+            break
         tracker.step(t, detections, engagement.sensors[name].covers)
+        tracked += 1
         if i + 1 == len(scans) or scans[i + 1][0] != t:
             value, near = _score(tracker, engagement.path, t)
             gospa_values.append(value)
             held.append((t, near))
-    return _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
+    record = _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
+    record["looks_tracked"] = tracked
+    return record
 
 
 def gospa_distance(track_xy, truth_xy) -> float:
