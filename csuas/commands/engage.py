@@ -166,7 +166,8 @@ def estimate_seconds(engagement, runs: int) -> float:
     looks = sum(len(seen.t_s) for seen in engagement.looks.values())
     started = time.process_time()  # CPU time: the estimate of a machine that others do not share
     pilot = run_once(engagement, runs, until_s=until, budget_s=PILOT_BUDGET_S)
-    return runs * (time.process_time() - started) * looks / max(pilot["looks_tracked"], 1)
+    setup = time.process_time() - started - pilot["tracking_cpu_s"]  # the run's draws, all its looks
+    return runs * (setup + pilot["tracking_cpu_s"] * looks / max(pilot["looks_tracked"], 1))
 
 
 def run_all(engagement, runs: int, workers: int) -> list:
