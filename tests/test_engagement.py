@@ -88,7 +88,7 @@ def test_gospa_hand_computed():
 
 
 def test_clutter_on_flat_ground_matches_constant_gamma():
-    """Flat ground: each seen cell's clutter false alarms per look against the closed form of the constant-gamma model."""
+    """Flat ground: each seen cell's clutter false alarms per look against the constant-gamma closed form."""
     dem = np.zeros((80, 80))
     terrain, sensor = _radar(dem, LookSettings(clutter_rejection_db=50.0), gamma_db=-15.0)
     ground = np.hypot(sensor.clutter_xy[:, 0] - sensor.x, sensor.clutter_xy[:, 1] - sensor.y)
@@ -104,7 +104,7 @@ def test_clutter_on_flat_ground_matches_constant_gamma():
 
 
 def test_no_clutter_from_hidden_cells():
-    """A ridge between the radar and the far ground: every clutter cell is in the line of sight, none behind the ridge."""
+    """A ridge between the radar and the far ground: every clutter cell is seen, none lies behind the ridge."""
     dem = np.zeros((80, 80))
     dem[:, 50:52] = 60.0  # a north-south ridge 250 m east of the radar
     terrain, sensor = _radar(dem, LookSettings(clutter_rejection_db=0.0), gamma_db=-10.0)

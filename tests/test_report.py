@@ -230,6 +230,7 @@ def test_registry_declares_every_check():
         "detection",
         "terrain",
         "propagation",
+        "engage",
     }
     assert {f"conv.{n}" for n in range(1, 11)} <= set(names)
     for s in specs:

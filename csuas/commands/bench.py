@@ -23,6 +23,7 @@ SUITES = {
     "detection_pd": "csuas.validation.detection.bench:bench_pd",
     "sweep_dask": "csuas.validation.sweep.bench:bench_sweep",
     "cost_models": "csuas.validation.cost.bench:bench_cost_models",
+    "engage_runs": "csuas.commands.engage:bench_runs",
 }
 
 

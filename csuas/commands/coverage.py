@@ -85,7 +85,7 @@ def add_arguments(parser):
     add_limit_arguments(parser)
 
 
-def _load_dem(dem: str | None, site_path):
+def load_dem(dem: str | None, site_path):
     """(heights, transform, crs, cell size) of the site's DEM (``dem``, relative to the site) or the demo terrain."""
     from rasterio.transform import from_origin
 
@@ -208,13 +208,19 @@ def _checked_site(site: dict):
 
     name = site.get("scenario", "default")
     scenario = load_scenario(name) if isinstance(name, str) else None
+    return validated_site(site, scenario), scenario
+
+
+def validated_site(site: dict, scenario):
+    """The site's schema model; every mistake of the file and of its sensors against ``scenario`` (None: the
+    file alone) at once. Also what ``csuas engage`` checks a site with, against its own scenario."""
     errors = [] if scenario is None else _scenario_errors(site, scenario) + radio_map_errors(site, scenario)
     try:
         model = validate(SiteSchema, site, tags=TAGS, context={"sensors": site.get("sensors")})
     except (ParameterError, InputErrors) as exc:
         raise_all(getattr(exc, "errors", [exc]) + errors)
     raise_all(errors)
-    return model, scenario
+    return model
 
 
 def run(args) -> dict:
@@ -226,7 +232,7 @@ def run(args) -> dict:
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
     radio = radio_map_settings(site, scenario)
     _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
-    dem, transform, crs, cell = _load_dem(site.dem, source if source.is_file() else None)
+    dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
     for name, table in site.sensors.items():

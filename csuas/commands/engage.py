@@ -21,11 +21,9 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 
-#: Seconds per look of a sensor, and per detection in it, on this repository's machine (one core):
-#: the cost model of the estimate (benchmarked by ``csuas bench engage``).
-SECONDS_PER_LOOK, SECONDS_PER_DETECTION = 2.0e-3, 1.0e-3
-#: Share of the birds of a run that a sensor detects at a look, on average (for the estimate).
-BIRDS_SEEN = 0.25
+#: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`), and
+#: the most time it may take [s] (it then counts the looks it took).
+PILOT_LOOKS, PILOT_BUDGET_S = 10, 20.0
 #: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
 LOOK_DEFAULTS = {
     "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
@@ -80,7 +78,7 @@ def _scenario(spec, site: dict, base: Path | None):
 def build(spec, spec_dir: Path | None):
     """The :class:`csuas.render.engagement.simulate.Engagement` of a validated spec (site, scenario, sensors)."""
     from csuas.base.fileio import read_spec
-    from csuas.commands.coverage import _load_dem, _validate
+    from csuas.commands.coverage import load_dem, validated_site
     from csuas.core.coverage import POINTING, SitedSensor
     from csuas.defaults import load_birds, load_clutter, site_path
     from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LookSettings, SensorModel, Terrain
@@ -101,7 +99,7 @@ def build(spec, spec_dir: Path | None):
     site = {**site, "sensors": {n: site["sensors"][n] for n in chosen}}
     site.pop("radio_map", None)
     site.pop("fusion_k", None)
-    raise_all(_validate(site, scenario))
+    checked = validated_site(site, scenario)
     errors = [
         ParameterError(
             f"sensors.{n}", scenario.sensors[n].modality, "a radar, EO or thermal sensor (engage simulates these)"
@@ -116,7 +114,7 @@ def build(spec, spec_dir: Path | None):
     ]
     raise_all(errors)
     site_file = Path(site_source)
-    dem, transform, _, cell = _load_dem(site, site_file if site_file.is_file() else None)
+    dem, transform, _, cell = load_dem(checked.dem, site_file if site_file.is_file() else None)
     terrain = Terrain(dem, cell, float(transform.c), float(transform.f))
     waypoints = np.array(spec.drone.waypoints, float)
     rows, cols = terrain.rowcol(waypoints[:, 0], waypoints[:, 1])
@@ -130,10 +128,10 @@ def build(spec, spec_dir: Path | None):
     gamma = load_clutter()["gamma_db"]
     sensors = {}
     for name in chosen:
-        table = site["sensors"][name]
-        row, col = terrain.rowcol(float(table["x"]), float(table["y"]))
-        pointing = {key: float(table.get(key, default)) for key, (default, _) in POINTING.items()}
-        sited = SitedSensor(name, float(row), float(col), float(table.get("mast_m", 10.0)), **pointing)
+        table = checked.sensors[name]
+        row, col = terrain.rowcol(float(table.x), float(table.y))
+        pointing = {key: float(getattr(table, key)) for key in POINTING}
+        sited = SitedSensor(name, float(row), float(col), float(table.mast_m), **pointing)
         modality = scenario.sensors[name].modality
         given = spec.looks[name].model_dump(exclude_none=True) if name in spec.looks else {}
         settings = LookSettings(**{**LOOK_DEFAULTS[modality], **given})
@@ -153,17 +151,23 @@ def build(spec, spec_dir: Path | None):
 
 
 def estimate_seconds(engagement, runs: int) -> float:
-    """Estimated run time [s]: runs x sum over sensors of looks x (SECONDS_PER_LOOK + detections per look x SECONDS_PER_DETECTION)."""
-    west, east, south, north = engagement.bird_box()
-    birds = engagement.birds.density_per_km2 * (east - west) * (north - south) / 1e6
-    per_run = 0.0
-    for name, sensor in engagement.sensors.items():
-        looks = engagement.looks[name]
-        per_look = (
-            sensor.false_alarms_per_look + float(sensor.clutter_rate.sum()) + 0.5 * birds + float(looks.pd.mean())
-        )
-        per_run += len(looks.t_s) * (SECONDS_PER_LOOK + per_look * SECONDS_PER_DETECTION)
-    return runs * per_run
+    """Estimated run time [s] on one process: runs x the looks of a run x the measured seconds per look.
+
+    The seconds per look come from a pilot run over the first PILOT_LOOKS looks of every sensor (a
+    tentative track lives at most N looks, so the tracker's load has settled by then; the run's own
+    draws, seeded apart from the real runs; stopped after PILOT_BUDGET_S). The cost grows with false
+    alarms, birds and the tentative tracks they start (their pairs grow as the square of the detections
+    per look), which a fixed cost per look would miss.
+    """
+    from csuas.render.engagement.simulate import run_once
+
+    revisit = max(sensor.settings.revisit_s for sensor in engagement.sensors.values())
+    until = (PILOT_LOOKS - 1) * revisit
+    looks = sum(len(seen.t_s) for seen in engagement.looks.values())
+    started = time.process_time()  # CPU time: the estimate of a machine that others do not share
+    pilot = run_once(engagement, runs, until_s=until, budget_s=PILOT_BUDGET_S)
+    setup = time.process_time() - started - pilot["tracking_cpu_s"]  # the run's draws, all its looks
+    return runs * (setup + pilot["tracking_cpu_s"] * looks / max(pilot["looks_tracked"], 1))
 
 
 def run_all(engagement, runs: int, workers: int) -> list:
@@ -257,7 +261,8 @@ def render_text(result: dict) -> str:
     lines = [
         f"engage: {result['runs']} runs in {result['time_s']:.1f} s ({result['runs_per_second']:.2f} runs/s)",
         f"warning time: median {fmt(w['median'], 's')} (p10 {fmt(w['p10'], 's')}, p90 {fmt(w['p90'], 's')})",
-        f"first track at {fmt(f['median'], 'm')} from the protected point (median); never in {100 * f['never_fraction']:.0f} % of runs",
+        f"first track {fmt(f['median'], 'm')} before the protected point (median); "
+        f"never in {100 * f['never_fraction']:.0f} % of runs",
         "false tracks per hour: {:.1f} ({})".format(
             m["false_tracks_per_hour"]["total"],
             ", ".join(f"{c} {v:.1f}" for c, v in m["false_tracks_per_hour"]["by_cause"].items()),
@@ -265,8 +270,41 @@ def render_text(result: dict) -> str:
     ]
     for name, a in m["false_alarms_per_hour"].items():
         lines.append(
-            f"false alarms per hour, {name}: {a['total']:.0f} (noise {a['noise']:.0f}, expected {a['noise_expected']:.0f}; clutter {a['clutter']:.0f})"
+            f"false alarms per hour, {name}: {a['total']:.0f} (noise {a['noise']:.0f}, expected "
+            f"{a['noise_expected']:.0f}; clutter {a['clutter']:.0f})"
         )
     lines.append(f"track continuity {m['track_continuity']}, mean GOSPA {m['gospa_mean']}")
     lines.append(f"files: {result['out']}/engage.json, {result['map_png']}, {result['curve_png']}")
     return "\n".join(lines)
+
+
+def bench_runs(runs: int = 4) -> list[dict]:
+    """Runs per second of the embedded example, on one process and on two, and without birds (``csuas bench``).
+
+    Lives beside the command because the example's site is read by the command line's site loader. Each
+    figure times only the runs (the engagement is built before the timer).
+    """
+    from csuas.base.fileio import read_spec
+    from csuas.render.engagement.spec import parse_spec
+
+    data = read_spec("example", _spec_source, "engagement spec")
+    out = []
+    for label, birds, workers in (("example", None, 1), ("example", None, 2), ("example without birds", 0.0, 1)):
+        spec_data = dict(data)
+        if birds is not None:
+            spec_data["confusers"] = {**data["confusers"], "birds_per_km2": birds}
+        engagement = build(parse_spec(spec_data), None)
+        started = time.perf_counter()
+        run_all(engagement, runs, workers)
+        elapsed = time.perf_counter() - started
+        out.append(
+            {
+                "case": label,
+                "workers": workers,
+                "runs": runs,
+                "time_s": elapsed,
+                "runs_per_second": runs / elapsed,
+                "estimated_s": estimate_seconds(engagement, runs) / workers,
+            }
+        )
+    return out

@@ -48,7 +48,7 @@ def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
 
 
 def _sensor_patches(ax, engagement) -> None:
-    """Each sensor: its position and the outline of its field of regard out to its reach (capped to the map)."""
+    """Each sensor: its position and the outline of its field of regard out to its reach (drawn to 3 km at most)."""
     from matplotlib.patches import Wedge
 
     for colour, (name, s) in zip(SENSOR_COLOURS, engagement.sensors.items()):
@@ -58,18 +58,19 @@ def _sensor_patches(ax, engagement) -> None:
             Wedge((s.x, s.y), reach, start, start + s.sited.sector_deg, fill=False, ec=colour, lw=1.2, ls="--")
         )
         ax.plot(s.x, s.y, marker="^", ms=11, color=colour, mec="black", zorder=6)
-        label = f"{name} ({s.modality}): reach {s.reach_m / 1000:.1f} km" + (
-            "" if s.reach_m <= reach else ", drawn to 3 km"
-        )
+        label = f"{name} ({s.modality}): reach {s.reach_m / 1000:.1f} km"
+        east = s.x > np.mean([other.x for other in engagement.sensors.values()])
         ax.annotate(
             label,
             (s.x, s.y),
-            xytext=(-10, 10),
+            xytext=(-12, -22) if east else (12, 10),
+            ha="right" if east else "left",
             textcoords="offset points",
             fontsize=9,
             weight="bold",
             color=colour,
-            ha="right",
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": colour, "alpha": 0.85},
+            zorder=9,
         )
 
 
@@ -102,7 +103,15 @@ def map_plot(path: Path, engagement, records: list, metrics: dict) -> Path:
     wp = engagement.path.waypoints
     ax.plot(wp[:, 0], wp[:, 1], color="black", lw=1.5, ls=(0, (4, 2)), zorder=7)
     ax.plot(*engagement.protected_xy, marker="*", ms=20, color="gold", mec="black", zorder=8)
-    ax.annotate("protected point", engagement.protected_xy, xytext=(10, -16), textcoords="offset points", fontsize=9)
+    ax.annotate(
+        "protected point",
+        engagement.protected_xy,
+        xytext=(12, -18),
+        textcoords="offset points",
+        fontsize=9,
+        bbox={"boxstyle": "round,pad=0.2", "fc": "white", "alpha": 0.85},
+        zorder=9,
+    )
     ax.annotate("drone enters", wp[0, :2], xytext=(-10, -16), textcoords="offset points", fontsize=9, ha="right")
     _sensor_patches(ax, engagement)
     from matplotlib.lines import Line2D
@@ -135,7 +144,8 @@ def map_plot(path: Path, engagement, records: list, metrics: dict) -> Path:
     ax.set_title(
         f"Engagement over {len(records)} runs: median warning {median}, "
         f"{f['total']:.0f} false tracks per hour "
-        f"(birds {f['by_cause']['birds']:.0f}, noise {f['by_cause']['noise']:.0f}, clutter {f['by_cause']['clutter']:.0f})",
+        f"(birds {f['by_cause']['birds']:.0f}, noise {f['by_cause']['noise']:.0f}, "
+        f"clutter {f['by_cause']['clutter']:.0f})",
         fontsize=10,
     )
     fig.tight_layout()
@@ -146,7 +156,7 @@ def map_plot(path: Path, engagement, records: list, metrics: dict) -> Path:
 
 
 def curve_plot(path: Path, engagement, curves: dict, metrics: dict) -> Path:
-    """Cumulative probability of a confirmed drone track against its distance to the protected point, per sensor beside."""
+    """Cumulative probability of a confirmed drone track against the distance still to fly, each sensor's beside."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9.5, 5.8))
     d = np.array(curves["distance_m"]) / 1000
@@ -184,7 +194,8 @@ def curve_plot(path: Path, engagement, curves: dict, metrics: dict) -> Path:
     w = metrics["warning_time_s"]
     if w["median"] is not None:
         ax.set_title(
-            f"Warning: median {w['median']:.0f} s (p10 {w['p10']:.0f} s, p90 {w['p90']:.0f} s); never confirmed in {100 * metrics['first_track_time_s']['never_fraction']:.0f} % of runs",
+            f"Warning: median {w['median']:.0f} s (p10 {w['p10']:.0f} s, p90 {w['p90']:.0f} s); never confirmed "
+            f"in {100 * metrics['first_track_time_s']['never_fraction']:.0f} % of runs",
             fontsize=10,
         )
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)

@@ -11,9 +11,10 @@ sqrt(1 - rho_k^2) e_k, detected when Phi(z_k) < Pd_k: each look keeps its Pd exa
 draws share the RCS fluctuation as the sensor's rule dictates (:meth:`SensorModel.look_correlation`).
 
 Per run: the first confirmed track of the drone (its time, and the distance the drone still had to
-fly to the protected point, the last waypoint: the straight-line distance on a straight approach), the warning time (arrival at the protected point minus that
-time; 0 when never confirmed), every false track (a confirmed track whose detections at confirmation
-came mostly from noise, clutter or birds) with its cause, the false alarms of each sensor, GOSPA
+fly to the protected point, the last waypoint: the straight-line distance on a straight approach), the
+warning time (arrival at the protected point minus that time; 0 when never confirmed), every false
+track (a confirmed track whose detections at confirmation came mostly from noise, clutter or birds)
+with its cause, the false alarms of each sensor, GOSPA
 (Stone Soup's metric; the drone is the only truth, birds are confusers) averaged over the looks, and
 the track continuity (the share of looks from the first track to arrival at which a confirmed track
 lies within GOSPA_C_M of the drone).
@@ -238,8 +239,15 @@ def _look_detections(rng, sensor: SensorModel, t_s: float, truth: dict) -> tuple
     return detections, {"noise": len(noise), "clutter": len(clutter)}
 
 
-def run_once(engagement: Engagement, index: int, keep_paths: bool = False) -> dict:
-    """One Monte Carlo run (seeded by the engagement's seed and ``index``): its metrics (module docstring)."""
+def run_once(
+    engagement: Engagement, index: int, keep_paths: bool = False, until_s: float | None = None, budget_s=None
+) -> dict:
+    """One Monte Carlo run (seeded by the engagement's seed and ``index``): its metrics (module docstring).
+
+    ``until_s`` stops the tracker after that time and ``budget_s`` once it has run that long [s] (a pilot
+    run that times the looks); the record's ``looks_tracked`` says how many looks it took and
+    ``tracking_cpu_s`` the CPU time they took.
+    """
     started = time.perf_counter()
     rng = np.random.default_rng([engagement.seed, index])
     times = np.unique(np.concatenate([looks.t_s for looks in engagement.looks.values()]))
@@ -261,15 +269,23 @@ def run_once(engagement: Engagement, index: int, keep_paths: bool = False) -> di
             alarms[name]["clutter"] += counts["clutter"]
             scans.append((float(t), order, name, detections))
     scans.sort(key=lambda s: (s[0], s[1]))
+    if until_s is not None:
+        scans = [scan for scan in scans if scan[0] <= until_s]
     tracker = EngagementTracker(*engagement.confirm, engagement.delete_after_misses)
     gospa_values, held = [], []
+    tracked, setup_cpu, tracking = 0, time.process_time(), time.perf_counter()
     for i, (t, _, name, detections) in enumerate(scans):
+        if budget_s is not None and time.perf_counter() - tracking > budget_s:
+            break
         tracker.step(t, detections, engagement.sensors[name].covers)
+        tracked += 1
         if i + 1 == len(scans) or scans[i + 1][0] != t:
             value, near = _score(tracker, engagement.path, t)
             gospa_values.append(value)
             held.append((t, near))
-    return _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
+    record = _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
+    record["looks_tracked"], record["tracking_cpu_s"] = tracked, time.process_time() - setup_cpu
+    return record
 
 
 def gospa_distance(track_xy, truth_xy) -> float:

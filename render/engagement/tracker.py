@@ -186,12 +186,13 @@ def candidates(track: Track, detections, when: datetime) -> set:
     if not detections:
         return set()
     centre, cov = predicted_position(track, when)
-    near = set()
-    for d in detections:
-        e = np.asarray(d.metadata["xy"]) - centre
-        if e @ np.linalg.solve(cov + d.metadata["cartesian_covar"], e) <= (PREGATE_FACTOR * GATE_SIGMAS) ** 2:
-            near.add(d)
-    return near
+    listed = list(detections)
+    e = np.array([d.metadata["xy"] for d in listed]) - centre
+    s = cov + np.array([d.metadata["cartesian_covar"] for d in listed])
+    det = s[:, 0, 0] * s[:, 1, 1] - s[:, 0, 1] * s[:, 1, 0]
+    # e' S^-1 e of each 2 x 2 S in closed form
+    distance2 = (s[:, 1, 1] * e[:, 0] ** 2 - 2 * s[:, 0, 1] * e[:, 0] * e[:, 1] + s[:, 0, 0] * e[:, 1] ** 2) / det
+    return {d for d, inside in zip(listed, distance2 <= (PREGATE_FACTOR * GATE_SIGMAS) ** 2) if inside}
 
 
 def build_components():
