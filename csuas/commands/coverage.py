@@ -22,7 +22,7 @@ import numpy as np
 from csuas.base.cost import add_limit_arguments
 from csuas.base.errors import InputErrors, ParameterError, raise_all
 from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
-from csuas.base.paths import file_name_part, inside
+from csuas.base.paths import checked_path, file_name_part, inside
 from csuas.base.schema import validate
 from csuas.commands.coverage_files import (
     covered_polygons,
@@ -231,6 +231,7 @@ def run(args) -> dict:
     source = Path(args.site)
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
     radio = radio_map_settings(site, scenario)
+    checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
     _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
     dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform

@@ -22,11 +22,13 @@ def add_arguments(parser):
 def run(args) -> dict:
     """Render what is not yet on disk, and write the labels."""
     from csuas.base.cost import check_limits
+    from csuas.base.paths import checked_path
     from csuas.core.scenario import load_scenario
     from csuas.render.imaging.dataset import generate, imaging_sensor, load_dataset_spec
     from csuas.render.imaging.dataset_cost import dataset_estimate
 
     spec = load_dataset_spec(args.spec)
+    checked_path(args.out, "--out")  # a NUL or an overlong name is refused before the estimate looks inside
     params = imaging_sensor(load_scenario(spec.scenario), spec.sensor).params
     estimate = dataset_estimate(spec, (int(params["n_h"]), int(params["n_v"])), args.out)
     check_limits(estimate, args, "dataset")  # before any image is drawn
