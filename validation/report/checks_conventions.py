@@ -489,7 +489,10 @@ def rf_radar_adverse_links(budget: str) -> Section:
     r_phys = float(phys["rf"].range_m)
     link, elapsed = timed(rf_path_gain, f, r_phys, 10.0, 10.0, budget=budget)
     weather = float(phys["rf"].term("weather_loss_db").value)
-    p_rx = float(watt_to_dbm(tgt["rf_power_w"]) + tgt["rf_gain_dbi"] + rf_p["g_rx_db"] + link.path_gain_db[0] - weather)
+    # ITU-R P.676 over R, where it matters (docs/conventions.md point 13)
+    gas = sum(float(t.value) for t in phys["rf"].terms if t.name == "gas_loss_db")
+    losses = weather + gas
+    p_rx = float(watt_to_dbm(tgt["rf_power_w"]) + tgt["rf_gain_dbi"] + rf_p["g_rx_db"] + link.path_gain_db[0] - losses)
     s.table.append(
         _row(
             "RF detection range, moderate rain and fog",
@@ -506,7 +509,7 @@ def rf_radar_adverse_links(budget: str) -> Section:
             None,
             float(rf_p["s_rx_dbm"]),
             p_rx,
-            note="simulated: Sionna RT free-space path gain + ITU weather loss over R",
+            note="simulated: Sionna RT free-space path gain + ITU weather and gas losses over R",
         )
     )
     s.outcomes.append(
