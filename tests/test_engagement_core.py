@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 import pytest
 from scipy import stats
@@ -11,6 +9,7 @@ from scipy import stats
 from csuas.base.errors import ParameterError
 from csuas.core import birds, clutter, false_alarms, m_of_n
 from csuas.defaults import load_birds, load_clutter, load_drone_rcs_statistics
+from csuas.validation.report.checks_engage import enumerated_first_confirmation
 
 
 def test_radar_cells_closed_form():
@@ -32,23 +31,10 @@ def test_radar_cells_name_bad_input():
         false_alarms.radar_cells(100.0, 0.0, 3.0, 400.0, 3.0)
 
 
-def _brute_force_first(pd, m, n):
-    """P(first confirmation at look k) by enumerating every hit/miss pattern."""
-    out = np.zeros(pd.size)
-    for pattern in itertools.product((0, 1), repeat=pd.size):
-        hits = np.array(pattern)
-        prob = np.prod(np.where(hits == 1, pd, 1 - pd))
-        for k in range(pd.size):
-            if hits[max(0, k - n + 1) : k + 1].sum() >= m:
-                out[k] += prob
-                break
-    return out
-
-
 @pytest.mark.parametrize(("m", "n"), [(1, 1), (2, 3), (3, 5), (4, 4)])
 def test_m_of_n_matches_enumeration(m, n):
     pd = np.random.default_rng(3).uniform(0, 1, 11)
-    assert np.allclose(m_of_n.first_confirmation(pd, m, n), _brute_force_first(pd, m, n), atol=1e-14)
+    assert np.allclose(m_of_n.first_confirmation(pd, m, n), enumerated_first_confirmation(pd, m, n), atol=1e-14)
 
 
 def test_m_of_n_closed_forms():

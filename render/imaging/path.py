@@ -87,18 +87,7 @@ def eo_path(
     aerosol = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
     beta = aerosol + float(rain_extinction_per_km)
     tau = float(transmittance(beta, range_m, "physical"))
-    rain_terms = (
-        (
-            {
-                "name": "rain_extinction_per_km",
-                "value": float(rain_extinction_per_km),
-                "unit": "1/km",
-                "source": RAIN_EXTINCTION_SOURCE,
-            },
-        )
-        if rain_extinction_per_km > 0
-        else ()
-    )
+    rain_terms = _rain_term("rain_extinction_per_km", rain_extinction_per_km, "1/km")
     terms = rain_terms + (
         {
             "name": "extinction_per_km",
@@ -141,18 +130,7 @@ def tir_path(
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
     tau = float(db_transmittance(extinction_db_km, range_m))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
-    rain_terms = (
-        (
-            {
-                "name": "rain_extinction_db_km",
-                "value": float(rain_db_km),
-                "unit": "dB/km",
-                "source": RAIN_EXTINCTION_SOURCE,
-            },
-        )
-        if rain_db_km > 0
-        else ()
-    )
+    rain_terms = _rain_term("rain_extinction_db_km", rain_db_km, "dB/km")
     terms = rain_terms + (
         {
             "name": "extinction_db_km",
@@ -169,3 +147,10 @@ def tir_path(
         },
     )
     return PathEffect(tau, l_path, terms)
+
+
+def _rain_term(name: str, value: float, unit: str) -> tuple:
+    """The path's rain term (Marshall-Palmer extinction), or none when no rain is declared."""
+    if not value > 0:
+        return ()
+    return ({"name": name, "value": float(value), "unit": unit, "source": RAIN_EXTINCTION_SOURCE},)

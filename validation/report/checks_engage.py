@@ -76,7 +76,8 @@ def false_alarms(quality="quick") -> Section:
     return s
 
 
-def _enumerated(pd, m, n):
+def enumerated_first_confirmation(pd, m, n):
+    """P(first M-of-N confirmation at look k) by enumerating every hit/miss pattern (the exact program's oracle)."""
     out = np.zeros(pd.size)
     for pattern in itertools.product((0, 1), repeat=pd.size):
         hits = np.array(pattern)
@@ -102,7 +103,7 @@ def first_track(quality="quick") -> Section:
         Check(
             "engage.m_of_n.dp_vs_enumeration_max_abs",
             0.0,
-            float(np.max(np.abs(exact - _enumerated(pd, 3, 5)))),
+            float(np.max(np.abs(exact - enumerated_first_confirmation(pd, 3, 5)))),
             1e-12,
             time_s=elapsed,
             source="enumeration of all 2^12 hit/miss patterns, 3 of 5",
