@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 
 import tomllib
 
@@ -67,3 +69,17 @@ def test_engage_json_public_keys(tmp_path, capsys):
     assert len(out["runs_detail"]) == 2 and "first_track_time_s" in out["runs_detail"][0]
     assert (tmp_path / "out" / "engage_map.png").stat().st_size > 10_000
     assert (tmp_path / "out" / "engage_curve.png").stat().st_size > 10_000
+
+
+def test_a_device_node_named_like_an_output_survives_and_is_refused_before_the_runs(tmp_path, capsys):
+    """A FIFO where engage.json goes: refused (exit 2, one line) before any run; it stays a FIFO."""
+    spec = tmp_path / "small.toml"
+    spec.write_text(_example().replace("runs = 50", "runs = 2").replace("birds_per_km2 = 2.0", "birds_per_km2 = 0.0"))
+    out = tmp_path / "out"
+    out.mkdir()
+    os.mkfifo(out / "engage.json")
+    assert main(["engage", str(spec), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "never replaced" in err[0], err
+    assert stat.S_ISFIFO(os.lstat(out / "engage.json").st_mode)
+    assert sorted(p.name for p in out.iterdir()) == ["engage.json"]

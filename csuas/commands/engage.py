@@ -199,6 +199,7 @@ def run_all(engagement, runs: int, workers: int) -> list:
 def run(args) -> dict:
     """Validate, estimate, run every Monte Carlo run, and write engage.json and the plots."""
     from csuas.base.fileio import prepare_output_dir, read_spec, write_text_atomic
+    from csuas.base.paths import inside
     from csuas.render.engagement.metrics import curves, looks_table, summarise
     from csuas.render.engagement.spec import parse_spec
 
@@ -222,6 +223,8 @@ def run(args) -> dict:
             f"at most {most} runs within --max-seconds {args.max_seconds:g} (estimated {estimate:.0f} s)",
         )
     out = prepare_output_dir(args.out)
+    # every file is checked before the runs: inside --out, never a device or a FIFO (base/paths.py)
+    map_png, curve_png, summary = (inside(out, name) for name in ("engage_map.png", "engage_curve.png", "engage.json"))
     started = time.perf_counter()
     records = run_all(engagement, spec.runs, args.workers)
     elapsed = time.perf_counter() - started
@@ -241,9 +244,9 @@ def run(args) -> dict:
     }
     from csuas.commands.engage_plots import curve_plot, map_plot
 
-    result["map_png"] = str(map_plot(out / "engage_map.png", engagement, records, result["metrics"]))
-    result["curve_png"] = str(curve_plot(out / "engage_curve.png", engagement, result["curves"], result["metrics"]))
-    write_text_atomic(out / "engage.json", json.dumps(result, indent=1, allow_nan=False))
+    result["map_png"] = str(map_plot(map_png, engagement, records, result["metrics"]))
+    result["curve_png"] = str(curve_plot(curve_png, engagement, result["curves"], result["metrics"]))
+    write_text_atomic(summary, json.dumps(result, indent=1, allow_nan=False))
     result["out"] = str(out)
     return result
 
