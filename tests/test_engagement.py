@@ -151,3 +151,28 @@ def test_clutter_exceedance_is_its_closed_form_monte_carlo():
     crossings = np.mean(rng.exponential(1 + cnr, n) > -np.log(pfa))
     p = clutter.exceedance(pfa, cnr)
     assert abs(crossings - p) < 3 * np.sqrt(p * (1 - p) / n)
+
+
+def test_gospa_reproduces_stone_soups_own_example():
+    """Stone Soup's GOSPA test case (c = 10, p = 1): five tracks 0.5 then 1 off five truths give 2.5 then 5."""
+    truths = [[float(i), 0.0] for i in range(5)]
+    half_off = [[i + 0.5, 0.0] for i in range(5)]
+    one_off = [[i + 1.0, 0.0] for i in range(5)]
+    assert gospa_distance(half_off, truths, c_m=10.0, p=1) == pytest.approx(5 * 0.5)
+    assert gospa_distance(one_off, truths, c_m=10.0, p=1) == pytest.approx(5 * 1.0)
+
+
+def test_siap_scores_of_a_hand_built_picture():
+    """The report's hand-built picture (a drone held by track A for 0-4 s, then by track B 3 m off and 2 m/s
+    fast for 5-9 s, track C 14 km away): each SIAP score by hand."""
+    from csuas.render.engagement.siap import siap_scores
+    from csuas.validation.report.checks_engage import siap_picture
+
+    scores = siap_scores(*siap_picture(), 100.0)
+    assert scores["completeness"] == pytest.approx(10 / 10)  # a track on the drone at every look
+    assert scores["ambiguity"] == pytest.approx(10 / 10)  # one track at a time
+    assert scores["spuriousness"] == pytest.approx(10 / 20)  # C's 10 track-looks of 20
+    assert scores["position_accuracy_m"] == pytest.approx((5 * 0 + 5 * 3) / 10)
+    assert scores["velocity_accuracy_m_s"] == pytest.approx((5 * 0 + 5 * 2) / 10)
+    assert scores["track_number_changes_per_s"] == pytest.approx((2 - 1) / 8.0)  # held 0-4 s and 5-9 s
+    assert scores["longest_track_segment"] == pytest.approx(4 / 9)  # 4 s of a 9 s flight

@@ -277,6 +277,11 @@ def render_text(result: dict) -> str:
             f"{a['noise_expected']:.0f}; clutter {a['clutter']:.0f})"
         )
     lines.append(f"track continuity {m['track_continuity']}, mean GOSPA {m['gospa_mean']}")
+    siap = m["siap"]
+    lines.append(
+        f"SIAP: completeness {siap['completeness']:.2f}, spuriousness {siap['spuriousness']:.2f}, "
+        f"position accuracy {siap['position_accuracy_m']:.1f} m, longest segment {siap['longest_track_segment']:.2f}"
+    )
     lines.append(f"files: {result['out']}/engage.json, {result['map_png']}, {result['curve_png']}")
     return "\n".join(lines)
 

@@ -15,6 +15,7 @@ import numpy as np
 from csuas.core import false_alarms
 from csuas.core.fusion import cumulative_pd
 from csuas.core.m_of_n import first_confirmation
+from csuas.render.engagement.siap import SCORES
 from csuas.render.engagement.simulate import CAUSES, Engagement
 
 #: Points of the distance grid of the curves.
@@ -65,6 +66,7 @@ def summarise(engagement: Engagement, runs: list) -> dict:
         "false_alarms_per_hour": alarms,
         "track_continuity": float(np.mean(continuity)) if continuity else None,
         "gospa_mean": float(np.mean(gospa)) if gospa else None,
+        "siap": {name: float(np.mean([r["siap"][name] for r in runs])) for name in SCORES},
         "simulated_hours": hours,
     }
 

@@ -33,6 +33,7 @@ from stonesoup.types.array import StateVector
 from stonesoup.types.state import State
 
 from csuas.render.engagement.sensors import SensorModel, Terrain
+from csuas.render.engagement.siap import siap_scores, truth_path
 from csuas.render.engagement.tracker import EngagementTracker, make_detection, predicted_xy, timestamp
 
 #: GOSPA's cut-off distance c [m], order p and alpha = 2 (Rahmathullah et al. 2017).
@@ -284,13 +285,14 @@ def run_once(
             gospa_values.append(value)
             held.append((t, near))
     record = _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
+    record["siap"] = _siap(tracker, engagement.path, [t for t, _ in held])
     record["looks_tracked"], record["tracking_cpu_s"] = tracked, time.process_time() - setup_cpu
     return record
 
 
-def gospa_distance(track_xy, truth_xy) -> float:
-    """GOSPA (Stone Soup's ``GOSPAMetric``, c = GOSPA_C_M, p = GOSPA_P, alpha = 2) between positions [m]."""
-    metric = GOSPAMetric(c=GOSPA_C_M, p=GOSPA_P, measure=Euclidean(mapping=(0, 1)))
+def gospa_distance(track_xy, truth_xy, c_m: float = GOSPA_C_M, p: float = GOSPA_P) -> float:
+    """GOSPA (Stone Soup's ``GOSPAMetric``, cut-off ``c_m`` [m], order ``p``, alpha = 2) between positions [m]."""
+    metric = GOSPAMetric(c=c_m, p=p, measure=Euclidean(mapping=(0, 1)))
     when = timestamp(0.0)
     tracks = [State(StateVector([x, y]), timestamp=when) for x, y in track_xy]
     truths = [State(StateVector([x, y]), timestamp=when) for x, y in truth_xy]
@@ -305,6 +307,13 @@ def _score(tracker: EngagementTracker, path: DronePath, t_s: float) -> tuple[flo
     positions = [predicted_xy(track, when) for track in tracker.tracks]
     near = any(np.hypot(p[0] - x[0], p[1] - y[0]) < GOSPA_C_M for p in positions)
     return gospa_distance(positions, [(x[0], y[0])]), near
+
+
+def _siap(tracker: EngagementTracker, path: DronePath, times_s: list) -> dict:
+    """SIAP scores of the run's confirmed tracks against the drone at the look times ``times_s`` [s]."""
+    x, y, _, heading = path.at(np.asarray(times_s, float))
+    vx, vy = path.speed_m_s * np.cos(heading), path.speed_m_s * np.sin(heading)
+    return siap_scores(tracker.records.keys(), truth_path(times_s, x, y, vx, vy), GOSPA_C_M)
 
 
 def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, elapsed) -> dict:

@@ -179,17 +179,33 @@ def _mean_first_track(cdf, t_s, first, runs: int, elapsed: float) -> Check:
 
 
 def gospa(_knob=None) -> Section:
-    """GOSPA of known tracks against the hand-computed value."""
+    """GOSPA of known tracks against the hand-computed value and Stone Soup's own example; SIAP by hand."""
     from csuas.render.engagement.simulate import gospa_distance
 
     s = Section()
+    by_hand = "by hand: (sum of d^p over pairs + c^p / 2 per missed or false)^(1/p)"
+    truths = [[float(i), 0.0] for i in range(5)]
     cases = (
-        ("one_near_one_false", [[3.0, 4.0], [500.0, 0.0]], np.sqrt(25 + 100**2 / 2)),
-        ("missed", [], np.sqrt(100**2 / 2)),
-        ("beyond_cutoff", [[0.0, 200.0]], np.sqrt(100**2)),
+        ("one_near_one_false", ([[3.0, 4.0], [500.0, 0.0]], [[0.0, 0.0]]), {}, np.sqrt(25 + 100**2 / 2), by_hand),
+        ("missed", ([], [[0.0, 0.0]]), {}, np.sqrt(100**2 / 2), by_hand),
+        ("beyond_cutoff", ([[0.0, 200.0]], [[0.0, 0.0]]), {}, np.sqrt(100**2), by_hand),
+        (
+            "stone_soup_example_half",
+            ([[i + 0.5, 0.0] for i in range(5)], truths),
+            {"c_m": 10.0, "p": 1},
+            2.5,
+            "Stone Soup's test_gospametric_computemetric: distance / 5 = 0.5 (c = 10, p = 1)",
+        ),
+        (
+            "stone_soup_example_one",
+            ([[i + 1.0, 0.0] for i in range(5)], truths),
+            {"c_m": 10.0, "p": 1},
+            5.0,
+            "Stone Soup's test_gospametric_computemetric: distance / 5 = 1 (c = 10, p = 1)",
+        ),
     )
-    for name, tracks, expected in cases:
-        value, elapsed = timed(gospa_distance, tracks, [[0.0, 0.0]])
+    for name, (tracks, truth), options, expected, source in cases:
+        value, elapsed = timed(gospa_distance, tracks, truth, **options)
         s.outcomes.append(
             Check(
                 f"engage.gospa.{name}",
@@ -198,12 +214,60 @@ def gospa(_knob=None) -> Section:
                 1e-9,
                 "m",
                 time_s=elapsed,
-                source="by hand: (sum of d^p over pairs + c^p / 2 per missed or false)^(1/p), p = 2, c = 100 m",
-                method="Stone Soup's GOSPAMetric on the tracks against a truth at the origin",
+                source=source,
+                method="Stone Soup's GOSPAMetric on the tracks against the truths",
                 tolerance_source="rounding",
             )
         )
+    s.outcomes.extend(_siap_checks())
     return s
+
+
+def siap_picture() -> tuple:
+    """A hand-built picture (tracks, truth): a drone flying 10 m/s along x for 9 s, held by track A (exact,
+    0-4 s), then by track B (3 m off, 2 m/s fast, 5-9 s), while track C sits 14 km away."""
+    from stonesoup.types.state import State
+    from stonesoup.types.track import Track
+
+    from csuas.render.engagement.siap import truth_path
+    from csuas.render.engagement.tracker import timestamp
+
+    t = np.arange(10.0)
+
+    def track(times, x_off, dy, vx):
+        return Track([State(np.array([[10.0 * k + x_off], [vx], [dy], [0.0]]), timestamp=timestamp(k)) for k in times])
+
+    tracks = [track(range(5), 0.0, 0.0, 10.0), track(range(5, 10), 0.0, 3.0, 12.0), track(t, 1e4, 1e4, 0.0)]
+    return tracks, truth_path(t, 10 * t, 0 * t, 10 + 0 * t, 0 * t)
+
+
+def _siap_checks() -> list:
+    """SIAP scores of :func:`siap_picture` against their values by hand."""
+    from csuas.render.engagement.siap import siap_scores
+
+    scores, elapsed = timed(siap_scores, *siap_picture(), 100.0)
+    expected = {
+        "completeness": (1.0, "1", "a track on the drone at each of 10 looks"),
+        "spuriousness": (0.5, "1", "10 of 20 track-looks on nothing"),
+        "position_accuracy_m": (1.5, "m", "(5 x 0 + 5 x 3 m) / 10 associated track-looks"),
+        "velocity_accuracy_m_s": (1.0, "m/s", "(5 x 0 + 5 x 2 m/s) / 10"),
+        "track_number_changes_per_s": (0.125, "1/s", "(2 tracks - 1) / 8 s held"),
+        "longest_track_segment": (4 / 9, "1", "4 s of a 9 s flight"),
+    }
+    return [
+        Check(
+            f"engage.siap.{name}",
+            value,
+            scores[name],
+            1e-9,
+            unit,
+            time_s=elapsed,
+            source=f"by hand (Votruba et al. 2001 definitions): {why}",
+            method="Stone Soup's SIAPMetrics with TrackToTruth (2 pairs start, 1 miss ends), 100 m",
+            tolerance_source="rounding",
+        )
+        for name, (value, unit, why) in expected.items()
+    ]
 
 
 def bird_rcs(_knob=None) -> Section:
@@ -312,9 +376,9 @@ SPECS = [
     ),
     CheckSpec(
         "engage.gospa",
-        "GOSPA of known tracks vs the hand-computed value",
+        "GOSPA and SIAP of known tracks vs the hand-computed values",
         "engage",
-        "Stone Soup's GOSPA (p = 2, c = 100 m, alpha = 2) vs the value by hand",
+        "Stone Soup's GOSPA (p = 2, c = 100 m, alpha = 2; its own c = 10, p = 1 example) and SIAP vs values by hand",
         "1e-9 m",
         gospa,
     ),
