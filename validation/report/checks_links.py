@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.render.quality import LINKS
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves
 from csuas.validation.report.registry import CheckSpec, Section, timed
@@ -28,7 +29,7 @@ BUDGETS = {"quick": "draft", "full": "standard"}
 #: Accuracy-vs-time budgets per report quality (names of csuas.render.links.budget presets or (samples, depth)).
 SWEEPS = {
     "quick": ((1, 1), (4, 1), "draft", "standard"),
-    "full": ((1, 1), (4, 1), "draft", "standard", "reference", "sionna_default"),
+    "full": ((1, 1), (4, 1), *LINKS.names, "sionna_default"),
 }
 #: Largest accepted difference to the closed form [dB]: float32 geometry in Sionna, float64 phases here.
 TOLERANCE_DB = 0.05
