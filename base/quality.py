@@ -124,9 +124,25 @@ class QualityLadder:
             raise TypeError(f"{self.simulator}: per-rung values for {tuple(values)}, not the rungs {RUNGS}")
         return dict(values)
 
-    def table_rows(self) -> list:
-        """Rows of the docs table: one per rung, ``(rung, value of each setting..., summary)``."""
-        return [(rung, *(_number(v) for v in getattr(self, rung)), self.describe(rung)) for rung in RUNGS]
+    def rung_cell(self, rung: str) -> str:
+        """What ``rung`` sets as the docs table shows it: its summary, then each knob's value."""
+        knobs = ", ".join(f"`{name}` {_number(value)}" for name, value in self.values(rung).items())
+        return f"{self.describe(rung)} ({knobs})" if self.summary is not None else knobs
+
+
+def ladders_table(ladders) -> str:
+    """The Markdown table of docs/simulation.md "Quality ladders": one row per simulator, what each rung sets.
+
+    Parameters
+    ----------
+    ladders : iterable of QualityLadder
+    """
+    lines = ["| simulator | knobs | " + " | ".join(RUNGS) + " | used by |", "|---" * (len(RUNGS) + 3) + "|"]
+    for ladder in ladders:
+        knobs = "; ".join(f"`{s.name}`: {s.meaning}" for s in ladder.settings)
+        cells = " | ".join(ladder.rung_cell(rung) for rung in RUNGS)
+        lines.append(f"| {ladder.simulator} | {knobs} | {cells} | {ladder.where} |")
+    return "\n".join(lines)
 
 
 def _number(value) -> str:
