@@ -19,14 +19,16 @@ from __future__ import annotations
 
 from csuas.base.checks import Check
 from csuas.base.registry import resolve
+from csuas.render.quality import RCS
 from csuas.validation.core.checks import CORE_PROVIDERS, SIMULATION_PROVIDERS
 from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
-#: Settings of the drone RCS check per report quality (see csuas.validation.rcs.checks for the quick ones' accuracy).
+#: Settings of the drone RCS check per report quality: the SBR-PO draft and standard rungs, and the accuracy of
+#: the sphere average (see csuas.validation.rcs.checks for the quick ones' accuracy).
 RCS_SETTINGS = {
-    "quick": {"rays_per_wavelength": 2.0, "max_bounces": 3, "accuracy_db": 0.5},
-    "full": {"rays_per_wavelength": 5.0, "max_bounces": 5, "accuracy_db": 0.25},
+    "quick": {**RCS.values("draft"), "accuracy_db": 0.5},
+    "full": {**RCS.values("standard"), "accuracy_db": 0.25},
 }
 
 
