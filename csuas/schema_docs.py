@@ -1,5 +1,6 @@
 """The key tables of docs/scenarios.md, docs/coverage.md, docs/datasets.md and docs/sweeps.md, generated from the
-declared schemas of the four input files, so that the docs and the checks cannot drift apart.
+declared schemas of the four input files, and the quality ladders of docs/simulation.md, generated from the
+simulators' :class:`csuas.base.quality.QualityLadder` records, so that the docs and the code cannot drift apart.
 
 Each table sits between ``<!-- generated: NAME -->`` and ``<!-- end generated: NAME -->`` in its page;
 ``tests/test_schemas.py`` fails when a page differs from what the schemas generate. Regenerate with::
@@ -13,12 +14,15 @@ import sys
 from pathlib import Path
 
 from csuas.base.fileio import write_text_atomic
+from csuas.base.quality import ladders_table
+from csuas.base.registry import resolve
 from csuas.base.schema import key_rows, key_table, replace_generated
 from csuas.commands.coverage_schema import SiteSchema
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES
 from csuas.defaults.scenario_schema import scenario_schema, section_schema
 from csuas.render.imaging.dataset_schema import DatasetSchema
+from csuas.render.quality import LADDERS
 from csuas.sweep.schema import SCHEMAS, SweepCommon
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -51,6 +55,7 @@ def generated_tables() -> dict:
         "docs/coverage.md": {"site": key_table(key_rows(SiteSchema))},
         "docs/datasets.md": {"dataset": key_table(key_rows(DatasetSchema))},
         "docs/sweeps.md": _sweep_tables(),
+        "docs/simulation.md": {"quality-ladders": ladders_table(resolve(reference) for reference in LADDERS)},
     }
 
 

@@ -17,11 +17,26 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.base.quality import QualityLadder, Setting
 from csuas.drone_models.geometry import rotated_lattices
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
 
-#: Accuracy presets: name -> (replicates, directions per replicate).
-QUALITY_PRESETS = {"draft": (4, 64), "standard": (8, 128), "reference": (16, 512)}
+#: The quality ladder of the sphere-averaged silhouette (csuas.base.quality).
+LADDER = QualityLadder(
+    "sphere-averaged silhouette (exact polygon union)",
+    "sphere_average; csuas drone --quality, the report's defaults.drone",
+    (
+        Setting("replicates", "randomly rotated direction lattices (the standard error)"),
+        Setting("directions_per_replicate", "Fibonacci directions per lattice"),
+    ),
+    draft=(4, 64),
+    standard=(8, 128),
+    reference=(16, 512),
+    summary=lambda v: f"{v['replicates'] * v['directions_per_replicate']:,} directions",
+)
+
+#: Accuracy presets from :data:`LADDER`: name -> (replicates, directions per replicate).
+QUALITY_PRESETS = LADDER.presets()
 
 #: Metrics averaged over the sphere.
 AVERAGED_METRICS = ("projected_area_m2", "d_x_proj_m", "d_y_proj_m", "d_crit_min_m", "d_crit_geometric_mean_m")

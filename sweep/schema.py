@@ -12,6 +12,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, Discriminator, Field, Tag, ValidationInfo, field_validator
 
+from csuas.base.quality import RUNGS, RUNGS_TEXT
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 
 #: Most points one sweep may hold (and so the most samples of one drawn axis).
@@ -19,7 +20,7 @@ MAX_POINTS = 100_000_000
 #: Points per task: analytic points go to the core in large NumPy chunks, simulator points in small groups.
 CHUNK_POINTS = {"range": 1_000_000, "pd": 32, "render": 4, "rcs": 16}
 CONVENTION = one_of("paper", "physical", allowed="paper or physical")
-QUALITY = one_of("draft", "standard", "reference", allowed="draft, standard or reference")
+QUALITY = one_of(*RUNGS, allowed=RUNGS_TEXT)
 AZIMUTH = number(-360.0, 360.0, "deg")
 ELEVATION = number(-90.0, 90.0, "deg")
 AXIS_VALUE_TEXT = "a finite number or a choice (text)"

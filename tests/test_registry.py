@@ -17,7 +17,7 @@ def test_every_command_module_has_its_three_functions(name):
     assert all(callable(getattr(module, f, None)) for f in ("add_arguments", "run", "render_text"))
 
 
-@pytest.mark.parametrize("reference", [*MODES.values(), *SUITES.values(), *SIMULATION_PROVIDERS])
+@pytest.mark.parametrize("reference", [*MODES.values(), *SUITES.values(), *SIMULATION_PROVIDERS.values()])
 def test_every_function_entry_resolves_to_a_callable(reference):
     assert callable(resolve(reference))
 

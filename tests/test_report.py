@@ -18,7 +18,7 @@ import pytest
 from csuas import cli
 from csuas.base.checks import Check
 from csuas.base.errors import ParameterError
-from csuas.validation.report import runner
+from csuas.validation.report import checks_conventions, checks_links, checks_rcs, runner
 from csuas.validation.report.baseline import compare
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS
 from csuas.validation.report.checks_defaults import SPECS as DEFAULT_SPECS
@@ -55,15 +55,15 @@ def _raises(_knob):
 PASSING = CheckSpec(
     "synthetic.pass",
     "passing figure with a plot",
-    "links",
+    checks_links.GROUP,
     "sqrt(2) vs 1.41421",
     "1e-5",
     _passing,
     "digits",
     {"quick": 6, "full": 9},
 )
-KNOWN = CheckSpec("synthetic.known", "known deviation", "conventions", "20 vs 21.07 dB", "0.05 dB", _known)
-RAISES = CheckSpec("synthetic.raises", "a check that raises", "rcs", "nothing", "none", _raises)
+KNOWN = CheckSpec("synthetic.known", "known deviation", checks_conventions.GROUP, "20 vs 21.07 dB", "0.05 dB", _known)
+RAISES = CheckSpec("synthetic.raises", "a check that raises", checks_rcs.GROUP, "nothing", "none", _raises)
 FAST_REAL = [DEFAULT_SPECS[0], next(s for s in CONVENTION_SPECS if s.name == "conv.6")]
 
 
@@ -143,7 +143,7 @@ def test_exception_in_a_check_is_reported_not_raised(tmp_path):
 
 
 def test_run_spec_rejects_a_wrong_return_type():
-    section = run_spec(CheckSpec("bad", "bad", "rcs", "-", "-", lambda _k: {"not": "a section"}), "quick")
+    section = run_spec(CheckSpec("bad", "bad", checks_rcs.GROUP, "-", "-", lambda _k: {"not": "a section"}), "quick")
     assert section.error and "not a Section" in section.error and not section.outcomes[0].ok
 
 
@@ -218,7 +218,7 @@ def test_registry_declares_every_check():
     specs = runner.all_specs()
     names = [s.name for s in specs]
     assert len(names) == len(set(names))
-    groups = {s.group for s in specs}
+    groups = {s.group.name for s in specs}
     assert groups == {
         "defaults",
         "worked_numbers",
@@ -285,6 +285,7 @@ def test_new_missing_and_improved_checks_are_named_in_console_html_and_markdown(
         "version": "v",
         "time_s": 1.0,
         "summary": {"total": 0, "ok": 0, "known_deviation": 0, "limitation": 0, "failed": 0},
+        "groups": [],
         "checks": [],
         "sections": [],
         "baseline": baseline,
@@ -331,10 +332,13 @@ def test_an_interrupted_report_leaves_no_old_report_json_beside_new_figures(tmp_
         run_report(
             "quick",
             tmp_path,
-            specs=[CheckSpec("a", "a", "rcs", "x", "y", plot), CheckSpec("b", "b", "rcs", "x", "y", interrupted)],
+            specs=[
+                CheckSpec("a", "a", checks_rcs.GROUP, "x", "y", plot),
+                CheckSpec("b", "b", checks_rcs.GROUP, "x", "y", interrupted),
+            ],
         )
     assert not (tmp_path / "report.json").exists()
-    report = run_report("quick", tmp_path, specs=[CheckSpec("a", "a", "rcs", "x", "y", plot)])
+    report = run_report("quick", tmp_path, specs=[CheckSpec("a", "a", checks_rcs.GROUP, "x", "y", plot)])
     assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == ["new_plot.png"]
     assert report["figures"] == ["figures/new_plot.png"]
 

@@ -11,7 +11,7 @@ import pytest
 from waiting import PATIENCE_S
 
 from csuas.base.checks import Check
-from csuas.validation.report import runner
+from csuas.validation.report import checks_conventions, runner
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS
 from csuas.validation.report.registry import CheckSpec, Section
 
@@ -35,7 +35,7 @@ def _plots(_knob):
 
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium installed")
 def test_report_html_renders_in_headless_chromium(tmp_path):
-    spec = CheckSpec("browser.plots", "plots for the browser", "conventions", "-", "-", _plots)
+    spec = CheckSpec("browser.plots", "plots for the browser", checks_conventions.GROUP, "-", "-", _plots)
     specs = [spec] + [s for s in CONVENTION_SPECS if s.name in ("conv.6", "conv.7")]
     runner.run_report("quick", tmp_path / "r", specs=specs)
     shot = tmp_path / "shot.png"

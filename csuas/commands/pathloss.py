@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.render.quality import LINKS
+
 
 def add_arguments(parser):
     """Declare the options of ``csuas pathloss``."""
@@ -23,7 +25,9 @@ def add_arguments(parser):
         help="ITU-R P.2040 material of a flat ground (concrete, medium_dry_ground, ...) or none",
     )
     parser.add_argument(
-        "--budget", default="standard", help="sample budget: draft, standard, reference or sionna_default"
+        "--budget",
+        default="standard",
+        help=f"sample budget: {LINKS.help_text()}; or sionna_default (default standard)",
     )
     parser.add_argument("--samples", type=int, default=None, help="rays per source (overrides the budget)")
     parser.add_argument("--max-depth", type=int, default=None, help="maximum interactions (overrides the budget)")

@@ -14,8 +14,7 @@ from csuas.base.cost import Estimate, add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
 from csuas.core.units import wavelength_m
-
-QUALITIES = ("draft", "standard", "reference")
+from csuas.render.quality import RCS
 
 
 def add_arguments(parser) -> None:
@@ -65,9 +64,9 @@ def add_arguments(parser) -> None:
     )
     parser.add_argument(
         "--quality",
-        choices=QUALITIES,
+        choices=RCS.names,
         default="standard",
-        help="preset of rays per wavelength / bounces: draft 4/3, standard 10/5, reference 20/8",
+        help=f"{RCS.help_text()} (default standard)",
     )
     parser.add_argument(
         "--rays-per-wavelength",

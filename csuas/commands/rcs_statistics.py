@@ -15,6 +15,7 @@ from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
 from csuas.drone_models.presets import list_presets
+from csuas.render.quality import RCS
 
 #: The shipped table, inside the installed package.
 DEFAULTS_FILE = "drone_rcs_statistics.csv"
@@ -30,9 +31,9 @@ def add_arguments(parser):
     )
     parser.add_argument(
         "--quality",
-        choices=("draft", "standard", "reference"),
+        choices=RCS.names,
         default="standard",
-        help="SBR quality (default standard)",
+        help=f"SBR {RCS.help_text()} (default standard)",
     )
     parser.add_argument(
         "--accuracy-db", type=float, default=0.5, help="95 %% bound of each Eq. 6 mean [dB] (default 0.5)"

@@ -15,8 +15,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
-
-QUALITIES = ("draft", "standard", "reference")
+from csuas.render.quality import RCS
 
 #: Default elevations [deg]: the whole sphere in 5-degree steps.
 DEFAULT_ELEVATIONS_DEG = tuple(float(e) for e in np.arange(-90.0, 90.1, 5.0))
@@ -57,12 +56,15 @@ def add_arguments(parser) -> None:
         default=["VV", "HH", "HV", "VH"],
         help="receive-transmit polarisations (default all four; the first is the .mat's pattern)",
     )
-    parser.add_argument("--quality", choices=QUALITIES, default="standard", help="SBR quality (default standard)")
+    parser.add_argument(
+        "--quality", choices=RCS.names, default="standard", help=f"SBR {RCS.help_text()} (default standard)"
+    )
+    bounces = ", ".join(str(RCS.values(rung)["max_bounces"]) for rung in RCS.names)
     parser.add_argument(
         "--max-bounces",
         type=int,
         default=None,
-        help="reflections per tube (default the quality's: 3, 5, 8); raise it where the truncation term leaves "
+        help=f"reflections per tube (default the quality's: {bounces}); raise it where the truncation term leaves "
         "cells without a bound (csuas rcs --truncation-fraction finds the limit at one aspect)",
     )
     parser.add_argument(

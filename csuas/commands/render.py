@@ -14,7 +14,9 @@ import time
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import prepare_output_dir
+from csuas.base.quality import RUNGS
 from csuas.base.registry import resolve
+from csuas.render.quality import IMAGING, LIDAR
 
 #: Mode name -> "module:function" of a render mode ``f(scenario, **options) -> list of dict``.
 MODES = {
@@ -22,7 +24,6 @@ MODES = {
     "tir": "csuas.render.imaging.modes:tir_scenario",
     "lidar": "csuas.render.lidar.runner:render_lidar",
 }
-QUALITIES = ("draft", "standard", "reference")
 
 
 def add_arguments(parser) -> None:
@@ -32,10 +33,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--range-m", type=float, nargs="+", required=True, metavar="R", help="slant ranges [m]")
     parser.add_argument(
         "--quality",
-        choices=QUALITIES,
+        choices=RUNGS,
         default="standard",
-        help="eo/tir: samples per pixel draft 32, standard 128, reference 2048; lidar: ray grid "
-        "draft 48^2x4, standard 128^2x8, reference 384^2x16 (default standard)",
+        help=f"eo/tir: {IMAGING.help_text()}. lidar: {LIDAR.help_text()} (default standard)",
     )
     parser.add_argument(
         "--azimuth-deg",

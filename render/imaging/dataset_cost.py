@@ -24,11 +24,12 @@ import math
 from pathlib import Path
 
 from csuas.base.cost import Estimate
+from csuas.render.quality import IMAGING
 
 #: Start: imports of Mitsuba and its kernels [s].
 START_SECONDS = 2.0
 #: Render of the target's window and its labels, per image and quality preset [s].
-WINDOW_SECONDS = {"draft": 0.02, "standard": 0.04, "reference": 0.1}
+WINDOW_SECONDS = IMAGING.per_rung(draft=0.02, standard=0.04, reference=0.1)
 #: The sensor chain over the full frame, per pixel [s] (0.117 s for 2.07 Mpx; the PNG is written meanwhile).
 PIXEL_SECONDS = 5.7e-8
 #: Resident memory of the process with Mitsuba loaded, before a frame [B].

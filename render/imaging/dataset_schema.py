@@ -11,6 +11,7 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
 
+from csuas.base.quality import RUNGS, RUNGS_TEXT
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 from csuas.drone_models.presets import list_presets
 from csuas.render.imaging.sensor_chain import STAGES
@@ -79,9 +80,7 @@ class DatasetSchema(Schema):
     chain: list[one_of(*STAGES)] = key(
         ["psf", "shot_noise", "read_noise", "quantise"], "sensor-chain stages, each a switch", ", ".join(STAGES)
     )
-    quality: one_of("draft", "standard", "reference", allowed="draft, standard or reference") = key(
-        "draft", "render preset"
-    )
+    quality: one_of(*RUNGS, allowed=RUNGS_TEXT) = key("draft", "render preset")
     position: one_of("random", "centre", allowed="random or centre") = key("random", "where the target lies")
     exr: bool = key(False, "also the signal before quantisation as a float32 EXR", "true or false")
     cloud_cover: number(0.0, 1.0, allowed="0..1, with background = 'clear_sky'") = key(

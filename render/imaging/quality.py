@@ -34,6 +34,7 @@ import time
 from dataclasses import dataclass
 
 from csuas.base.errors import ParameterError
+from csuas.render.quality import IMAGING
 
 
 @dataclass(frozen=True)
@@ -59,12 +60,8 @@ class Quality:
         return self.n_side * self.n_side * self.n_batches
 
 
-#: draft 32, standard 128, reference 2048 samples per pixel.
-QUALITY_PRESETS = {
-    "draft": Quality("draft", 2, 8),
-    "standard": Quality("standard", 4, 8),
-    "reference": Quality("reference", 16, 8),
-}
+#: Rung name -> :class:`Quality`, from :data:`csuas.render.quality.IMAGING`.
+QUALITY_PRESETS = IMAGING.presets(Quality)
 
 
 def resolve_quality(quality) -> Quality:

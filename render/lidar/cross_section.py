@@ -64,9 +64,10 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import direction_vector, validate_angles, view_basis
+from csuas.render.quality import LIDAR
 
-#: Single-direction accuracy presets: name -> (grid cells per side, replicates).
-QUALITY_PRESETS = {"draft": (48, 4), "standard": (128, 8), "reference": (384, 16)}
+#: Single-direction accuracy presets from :data:`csuas.render.quality.LIDAR`: name -> (grid cells per side, replicates).
+QUALITY_PRESETS = LIDAR.presets()
 
 #: Rays handed to Mitsuba per ``ray_intersect`` call (bounds memory: ~100 bytes per ray).
 MAX_RAYS_PER_BATCH = 1 << 22

@@ -31,9 +31,11 @@ from csuas.drone_models.geometry import rotated_lattices
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
 from csuas.render.lidar.cross_section import trace_lcs
 from csuas.render.lidar.target import LidarTarget
+from csuas.render.quality import LIDAR_SPHERE
 
-#: Sphere-average presets: name -> (replicates, directions per replicate, grid cells per side).
-SPHERE_QUALITY_PRESETS = {"draft": (4, 24, 32), "standard": (8, 64, 64), "reference": (16, 256, 128)}
+#: Sphere-average presets from :data:`csuas.render.quality.LIDAR_SPHERE`:
+#: name -> (replicates, directions per replicate, grid cells per side).
+SPHERE_QUALITY_PRESETS = LIDAR_SPHERE.presets()
 
 #: The paper's rule-of-thumb ratio of mean LCS to projected area (Eq. 9, Titterton [48]).
 K_LCS_PAPER = 0.1

@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from csuas.base.errors import ParameterError
+from csuas.render.quality import LINKS
 
 
 @dataclass(frozen=True)
@@ -44,12 +45,8 @@ class LinkBudget:
     max_depth: int
 
 
-#: Presets, cheapest first. Depth 1 is exact over one flat ground (one bounce at most).
-PRESETS = {
-    "draft": LinkBudget("draft", samples=16, max_depth=1),
-    "standard": LinkBudget("standard", samples=256, max_depth=1),
-    "reference": LinkBudget("reference", samples=16_384, max_depth=2),
-}
+#: Presets from :data:`csuas.render.quality.LINKS`, cheapest first.
+PRESETS = LINKS.presets(LinkBudget)
 
 #: Sionna RT 2.2's own defaults (``PathSolver.__call__``: samples_per_src=1e6, max_depth=3).
 SIONNA_DEFAULT = LinkBudget("sionna_default", samples=1_000_000, max_depth=3)

@@ -39,6 +39,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
+from csuas.render.quality import RCS
 
 from . import canonical
 from .engine import Jobs, SbrEngine
@@ -53,11 +54,11 @@ ERROR_COEFFICIENT_DB = 1.1
 #: solves [s]; measured with ``preset_errors()`` on 2 CPU cores (llvm_ad_mono). The largest errors are the
 #: square trihedral's triple reflection; the single reflections (plate, disk, cylinder, sphere) are exact
 #: PO of the mesh, whose faceting leaves 0.001-0.012 dB against the closed forms.
-PRESET_MEASURED_ERROR_DB = {
-    "draft": {"mean": 0.076, "max": 0.27, "time_s": 0.06},
-    "standard": {"mean": 0.037, "max": 0.16, "time_s": 0.06},
-    "reference": {"mean": 0.0074, "max": 0.020, "time_s": 0.09},
-}
+PRESET_MEASURED_ERROR_DB = RCS.per_rung(
+    draft={"mean": 0.076, "max": 0.27, "time_s": 0.06},
+    standard={"mean": 0.037, "max": 0.16, "time_s": 0.06},
+    reference={"mean": 0.0074, "max": 0.020, "time_s": 0.09},
+)
 
 
 def density_for_accuracy(

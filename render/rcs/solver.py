@@ -38,18 +38,14 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
+from csuas.render.quality import RCS
 
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
 from .model_error import db_from_relative, model_error_db, total_bound_db
 
-#: Quality presets: tube density N [rays per wavelength] and maximum bounces. Measured errors
-#: against closed forms are in :data:`PRESET_MEASURED_ERROR_DB` (see convergence.py).
-QUALITY_PRESETS = {
-    "draft": {"rays_per_wavelength": 2.0, "max_bounces": 3},
-    "standard": {"rays_per_wavelength": 5.0, "max_bounces": 5},
-    "reference": {"rays_per_wavelength": 10.0, "max_bounces": 8},
-}
+#: Quality presets from :data:`csuas.render.quality.RCS`: name -> ``{"rays_per_wavelength", "max_bounces"}``.
+QUALITY_PRESETS = RCS.presets(lambda name, **values: values)
 
 #: Smallest error estimate [dB]: the float32 arithmetic of the engine, measured at most 0.0033 dB against
 #: the float64 faceted-PO oracle (NASA almond nulls 40 dB below its peak; spheres ka 3-50 below 0.0002 dB).

@@ -23,14 +23,15 @@ from csuas.defaults import default_values, load_tables
 RAIN_REL_TOL = 0.01
 #: Relative tolerance of ITU fog values (interpolated K_l).
 FOG_REL_TOL = 0.005
-#: Check providers computed from simulations, "module:function" (csuas.base.registry):
-#: d_crit, emissivity and LCS by Eq. 9 of the meshes (Tables 8, 27, 52); SBR-PO mean RCS vs Table 8 and
-#: 3GPP TR 38.901; ray-traced LCS vs Table 8 and k_LCS.
-SIMULATION_PROVIDERS = (
-    "csuas.validation.drone.checks:default_checks",
-    "csuas.validation.rcs.checks:default_checks",
-    "csuas.validation.lidar.checks:default_checks",
-)
+#: Check providers computed from simulations, name -> "module:function" (csuas.base.registry), wired here
+#: only: ``csuas defaults check`` runs them all, the report's ``defaults.<name>`` runs each with its knob.
+#: drone: d_crit, emissivity and LCS by Eq. 9 of the meshes (Tables 8, 27, 52); rcs: SBR-PO mean RCS vs
+#: Table 8 and 3GPP TR 38.901; lidar: ray-traced LCS vs Table 8 and k_LCS.
+SIMULATION_PROVIDERS = {
+    "drone": "csuas.validation.drone.checks:default_checks",
+    "rcs": "csuas.validation.rcs.checks:default_checks",
+    "lidar": "csuas.validation.lidar.checks:default_checks",
+}
 
 
 def _printed_tol(value: float, digits: int = 3) -> float:
@@ -170,8 +171,8 @@ def environment_checks() -> list[Check]:
     return checks
 
 
-def sensor_checks() -> list[Check]:
-    """Acoustic (Tables 31-32), radar losses (Tables 41, 44, Eq. 85), TIR consistency and contrast."""
+def acoustic_and_radar_loss_checks() -> list[Check]:
+    """Acoustic (Tables 31-32) and radar losses (Tables 41, 44, Eq. 85)."""
     misc = load_tables()["printed"]["misc"]
     checks = [
         Check.of_paper(
@@ -231,6 +232,13 @@ def sensor_checks() -> list[Check]:
             abs_tol=0.001,
         )
     )
+    return checks
+
+
+def thermal_checks() -> list[Check]:
+    """TIR consistency of Table 25 (Eq. 23), C_TIR of Table 8 (Eq. 5) and Eq. 26's linear Delta T."""
+    misc = load_tables()["printed"]["misc"]
+    checks = []
     tir_d = default_values("tir")
     ratio = (tir_d["n_h"] / np.deg2rad(tir_d["hfov_deg"])) / (tir_d["focal_mm"] * 1e-3 / (tir_d["pitch_um"] * 1e-6))
     checks.append(
@@ -283,15 +291,19 @@ def sensor_checks() -> list[Check]:
     return checks
 
 
+#: The analytic core's check providers, in order: ``csuas defaults check`` and the report's ``defaults.core``.
+CORE_PROVIDERS = (itu_checks, environment_checks, acoustic_and_radar_loss_checks, thermal_checks)
+
+
 def core_checks() -> list[Check]:
     """All checks the analytic core can compute on its own."""
-    return itu_checks() + environment_checks() + sensor_checks()
+    return [check for provider in CORE_PROVIDERS for check in provider()]
 
 
 def all_checks(include_simulation: bool = True) -> list[Check]:
     """Core checks plus those of the simulation providers (drone mesh, RCS, LCS)."""
     checks = core_checks()
     if include_simulation:
-        for reference in SIMULATION_PROVIDERS:
+        for reference in SIMULATION_PROVIDERS.values():
             checks += resolve(reference)()
     return checks

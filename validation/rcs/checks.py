@@ -32,13 +32,13 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core import units
+from csuas.render.quality import RCS
 
-#: Coarse settings of the default checks (documented in the module docstring).
+#: Coarse settings of the default checks (documented in the module docstring): the SBR-PO draft rung.
 CHECK_SETTINGS = {
     "preset": "dji_mini_4_pro",
     "frequency_ghz": float(units.frequency_ghz(0.0125)),
-    "rays_per_wavelength": 2.0,
-    "max_bounces": 3,
+    **RCS.values("draft"),
     "accuracy_db": 0.5,
 }
 

@@ -30,7 +30,7 @@ from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Render quality per report quality (samples per pixel: draft 32, reference 2048).
 RENDER_QUALITY = {"quick": "draft", "full": "reference"}
@@ -784,7 +784,7 @@ def _spec(n, title, run, compares, tolerance_why, knob=None, knob_values=None, s
     return CheckSpec(
         f"conv.{n}",
         f"docs/conventions.md ({n}): {title}",
-        "conventions",
+        GROUP,
         compares,
         tolerance_why,
         run,
@@ -798,6 +798,16 @@ SIM_TOL = (
     f"paper vs physical: reported as a known deviation; simulated vs physical: {N_SIGMA:g} Monte Carlo "
     "standard errors plus the stated model tolerance"
 )
+
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "conventions",
+    "Convention differences (docs/conventions.md): paper, physical and simulated values",
+    30,
+    "Each point of docs/conventions.md: the paper's value, the physical value and, where a simulator "
+    "exists, the simulated one side by side.",
+)
+
 
 SPECS = [
     _spec(

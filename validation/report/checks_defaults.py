@@ -18,13 +18,17 @@ Tolerances of the printed numbers: half a unit of the last printed digit.
 from __future__ import annotations
 
 from csuas.base.checks import Check
+from csuas.base.registry import resolve
+from csuas.render.quality import RCS
+from csuas.validation.core.checks import CORE_PROVIDERS, SIMULATION_PROVIDERS
 from csuas.validation.report.figures import from_writer
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
-#: Settings of the drone RCS check per report quality (see csuas.validation.rcs.checks for the quick ones' accuracy).
+#: Settings of the drone RCS check per report quality: the SBR-PO draft and standard rungs, and the accuracy of
+#: the sphere average (see csuas.validation.rcs.checks for the quick ones' accuracy).
 RCS_SETTINGS = {
-    "quick": {"rays_per_wavelength": 2.0, "max_bounces": 3, "accuracy_db": 0.5},
-    "full": {"rays_per_wavelength": 5.0, "max_bounces": 5, "accuracy_db": 0.25},
+    "quick": {**RCS.values("draft"), "accuracy_db": 0.5},
+    "full": {**RCS.values("standard"), "accuracy_db": 0.25},
 }
 
 
@@ -36,28 +40,27 @@ def _from_checks(provider, *args, **kwargs) -> list:
     return checks
 
 
+def _simulated(name: str, *args) -> list:
+    """The checks of the simulation provider ``name`` of :data:`SIMULATION_PROVIDERS`, timed."""
+    return _from_checks(resolve(SIMULATION_PROVIDERS[name]), *args)
+
+
 def core_defaults(_knob=None) -> Section:
     """The analytic-core defaults checks, each provider timed."""
-    from csuas.validation.core import checks as dc
-
     outcomes = []
-    for provider in (dc.itu_checks, dc.environment_checks, dc.sensor_checks):
+    for provider in CORE_PROVIDERS:
         outcomes += _from_checks(provider)
     return Section(outcomes=outcomes)
 
 
 def drone_defaults(_knob=None) -> Section:
     """d_crit (Tables 8, 52), sigma_lidar by Eq. 9 and emissivity from the drone meshes."""
-    from csuas.validation.drone.checks import default_checks
-
-    return Section(outcomes=_from_checks(default_checks))
+    return Section(outcomes=_simulated("drone"))
 
 
 def rcs_defaults(settings: dict) -> Section:
     """Table 8's sigma_radar and 3GPP TR 38.901's small UAV against the SBR-PO drone average."""
-    from csuas.validation.rcs.checks import default_checks
-
-    outcomes = _from_checks(default_checks, settings)
+    outcomes = _simulated("rcs", settings)
     for o in outcomes:
         if o.details.get("error_db") is not None:  # the sphere average's 95 % bound
             o.error_estimate = float(o.details["error_db"])
@@ -66,9 +69,7 @@ def rcs_defaults(settings: dict) -> Section:
 
 def lidar_defaults(quality: str) -> Section:
     """Table 8's sigma_lidar and Eq. 9's k_LCS against the ray-traced drone LCS."""
-    from csuas.validation.lidar.checks import default_checks
-
-    return Section(outcomes=_from_checks(default_checks, quality))
+    return Section(outcomes=_simulated("lidar", quality))
 
 
 def _decimals(value: float) -> int:
@@ -153,11 +154,30 @@ def section_4_9(_knob=None) -> Section:
     return section
 
 
+#: The report section of the defaults checks.
+DEFAULTS = CheckGroup(
+    "defaults",
+    "Defaults check (csuas defaults check)",
+    10,
+    "The paper's printed defaults recomputed by the analytic core (ITU-R, Koschmieder, Kruse, the paper's "
+    "own equations) and from the simulated drone (meshes, SBR-PO RCS, ray-traced LCS).",
+)
+
+#: The report section of Section 4.9's worked numbers.
+WORKED_NUMBERS = CheckGroup(
+    "worked_numbers",
+    "Section 4.9 worked numbers and tornado plots",
+    20,
+    "The baselines, quoted tornado bounds (Tables 48-51) and platform comparison (Table 52) of Section "
+    "4.9 against the same models evaluated by csuas.",
+)
+
+
 SPECS = [
     CheckSpec(
         "defaults.core",
         "Defaults recomputed by the analytic core",
-        "defaults",
+        DEFAULTS,
         "paper's printed default vs independent recomputation (ITU-R P.838-3/P.840, Koschmieder, Kruse, "
         "Table 31 interpolation, Eqs. 5, 26, 42, 83-85)",
         "half a unit of the printed last digit; ITU rain 1 % and fog 0.5 % (the paper interpolated the "
@@ -167,7 +187,7 @@ SPECS = [
     CheckSpec(
         "defaults.drone",
         "Defaults recomputed from the drone meshes",
-        "defaults",
+        DEFAULTS,
         "Table 8/52 d_crit, Table 8 sigma_lidar (Eq. 9), Table 27 emissivity vs exact silhouettes of the "
         "procedural meshes",
         "d_crit 3 % (DJI) and 10 % (Black Hornet); sigma_lidar and emissivity 10 %",
@@ -176,7 +196,7 @@ SPECS = [
     CheckSpec(
         "defaults.rcs",
         "Table 8 sigma_radar vs SBR-PO drone average",
-        "defaults",
+        DEFAULTS,
         "Table 8 (0.01 m^2) and 3GPP TR 38.901 small UAV vs the Eq. 6 sphere average of the SBR-PO RCS",
         "3 dB (Table 8's value is a generic class-1 figure); one log-normal spread, 3.74 dB, for 3GPP",
         lambda settings: rcs_defaults(settings),
@@ -187,7 +207,7 @@ SPECS = [
     CheckSpec(
         "defaults.lidar",
         "Table 8 sigma_lidar vs ray-traced drone LCS",
-        "defaults",
+        DEFAULTS,
         "Table 8 (0.006 m^2) and Eq. 9 k_LCS = 0.1 vs the sphere-averaged (Eq. 7) ray-traced LCS",
         "50 %: k_LCS is an order-of-magnitude rule of thumb",
         lidar_defaults,
@@ -198,7 +218,7 @@ SPECS = [
     CheckSpec(
         "worked.section_4_9",
         "Section 4.9 worked numbers and Table 52",
-        "worked_numbers",
+        WORKED_NUMBERS,
         "numbers printed in Section 4.9 vs the same models evaluated by csuas",
         "half a unit of the printed last digit",
         section_4_9,

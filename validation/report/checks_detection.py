@@ -20,7 +20,7 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 N_SIGMA = 3.0
 TRIALS = {"quick": 20_000, "full": 200_000}
@@ -222,11 +222,21 @@ def drone_fluctuation(settings: dict) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "detection",
+    "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
+    80,
+    "The exact detectors against published values and Monte Carlo, and the drone's simulated RCS "
+    "fluctuation against the Swerling models.",
+)
+
+
 SPECS = [
     CheckSpec(
         "detection.published",
         "Radar detection requirements and the TTPF against published values",
-        "detection",
+        GROUP,
         "Meyer & Mayer, Richards' Albersheim example, Swerling 1 closed form, Table 21 vs csuas",
         "half a unit of the printed digit; 1e-12 for closed forms; 4 % of Table 21's multipliers",
         published,
@@ -234,7 +244,7 @@ SPECS = [
     CheckSpec(
         "detection.monte_carlo",
         "Exact Pd of Swerling 0-4 detectors vs Monte Carlo",
-        "detection",
+        GROUP,
         "simulated square-law detector (noise + sampled RCS) vs core.radar_detection.pd_exact",
         f"{N_SIGMA:g} binomial standard errors",
         monte_carlo,
@@ -244,7 +254,7 @@ SPECS = [
     CheckSpec(
         "detection.drone_fluctuation",
         "The drone's own RCS fluctuation and its Pd",
-        "detection",
+        GROUP,
         "SBR-PO RCS over random aspects: log-normal and chi-square fits; Pd from the samples vs a detector simulation",
         f"{N_SIGMA:g} binomial standard errors",
         drone_fluctuation,

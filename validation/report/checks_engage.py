@@ -20,7 +20,7 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core.horizon import EARTH_RADIUS_M
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Monte Carlo sizes of the quick report: looks of the false-alarm count, tracker runs of the M-of-N check.
 FALSE_ALARM_LOOKS, TRACKER_RUNS = {"quick": 200, "full": 2000}, {"quick": 200, "full": 2000}
@@ -350,11 +350,21 @@ def clutter(_knob=None) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "engage",
+    "Engagements: false alarms, M-of-N first tracks, GOSPA, bird RCS and clutter vs closed forms",
+    100,
+    "Simulated engagements (csuas engage) against closed forms: false alarms, M-of-N first tracks, GOSPA, "
+    "bird RCS and clutter.",
+)
+
+
 SPECS = [
     CheckSpec(
         "engage.false_alarms",
         "False alarms with no target vs Pfa x resolution cells",
-        "engage",
+        GROUP,
         "noise false alarms per look of a radar (Monte Carlo) vs Pfa x range bins x beams",
         "3 Monte Carlo standard errors",
         false_alarms,
@@ -365,7 +375,7 @@ SPECS = [
     CheckSpec(
         "engage.m_of_n",
         "First track of one sensor vs the exact M-of-N program",
-        "engage",
+        GROUP,
         "the tracker's probability of a confirmed track by each look vs the dynamic program over the last N looks "
         "(itself vs enumeration)",
         "3 binomial standard errors + half a run; 1e-12 for the program vs enumeration",
@@ -377,7 +387,7 @@ SPECS = [
     CheckSpec(
         "engage.gospa",
         "GOSPA and SIAP of known tracks vs the hand-computed values",
-        "engage",
+        GROUP,
         "Stone Soup's GOSPA (p = 2, c = 100 m, alpha = 2; its own c = 10, p = 1 example) and SIAP vs values by hand",
         "1e-9 m",
         gospa,
@@ -385,7 +395,7 @@ SPECS = [
     CheckSpec(
         "engage.bird_rcs",
         "Bird RCS vs the drone's measured distribution at 24 GHz",
-        "engage",
+        GROUP,
         "each bird class's median RCS (water spheroid over aspects) vs the drone's 10-90 % band",
         "inside the band",
         bird_rcs,
@@ -393,7 +403,7 @@ SPECS = [
     CheckSpec(
         "engage.clutter",
         "Ground clutter vs the constant-gamma closed form, and terrain masking",
-        "engage",
+        GROUP,
         "clutter false alarms of flat ground vs the closed form; clutter cells behind a ridge",
         "1e-9 relative; none behind the ridge",
         clutter,

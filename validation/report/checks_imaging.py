@@ -23,7 +23,7 @@ from csuas.base.checks import Check
 from csuas.render.imaging.records import EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves, image
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
 SPP_SWEEP = {"quick": (1, 2, 4), "full": (1, 2, 4, 8, 16)}
@@ -458,11 +458,21 @@ def closed_loop(settings: dict) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "imaging",
+    "EO and thermal renders vs Johnson criteria and exact geometry",
+    70,
+    "EO and thermal renders against the exact silhouette, the Johnson criteria, band-Planck radiometry "
+    "and the sensor chain's closed forms.",
+)
+
+
 SPECS = [
     CheckSpec(
         "imaging.johnson",
         "Johnson range vs rendered pixels across d_crit",
-        "imaging",
+        GROUP,
         "exact silhouette pixels and the analytic Johnson range vs Mitsuba EO renders",
         f"a quarter stratum per edge (0.25/n_side px) + {N_SIGMA:g} standard errors; the Johnson range "
         "0.5 % + the mesh's d_crit vs Table 8's",
@@ -474,7 +484,7 @@ SPECS = [
     CheckSpec(
         "imaging.pixels_on_target",
         "Rendered pixels on target vs exact projected area",
-        "imaging",
+        GROUP,
         "exact projected area / (IFOV R)^2 vs rendered fractional coverage",
         f"{N_SIGMA:g} standard errors + 1 %: the oracle is an orthographic silhouette, the render a pinhole "
         "camera, whose perspective magnifies the near half of the drone (0.3 m deep: +0.15 % in size, +0.3 % "
@@ -490,7 +500,7 @@ SPECS = [
     CheckSpec(
         "imaging.sensor_chain",
         "Sensor chain: slanted-edge MTF, photon transfer, flat-field NETD, rendered SNR vs the core",
-        "imaging",
+        GROUP,
         "the chain's measured MTF, conversion gain, read noise and NETD vs its configured and analytic values; the "
         "rendered frame's target SNR by day, twilight and night vs the core's camera model",
         "0.02 in MTF; 2 % gain; 10 % read noise; 2 % NETD; 1 % SNR",
@@ -502,7 +512,7 @@ SPECS = [
     CheckSpec(
         "imaging.closed_loop",
         "Closing the loop: a detector on rendered noisy frames",
-        "imaging",
+        GROUP,
         "empirical Pd of a matched filter on rendered frames through the sensor chain vs its Gaussian prediction, "
         "beside the core's light-limited model and the TTPF",
         f"3 binomial standard errors + {GAUSSIAN_ALLOWANCE:g} (the Gaussian approximation of 8-electron Poisson "
@@ -515,7 +525,7 @@ SPECS = [
     CheckSpec(
         "imaging.birds",
         "Bird meshes (flapping wings) in the EO and thermal renders",
-        "imaging",
+        GROUP,
         "the pigeon mesh's rendered pixels on target vs its exact silhouette at 100 and 300 m, wings up and level; "
         "its rendered LWIR apparent excess temperature vs the Planck band closed form (plumage emissivity 0.95, "
         "surface excess of defaults/birds.toml, in air at ambient)",
@@ -529,7 +539,7 @@ SPECS = [
     CheckSpec(
         "imaging.gallery",
         "Rendered drone images, EO and thermal",
-        "imaging",
+        GROUP,
         "images only",
         "none",
         gallery,

@@ -13,7 +13,7 @@ import math
 
 from csuas.base.checks import Check
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
 GRIDS = {"quick": (8, 16, 32, 64), "full": (8, 16, 32, 64, 128, 256)}
@@ -132,11 +132,20 @@ def accuracy(grids) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "lidar",
+    "Lidar cross-section vs oracles",
+    60,
+    "Ray-traced lidar cross-sections against the Lambertian plate and sphere, and their accuracy against the ray grid.",
+)
+
+
 SPECS = [
     CheckSpec(
         "lidar.oracles",
         "Lidar cross-section vs Lambertian oracles",
-        "lidar",
+        GROUP,
         "closed-form LCS of a Lambertian plate and sphere vs Mitsuba ray tracing",
         f"{N_SIGMA:g} standard errors + 0.1 % (+ faceting for the smooth sphere)",
         oracles,
@@ -147,7 +156,7 @@ SPECS = [
     CheckSpec(
         "lidar.accuracy",
         "Lidar cross-section accuracy vs time",
-        "lidar",
+        GROUP,
         "relative error of the LCS vs the ray grid, with its wall time",
         f"each point unbiased within {N_SIGMA:g} standard errors + 0.1 %",
         accuracy,

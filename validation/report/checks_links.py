@@ -19,16 +19,17 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.render.quality import LINKS
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import curves
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Sample budget of the link checks per report quality.
 BUDGETS = {"quick": "draft", "full": "standard"}
 #: Accuracy-vs-time budgets per report quality (names of csuas.render.links.budget presets or (samples, depth)).
 SWEEPS = {
     "quick": ((1, 1), (4, 1), "draft", "standard"),
-    "full": ((1, 1), (4, 1), "draft", "standard", "reference", "sionna_default"),
+    "full": ((1, 1), (4, 1), *LINKS.names, "sionna_default"),
 }
 #: Largest accepted difference to the closed form [dB]: float32 geometry in Sionna, float64 phases here.
 TOLERANCE_DB = 0.05
@@ -451,11 +452,21 @@ def terrain_radio_maps(samples: int) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "links",
+    "Sionna RT links vs Friis and the radar equation",
+    40,
+    "Sionna RT path gains and radar links against Friis, two-ray, Eq. 68 and four-path closed forms, and "
+    "their accuracy against the sample budget.",
+)
+
+
 SPECS = [
     CheckSpec(
         "links.rf",
         "Friis and two-ray vs Sionna RT path gain",
-        "links",
+        GROUP,
         "closed-form RF path gain vs Sionna RT PathSolver (free space and flat ITU ground)",
         f"{TOLERANCE_DB} dB: both are exact for these scenes; float32 geometry limits the agreement",
         rf_links,
@@ -466,7 +477,7 @@ SPECS = [
     CheckSpec(
         "links.radar",
         "Radar equation and four-path model vs Sionna RT radar link",
-        "links",
+        GROUP,
         "Eq. 68 and the four-path ground model vs Sionna RT RCSSolver with the drone as sensing target",
         f"{TOLERANCE_DB} dB (exact scenes)",
         radar_links,
@@ -477,7 +488,7 @@ SPECS = [
     CheckSpec(
         "links.radar_sbr",
         "Radar link with the SBR-PO drone as Sionna sensing target",
-        "links",
+        GROUP,
         "Sionna RT radar link whose RCS function interpolates the drone's SBR-PO table vs Eq. 68 with "
         "the SBR sigma at that aspect",
         f"{TOLERANCE_DB} dB (table nodes are exact)",
@@ -489,7 +500,7 @@ SPECS = [
     CheckSpec(
         "links.accuracy",
         "Sionna RT accuracy vs time over the sample budget",
-        "links",
+        GROUP,
         "error against the closed form per sample budget, with its wall time",
         f"presets draft and standard within {TOLERANCE_DB} dB",
         link_accuracy,
@@ -500,7 +511,7 @@ SPECS = [
     CheckSpec(
         "links.terrain_map",
         "Sionna RT radio maps over terrain vs the two-ray model and the viewshed",
-        "links",
+        GROUP,
         "RadioMapSolver on a DEM mesh: a flat DEM against the two-ray power sum averaged per cell (error and "
         "coverage of the replicas' bound), a ridge's direct-ray map against the viewshed",
         "flat: the replicas' own bound (median and coverage); ridge: exact for lit hidden cells, a Poisson bound "

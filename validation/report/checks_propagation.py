@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from csuas.base.checks import Check
-from csuas.validation.report.registry import CheckSpec, Section
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
 GAS_FREQUENCIES_GHZ = (10.0, 22.235, 24.0, 35.0, 60.0, 94.0)
 #: Agreement of ITU-Rpy and p676 the issue quotes [dB/km]: the tolerance of the cross-check.
@@ -231,11 +231,21 @@ def field_ranges(_knob=None) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "propagation",
+    "Propagation the paper leaves out (physical): gases (ITU-R P.676), outdoor sound (ISO 9613)",
+    110,
+    "Gaseous absorption against ITU-Rpy (ITU-R P.676) and outdoor sound against ISO 9613 and the "
+    "sound-propagation package.",
+)
+
+
 SPECS = [
     CheckSpec(
         "propagation.gases",
         "Gaseous absorption (ITU-R P.676) vs ITU-Rpy, and the radar presets' gas terms",
-        "propagation",
+        GROUP,
         "csuas's P.676-12 line-by-line gamma vs ITU-Rpy at 10-94 GHz in the P.835 sea-level atmosphere",
         f"{GAS_TOLERANCE_DB_KM:g} dB/km (the agreement of two independent implementations the issue quotes)",
         gases,
@@ -243,7 +253,7 @@ SPECS = [
     CheckSpec(
         "propagation.sound",
         "Outdoor sound (ISO 9613-1/-2) vs ISO 9613-2 Table 2 and sound-propagation",
-        "propagation",
+        GROUP,
         "absorption per band vs the printed Table 2 and sound-propagation; ground attenuation vs sound-propagation",
         "half a unit of the printed digit for Table 2; 1e-9 relative against the independent package",
         sound_oracles,
@@ -251,7 +261,7 @@ SPECS = [
     CheckSpec(
         "propagation.field",
         "Physical acoustic ranges beside the field trials (stated, not tuned)",
-        "propagation",
+        GROUP,
         "the physical acoustic range of a Mavic-class drone, 4 microphones, calm air, and a windshield's gain in "
         "strong wind vs field results",
         "the spread of the field results (80-100 m; 31-131 %); outside it a documented limitation",

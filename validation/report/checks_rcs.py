@@ -22,7 +22,7 @@ from csuas.base.checks import Check
 from csuas.core.units import wavenumber_rad_m
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.figures import from_writer
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: SBR quality preset per report quality.
 QUALITY = {"quick": "draft", "full": "standard"}
@@ -382,11 +382,21 @@ def _plot_statistics(rows, path):
     return path
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "rcs",
+    "Radar cross-section (SBR-PO) vs oracles",
+    50,
+    "SBR-PO radar cross-sections against closed forms of canonical shapes, a full-wave solver and the "
+    "drone's RCS statistics.",
+)
+
+
 SPECS = [
     CheckSpec(
         "rcs.canonical",
         "SBR-PO vs canonical RCS oracles",
-        "rcs",
+        GROUP,
         "closed-form RCS (plate, disk, dihedral, trihedrals, cylinder, PO sphere) vs SBR-PO",
         f"{MARGIN:g} x the preset's largest measured error on this set",
         canonical,
@@ -397,7 +407,7 @@ SPECS = [
     CheckSpec(
         "rcs.convergence",
         "SBR-PO accuracy vs rays per wavelength and time",
-        "rcs",
+        GROUP,
         "measured mean error on the plate vs the documented error model",
         "the measured mean error within a factor 2 of the model's rule (0 to 2x)",
         convergence,
@@ -408,7 +418,7 @@ SPECS = [
     CheckSpec(
         "rcs.po_oracle",
         "SBR-PO vs exact faceted PO: spheres ka 3-50 and the NASA almond",
-        "rcs",
+        GROUP,
         "SBR-PO (exact first hits, replicated tube grids) vs the float64 faceted-PO integral of the same mesh",
         f"{PO_TOLERANCE_DB:g} dB, the accuracy target at ka 3-50",
         po_oracle,
@@ -419,7 +429,7 @@ SPECS = [
     CheckSpec(
         "rcs.fullwave",
         "Full-wave (EFIE) oracle: sphere vs Mie; SBR-PO with and without edge diffraction vs EFIE",
-        "rcs",
+        GROUP,
         "bempp-cl EFIE vs the Mie series; SBR-PO(+PTD) vs the EFIE on plates, a cylinder and a drone arm",
         "Richardson's estimate (sphere); the PO error (PTD must improve on it); 20 log10(1 + 1/(k l)) (specular)",
         fullwave,
@@ -430,7 +440,7 @@ SPECS = [
     CheckSpec(
         "rcs.drone_statistics",
         "Drone RCS statistics vs 3GPP TR 38.901 and measured drones",
-        "rcs",
+        GROUP,
         "the shipped table (csuas rcs-statistics) vs 3GPP's small-UAV log-normal and published 24 GHz means",
         "the published range; 3GPP's spread",
         drone_statistics,
@@ -441,7 +451,7 @@ SPECS = [
     CheckSpec(
         "rcs.bound",
         "Bounds against the exact answer: SBR-PO spheres vs Mie",
-        "rcs",
+        GROUP,
         "SBR-PO of PEC spheres at random ka 2-50 and aspects vs the Mie series, within each figure's bound",
         "each figure's bound (discretisation + PO's model error); 95 % coverage of the population",
         bound_vs_exact,
@@ -452,7 +462,7 @@ SPECS = [
     CheckSpec(
         "rcs.drone_polar",
         "Drone RCS polar cuts",
-        "rcs",
+        GROUP,
         "plot only (the Eq. 6 mean is checked in defaults.rcs)",
         "none",
         drone_polar,

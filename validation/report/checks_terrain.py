@@ -22,7 +22,7 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core.horizon import EARTH_RADIUS_M, K_OPTICAL, K_RADIO
-from csuas.validation.report.registry import CheckSpec, Section, timed
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Grid cell of the smooth-Earth check [m] and the tolerance: the method judges cells within 1.5 cells of
 #: the horizon on a path up to half a cell off their own line.
@@ -307,11 +307,20 @@ def gdal_cross_check(_knob=None) -> Section:
     return s
 
 
+#: The report section of these checks.
+GROUP = CheckGroup(
+    "terrain",
+    "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
+    90,
+    "Line of sight over terrain and site coverage against closed-form horizons, wall shadows and covered areas.",
+)
+
+
 SPECS = [
     CheckSpec(
         "terrain.gdal",
         "Line of sight vs GDAL's viewshed and the exact sight line",
-        "terrain",
+        GROUP,
         "the R2 viewshed vs GDAL's gdal_viewshed on the demo hills and on rough fractal terrain, and both vs the "
         "exact sight line on random cells",
         "99 % of cells (the issue's criterion), and every disagreement grazing (clearance within one cell's relief)",
@@ -323,7 +332,7 @@ SPECS = [
     CheckSpec(
         "terrain.line_of_sight",
         "Line of sight over terrain vs closed-form horizons and shadows",
-        "terrain",
+        GROUP,
         "the R2 viewshed's farthest visible cell and a wall's shadow vs their closed forms",
         "1.5 cells (horizon), 2 cells (shadow)",
         terrain,
@@ -334,7 +343,7 @@ SPECS = [
     CheckSpec(
         "terrain.coverage",
         "Site coverage vs closed-form areas, a hill's shadow and k-of-n enumeration",
-        "terrain",
+        GROUP,
         "detected areas of sectors with dead zones on flat ground with curvature vs the annular sector, the "
         "cone of silence's radius, a cone-shaped hill's shadow vs the sight line over its apex, k-of-n Pd vs "
         "enumeration and the binomial",

@@ -1,7 +1,9 @@
 """The report's self-contained HTML page and Markdown summary.
 
 The HTML has no external resource: style inline, every plot and image a
-``data:image/png;base64`` URI, links only to anchors of the page itself.
+``data:image/png;base64`` URI, links only to anchors of the page itself. Both list the sections of
+``report["groups"]``: exactly the groups of the checks run (declared beside each module's ``SPECS``,
+:class:`csuas.validation.report.registry.CheckGroup`), by order.
 """
 
 from __future__ import annotations
@@ -9,21 +11,6 @@ from __future__ import annotations
 import base64
 import html
 import math
-
-#: Report sections in display order: group -> heading.
-GROUPS = {
-    "defaults": "Defaults check (csuas defaults check)",
-    "worked_numbers": "Section 4.9 worked numbers and tornado plots",
-    "conventions": "Convention differences (docs/conventions.md): paper, physical and simulated values",
-    "links": "Sionna RT links vs Friis and the radar equation",
-    "rcs": "Radar cross-section (SBR-PO) vs oracles",
-    "lidar": "Lidar cross-section vs oracles",
-    "imaging": "EO and thermal renders vs Johnson criteria and exact geometry",
-    "detection": "Probability of detection: exact detectors, Monte Carlo and the drone's own fluctuation",
-    "terrain": "Line of sight and site coverage over terrain vs closed-form horizons, shadows and areas",
-    "engage": "Engagements: false alarms, M-of-N first tracks, GOSPA, bird RCS and clutter vs closed forms",
-    "propagation": "Propagation the paper leaves out (physical): gases (ITU-R P.676), outdoor sound (ISO 9613)",
-}
 
 #: Sections with more passing checks than this fold them into a <details> element.
 COLLAPSE_ABOVE = 3
@@ -151,14 +138,15 @@ def _contents(report: dict) -> str:
     """The contents list: one row per section, linked, with its counts of checks by verdict and its time."""
     head = "".join(f"<th>{label}</th>" for _, label, _ in VERDICTS)
     rows = [f"<h2>Contents</h2><table><tr><th>section</th><th>checks</th>{head}<th>time [s]</th></tr>"]
-    for group, heading in GROUPS.items():
-        counts = verdict_counts([c for c in report["checks"] if c["group"] == group])
-        time_s = sum(x["time_s"] for x in report["sections"] if x["group"] == group)
+    for group in report["groups"]:
+        counts = verdict_counts([c for c in report["checks"] if c["group"] == group["name"]])
+        time_s = sum(x["time_s"] for x in report["sections"] if x["group"] == group["name"])
         cells = "".join(
             f"<td class='num {css if counts[verdict] else ''}'>{counts[verdict]}</td>" for verdict, _, css in VERDICTS
         )
         rows.append(
-            f"<tr><td><a href='#{group}'>{_e(heading)}</a></td><td class='num'>{counts['total']}</td>{cells}"
+            f"<tr><td><a href='#{_e(group['name'])}'>{_e(group['title'])}</a></td>"
+            f"<td class='num'>{counts['total']}</td>{cells}"
             f"<td class='num'>{time_s:.1f}</td></tr>"
         )
     rows.append("<tr><td colspan='7'><a href='#timing'>Time of each check</a></td></tr></table>")
@@ -270,14 +258,15 @@ def render_html(report: dict, sections: list) -> str:
     by_spec = {}
     for c in report["checks"]:
         by_spec.setdefault(c["check"], []).append(c)
-    for group, heading in GROUPS.items():
-        counts = verdict_counts([c for c in report["checks"] if c["group"] == group])
+    for group in report["groups"]:
+        counts = verdict_counts([c for c in report["checks"] if c["group"] == group["name"]])
         out.append(
-            f"<details class='group' id='{group}' open><summary><h2>{_e(heading)}</h2>"
+            f"<details class='group' id='{_e(group['name'])}' open><summary><h2>{_e(group['title'])}</h2>"
             f"<span class='counts'>{_counts_text(counts)}</span></summary>"
+            f"<p class='meta'>{_e(group['description'])}</p>"
         )
         for spec, section in sections:
-            if spec.group != group:
+            if spec.group.name != group["name"]:
                 continue
             knob = f"; knob: {_e(knob_text(spec.knob, spec.knob_value(report['quality'])))}"
             out.append(
@@ -311,6 +300,17 @@ def render_html(report: dict, sections: list) -> str:
     return "\n".join(out)
 
 
+def _markdown_sections(report: dict) -> list:
+    """Lines of the Markdown's ``## Sections``: one row per group run, its counts by verdict and what it checks."""
+    head = " | ".join(label for _, label, _ in VERDICTS)
+    lines = ["## Sections", "", f"| section | checks | {head} | what it checks |", "|---" * (len(VERDICTS) + 3) + "|"]
+    for group in report["groups"]:
+        counts = verdict_counts([c for c in report["checks"] if c["group"] == group["name"]])
+        cells = " | ".join(str(counts[verdict]) for verdict, _, _ in VERDICTS)
+        lines.append(f"| {group['title']} | {counts['total']} | {cells} | {group['description']} |")
+    return lines + [""]
+
+
 def render_markdown(report: dict) -> str:
     """Markdown summary: counts, failures, known deviations, convention tables, times."""
     s = report["summary"]
@@ -336,6 +336,7 @@ def render_markdown(report: dict) -> str:
         lines += [f"- improvement {r['name']}: {r['what']}" for r in baseline.get("improvements", [])]
         lines += [f"- new check {name}" for name in baseline.get("new_checks", [])]
         lines += [f"- missing check {name}" for name in baseline.get("missing_checks", [])] + [""]
+    lines += _markdown_sections(report)
     failed = [c for c in report["checks"] if c["verdict"] == "FAIL"]
     if failed:
         lines += ["## Failed", "", "| check | expected | measured | tolerance | note |", "|---|---|---|---|---|"]

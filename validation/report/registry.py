@@ -53,6 +53,57 @@ class Section:
 
 
 @dataclass(frozen=True)
+class CheckGroup:
+    """A section of the report, declared by the check module whose specs fill it (beside its ``SPECS``).
+
+    The report lists exactly the groups of the specs it ran, by ``order``; a spec in a new group gets its
+    own section in report.html, report.md and report.json without any other table to edit.
+
+    Attributes
+    ----------
+    name : str
+        Identifier: the ``group`` key of the JSON records and the page's anchor.
+    title : str
+        Heading of the section.
+    order : int
+        Place in the report, lowest first (unique among the groups of one report).
+    description : str
+        One sentence under the heading: what the section checks against what.
+    """
+
+    name: str
+    title: str
+    order: int
+    description: str
+
+    def as_dict(self) -> dict:
+        """JSON record: ``name``, ``title``, ``order``, ``description``."""
+        return {"name": self.name, "title": self.title, "order": self.order, "description": self.description}
+
+
+def groups_of(specs) -> list:
+    """The groups of ``specs``, each once, by ``order``.
+
+    Raises
+    ------
+    ValueError
+        Two different groups share a name or an order (the report could not tell their sections apart).
+    """
+    groups = []
+    for spec in specs:
+        if not isinstance(spec.group, CheckGroup):
+            raise TypeError(f"check {spec.name}: group {spec.group!r} is not a CheckGroup")
+        if spec.group not in groups:
+            groups.append(spec.group)
+    for key in ("name", "order"):
+        values = [getattr(g, key) for g in groups]
+        clashes = sorted({str(v) for v in values if values.count(v) > 1})
+        if clashes:
+            raise ValueError(f"report groups share the {key} {', '.join(clashes)}")
+    return sorted(groups, key=lambda g: g.order)
+
+
+@dataclass(frozen=True)
 class CheckSpec:
     """A declared validation check.
 
@@ -62,9 +113,8 @@ class CheckSpec:
         Identifier, prefix of its outcomes' names.
     title : str
         Heading in the report.
-    group : str
-        Report section: ``defaults``, ``worked_numbers``, ``conventions``,
-        ``links``, ``rcs``, ``lidar``, ``imaging``.
+    group : CheckGroup
+        Report section, declared beside the module's ``SPECS``.
     compares : str
         What is compared with what.
     tolerance_why : str
@@ -81,7 +131,7 @@ class CheckSpec:
 
     name: str
     title: str
-    group: str
+    group: CheckGroup
     compares: str
     tolerance_why: str
     run: Callable

@@ -18,7 +18,7 @@ from csuas.base.paths import inside, sub_folder
 from csuas.base.registry import resolve
 from csuas.validation.report.baseline import compare, load_baseline
 from csuas.validation.report.html import render_html, render_markdown
-from csuas.validation.report.registry import QUALITIES, run_spec
+from csuas.validation.report.registry import QUALITIES, groups_of, run_spec
 
 #: The report's check modules, in report order (csuas.base.registry): each holds a list of CheckSpec.
 SPEC_LISTS = (
@@ -56,7 +56,7 @@ def check_record(spec, outcome) -> dict:
         "tolerance_source": outcome.tolerance_source or spec.tolerance_why,
         "error_estimate": outcome.error_estimate,
         "check": spec.name,
-        "group": spec.group,
+        "group": spec.group.name,
         "source": outcome.source,
         "method": outcome.method,
         "details": outcome.details,
@@ -97,7 +97,8 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
     Returns
     -------
     dict
-        ``checks`` (docs/command-line.md keys), ``summary``, ``sections``, ``baseline``,
+        ``checks`` (docs/command-line.md keys), ``summary``, ``groups`` (the sections of the checks run, by
+        order: ``name``, ``title``, ``order``, ``description``), ``sections``, ``baseline``,
         ``files``, ``exit_code`` (0: every check passes or is a known
         deviation and nothing regressed; 1 otherwise).
     """
@@ -105,6 +106,7 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
         raise ParameterError("quality", quality, ", ".join(QUALITIES))
     old = load_baseline(baseline) if baseline is not None else None
     specs = all_specs() if specs is None else list(specs)
+    groups_of(specs)  # two groups that clash are refused before the work
     out = prepare_output_dir(out_dir)
     sub_folder(out, "figures")
     for name in REPORT_FILES:
@@ -117,6 +119,17 @@ def run_report(quality: str = "quick", out_dir="csuas-report", baseline=None, sp
 LOCK_NAME = ".csuas-report.lock"
 #: The report's own files; report.json, written last, is the manifest of a complete set.
 REPORT_FILES = ("report.json", "report.html", "report.md")
+
+
+def _summary(checks: list) -> dict:
+    """The report's counts: ``total``, ``ok``, ``known_deviation``, ``limitation``, ``failed``."""
+    return {
+        "total": len(checks),
+        "ok": sum(c["verdict"] == "ok" for c in checks),
+        "known_deviation": sum(c["verdict"] == "known" for c in checks),
+        "limitation": sum(c["verdict"] == "limit" for c in checks),
+        "failed": sum(c["verdict"] == "FAIL" for c in checks),
+    }
 
 
 def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
@@ -148,7 +161,7 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
             {
                 "name": spec.name,
                 "title": spec.title,
-                "group": spec.group,
+                "group": spec.group.name,
                 "compares": spec.compares,
                 "tolerance_why": spec.tolerance_why,
                 "knob": spec.knob,
@@ -170,13 +183,7 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
                 file=progress,
                 flush=True,
             )
-    summary = {
-        "total": len(checks),
-        "ok": sum(c["verdict"] == "ok" for c in checks),
-        "known_deviation": sum(c["verdict"] == "known" for c in checks),
-        "limitation": sum(c["verdict"] == "limit" for c in checks),
-        "failed": sum(c["verdict"] == "FAIL" for c in checks),
-    }
+    summary = _summary(checks)
     written = {f["file"] for sec in section_records for f in sec["figures"]}
     for stale in (out / "figures").glob("*.png"):
         if str(stale.relative_to(out)) not in written:
@@ -188,6 +195,7 @@ def _run_locked(quality, out: Path, baseline, old, specs, progress) -> dict:
         "version": _version(),
         "time_s": time.perf_counter() - start,
         "summary": summary,
+        "groups": [group.as_dict() for group in groups_of(specs)],
         "checks": to_jsonable(checks),
         "sections": to_jsonable(section_records),
         "baseline": None,
