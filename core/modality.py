@@ -189,17 +189,17 @@ def _threshold_problems(record: Modality, section: dict) -> list[str]:
     if key is None:
         return []
     if isinstance(key, str):
-        pairs = [(None, key)]
+        names = [key]
     elif all(isinstance(p, tuple) and len(p) == 2 for p in key):
-        pairs = list(key)
+        models, names = [m for m, _ in key], [n for _, n in key]
         choices = section.get("model", {}).get("choices", [])
-        if sorted(choice for choice, _ in pairs) != sorted(choices):
-            return [f"threshold: pairs for the models {[c for c, _ in pairs]}, parameters.toml's are {choices}"]
+        if sorted(models) != sorted(choices):
+            return [f"threshold: pairs for the models {models}, parameters.toml's are {choices}"]
     else:
         return [f"threshold: {key!r} is neither a parameter nor (model, parameter) pairs"]
     return [
         f"threshold: {name!r} is not a numeric parameter of [{record.name}]"
-        for _, name in pairs
+        for name in names
         if "min" not in section.get(name, {})
     ]
 
