@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from typing import Any
 
 from csuas.base.errors import CsuasError, ParameterError, raise_all
 from csuas.base.registry import resolve
@@ -46,6 +47,14 @@ class Horizon:
     label: str | None
 
 
+class _Missing:
+    def __repr__(self) -> str:
+        return "MISSING"
+
+
+#: The value of a part a record does not give (:func:`check_modality` names it).
+MISSING: Any = _Missing()
+
 #: Horizon kind -> its line of sight: radio (ITU-R P.834), light (refraction coefficient 0.13), and None
 #: for sound, whose refraction the models leave out (straight rays over terrain, range not capped).
 HORIZON_KINDS = {
@@ -65,7 +74,8 @@ class Modality:
 
     Its parameters are the ``[NAME]`` section of ``defaults/parameters.toml`` and its presets the
     ``[sensor.NAME]`` tables of ``defaults/presets.toml`` (the scenario file's sensor tables are built
-    from both, ``csuas.defaults.scenario_schema``).
+    from both, ``csuas.defaults.scenario_schema``). Every part must be given: one left out is
+    :data:`MISSING`, which :func:`check_modality` names.
 
     Attributes
     ----------
@@ -81,8 +91,8 @@ class Modality:
         Kind of its line of sight (:data:`HORIZON_KINDS`): the refraction over terrain and the horizon
         that caps its range (None: straight rays, no cap).
     threshold : str, tuple of (str, str) pairs, or None
-        The parameter holding its detection threshold, which ``margin_db`` shifts (in dB when its unit
-        is dB or dBm, else a power ratio); pairs (value of the sensor's ``model``, parameter) where the
+        The parameter holding its detection threshold, which ``margin_db`` shifts (added in dB when its
+        unit is dB or dBm, else scaled); pairs (value of the sensor's ``model``, parameter) where the
         model chooses it; None for a sensor without one (imaging).
     renderer : str or None
         The ``csuas render --mode`` that simulates it (a key of ``csuas/commands/render.py`` ``MODES``,
@@ -92,12 +102,12 @@ class Modality:
     """
 
     name: str
-    model: str
-    detector: str
-    horizon: str | None
-    threshold: str | tuple | None
-    renderer: str | None
-    report_group: str
+    model: str = MISSING
+    detector: str = MISSING
+    horizon: str | None = MISSING
+    threshold: str | tuple | None = MISSING
+    renderer: str | None = MISSING
+    report_group: str = MISSING
 
     @property
     def line_of_sight(self) -> Horizon:
@@ -204,34 +214,46 @@ def _threshold_problems(record: Modality, section: dict) -> list[str]:
     ]
 
 
+def _part_problems(record: Modality) -> dict:
+    """``{part: what is wrong with it, or None}`` of the parts a record gives itself."""
+    core = "is not a core function 'csuas.core.module:function'"
+    return {
+        "model": None if isinstance(record.model, str) and _CORE_FUNCTION.match(record.model) else core,
+        "detector": None if isinstance(record.detector, str) and _CORE_FUNCTION.match(record.detector) else core,
+        "horizon": None if record.horizon in HORIZON_KINDS else "is not one of " + ", ".join(map(str, HORIZON_KINDS)),
+        "renderer": None
+        if record.renderer is None or (isinstance(record.renderer, str) and record.renderer)
+        else "is neither a render mode nor None",
+        "report_group": None
+        if isinstance(record.report_group, str) and record.report_group
+        else "is not a report group",
+    }
+
+
 def check_modality(record: Modality) -> list[ModalityError]:
     """Every part a record lacks or gets wrong, each as a :class:`ModalityError` naming the modality and part.
 
-    Checked without importing the model: the name and its sections in ``parameters.toml`` (with
-    :data:`COMMON_PARAMETERS`) and ``presets.toml``, the model and detector as core functions, the
-    horizon kind, the threshold parameter, the renderer and the report group.
+    Checked without importing the model: every part given (not :data:`MISSING`), the name's sections in
+    ``parameters.toml`` (with :data:`COMMON_PARAMETERS`) and ``presets.toml``, the model and detector as
+    core functions, the horizon kind, the threshold parameter, the renderer and the report group.
     :func:`resolve_part` then checks that the model and detector exist.
     """
-    problems = []
+    missing = {f.name for f in fields(record) if getattr(record, f.name) is MISSING}
+    problems = [f"{part}: not given" for part in sorted(missing)]
     section = load_parameters().get(record.name)
     if section is None:
         problems.append(f"parameters: no section [{record.name}] in defaults/parameters.toml")
     else:
-        missing = [p for p in COMMON_PARAMETERS if p not in section]
-        problems += [f"parameters: [{record.name}] lacks {', '.join(missing)}"] if missing else []
-        problems += _threshold_problems(record, section)
+        lacking = [p for p in COMMON_PARAMETERS if p not in section]
+        problems += [f"parameters: [{record.name}] lacks {', '.join(lacking)}"] if lacking else []
+        problems += [] if "threshold" in missing else _threshold_problems(record, section)
     if record.name not in load_presets().get("sensor", {}):
         problems.append(f"presets: no [sensor.{record.name}] tables in defaults/presets.toml")
-    for part in ("model", "detector"):
-        value = getattr(record, part)
-        if not (isinstance(value, str) and _CORE_FUNCTION.match(value)):
-            problems.append(f"{part}: {value!r} is not a core function 'csuas.core.module:function'")
-    if record.horizon not in HORIZON_KINDS:
-        problems.append(f"horizon: {record.horizon!r} is not one of {', '.join(map(str, HORIZON_KINDS))}")
-    if record.renderer is not None and not (isinstance(record.renderer, str) and record.renderer):
-        problems.append(f"renderer: {record.renderer!r} is neither a render mode nor None")
-    if not (isinstance(record.report_group, str) and record.report_group):
-        problems.append(f"report_group: {record.report_group!r} is not a report group")
+    problems += [
+        f"{part}: {getattr(record, part)!r} {text}"
+        for part, text in _part_problems(record).items()
+        if text is not None and part not in missing
+    ]
     return [ModalityError(f"modality {record.name!r}: {text}") for text in problems]
 
 

@@ -1,8 +1,8 @@
 """Evaluate a scenario's sensors with the analytic core (the job of ``csuas range``).
 
-Each modality has one adapter that maps the scenario's canonical parameters
-(docs/scenarios.md) onto the core model and passes only the effects the scenario has
-(docs/scenarios.md (effects)): no rain rate means no rain term, no fog means no fog term.
+Each modality has one adapter (named by its record, :mod:`csuas.core.modality`) that maps the
+scenario's canonical parameters (docs/scenarios.md) onto the core model and passes only the effects the
+scenario has (docs/scenarios.md (effects)): no rain rate means no rain term, no fog means no fog term.
 """
 
 from __future__ import annotations

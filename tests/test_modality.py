@@ -12,6 +12,7 @@ from csuas.core import coverage, pd_curves, ranges
 from csuas.core.modality import (
     BY_NAME,
     RECORDS,
+    Modality,
     ModalityError,
     PartTable,
     check_declared,
@@ -83,6 +84,16 @@ def test_a_record_missing_a_part_names_the_modality_and_the_part(case):
     errors = check_modality(replace(BY_NAME["radar"], **changes))
     assert [type(e) for e in errors] == [ModalityError]
     assert str(errors[0]).startswith(f"modality 'radar': {message}")
+
+
+def test_parts_left_out_of_a_record_are_each_named():
+    errors = [str(e) for e in check_modality(Modality("radar", model="csuas.core.ranges:_radar", renderer=None))]
+    assert errors == [
+        "modality 'radar': detector: not given",
+        "modality 'radar': horizon: not given",
+        "modality 'radar': report_group: not given",
+        "modality 'radar': threshold: not given",
+    ]
 
 
 def test_a_record_without_its_sections_names_both():
