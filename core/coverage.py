@@ -32,7 +32,7 @@ from csuas.base.errors import ParameterError
 from csuas.core import units
 from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
-from csuas.core.horizon import K_OPTICAL, K_RADIO
+from csuas.core.modality import RECORDS
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
@@ -40,8 +40,8 @@ from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
 
-#: Effective Earth-radius factor of each modality's line of sight.
-K_FACTOR = {"rf": K_RADIO, "radar": K_RADIO, "eo": K_OPTICAL, "tir": K_OPTICAL, "lidar": K_OPTICAL, "acoustic": 1.0}
+#: Effective Earth-radius factor of each modality's line of sight (its record's ``horizon``, csuas.core.modality).
+K_FACTOR = {m.name: m.line_of_sight.k for m in RECORDS}
 #: Pointing and dead-zone settings of a sited sensor: default and allowed domain (:func:`require` bounds).
 POINTING = {
     "azimuth_deg": (0.0, {"ge": 0.0, "le": 360.0}),

@@ -6,8 +6,9 @@ m(R) [dB], is how far the threshold could rise and the model still reach R: the 
 evaluated once over a grid of threshold shifts (it is vectorised), and m(R) interpolated in
 log R. The SNR at R is the SNR at the threshold plus m(R), so m = 0 at the deterministic
 range, and every convention's losses (fixed paths, or attenuation growing with R) are
-included exactly as the range model has them. The detector of each modality
-(:mod:`csuas.core.detection`, :mod:`csuas.core.radar_detection`) turns that SNR into Pd; the
+included exactly as the range model has them. The detector of each modality (its record's
+``detector``, :mod:`csuas.core.modality`; the formulas of :mod:`csuas.core.detection` and
+:mod:`csuas.core.radar_detection`) turns that SNR into Pd; the
 imaging sensors use the target transfer probability function of the resolvable cycles. The
 line-of-sight horizon, when the scenario gives heights, ends every optical and radio sensor's
 reach. Every assumption is a sensor parameter with its default and source
@@ -26,6 +27,7 @@ from csuas.core.atmosphere import transmittance
 from csuas.core.checks import require
 from csuas.core.fusion import approach_looks, cumulative_pd, first_detection, fuse_k_of_n, fuse_or
 from csuas.core.horizon import line_of_sight_limit_m
+from csuas.core.modality import BY_NAME, PartTable
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.ranges import (
     ADAPTERS,
@@ -80,13 +82,6 @@ class PdCurve:
     look_rate_hz: float = 1.0
 
 
-def _threshold_key(sensor: SensorSpec) -> tuple[str, bool]:
-    """The parameter holding the sensor's detection threshold, and whether it is in dB."""
-    if sensor.modality == "radar":
-        return ("p_rx_min_w", False) if sensor.params["model"] == "range_equation" else ("snr_min_db", True)
-    return {"rf": ("s_rx_dbm", True), "acoustic": ("snr_req_db", True), "lidar": ("p_rx_min_w", False)}[sensor.modality]
-
-
 def margin_db(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) -> np.ndarray:
     """Budget margin [dB] of a threshold-limited sensor at each range: 0 at its deterministic range.
 
@@ -104,7 +99,7 @@ def margin_db(scenario: Scenario, sensor: SensorSpec, convention: str, range_m) 
         m(R) [dB], clipped to the grid's +-150 dB (Pd is saturated well before).
     """
     r_query = require("range_m", range_m, ge=0)
-    key, in_db = _threshold_key(sensor)
+    key, in_db = BY_NAME[sensor.modality].threshold_key(sensor.params)
     base = sensor.params[key]
     shifted = base + MARGIN_GRID_DB if in_db else base * 10.0 ** (MARGIN_GRID_DB / 10.0)
     model = replace(sensor, params={**sensor.params, key: shifted})
@@ -147,35 +142,29 @@ def _source(sensor: SensorSpec, key: str) -> str:
     return f"sensors.{sensor.name}.{key}" + ("" if key in sensor.explicit else " default")
 
 
-def _imaging(scenario, sensor, convention, r, result):
+def _ttpf_note(sensor: SensorSpec) -> str:
+    exponent = sensor.params["ttpf_exponent"]
+    return f"target transfer probability function, exponent {exponent} ({_source(sensor, 'ttpf_exponent')})"
+
+
+def _johnson_pd(scenario, sensor, r, cutoff_m, notes):
+    """TTPF of the cycles across d_crit (Eq. 17), 0 beyond ``cutoff_m``; its note appended to ``notes``."""
     p, t = sensor.params, scenario.target
-    exponent = p["ttpf_exponent"]
     ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
-    notes = [f"target transfer probability function, exponent {exponent} ({_source(sensor, 'ttpf_exponent')})"]
-    if sensor.modality == "tir" and p["model"] == "netd":
-        dt0, extra = thermal_contrast(scenario, sensor, convention)
-        dt = tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra)
-        snr = detection.blob_snr(dt, p["netd_mk"] / 1000.0, detection.target_pixels(t["projected_area_m2"], ifov, r))
-        notes = [
-            f"blob detection in temporal noise: SNR = |Delta T(R)| sqrt(pixels) / NETD, NETD {p['netd_mk']:g} mK "
-            f"({_source(sensor, 'netd_mk')}), below a pixel |Delta T| pixels / NETD",
-            f"Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')}): Pd = Q(Q^-1(Pfa) - SNR)",
-        ]
-        return detection.gaussian_pd(snr, p["pfa"]), notes
-    if sensor.modality == "tir" and p["model"] == "mrtd":
-        pd = _mrtd_pd(scenario, sensor, convention, r)
-        notes.append(
-            "resolvable cycles: the highest frequency whose MRTD the apparent Delta T(R) exceeds, over lp_task"
-        )
-        return pd, notes
     r50 = johnson.johnson_range_m(t["d_crit_m"], ifov, p["lp_task"], 1.0)
-    cutoff = np.inf
-    if sensor.modality == "eo":
-        cutoff = float(np.asarray(result.term("contrast_limited_range_m").value))
-        notes.append("Pd = 0 beyond the contrast-limited range (Eq. 21)")
     notes.append(f"cycles across d_crit from Eq. 17: x = R50 / R, R50 = {float(r50):.4g} m")
-    pd = detection.imaging_pd(r, r50, exponent, cutoff)
-    if sensor.modality == "eo" and convention == "physical":
+    return detection.imaging_pd(r, r50, p["ttpf_exponent"], cutoff_m)
+
+
+def _eo_pd(scenario, sensor, convention, r, result):
+    """Pd of an EO camera: the TTPF to the contrast-limited range (Eq. 21), times, in the physical
+    convention, the camera's detection of the blob above its noise."""
+    p, t = sensor.params, scenario.target
+    cutoff = float(np.asarray(result.term("contrast_limited_range_m").value))
+    notes = [_ttpf_note(sensor), "Pd = 0 beyond the contrast-limited range (Eq. 21)"]
+    pd = _johnson_pd(scenario, sensor, r, cutoff, notes)
+    if convention == "physical":
+        ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
         noise = float(np.asarray(result.term("pixel_noise_electrons").value))
         excess = abs(float(camera.luminance_excess(t["c_eo"]))) * float(
             np.asarray(result.term("background_electrons").value)
@@ -190,6 +179,29 @@ def _imaging(scenario, sensor, convention, r, result):
     return pd, notes
 
 
+def _tir_pd(scenario, sensor, convention, r, result):
+    """Pd of a thermal imager by its range model: blob detection in NETD, MRTD's resolvable cycles, or Johnson's."""
+    p, t = sensor.params, scenario.target
+    if p["model"] == "netd":
+        ifov = johnson.ifov_rad(p["hfov_deg"], p["n_h"])
+        dt0, extra = thermal_contrast(scenario, sensor, convention)
+        dt = tir.attenuated_delta_t(dt0, r, p["extinction_db_km"], convention, **extra)
+        snr = detection.blob_snr(dt, p["netd_mk"] / 1000.0, detection.target_pixels(t["projected_area_m2"], ifov, r))
+        notes = [
+            f"blob detection in temporal noise: SNR = |Delta T(R)| sqrt(pixels) / NETD, NETD {p['netd_mk']:g} mK "
+            f"({_source(sensor, 'netd_mk')}), below a pixel |Delta T| pixels / NETD",
+            f"Gaussian threshold at Pfa = {p['pfa']:g} ({_source(sensor, 'pfa')}): Pd = Q(Q^-1(Pfa) - SNR)",
+        ]
+        return detection.gaussian_pd(snr, p["pfa"]), notes
+    notes = [_ttpf_note(sensor)]
+    if p["model"] == "mrtd":
+        notes.append(
+            "resolvable cycles: the highest frequency whose MRTD the apparent Delta T(R) exceeds, over lp_task"
+        )
+        return _mrtd_pd(scenario, sensor, convention, r), notes
+    return _johnson_pd(scenario, sensor, r, np.inf, notes), notes
+
+
 def _mrtd_pd(scenario, sensor, convention, r):
     """TTPF of the resolvable cycles f*(R) d_crit / (lp R), f* where MRTD(f*) = |Delta T(R)|."""
     p, t = sensor.params, scenario.target
@@ -202,50 +214,90 @@ def _mrtd_pd(scenario, sensor, convention, r):
     return detection.ttpf_probability(np.where(np.isnan(x), 0.0, x), p["ttpf_exponent"])
 
 
-def _threshold_pd(scenario, sensor, convention, r):
+def _margin_and_pfa(scenario, sensor, convention, r):
+    """A threshold sensor's margin at each range [dB] (:func:`margin_db`), its Pfa and the note of the Pfa."""
+    pfa = sensor.params["pfa"]
+    return margin_db(scenario, sensor, convention, r), pfa, [f"Pfa = {pfa:g} ({_source(sensor, 'pfa')})"]
+
+
+def _radar_pd(scenario, sensor, convention, r, result):
+    """Pd of a radar: square-law detection of the integrated pulses, Swerling or the drone's own aspect RCS.
+
+    ``result`` (the deterministic range) is not needed: the margin re-reads the model.
+    """
     p = sensor.params
-    m = margin_db(scenario, sensor, convention, r)
-    pfa = p["pfa"]
-    notes = [f"Pfa = {pfa:g} ({_source(sensor, 'pfa')})"]
-    if sensor.modality == "radar":
-        n, integration = int(p["n_pulses"]), p["integration"]
-        gain_db = 10 * np.log10(float(radar.integration_gain(n, integration, convention)))
-        snr1_db = p["snr_min_db"] - gain_db
-        swerling = int(p["swerling"])
-        if integration == "none":
-            n, mode = 1, "noncoherent"
-        else:
-            mode = integration
-        notes += [
-            f"{n} pulse(s), {mode} integration",
-            f"single-pulse SNR at the deterministic range: snr_min_db - integration gain = {snr1_db:.4g} dB",
-        ]
-        fluctuation = p.get("fluctuation", "swerling")
-        if fluctuation == "swerling":
-            notes.insert(1, f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})")
-            return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
-        polarisation = fluctuation.removeprefix("aspect_").upper()
-        frequency_ghz = C_LIGHT / radar.radar_wavelength_m(p, convention) / 1e9
-        dof, band = rcs_statistics.aspect_chi_square_dof(scenario.target_preset, frequency_ghz, polarisation)
-        notes.insert(
-            1,
-            f"square-law detector, RCS of {scenario.target_preset} over aspects, scan to scan: chi-square with "
-            f"{dof:.3g} degrees of freedom ({polarisation}, {band:g} GHz band of defaults/drone_rcs_statistics.csv)",
-        )
-        return rcs_statistics.pd_chi_square_target(snr1_db + m, pfa, n, dof, mode), notes
-    if sensor.modality in ("rf", "acoustic"):
-        reference = p["snr_at_sensitivity_db"] if sensor.modality == "rf" else p["snr_req_db"]
-        fading = p.get("fading", "none")
-        notes.append(f"energy detector, M = {p['time_bandwidth']:g} ({_source(sensor, 'time_bandwidth')})")
-        if sensor.modality == "rf":
-            notes.append(f"SNR {reference:g} dB at s_rx_dbm ({_source(sensor, 'snr_at_sensitivity_db')})")
-            notes.append(f"fading {fading}" + (f", K = {p['rician_k_db']:g} dB" if fading == "rician" else ""))
-        else:
-            notes.append(f"SNR at the threshold: snr_req_db = {reference:g} dB")
-        return (
-            detection.energy_detector_pd(reference + m, pfa, p["time_bandwidth"], fading, p.get("rician_k_db", 0.0)),
-            notes,
-        )
+    m, pfa, notes = _margin_and_pfa(scenario, sensor, convention, r)
+    n, integration = int(p["n_pulses"]), p["integration"]
+    gain_db = 10 * np.log10(float(radar.integration_gain(n, integration, convention)))
+    snr1_db = p["snr_min_db"] - gain_db
+    swerling = int(p["swerling"])
+    if integration == "none":
+        n, mode = 1, "noncoherent"
+    else:
+        mode = integration
+    notes += [
+        f"{n} pulse(s), {mode} integration",
+        f"single-pulse SNR at the deterministic range: snr_min_db - integration gain = {snr1_db:.4g} dB",
+    ]
+    fluctuation = p.get("fluctuation", "swerling")
+    if fluctuation == "swerling":
+        notes.insert(1, f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})")
+        return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
+    polarisation = fluctuation.removeprefix("aspect_").upper()
+    frequency_ghz = C_LIGHT / radar.radar_wavelength_m(p, convention) / 1e9
+    dof, band = rcs_statistics.aspect_chi_square_dof(scenario.target_preset, frequency_ghz, polarisation)
+    notes.insert(
+        1,
+        f"square-law detector, RCS of {scenario.target_preset} over aspects, scan to scan: chi-square with "
+        f"{dof:.3g} degrees of freedom ({polarisation}, {band:g} GHz band of defaults/drone_rcs_statistics.csv)",
+    )
+    return rcs_statistics.pd_chi_square_target(snr1_db + m, pfa, n, dof, mode), notes
+
+
+def _energy_pd(sensor, snr_db, pfa):
+    """The energy detector's Pd at each SNR [dB] with the sensor's M, fading and Rician K."""
+    p = sensor.params
+    fading = p.get("fading", "none")
+    return detection.energy_detector_pd(snr_db, pfa, p["time_bandwidth"], fading, p.get("rician_k_db", 0.0))
+
+
+def _energy_note(sensor) -> str:
+    return f"energy detector, M = {sensor.params['time_bandwidth']:g} ({_source(sensor, 'time_bandwidth')})"
+
+
+def _rf_pd(scenario, sensor, convention, r, result):
+    """Pd of an RF detector: an energy detector, its SNR given at the sensitivity, with the link's fading.
+
+    ``result`` (the deterministic range) is not needed: the margin re-reads the model.
+    """
+    p = sensor.params
+    m, pfa, notes = _margin_and_pfa(scenario, sensor, convention, r)
+    reference, fading = p["snr_at_sensitivity_db"], p.get("fading", "none")
+    notes.append(_energy_note(sensor))
+    notes.append(f"SNR {reference:g} dB at s_rx_dbm ({_source(sensor, 'snr_at_sensitivity_db')})")
+    notes.append(f"fading {fading}" + (f", K = {p['rician_k_db']:g} dB" if fading == "rician" else ""))
+    return _energy_pd(sensor, reference + m, pfa), notes
+
+
+def _acoustic_pd(scenario, sensor, convention, r, result):
+    """Pd of an acoustic array: an energy detector at the required SNR.
+
+    ``result`` (the deterministic range) is not needed: the margin re-reads the model.
+    """
+    m, pfa, notes = _margin_and_pfa(scenario, sensor, convention, r)
+    reference = sensor.params["snr_req_db"]
+    notes.append(_energy_note(sensor))
+    notes.append(f"SNR at the threshold: snr_req_db = {reference:g} dB")
+    return _energy_pd(sensor, reference + m, pfa), notes
+
+
+def _lidar_pd(scenario, sensor, convention, r, result):
+    """Pd of a lidar: photon counting (Poisson) or a linear-mode receiver in Gaussian noise.
+
+    ``result`` (the deterministic range) is not needed: the margin re-reads the model.
+    """
+    p = sensor.params
+    m, pfa, notes = _margin_and_pfa(scenario, sensor, convention, r)
     if p["detector"] == "poisson":
         signal = p["photons_at_threshold"] * 10.0 ** (m / 10.0)
         notes.append(
@@ -258,6 +310,10 @@ def _threshold_pd(scenario, sensor, convention, r):
         "(SNR grows as the square of the received power)"
     )
     return detection.lidar_pd_gaussian(p["snr_at_threshold_db"] + 2.0 * m, pfa), notes
+
+
+#: Modality -> its detector (each record's ``detector``, csuas.core.modality).
+DETECTORS = PartTable("detector")
 
 
 def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | None = None) -> PdCurve:
@@ -282,10 +338,7 @@ def sensor_pd(scenario: Scenario, sensor_name: str, range_m, convention: str | N
     deterministic = float(np.asarray(result.range_m))
     # the grid and the deterministic range in one evaluation (a threshold sensor's margin is read once)
     at = np.append(r.ravel(), deterministic)
-    if sensor.modality in ("eo", "tir"):
-        pd_at, notes = _imaging(scenario, sensor, conv, at, result)
-    else:
-        pd_at, notes = _threshold_pd(scenario, sensor, conv, at)
+    pd_at, notes = DETECTORS[sensor.modality](scenario, sensor, conv, at, result)
     pd = np.asarray(pd_at, dtype=float)[:-1].reshape(r.shape)
     at_deterministic = float(pd_at[-1]) if deterministic > 0 else None  # a zero range crosses no threshold
     horizon, note = _horizon(scenario, sensor)

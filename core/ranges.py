@@ -1,8 +1,8 @@
 """Evaluate a scenario's sensors with the analytic core (the job of ``csuas range``).
 
-Each modality has one adapter that maps the scenario's canonical parameters
-(docs/scenarios.md) onto the core model and passes only the effects the scenario has
-(docs/scenarios.md (effects)): no rain rate means no rain term, no fog means no fog term.
+Each modality has one adapter (named by its record, :mod:`csuas.core.modality`) that maps the
+scenario's canonical parameters (docs/scenarios.md) onto the core model and passes only the effects the
+scenario has (docs/scenarios.md (effects)): no rain rate means no rain term, no fog means no fog term.
 """
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ import numpy as np
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, kruse_extinction_per_km, rain_extinction_per_km, transmittance
-from csuas.core.horizon import K_OPTICAL, K_RADIO, line_of_sight_limit_m
+from csuas.core.horizon import line_of_sight_limit_m
+from csuas.core.modality import RECORDS, PartTable
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
@@ -307,7 +308,8 @@ def _lidar(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     )
 
 
-ADAPTERS = {"eo": _eo, "tir": _tir, "acoustic": _acoustic, "rf": _rf, "radar": _radar, "lidar": _lidar}
+#: Modality -> its adapter from the scenario to the model (each record's ``model``, csuas.core.modality).
+ADAPTERS = PartTable("model")
 
 
 def _with_key_path(scenario: Scenario, name: str, error):
@@ -377,14 +379,9 @@ def evaluate(scenario: Scenario, convention: str | None = None) -> dict:
     return results
 
 
-#: Modality -> (effective Earth-radius factor, name) of its horizon; acoustic ranges are not capped.
-HORIZONS = {
-    "rf": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
-    "radar": (K_RADIO, "4/3-Earth radio horizon (ITU-R P.834)"),
-    "eo": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
-    "tir": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
-    "lidar": (K_OPTICAL, "optical horizon, refraction coefficient 0.13"),
-}
+#: Modality -> (effective Earth-radius factor, name) of the horizon that caps its range (each record's
+#: ``horizon``); a modality without one (acoustic) is not capped.
+HORIZONS = {m.name: (m.line_of_sight.k, m.line_of_sight.label) for m in RECORDS if m.line_of_sight.label is not None}
 #: Heights of the flag raised when a scenario gives no sensor height: a mast-less sensor, a drone at
 #: the 120 m ceiling of open-category flight [m].
 REFERENCE_SENSOR_HEIGHT_M, REFERENCE_TARGET_HEIGHT_M = 2.0, 120.0

@@ -209,7 +209,7 @@ def _resolve_sensor(name: str, table) -> SensorSpec:
     values, explicit, origin = _defaults(modality), set[str](), dict[str, str]()
     _apply(modality, values, _preset("sensor", preset, modality), explicit, origin, f"preset {preset}")
     _apply(modality, values, _given(table), explicit, origin, "scenario")
-    if modality in ("eo", "tir"):
+    if "lp_task" in values:  # an imaging sensor, ranged by the Johnson criteria (eo, tir)
         _derive_imaging(name, values, explicit, origin)
     if modality == "radar":
         _check_radar(name, values, explicit)
@@ -299,7 +299,7 @@ def plausibility_warnings(sensor: SensorSpec) -> list[str]:
     2 deg is named as the likely radian. One warning per sensor.
     """
     p = sensor.params
-    if sensor.modality not in ("eo", "tir"):
+    if not {"hfov_deg", "vfov_deg", "n_h", "n_v"} <= p.keys():  # not an imaging sensor
         return []
     h, v = p["hfov_deg"], p["vfov_deg"]
     optical = math.tan(math.radians(min(h, 179.0)) / 2) / math.tan(math.radians(min(v, 179.0)) / 2)

@@ -40,9 +40,8 @@ else:  # pragma: no cover
 
 from csuas.base.errors import CsuasError
 
-#: Sections of parameters.toml, in the order of the paper.
-SECTIONS = ("target", "environment", "eo", "tir", "acoustic", "rf", "radar", "lidar")
-MODALITIES = ("eo", "tir", "acoustic", "rf", "radar", "lidar")
+#: Sections of parameters.toml that are not a sensor modality.
+SCENE_SECTIONS = ("target", "environment")
 
 
 def _load(name: str) -> dict:
@@ -90,6 +89,11 @@ def load_presets() -> dict:
 def load_sensitivity() -> dict:
     """One-at-a-time analyses of Section 4.9 (Tables 48-51) and the platform table (Table 52)."""
     return _load("sensitivity.toml")
+
+
+#: The sensor modalities: the other sections of parameters.toml, in its order (the paper's). Each has its
+#: record in ``csuas.core.modality`` (the layer above), which checks that they agree.
+MODALITIES = tuple(section for section in load_parameters() if section not in SCENE_SECTIONS)
 
 
 def default_values(section: str) -> dict:
