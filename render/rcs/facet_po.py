@@ -22,6 +22,10 @@ independently of the ray tracer.
 Scope: back-face culling is the only shadowing, so the reference holds for
 convex bodies (sphere, almond, plate, finite cylinder) and single reflections;
 PO, not the exact solution (the exact sphere is the Mie series).
+
+Users: the validation oracles of the SBR engine (validation/rcs, validation/report/checks_rcs.py)
+and the rotor micro-Doppler (:mod:`csuas.render.rcs.micro_doppler`), which needs the complex amplitude
+of thin blades at thousands of aspects; it lives in render/ so that both layers can import it.
 """
 
 from __future__ import annotations
