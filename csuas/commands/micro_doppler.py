@@ -137,6 +137,7 @@ def run(args) -> dict:
         "rcs_spinning_m2": result.rcs_spinning_m2,
         "rcs_at_rest_m2": result.rcs_at_rest_m2,
         "body_rcs_m2": result.body_rcs_m2,
+        "body_bound_db": result.body_bound_db if np.isfinite(result.body_bound_db) else None,
         "spectrum": {
             "frequency_hz": result.frequency_hz.tolist(),
             "rcs_dbsm": [float(v) for v in to_dbsm(result.spectrum_m2)],
@@ -151,18 +152,25 @@ def run(args) -> dict:
     return record
 
 
+def _db(value_m2: float) -> float:
+    return 10.0 * np.log10(max(value_m2, 1e-30))
+
+
 def render_text(result: dict) -> str:
     """Summary of ``csuas micro-doppler``."""
+    bound = "none" if result["body_bound_db"] is None else f"{result['body_bound_db']:.2f} dB"
     strongest = sorted((x for x in result["lines"] if x["order"] != 0), key=lambda x: -x["power"])[:3]
     return "\n".join(
         [
             f"Rotor micro-Doppler of {result['preset']} at {result['frequency_ghz']:g} GHz, {result['rpm']:g} rpm, "
             f"PRF {result['prf_hz']:g} Hz, dwell {result['dwell_s']:g} s ({result['window']} window)",
-            f"  blade-flash period {1e3 * result['flash_period_s']:.3f} ms, lines every {result['line_spacing_hz']:g} Hz, "
+            f"  blade-flash period {1e3 * result['flash_period_s']:.3f} ms, "
+            f"lines every {result['line_spacing_hz']:g} Hz, "
             f"max tip Doppler {result['max_tip_doppler_hz']:.0f} Hz"
             + ("  ALIASED (PRF < 2 f_tip)" if result["aliased"] else ""),
-            f"  time-mean RCS of the spinning blades {10 * np.log10(result['rcs_spinning_m2']):.1f} dBsm, at rest "
-            f"{10 * np.log10(result['rcs_at_rest_m2']):.1f} dBsm; body {10 * np.log10(result['body_rcs_m2']):.1f} dBsm",
+            f"  time-mean RCS of the spinning blades {_db(result['rcs_spinning_m2']):.1f} dBsm, at rest "
+            f"{_db(result['rcs_at_rest_m2']):.1f} dBsm; body {_db(result['body_rcs_m2']):.1f} dBsm "
+            f"(bound {bound})",
             "  strongest lines: " + ", ".join(f"{x['frequency_hz']:g} Hz {x['rcs_dbsm']:.1f} dBsm" for x in strongest),
             f"  model: {result['model_limits']}",
             f"  {result['time_s']:.1f} s; files: {result['json']}, {result['png']}",

@@ -164,12 +164,16 @@ def _row(n: int, tip_hz: float, po) -> dict:
     }
 
 
-def drone_lines(_knob=None) -> Section:
-    """The Mini 4 Pro's four rotors (both spins): lines only at multiples of N Omega = 200 Hz."""
+def drone_lines(dwell_s=DWELL_S) -> Section:
+    """The Mini 4 Pro's four rotors (both spins): lines only at multiples of N Omega = 200 Hz.
+
+    ``dwell_s`` [s], a whole number of flash periods (5 ms), is the report's knob: longer dwells resolve
+    the lines more finely.
+    """
     from csuas.render.rcs.micro_doppler import micro_doppler
 
     s = Section()
-    result = micro_doppler("dji_mini_4_pro", FREQUENCY_GHZ, 20_000.0, DWELL_S, 6000.0, (0.0, 10.0), "rectangular")
+    result = micro_doppler("dji_mini_4_pro", FREQUENCY_GHZ, 20_000.0, dwell_s, 6000.0, (0.0, 10.0), "rectangular")
     blades = result.spectrum_m2.copy()
     blades[result.frequency_hz == 0.0] = 0.0  # the body's static return
     on_grid = np.isclose(result.frequency_hz % result.line_spacing_hz, 0.0) | np.isclose(
@@ -219,6 +223,8 @@ SPECS = [
         "power outside the multiples of N Omega in the four-rotor spectrum (body's zero-Doppler line excluded)",
         f"{OFF_LINE_FRACTION:g} of the total (float64 round-off)",
         drone_lines,
+        knob="dwell_s",
+        knob_values={"quick": 0.05, "full": 0.2},
         simulated=True,
     ),
 ]
