@@ -7,6 +7,7 @@ flat rectangular blades, which equals Eq. MD-1a times ``w sin(beta)`` exactly.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -109,3 +110,21 @@ def test_mini_4_pro_spectrum_has_lines_only_at_multiples_of_n_omega():
     assert blades[off].sum() < 1e-9 * blades.sum()
     parseval = np.mean(np.abs(result.field_m) ** 2) * 4 * np.pi / (C / 10e9) ** 2  # rectangular window
     assert result.spectrum_m2.sum() == pytest.approx(parseval, rel=1e-9)
+
+
+def test_cli_writes_the_json_and_png_and_refuses_an_aliasing_prf(tmp_path, capsys):
+    from csuas import cli
+
+    out = tmp_path / "md"
+    code = cli.main(["micro-doppler", "dji_mini_4_pro", "--out", str(out), "--dwell-s", "0.02", "--json"])
+    printed = json.loads(capsys.readouterr().out)
+    written = json.loads((out / "micro_doppler.json").read_text())
+    assert code == 0 and (out / "micro_doppler.png").stat().st_size > 0
+    assert printed["line_spacing_hz"] == written["line_spacing_hz"] == pytest.approx(200.0)
+    assert written["flash_period_s"] == pytest.approx(0.005) and not written["aliased"]
+    assert len(written["spectrum"]["frequency_hz"]) == 400  # 20 kHz x 0.02 s
+    assert cli.main(["micro-doppler", "dji_mini_4_pro", "--out", str(tmp_path / "x"), "--prf-hz", "3000"]) == 2
+    assert "prf_hz" in capsys.readouterr().err and not (tmp_path / "x").exists()
+    code = cli.main(["micro-doppler", "dji_mini_4_pro", "--out", str(tmp_path / "y"), "--rpm", "-5", "--dwell-s", "0"])
+    err = capsys.readouterr().err
+    assert code == 2 and "rpm" in err and "dwell_s" in err
