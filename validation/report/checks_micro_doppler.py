@@ -93,20 +93,7 @@ def blade_cases(_knob=None) -> Section:
         common = {"time_s": elapsed, "source": SOURCE, "method": "csuas.render.rcs.micro_doppler.rotor_field (PO)"}
         envelope = np.abs(_line_amplitudes(np.abs(po) ** 2)) ** 2
         envelope_lines = envelope > OFF_LINE_FRACTION * envelope.max()
-        wavelength = wavelength_m(FREQUENCY_GHZ)
-        time_mean = float(np.mean(np.abs(po) ** 2)) * 4.0 * np.pi / wavelength**2
-        s.outcomes.append(
-            Check(
-                f"md.blades{n}.time_mean_rcs_m2",
-                time_mean_rcs_m2(n, chord),
-                time_mean,
-                1e-9 * time_mean,
-                "m^2",
-                time_s=elapsed,
-                source="adaptive quadrature (scipy.integrate.quad) of |Eq. MD-1a|^2 w^2 sin^2(beta) over one turn",
-                method="mean of the PO slow-time samples (whole periods, sampled above twice the band of |s|^2)",
-            )
-        )
+        s.outcomes.append(_time_mean_check(n, chord, po, elapsed))
         mirror = np.abs(np.abs(spectrum) - np.abs(np.roll(spectrum[::-1], 1))).max() / np.abs(spectrum).max()
         s.outcomes += [
             Check(
@@ -163,6 +150,23 @@ def blade_cases(_knob=None) -> Section:
         ]
         s.table.append(_row(n, md.max_tip_doppler_hz(BLADE_LENGTH_M, RATE_HZ, FREQUENCY_GHZ, ELEVATION_DEG), po))
     return s
+
+
+def _time_mean_check(n: int, chord_m: float, po, elapsed: float) -> Check:
+    """The PO rotor's time-mean RCS against :func:`time_mean_rcs_m2`."""
+    from csuas.core.units import wavelength_m
+
+    time_mean = float(np.mean(np.abs(po) ** 2)) * 4.0 * np.pi / wavelength_m(FREQUENCY_GHZ) ** 2
+    return Check(
+        f"md.blades{n}.time_mean_rcs_m2",
+        time_mean_rcs_m2(n, chord_m),
+        time_mean,
+        1e-9 * time_mean,
+        "m^2",
+        time_s=elapsed,
+        source="adaptive quadrature (scipy.integrate.quad) of |Eq. MD-1a|^2 w^2 sin^2(beta) over one turn",
+        method="mean of the PO slow-time samples (whole periods, sampled above twice the band of |s|^2)",
+    )
 
 
 def time_mean_rcs_m2(n_blades: int, chord_m: float) -> float:
