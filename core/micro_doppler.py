@@ -14,7 +14,12 @@ projection of the line of sight toward the radar. Chen writes ``exp(-j Phi_k)`` 
 measured from the line of sight away from the radar (his range grows along the blade); this is the
 same signal with this package's phase convention ``exp(+2 j k d . r)`` (``d`` toward the radar, the
 convention of :mod:`csuas.render.rcs.facet_po`), in which an approaching scatterer has a positive
-Doppler frequency. The hub's constant phase ``exp(-j 4 pi R_0 / lambda)`` is dropped.
+Doppler frequency. The hub's constant phase ``exp(-j 4 pi R_0 / lambda)`` is dropped. Chen & Ling,
+*Time-Frequency Transforms for Radar Imaging and Signal Analysis*, Artech House, 2002, Eq. (8.19),
+print the same sum with ``sin(Omega t + theta_0 + 2 pi k / N)`` (blade azimuth from the perpendicular
+to the line of sight). The section numbers above are cited from the sources' structure; the
+expression itself is re-derived here (the line integral of ``exp(2 j k d . r)`` along the blade,
+checked numerically in tests/test_micro_doppler.py).
 
 A blade flashes (``sinc`` at its peak ``1``) when it stands perpendicular to the line of sight. With
 ``N`` blades the flash pattern repeats every ``1 / (N Omega)`` for even ``N`` (a blade and its
