@@ -103,8 +103,10 @@ def drone_rotors(preset: str) -> tuple[list, object]:
     -------
     (list of Rotor, Drone)
     """
-    from csuas.drone_models.presets import build_drone, preset_parameters
+    from csuas.drone_models.presets import build_drone, list_presets, preset_parameters
 
+    if preset not in list_presets():
+        raise ParameterError("preset", preset, "a drone preset with rotor blades: " + ", ".join(list_presets()))
     _, params, _ = preset_parameters(preset)
     n_blades = int(getattr(params, "n_blades", 2))
     drone = build_drone(preset, propellers="blades")
