@@ -40,6 +40,8 @@ COMMANDS = {
     "log-normal and chi-square fits), the table the radar's aspect-fluctuation model reads",
     "rcs-table": "per-aspect RCS table of a drone preset or mesh (azimuth x elevation x frequency x "
     "polarisation, each cell's bound) as MATLAB rcsSignature .mat, OSI-style .csv or NetCDF .nc",
+    "micro-doppler": "Doppler spectrum of a drone's spinning rotor blades (physical optics): lines at multiples of "
+    "blades x rotation rate, blade-flash period, time-averaged RCS spinning vs at rest (JSON and a PNG)",
     "render": "EO, thermal and lidar renders of a scenario's drone at slant ranges: pixels on target, contrast, "
     "Delta T, lidar cross-section",
     "report": "validation report: every cross-check of the analytic core against the simulators, with a baseline",

@@ -282,6 +282,10 @@ ROWS = [
 
 #: Public functions whose references live in a dedicated test file.
 COVERED_ELSEWHERE = {
+    "micro_doppler.rotor_blade_signal": "tests/test_micro_doppler.py (line integral, PO of flat blades)",
+    "micro_doppler.blade_flash_period_s": "tests/test_micro_doppler.py (Chen 2006 Sec. V, 1/(N Omega), 1/(2 N Omega))",
+    "micro_doppler.line_spacing_hz": "tests/test_micro_doppler.py (N Omega; spectrum of the closed form)",
+    "micro_doppler.max_tip_doppler_hz": "tests/test_micro_doppler.py (2 v_tip cos(beta) / lambda)",
     "rcs_statistics.fit_chi_square": "tests/test_rcs_statistics.py (gamma samples)",
     "detection.target_pixels": "tests/test_tir_netd.py (closed form)",
     "terrain.curvature_drop_m": "tests/test_terrain.py (closed form)",

@@ -3,7 +3,7 @@
 A test population of canonical targets, the NASA almond and the drone model at random aspects:
 ``error_db`` of a run must cover its true error against a converged reference in at least 95 % of
 (case, aspect, polarisation) entries. References: the exact faceted physical optics of the same mesh
-(validation/rcs/facet_po.py, itself checked against the PO sphere formula and the plate's closed form
+(render/rcs/facet_po.py, itself checked against the PO sphere formula and the plate's closed form
 in tests/test_rcs_facet_po.py) for convex targets and plates; for the tube-sampled cases (corner
 reflectors off their axes, the drone with its thin shells) the engine at four to eight times the
 tube density, whose own estimate is added to the bound.
@@ -18,6 +18,7 @@ import pytest
 
 from csuas.core.units import wavelength_m
 from csuas.render.rcs import canonical
+from csuas.render.rcs.facet_po import facet_po_sigma_m2
 from csuas.render.rcs.solver import (
     BOUND_LEVEL,
     ERROR_FLOOR_DB,
@@ -26,7 +27,6 @@ from csuas.render.rcs.solver import (
     get_engine,
     replica_error_db,
 )
-from csuas.validation.rcs.facet_po import facet_po_sigma_m2
 
 RNG = np.random.default_rng(2024)
 F_GHZ = 10.0

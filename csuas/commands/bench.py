@@ -15,6 +15,7 @@ SUITES = {
     "rcs_sbr": "csuas.validation.rcs.bench:bench_sbr",
     "rcs_memory": "csuas.validation.rcs.bench:bench_memory",
     "rcs_po_accuracy": "csuas.validation.rcs.bench:bench_po_accuracy",
+    "rcs_micro_doppler": "csuas.validation.rcs.micro_doppler_bench:bench_micro_doppler",
     "sionna_links": "csuas.validation.links.bench:bench_links",
     "lidar_lcs": "csuas.validation.lidar.bench:bench",
     "render_window": "csuas.validation.imaging.bench:bench_window_vs_full_frame",

@@ -161,7 +161,7 @@ def bench_po_accuracy(max_error_db: float = 0.5, densities=(5, 10, 20, 40, 80, 1
     """Rays, time and memory to reach ``max_error_db`` against exact PO, before and after the exact first hits.
 
     Targets: a PEC sphere at ka = 5 and ka = 20 (10 GHz) and the NASA almond at 9.92 GHz, ``n_aspects``
-    random aspects each, VV and HH, against :func:`csuas.validation.rcs.facet_po.facet_po_sigma_m2`.
+    random aspects each, VV and HH, against :func:`csuas.render.rcs.facet_po.facet_po_sigma_m2`.
     *Before*: tubes alone on one grid (``exact_first_hits=False``, the engine of Ling et al.), at
     increasing density until the largest error meets the target; *after*: the default engine at the
     draft density (2 rays per wavelength, one grid). ``peak_rss_gib`` is the process's high-water
@@ -174,7 +174,7 @@ def bench_po_accuracy(max_error_db: float = 0.5, densities=(5, 10, 20, 40, 80, 1
         ``max_error_db``, ``tubes``, ``ray_casts``, ``time_s`` (warm), ``peak_rss_gib``.
     """
     from csuas.render.rcs import canonical
-    from csuas.validation.rcs.facet_po import facet_po_sigma_m2
+    from csuas.render.rcs.facet_po import facet_po_sigma_m2
 
     rng = np.random.default_rng(3)
     az = rng.uniform(0.0, 360.0, n_aspects)

@@ -5,7 +5,7 @@ dihedral 8 pi a^2 b^2/lambda^2, square trihedral 12 pi a^4/lambda^2,
 triangular trihedral, cylinder 2 pi r L^2/lambda, sphere ka = 50 (physical
 optics value), as listed by :func:`csuas.render.rcs.convergence.canonical_cases`;
 the exact faceted physical optics of PEC spheres (ka 3-50) and the NASA almond
-(:mod:`csuas.validation.rcs.facet_po`); the EFIE of bempp-cl for the sphere
+(:mod:`csuas.render.rcs.facet_po`); the EFIE of bempp-cl for the sphere
 (against Mie), plates with and without edge diffraction, a cylinder and a drone
 arm with its motor (:mod:`csuas.validation.rcs.fullwave_checks`, ``--full``
 only: numba compiles bempp-cl's kernels for 35 s); the shipped drone RCS
@@ -166,8 +166,8 @@ TR38901_SMALL_UAV = {"mean_dbsm": -12.81, "spread_db": 3.74}
 def po_oracle(quality: str) -> Section:
     """SBR-PO against the exact faceted PO of PEC spheres (ka 3-50) and the NASA almond, VV and HH."""
     from csuas.render.rcs import canonical
+    from csuas.render.rcs.facet_po import facet_po_sigma_m2
     from csuas.render.rcs.solver import compute_rcs
-    from csuas.validation.rcs.facet_po import facet_po_sigma_m2
     from csuas.validation.rcs.fullwave_checks import mie_pec_over_pia2
 
     s = Section()
@@ -199,7 +199,7 @@ def po_oracle(quality: str) -> Section:
                         "dBsm",
                         error_estimate=float(res.error_db[0, i, 0, rx, tx]),
                         time_s=elapsed / (2 * len(az)),
-                        source="exact faceted physical optics of the same mesh (csuas.validation.rcs.facet_po)",
+                        source="exact faceted physical optics of the same mesh (csuas.render.rcs.facet_po)",
                         method=f"SBR-PO, PEC, {f:g} GHz, {quality}: {res.rays_per_wavelength:g} rays per wavelength "
                         f"x {res.replicas} replicas, exact first hits",
                         tolerance_source="target of the PO accuracy (0.5 dB at ka 3-50 and on the almond)",

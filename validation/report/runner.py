@@ -26,6 +26,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_conventions:SPECS",
     "csuas.validation.report.checks_links:SPECS",
     "csuas.validation.report.checks_rcs:SPECS",
+    "csuas.validation.report.checks_micro_doppler:SPECS",
     "csuas.validation.report.checks_lidar:SPECS",
     "csuas.validation.report.checks_imaging:SPECS",
     "csuas.validation.report.checks_detection:SPECS",

@@ -22,6 +22,10 @@ independently of the ray tracer.
 Scope: back-face culling is the only shadowing, so the reference holds for
 convex bodies (sphere, almond, plate, finite cylinder) and single reflections;
 PO, not the exact solution (the exact sphere is the Mie series).
+
+Users: the validation oracles of the SBR engine (validation/rcs, validation/report/checks_rcs.py)
+and the rotor micro-Doppler (:mod:`csuas.render.rcs.micro_doppler`), which needs the complex amplitude
+of thin blades at thousands of aspects; it lives in render/ so that both layers can import it.
 """
 
 from __future__ import annotations
@@ -33,6 +37,9 @@ from csuas.drone_models.geometry import direction_vector
 
 #: Below this |x| the exponential quotients use their Taylor series [rad].
 _SERIES_BELOW = 1e-3
+
+#: Aspects x facets evaluated at once (bounds the memory of the vectorised sum, about 100 MB).
+_CHUNK_ELEMENTS = 1_000_000
 
 
 def _e1(x):
@@ -105,12 +112,13 @@ def facet_po_amplitude(vertices, faces, frequency_ghz: float, azimuth_deg, eleva
     normal = cross / area2[:, None]
     d = np.atleast_2d(direction_vector(np.atleast_1d(azimuth_deg), np.atleast_1d(elevation_deg)))
     out = np.empty(len(d), complex)
-    for i, di in enumerate(d):
-        cos_i = normal @ di
-        lit = cos_i > 0
-        p0, p1, p2 = (2 * k * (r[lit] @ di) for r in (r0, r1, r2))
-        integral = area2[lit] * np.exp(1j * p0) * simplex_phase_integral(p1 - p0, p2 - p0)
-        out[i] = np.sum(cos_i[lit] * integral)
+    chunk = max(1, _CHUNK_ELEMENTS // max(len(normal), 1))
+    for first in range(0, len(d), chunk):
+        dc = d[first : first + chunk]
+        cos_i = dc @ normal.T  # (aspects, facets)
+        p0, p1, p2 = (2 * k * (dc @ r.T) for r in (r0, r1, r2))
+        integral = area2 * np.exp(1j * p0) * simplex_phase_integral(p1 - p0, p2 - p0)
+        out[first : first + chunk] = np.sum(np.where(cos_i > 0, cos_i * integral, 0.0), axis=1)
     return out
 
 

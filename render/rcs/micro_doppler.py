@@ -1,0 +1,296 @@
+"""Micro-Doppler of a drone's spinning rotors: the slow-time field, its spectrum and the blade flashes.
+
+The rotor blades of a preset (its ``propeller`` parts built as blades,
+:func:`csuas.drone_models.build_drone` ``propellers="blades"``) turn about their vertical rotor axes;
+at each slow-time sample the complex monostatic physical-optics amplitude of every rotor is the
+faceted-PO integral of :func:`csuas.render.rcs.facet_po.facet_po_amplitude` over its blades turned by
+the rotor's angle. Turning a rotor by ``psi`` about its axis through ``c`` equals turning the radar
+direction ``d`` by ``-psi`` (azimuth ``az - psi``) with the phase ``exp(2 j k (d - d_psi) . c)``, so each
+sample is one aspect of the rotor at rest. The body (every other part) is static: its RCS is one SBR-PO
+run (:func:`csuas.render.rcs.solver.compute_rcs`) and it adds a constant of that magnitude, phase 0
+(the engine returns powers, not the body's phase against the blades), i.e. the zero-Doppler line,
+with the run's bound against the exact answer (standard quality, VV). The blades' facet integrals
+are exact (float64), so their field has no discretisation error; PO's own model error for blades a
+few wavelengths long and a fraction of one wide is not bounded here.
+
+Model limits (stated in every result): blades and body are perfect conductors (an upper bound; the
+presets' plastic blades reflect less, the RF materials are issue 26 Section 2's open item); PO with
+back-face culling only, so no shadowing of blades by the body or by each other and no multiple
+reflections between them; blades are rigid and flat (no twist, no flapping); the rotation rate is
+the same for every rotor, diagonal pairs turning the same way (the X-quadcopter convention; which
+pair turns clockwise is assumed and does not change the magnitude spectrum's lines); a helicopter's
+tail rotor stays still, part of the body.
+
+The spectrum is the FFT of the windowed series, normalised by the window's coherent gain so that a
+line of amplitude ``a`` reads ``4 pi |a|^2 / lambda^2`` [m^2], the RCS of that line. Lines lie at
+multiples of the flash rate (:func:`csuas.core.micro_doppler.line_spacing_hz`); complex samples alias
+unless ``PRF >= 2 f_tip`` (:func:`csuas.core.micro_doppler.max_tip_doppler_hz`, Eq. MD-5), which
+:func:`micro_doppler` refuses unless asked to flag it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from csuas.base.errors import ParameterError, raise_all
+from csuas.core.micro_doppler import line_spacing_hz, max_tip_doppler_hz
+from csuas.core.units import wavelength_m
+
+from .facet_po import facet_po_amplitude
+
+#: Rotor rate without one given [rpm]: the dataset renders' 6000 rpm (render/imaging/sequence.py).
+#: Assumed, not a published figure: small quadcopters hover at roughly 5000-10000 rpm.
+DEFAULT_ROTOR_RPM = 6000.0
+
+#: Spectral windows: name -> (window function of the sample count).
+WINDOWS = {"hann": lambda n: np.hanning(n + 1)[:-1], "rectangular": np.ones}
+
+MODEL_LIMITS = (
+    "perfectly conducting blades and body (upper bound; the presets' plastic blades reflect less); "
+    "PO without shadowing or multiple reflections between blades and body; rigid flat blades; "
+    "one rotation rate for every rotor, diagonal pairs co-rotating (assumed); tail rotors still; body phase 0; "
+    "PO's model error for thin blades not bounded"
+)
+
+
+@dataclass
+class Rotor:
+    """One rotor: its blade mesh at rest, axis point (vertical axis) and spin (+1 counter-clockwise from above)."""
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    centre_m: np.ndarray
+    spin: int
+    n_blades: int
+    tip_radius_m: float
+
+
+@dataclass
+class MicroDopplerResult:
+    """Slow-time field and spectrum of a drone's rotors (module docstring)."""
+
+    time_s: np.ndarray
+    field_m: np.ndarray
+    frequency_hz: np.ndarray
+    spectrum_m2: np.ndarray
+    lines: list
+    flash_period_s: float
+    line_spacing_hz: float
+    max_tip_doppler_hz: float
+    aliased: bool
+    rcs_spinning_m2: float
+    rcs_at_rest_m2: float
+    body_rcs_m2: float
+    body_bound_db: float
+    window: str
+    time_cost_s: float
+    rotors: list = field(default_factory=list)
+
+
+def drone_rotors(preset: str) -> tuple[list, object]:
+    """The rotors of a preset (blades) and the drone without them (the static body).
+
+    Parameters
+    ----------
+    preset : str
+        A multirotor or helicopter preset of :func:`csuas.drone_models.list_presets`.
+
+    Returns
+    -------
+    (list of Rotor, Drone)
+    """
+    from csuas.drone_models.presets import build_drone, list_presets, preset_parameters
+
+    if preset not in list_presets():
+        raise ParameterError("preset", preset, "a drone preset with rotor blades: " + ", ".join(list_presets()))
+    _, params, _ = preset_parameters(preset)
+    n_blades = int(getattr(params, "n_blades", 2))
+    drone = build_drone(preset, propellers="blades")
+    blades = [p for p in drone.parts if p.kind == "propeller"]
+    if not blades:
+        raise ParameterError("preset", preset, "a preset with rotor blades")
+    rotors = []
+    for i, part in enumerate(blades):
+        vertices = np.asarray(part.mesh.vertices, float)
+        centre = np.asarray(part.mesh.centroid, float)  # on the axis: the blades are equally spaced
+        radius = float(np.max(np.linalg.norm(vertices[:, :2] - centre[:2], axis=1)))
+        diagonal = "front_left" in part.name or "rear_right" in part.name
+        spin = (1 if diagonal else -1) if len(blades) == 4 else (1 if i % 2 == 0 else -1)
+        faces = np.asarray(part.mesh.faces, np.int64)
+        rotors.append(Rotor(part.name, vertices, faces, centre, spin, n_blades, radius))
+    body = drone.__class__(
+        name=drone.name, mass_kg=drone.mass_kg, parts=[p for p in drone.parts if p.kind != "propeller"]
+    )
+    return rotors, body
+
+
+def rotor_field(rotor: Rotor, rotation_rate_hz: float, time_s, frequency_ghz: float, azimuth_deg, elevation_deg):
+    """Complex PO amplitude [m^2] of one rotor at each time (module docstring), PEC blades.
+
+    Parameters
+    ----------
+    rotor : Rotor
+    rotation_rate_hz : float
+        Rotation rate [rev/s]; the rotor turns ``rotor.spin * 360 * rate * t`` degrees.
+    time_s : array_like (T,)
+        Slow time [s].
+    frequency_ghz : float
+        Radar frequency [GHz].
+    azimuth_deg, elevation_deg : float
+        Direction from the drone toward the radar [deg] (docs/command-line.md convention).
+
+    Returns
+    -------
+    ndarray complex (T,)
+        ``sigma(t) = 4 pi |a(t)|^2 / lambda^2``.
+    """
+    from csuas.drone_models.geometry import direction_vector
+
+    psi_deg = rotor.spin * 360.0 * rotation_rate_hz * np.asarray(time_s, float)
+    turned_az = (azimuth_deg - psi_deg + 180.0) % 360.0 - 180.0
+    k = 2.0 * np.pi / wavelength_m(frequency_ghz)
+    d = direction_vector(azimuth_deg, elevation_deg)
+    turned = direction_vector(turned_az, np.full_like(turned_az, elevation_deg))
+    shift = np.exp(2j * k * ((d - turned) @ rotor.centre_m))
+    return shift * facet_po_amplitude(rotor.vertices, rotor.faces, frequency_ghz, turned_az, elevation_deg)
+
+
+def spectrum_m2(field_m, window: str = "hann") -> tuple[np.ndarray, np.ndarray]:
+    """Windowed FFT power of a slow-time field [m^2 of PO amplitude squared], zero Doppler centred.
+
+    Parameters
+    ----------
+    field_m : ndarray complex (T,)
+        Slow-time PO amplitude [m^2].
+    window : {"hann", "rectangular"}
+        Window (periodic Hann, or none); the FFT is divided by the window's sum (coherent gain), so a
+        line of amplitude ``a`` reads ``|a|^2``.
+
+    Returns
+    -------
+    (bin index order, power) : (ndarray int (T,), ndarray (T,))
+        FFT bin indices ``-T/2 .. T/2 - 1`` and ``|a|^2`` per bin.
+    """
+    if window not in WINDOWS:
+        raise ParameterError("window", window, ", ".join(WINDOWS))
+    weights = WINDOWS[window](len(field_m))
+    transform = np.fft.fftshift(np.fft.fft(weights * field_m)) / weights.sum()
+    bins = np.fft.fftshift(np.fft.fftfreq(len(field_m), 1.0 / len(field_m))).astype(int)
+    return bins, np.abs(transform) ** 2
+
+
+def spectral_lines(frequency_hz, power, spacing_hz: float, max_doppler_hz: float) -> list:
+    """The spectrum at each multiple ``m * spacing_hz`` within ``+-max_doppler_hz``: the nearest bin.
+
+    Returns
+    -------
+    list of dict
+        ``{"order": m, "frequency_hz": bin frequency, "power": bin value}``, ``m`` ascending.
+    """
+    step = frequency_hz[1] - frequency_hz[0]
+    orders = np.arange(-int(max_doppler_hz // spacing_hz), int(max_doppler_hz // spacing_hz) + 1)
+    lines = []
+    for m in orders:
+        index = int(np.argmin(np.abs(frequency_hz - m * spacing_hz)))
+        if abs(frequency_hz[index] - m * spacing_hz) <= step / 2.0:
+            lines.append({"order": int(m), "frequency_hz": float(frequency_hz[index]), "power": float(power[index])})
+    return lines
+
+
+def _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window) -> None:
+    checks = [
+        ("frequency_ghz", frequency_ghz, "0 < f <= 300 GHz", 0.0 < frequency_ghz <= 300.0),
+        ("rpm", rpm, "0 < rpm <= 100,000", 0.0 < rpm <= 100_000.0),
+        ("prf_hz", prf_hz, "0 < PRF <= 10 MHz", 0.0 < prf_hz <= 1e7),
+        ("dwell_s", dwell_s, "0 < dwell <= 10 s", 0.0 < dwell_s <= 10.0),
+        ("azimuth_deg", aspect_deg[0], "-360..360", -360.0 <= aspect_deg[0] <= 360.0),
+        ("elevation_deg", aspect_deg[1], "-90..90", -90.0 <= aspect_deg[1] <= 90.0),
+        ("window", window, ", ".join(WINDOWS), window in WINDOWS),
+    ]
+    raise_all([ParameterError(name, value, allowed) for name, value, allowed, ok in checks if not ok])
+    samples = prf_hz * dwell_s
+    if samples < 16 or samples > 2_000_000:
+        raise ParameterError("dwell_s", dwell_s, f"16 to 2,000,000 samples at PRF {prf_hz:g} Hz")
+
+
+def micro_doppler(
+    preset: str,
+    frequency_ghz: float,
+    prf_hz: float,
+    dwell_s: float,
+    rpm: float = DEFAULT_ROTOR_RPM,
+    aspect_deg: tuple = (0.0, 10.0),
+    window: str = "hann",
+    allow_aliasing: bool = False,
+) -> MicroDopplerResult:
+    """Micro-Doppler of a preset's rotors over one dwell (module docstring).
+
+    Parameters
+    ----------
+    preset : str
+        Drone preset with rotor blades.
+    frequency_ghz : float
+        Radar frequency [GHz].
+    prf_hz, dwell_s : float
+        Pulse repetition frequency [Hz] (one complex sample per pulse) and dwell [s].
+    rpm : float
+        Rotor rate [rev/min], every rotor (:data:`DEFAULT_ROTOR_RPM`, assumed).
+    aspect_deg : (float, float)
+        Azimuth and elevation from the drone toward the radar [deg].
+    window : {"hann", "rectangular"}
+        Spectral window (:func:`spectrum_m2`).
+    allow_aliasing : bool
+        Flag ``PRF < 2 f_tip`` in the result instead of refusing it.
+
+    Raises
+    ------
+    ParameterError
+        Out-of-range input, or ``PRF < 2 f_tip`` without ``allow_aliasing``.
+    """
+    from .solver import compute_rcs
+
+    start = time.perf_counter()
+    _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window)
+    rotors, body = drone_rotors(preset)
+    rate = rpm / 60.0
+    azimuth, elevation = aspect_deg
+    tip = max_tip_doppler_hz(max(r.tip_radius_m for r in rotors), rate, frequency_ghz, elevation)
+    aliased = bool(prf_hz < 2.0 * tip)
+    if aliased and not allow_aliasing:
+        raise ParameterError("prf_hz", prf_hz, f">= 2 x the blade-tip Doppler {tip:.1f} Hz = {2 * tip:.1f} Hz")
+    times = np.arange(int(round(prf_hz * dwell_s))) / prf_hz
+    fields = [rotor_field(r, rate, times, frequency_ghz, azimuth, elevation) for r in rotors]
+    blades = np.sum(fields, axis=0)
+    at_rest = sum(rotor_field(r, 0.0, times[:1], frequency_ghz, azimuth, elevation)[0] for r in rotors)
+    body_rcs = compute_rcs(body.mesh(), frequency_ghz, azimuth, elevation, quality="standard")
+    body_m2 = float(body_rcs.rcs_m2("VV")[0, 0, 0])
+    body_bound = body_rcs.bound_db("VV")
+    wavelength = wavelength_m(frequency_ghz)
+    total = blades + np.sqrt(body_m2 / (4.0 * np.pi)) * wavelength
+    bins, power = spectrum_m2(total, window)
+    to_m2 = 4.0 * np.pi / wavelength**2
+    frequency_hz = bins * prf_hz / len(times)
+    spacing = line_spacing_hz(rotors[0].n_blades, rate)
+    lines = spectral_lines(frequency_hz, power * to_m2, spacing, min(tip, prf_hz / 2.0))
+    return MicroDopplerResult(
+        times,
+        total,
+        frequency_hz,
+        power * to_m2,
+        lines,
+        1.0 / spacing,
+        spacing,
+        tip,
+        aliased,
+        float(np.mean(np.abs(blades) ** 2) * to_m2),
+        float(np.abs(at_rest) ** 2 * to_m2),
+        body_m2,
+        float(body_bound[0, 0, 0]) if body_bound is not None else float("inf"),
+        window,
+        time.perf_counter() - start,
+        [{"name": r.name, "spin": r.spin, "n_blades": r.n_blades, "tip_radius_m": r.tip_radius_m} for r in rotors],
+    )
