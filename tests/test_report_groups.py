@@ -85,6 +85,7 @@ def test_every_registered_group_is_declared_once_with_a_title_and_a_description(
         "conventions",
         "links",
         "rcs",
+        "micro_doppler",
         "lidar",
         "imaging",
         "detection",

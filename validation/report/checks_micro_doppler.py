@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from csuas.base.checks import Check
-from csuas.validation.report.registry import CheckSpec, Section
+from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
 FREQUENCY_GHZ = 10.0
 BLADE_LENGTH_M = 0.076  # the Mini 4 Pro's 6-inch propeller radius (drone_models/presets.py)
@@ -240,11 +240,19 @@ def drone_lines(dwell_s=DWELL_S) -> Section:
     return s
 
 
+GROUP = CheckGroup(
+    "micro_doppler",
+    "Rotor micro-Doppler (PO of spinning blades) vs the closed form",
+    55,
+    "The physical-optics field of spinning rotor blades (csuas micro-doppler) against the closed form for "
+    "rotating blades (Chen 2006): flash period, line spacing, line levels and the time-mean RCS.",
+)
+
 SPECS = [
     CheckSpec(
         "md.blades",
         "Rotor micro-Doppler: PO of rotating straight blades vs the closed form (Chen 2006)",
-        "rcs",
+        GROUP,
         "flash period, line spacing and line levels of the PO field of 2- and 3-blade flat rotors vs Eqs. MD-1..3; "
         "and vs Chen's thin wire within the chord's bound",
         f"one sample (1/PRF) for the period, one bin for the spacing, {LINE_TOLERANCE_DB:g} dB for the line levels "
@@ -254,7 +262,7 @@ SPECS = [
     CheckSpec(
         "md.drone",
         "Rotor micro-Doppler of the Mini 4 Pro: lines at multiples of N Omega",
-        "rcs",
+        GROUP,
         "power outside the multiples of N Omega in the four-rotor spectrum (body's zero-Doppler line excluded)",
         f"{OFF_LINE_FRACTION:g} of the total (float64 round-off)",
         drone_lines,
