@@ -186,7 +186,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     value itself and Eq. 68 with that sigma is the closed form.
     """
     from csuas.render.links.accuracy import closed_form_db
-    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.links.radar import RadarTarget, radar_link_gain
     from csuas.render.links.rcs_table import RCSTable
     from csuas.render.rcs.sweep import rcs_table
 
@@ -210,7 +210,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     d = np.array(DISTANCES_M)
     lines, points = [], []
     for aspect in (0.0, 90.0):
-        link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, rcs=rcs, azimuth_deg=aspect, budget="draft")
+        link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, RadarTarget(rcs, azimuth_deg=aspect), budget="draft")
         sigma = float(table["rcs_m2"][SBR_AZIMUTHS_DEG.index(aspect), SBR_ELEVATIONS_DEG.index(0.0)])
         eq68 = closed_form_db("radar", f, d, 5.0, 5.0, sigma_m2=sigma)
         s.outcomes.append(
