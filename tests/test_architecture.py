@@ -63,19 +63,13 @@ KNOWN_DEBTS = {
     ("render/imaging/trace.py", "trace_window", "lines"): 141,
     ("render/lidar/path.py", "path_traced_lcs", "lines"): 101,
     ("render/lidar/runner.py", "render_lidar", "lines"): 146,
-    ("render/rcs/sweep.py", "sphere_average", "lines"): 127,
     ("validation/core/checks.py", "sensor_checks", "lines"): 111,
     ("validation/imaging/checks.py", "_eo_checks", "lines"): 107,
-    ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "lines"): 152,
     ("validation/report/checks_conventions.py", "eo_fog_transmission", "lines"): 105,
     ("validation/report/checks_conventions.py", "thermal_contrast", "lines"): 145,
     ("validation/report/checks_imaging.py", "sensor_chain", "lines"): 116,
-    ("validation/report/checks_links.py", "terrain_radio_maps", "lines"): 151,
-    ("validation/report/checks_terrain.py", "coverage", "lines"): 140,
-    ("csuas/commands/rcs.py", "run", "lines"): 102,
     ("base/checks.py", "Check.of_paper", "parameters"): 11,
     ("core/acoustic.py", "acoustic_range", "parameters"): 9,
-    ("core/camera.py", "light_limited_range_m", "parameters"): 16,
     ("core/eo.py", "eo_range", "parameters"): 12,  # +1 parameter: rain extinction (Marshall-Palmer), 2026-11-27
     ("core/lidar.py", "lidar_range", "parameters"): 10,
     ("core/radar.py", "radar_range", "parameters"): 24,  # public keyword wrapper of radar_range_of (records)
@@ -99,8 +93,6 @@ KNOWN_DEBTS = {
     ("render/lidar/path.py", "path_traced_lcs", "parameters"): 9,
     ("render/lidar/runner.py", "render_lidar", "parameters"): 10,
     ("render/rcs/solver.py", "compute_rcs", "parameters"): 16,  # public keyword wrapper of rcs_of (records)
-    ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "parameters"): 9,
-    ("validation/rcs/fullwave.py", "compare_sbr_to_fullwave", "parameters"): 9,
     ("validation/report/figures.py", "curves", "parameters"): 10,
     ("validation/report/figures.py", "accuracy_vs_time", "parameters"): 11,
     ("validation/terrain/viewshed_oracles.py", "compare_viewsheds", "parameters"): 9,
