@@ -74,8 +74,7 @@ KNOWN_DEBTS = {
     ("core/lidar.py", "lidar_range", "parameters"): 10,
     ("core/radar.py", "radar_range", "parameters"): 24,  # public keyword wrapper of radar_range_of (records)
     ("core/rf.py", "rf_range", "parameters"): 12,  # +1 parameter: the gas term (ITU-R P.676), 2026-11-27
-    ("core/sensitivity.py", "radar_model", "parameters"): 9,
-    ("core/terrain.py", "viewshed", "parameters"): 9,
+    ("core/sensitivity.py", "radar_model", "parameters"): 9,  # keyword interface: sensitivity.toml names its parameters
     ("core/tir.py", "tir_mrtd_range", "parameters"): 10,
     ("core/tir.py", "tir_netd_range", "parameters"): 10,
     ("render/imaging/background.py", "clear_sky_frame", "parameters"): 13,
