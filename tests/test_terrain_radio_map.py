@@ -127,6 +127,19 @@ def test_radio_map_bad_input(kwargs, names):
     assert [e.name for e in errors] == names
 
 
+def test_the_two_ray_oracle_refuses_terrain_and_ignores_a_constant_height():
+    """The flat-ground oracle: a DEM with relief is refused (naming dem_m); a DEM at one height everywhere gives
+    the map of a DEM at zero, since the mast and the flight level are heights above the ground."""
+    from csuas.validation.links.terrain_map import block_average_two_ray
+
+    site = tm.RadioMapSite(np.zeros((3, 9)), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    hill = tm.RadioMapSite(np.eye(3, 9), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    with pytest.raises(ParameterError, match="dem_m"):
+        block_average_two_ray(hill, 15.0 - 0.3j)
+    raised = tm.RadioMapSite(np.full((3, 9), 120.0), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    assert np.array_equal(block_average_two_ray(raised, 15.0 - 0.3j), block_average_two_ray(site, 15.0 - 0.3j))
+
+
 @pytest.mark.slow
 def test_rotation_convention_is_sionnas():
     from csuas.render.links.sionna_backend import load_sionna_rt
