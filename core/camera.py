@@ -27,6 +27,8 @@ K_m = 683 lm/W (CIE, SI definition of the candela).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from csuas.core.checks import require
@@ -120,7 +122,35 @@ def pixel_noise_e(signal_e, dark_e, read_noise_e):
     return np.sqrt(s + d + r * r)
 
 
+@dataclass(frozen=True)
+class CameraChain:
+    """A visible camera's optics, detector and detection threshold (``eo`` parameters of Table 23's systems).
+
+    Attributes
+    ----------
+    f_number, optics_transmittance : float
+        Optics: f-number [-] and transmittance [-].
+    pixel_pitch_um, quantum_efficiency : float
+        Detector: pixel pitch [um] and quantum efficiency [-].
+    max_exposure_ms, full_well_e, read_noise_e, dark_current_e_s : float
+        Exposure limit [ms], full well [e], read noise [e rms], dark current [e/s].
+    required_snr : float
+        Blob SNR the detection needs (Q^-1(Pfa) - Q^-1(p_desired)).
+    """
+
+    f_number: float
+    optics_transmittance: float
+    pixel_pitch_um: float
+    quantum_efficiency: float
+    max_exposure_ms: float
+    full_well_e: float
+    read_noise_e: float
+    dark_current_e_s: float
+    required_snr: float
+
+
 def light_limited_range_m(
+    camera: CameraChain,
     *,
     illuminance_lx,
     background_reflectance,
@@ -128,33 +158,20 @@ def light_limited_range_m(
     transmittance_at,
     projected_area_m2,
     ifov_rad_,
-    f_number,
-    optics_transmittance,
-    pixel_pitch_um,
-    quantum_efficiency,
-    max_exposure_ms,
-    full_well_e,
-    read_noise_e,
-    dark_current_e_s,
-    required_snr,
     range_bound_m=1e8,
 ):
-    """Range [m] where the EO blob SNR falls to ``required_snr`` (module docstring), and the chain's values.
+    """Range [m] where the EO blob SNR falls to the camera's required SNR, and the chain's values (module docstring).
 
     Parameters
     ----------
+    camera : CameraChain
+        Optics, detector and the blob SNR the detection needs.
     illuminance_lx, background_reflectance, c_eo : float
         Scene illuminance [lx] (Tables 10-11), background reflectance [-] and inherent contrast [-].
     transmittance_at : callable
         tau(R) of the path for ranges R [m] (the paper's contrast attenuation, Eq. 21).
     projected_area_m2, ifov_rad_ : float
         Target area [m^2] and pixel IFOV [rad].
-    f_number, optics_transmittance, pixel_pitch_um, quantum_efficiency : float
-        Optics and detector.
-    max_exposure_ms, full_well_e, read_noise_e, dark_current_e_s : float
-        Exposure limit [ms], full well [e], read noise [e rms], dark current [e/s].
-    required_snr : float
-        Blob SNR the detection needs (Q^-1(Pfa) - Q^-1(p_desired)).
     range_bound_m : float
         Upper end of the search [m]; the range is infinite when the SNR still exceeds the requirement there.
 
@@ -164,6 +181,10 @@ def light_limited_range_m(
         ``(range_m, chain)``: the range and a dict of the background electrons, exposure [s], noise
         [e] and the target's electron excess at zero range [e per pixel].
     """
+    f_number, optics_transmittance = camera.f_number, camera.optics_transmittance
+    pixel_pitch_um, quantum_efficiency = camera.pixel_pitch_um, camera.quantum_efficiency
+    full_well_e, read_noise_e, dark_current_e_s = camera.full_well_e, camera.read_noise_e, camera.dark_current_e_s
+    max_exposure_ms, required_snr = camera.max_exposure_ms, camera.required_snr
     lum_b = (
         require("illuminance_lx", illuminance_lx, ge=0)
         * require("background_reflectance", background_reflectance, ge=0, le=1)

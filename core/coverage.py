@@ -38,7 +38,7 @@ from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
+from csuas.core.terrain import RayLimits, bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
 
 #: Effective Earth-radius factor of each modality's line of sight (its record's ``horizon``, csuas.core.modality).
 K_FACTOR = {m.name: m.line_of_sight.k for m in RECORDS}
@@ -196,8 +196,10 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
             sited.mast_m,
             altitude,
             k,
-            None if np.isinf(reach) else reach,
-            None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
+            RayLimits(
+                None if np.isinf(reach) else reach,
+                None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
+            ),
         )
         rise = dem_m + altitude - eye
         slant = np.hypot(ground, rise)

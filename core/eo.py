@@ -102,7 +102,8 @@ def eo_range(
     camera : dict, optional
         Physical convention only: the keyword arguments of
         :func:`csuas.core.camera.light_limited_range_m` other than ``c_eo``, ``ifov_rad_`` and
-        ``transmittance_at``; adds the light-limited range (scalar inputs).
+        ``transmittance_at`` (``camera``: a :class:`csuas.core.camera.CameraChain`); adds the
+        light-limited range (scalar inputs).
     rain_extinction_per_km : array_like
         Physical convention only: extinction of rain [1/km]
         (:func:`csuas.core.atmosphere.rain_extinction_per_km`), added to Kruse's; 0 adds no term.

@@ -14,6 +14,9 @@ Conventions:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 from csuas.base.errors import ParameterError
@@ -93,6 +96,68 @@ def radar_wavelength_m(params: dict, convention: str) -> float:
     return params["wavelength_m"]
 
 
+@dataclass(frozen=True)
+class RadarSensor:
+    """A radar's own parameters (Tables 39, 41, 44), as :func:`radar_range` takes them.
+
+    Attributes
+    ----------
+    p_tx_w, g_tx_db, g_rx_db, wavelength_m : array_like
+        Transmit power [W], antenna gains [dB], wavelength [m] (Table 39).
+    model : {"snr", "range_equation"}
+        SNR model (Eq. 75 with integration, Eqs. 80/82) or the range equation with a minimum
+        received power ``p_rx_min_w`` [W] (Eq. 69).
+    snr_min_db, t0_k, noise_figure_db, bandwidth_mhz : array_like
+        Detection threshold [dB] and noise parameters [K, dB, MHz] (Table 39).
+    n_pulses, integration : array_like, str
+        Pulses integrated and how (Table 39, Eqs. 77-82).
+    l_hardware_db, l_processing_db : array_like
+        Loss budget terms [dB] (Tables 41, 44).
+    loss_frequency_ghz, d_rain_km, d_fog_km : array_like
+        Paper convention: frequency [GHz] and fixed paths [km] of the weather losses (Table 44).
+    k_b : float, optional
+        Boltzmann constant [J/K]; None: Table 39's 1.38e-23 (paper) or the exact SI value (physical).
+    """
+
+    p_tx_w: Any
+    g_tx_db: Any
+    g_rx_db: Any
+    wavelength_m: Any
+    model: str = "snr"
+    p_rx_min_w: Any = None
+    snr_min_db: Any = 10.0
+    t0_k: Any = 290.0
+    noise_figure_db: Any = 10.0
+    bandwidth_mhz: Any = 200.0
+    n_pulses: Any = 1
+    integration: str = "none"
+    l_hardware_db: Any = 0.0
+    l_processing_db: Any = 0.0
+    loss_frequency_ghz: Any = 12.0
+    d_rain_km: Any = 1.0
+    d_fog_km: Any = 1.0
+    k_b: Any = None
+
+
+@dataclass(frozen=True)
+class RadarWeather:
+    """The propagation terms of a radar's path (Eqs. 58-61, ITU-R P.676).
+
+    Attributes
+    ----------
+    rain_rate_mm_h, lwc_g_m3, temperature_k : array_like
+        Rain rate [mm/h], fog liquid water content [g/m^3] and temperature [K]; zero rain or LWC
+        adds no term.
+    gas_db_km : array_like
+        Gaseous specific attenuation at the radar's frequency [dB/km], physical convention only.
+    """
+
+    rain_rate_mm_h: Any = 0.0
+    lwc_g_m3: Any = 0.0
+    temperature_k: Any = 293.15
+    gas_db_km: Any = 0.0
+
+
 #: Arguments of :func:`radar_range` -> their defaults/parameters.toml entries (upper bounds checked).
 RADAR_REGISTRY = {
     "p_tx_w": "radar.p_tx_w",
@@ -145,7 +210,7 @@ def radar_range(
     gas_db_km=0.0,
     convention="paper",
 ) -> RangeResult:
-    """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86).
+    """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86): the keyword form of :func:`radar_range_of`.
 
     Parameters
     ----------
@@ -184,79 +249,167 @@ def radar_range(
     ParameterError
         NaN, an infinite dB value or a negative loss, naming the parameter.
     """
-    require_registry_bounds(locals(), RADAR_REGISTRY)
+    sensor = RadarSensor(
+        p_tx_w=p_tx_w,
+        g_tx_db=g_tx_db,
+        g_rx_db=g_rx_db,
+        wavelength_m=wavelength_m,
+        model=model,
+        p_rx_min_w=p_rx_min_w,
+        snr_min_db=snr_min_db,
+        t0_k=t0_k,
+        noise_figure_db=noise_figure_db,
+        bandwidth_mhz=bandwidth_mhz,
+        n_pulses=n_pulses,
+        integration=integration,
+        l_hardware_db=l_hardware_db,
+        l_processing_db=l_processing_db,
+        loss_frequency_ghz=loss_frequency_ghz,
+        d_rain_km=d_rain_km,
+        d_fog_km=d_fog_km,
+        k_b=k_b,
+    )
+    weather = RadarWeather(
+        rain_rate_mm_h=rain_rate_mm_h, lwc_g_m3=lwc_g_m3, temperature_k=temperature_k, gas_db_km=gas_db_km
+    )
+    return radar_range_of(sensor, sigma_m2, weather, convention)
+
+
+def radar_range_of(
+    sensor: RadarSensor, sigma_m2, weather: RadarWeather = RadarWeather(), convention: str = "paper"
+) -> RangeResult:
+    """Radar detection range [m] (Eqs. 69, 75, 80, 82, 86) of a :class:`RadarSensor` against an RCS.
+
+    Parameters
+    ----------
+    sensor : RadarSensor
+        The radar (Tables 39, 41, 44); every dB value finite, losses >= 0 dB.
+    sigma_m2 : array_like
+        Target RCS [m^2] (Table 8).
+    weather : RadarWeather
+        Rain, fog and gas terms of the path.
+    convention : {"paper", "physical"}
+
+    Returns
+    -------
+    RangeResult
+        A budget too large for a float64 range (e.g. absurd gains) gives R = inf with ``reason``.
+
+    Raises
+    ------
+    ParameterError
+        NaN, an infinite dB value or a negative loss, naming the parameter.
+    """
+    require_registry_bounds({**vars(sensor), **vars(weather), "sigma_m2": sigma_m2}, RADAR_REGISTRY)
     check_convention(convention)
-    if model not in ("snr", "range_equation"):
-        raise ParameterError("radar.model", model, "snr, range_equation")
-    lam = require("wavelength_m", wavelength_m, gt=0)
-    g_tx_db, g_rx_db = require("g_tx_db", g_tx_db), require("g_rx_db", g_rx_db)
-    snr_min_db, noise_figure_db = require("snr_min_db", snr_min_db), require("noise_figure_db", noise_figure_db)
-    l_hardware_db = require("l_hardware_db", l_hardware_db, ge=0)
-    l_processing_db = require("l_processing_db", l_processing_db, ge=0)
+    if sensor.model not in ("snr", "range_equation"):
+        raise ParameterError("radar.model", sensor.model, "snr, range_equation")
+    lam = require("wavelength_m", sensor.wavelength_m, gt=0)
+    g_tx_db, g_rx_db = require("g_tx_db", sensor.g_tx_db), require("g_rx_db", sensor.g_rx_db)
+    snr_min_db = require("snr_min_db", sensor.snr_min_db)
+    noise_figure_db = require("noise_figure_db", sensor.noise_figure_db)
+    l_hardware_db = require("l_hardware_db", sensor.l_hardware_db, ge=0)
+    l_processing_db = require("l_processing_db", sensor.l_processing_db, ge=0)
     numerator = (
-        require("p_tx_w", p_tx_w, gt=0)
+        require("p_tx_w", sensor.p_tx_w, gt=0)
         * db_to_linear(g_tx_db)
         * db_to_linear(g_rx_db)
         * lam**2
         * require("sigma_m2", sigma_m2, gt=0)
         / (4 * np.pi) ** 3
     )
-    terms = []
-    if model == "range_equation":
-        if p_rx_min_w is None:
-            raise ParameterError("radar.p_rx_min_w", None, "a power > 0 [W] with model = range_equation")
-        p_min = require("p_rx_min_w", p_rx_min_w, gt=0)
-        terms.append(Term("p_rx_min_w", p_min, "W", "Eq. 69"))
-        name = "range_equation (Eq. 69)"
-    else:
-        kb = k_b if k_b is not None else (K_BOLTZMANN_TABLE_39 if convention == "paper" else K_BOLTZMANN)
-        noise = thermal_noise_power_w(t0_k, noise_figure_db, bandwidth_mhz, kb)
-        gain = integration_gain(n_pulses, integration, convention)
-        p_min = db_to_linear(snr_min_db) * noise / gain
-        terms += [
-            Term("noise_power_w", noise, "W", "Eq. 73"),
-            Term(
-                "integration_gain_db",
-                linear_to_db(gain),
-                "dB",
-                {"coherent": "Eq. 77", "noncoherent": "Eq. 78", "none": "Eq. 75"}[integration],
-            ),
-        ]
-        name = {"coherent": "snr_coherent (Eq. 80)", "noncoherent": "snr_noncoherent (Eq. 82)", "none": "snr (Eq. 75)"}[
-            integration
-        ]
+    terms: list = []
+    p_min, name = _detection_threshold_w(sensor, snr_min_db, noise_figure_db, convention, terms)
     budget_db = linear_to_db(numerator / p_min)  # 40 log10 R at the threshold, before losses
     fixed_loss = np.asarray(l_hardware_db, float) + np.asarray(l_processing_db, float)
     if np.any(fixed_loss != 0):
         terms.append(Term("l_hardware_db", np.asarray(l_hardware_db, float), "dB", "Table 41"))
         terms.append(Term("l_processing_db", np.asarray(l_processing_db, float), "dB", "Table 44"))
-    rain, fog = np.any(np.asarray(rain_rate_mm_h) > 0), np.any(np.asarray(lwc_g_m3) > 0)
-    f_loss = loss_frequency_ghz if convention == "paper" else frequency_ghz(lam)
-    gamma_rain = rain_specific_attenuation_db_km(f_loss, rain_rate_mm_h) if rain else 0.0
-    gamma_fog = fog_specific_attenuation_db_km(f_loss, lwc_g_m3, temperature_k) if fog else 0.0
+    f_loss = sensor.loss_frequency_ghz if convention == "paper" else frequency_ghz(lam)
+    gamma_rain, gamma_fog = _weather_gammas_db_km(f_loss, weather, terms)
+    if convention == "paper":
+        r, loss = _range_over_fixed_paths(budget_db, sensor, weather, (gamma_rain, gamma_fog), terms)
+    else:
+        r, propagation = _two_way_over_range(budget_db - fixed_loss, gamma_rain + gamma_fog, weather.gas_db_km, terms)
+        loss = fixed_loss + propagation
+        if _raining(weather) or _foggy(weather):
+            weather_loss = 2.0 * (np.asarray(gamma_rain) + np.asarray(gamma_fog)) * r / 1000.0
+            terms.append(Term("l_propagation_db", weather_loss, "dB", "Eqs. 59, 61 over the two-way path"))
+    if np.any(loss != 0):
+        terms.append(Term("l_total_db", loss, "dB", "Eqs. 84-86"))
+    return RangeResult(r, "radar", name, terms, unbounded_reason(r))
+
+
+def _detection_threshold_w(sensor: RadarSensor, snr_min_db, noise_figure_db, convention: str, terms: list):
+    """Minimum detectable received power [W] and the model's name (Eqs. 69, 73, 75, 77-82).
+
+    ``range_equation``: the given ``p_rx_min_w`` (Eq. 69); ``snr``: SNR_min k_B T0 F B / G_int.
+    The terms of the threshold are appended to ``terms``.
+    """
+    if sensor.model == "range_equation":
+        if sensor.p_rx_min_w is None:
+            raise ParameterError("radar.p_rx_min_w", None, "a power > 0 [W] with model = range_equation")
+        p_min = require("p_rx_min_w", sensor.p_rx_min_w, gt=0)
+        terms.append(Term("p_rx_min_w", p_min, "W", "Eq. 69"))
+        return p_min, "range_equation (Eq. 69)"
+    integration = sensor.integration
+    kb = sensor.k_b
+    if kb is None:
+        kb = K_BOLTZMANN_TABLE_39 if convention == "paper" else K_BOLTZMANN
+    noise = thermal_noise_power_w(sensor.t0_k, noise_figure_db, sensor.bandwidth_mhz, kb)
+    gain = integration_gain(sensor.n_pulses, integration, convention)
+    terms += [
+        Term("noise_power_w", noise, "W", "Eq. 73"),
+        Term(
+            "integration_gain_db",
+            linear_to_db(gain),
+            "dB",
+            {"coherent": "Eq. 77", "noncoherent": "Eq. 78", "none": "Eq. 75"}[integration],
+        ),
+    ]
+    name = {"coherent": "snr_coherent (Eq. 80)", "noncoherent": "snr_noncoherent (Eq. 82)", "none": "snr (Eq. 75)"}
+    return db_to_linear(snr_min_db) * noise / gain, name[integration]
+
+
+def _raining(weather: RadarWeather) -> bool:
+    return bool(np.any(np.asarray(weather.rain_rate_mm_h) > 0))
+
+
+def _foggy(weather: RadarWeather) -> bool:
+    return bool(np.any(np.asarray(weather.lwc_g_m3) > 0))
+
+
+def _weather_gammas_db_km(f_loss_ghz, weather: RadarWeather, terms: list):
+    """Rain and fog specific attenuations [dB/km] at ``f_loss_ghz`` (Eqs. 58, 60), 0.0 where absent.
+
+    Their terms are appended to ``terms``.
+    """
+    rain, fog = _raining(weather), _foggy(weather)
+    gamma_rain = rain_specific_attenuation_db_km(f_loss_ghz, weather.rain_rate_mm_h) if rain else 0.0
+    gamma_fog = fog_specific_attenuation_db_km(f_loss_ghz, weather.lwc_g_m3, weather.temperature_k) if fog else 0.0
     if rain:
         terms.append(Term("gamma_rain_db_km", gamma_rain, "dB/km", "Eq. 58 (ITU-R P.838-3)"))
     if fog:
         terms.append(Term("gamma_fog_db_km", gamma_fog, "dB/km", "Eq. 60 (ITU-R P.840)"))
-    if convention == "paper":
-        if np.any(np.asarray(gas_db_km) != 0):
-            raise ParameterError("gas_db_km", float(np.max(gas_db_km)), "0 in the paper convention (no gas term)")
-        propagation = (np.asarray(d_rain_km, float) * gamma_rain if rain else 0.0) + (
-            np.asarray(d_fog_km, float) * gamma_fog if fog else 0.0
-        )
-        loss = total_loss_db(l_hardware_db, l_processing_db) + propagation
-        if rain or fog:
-            terms.append(Term("l_propagation_db", propagation, "dB", "Eq. 83"))
-        r = solve_log_linear(budget_db - loss, 0.0, n=4.0)
-    else:
-        r, propagation = _two_way_over_range(budget_db - fixed_loss, gamma_rain + gamma_fog, gas_db_km, terms)
-        loss = fixed_loss + propagation
-        if rain or fog:
-            weather = 2.0 * (np.asarray(gamma_rain) + np.asarray(gamma_fog)) * r / 1000.0
-            terms.append(Term("l_propagation_db", weather, "dB", "Eqs. 59, 61 over the two-way path"))
-    if np.any(loss != 0):
-        terms.append(Term("l_total_db", loss, "dB", "Eqs. 84-86"))
-    return RangeResult(r, "radar", name, terms, unbounded_reason(r))
+    return gamma_rain, gamma_fog
+
+
+def _range_over_fixed_paths(budget_db, sensor: RadarSensor, weather: RadarWeather, gammas, terms: list):
+    """Range [m] and total loss [dB] of the paper convention: weather over d_rain, d_fog (Eqs. 83-86).
+
+    The total loss scales the range by 10^(-L/40); a gas term is refused (the paper has none).
+    """
+    gamma_rain, gamma_fog = gammas
+    rain, fog = _raining(weather), _foggy(weather)
+    if np.any(np.asarray(weather.gas_db_km) != 0):
+        raise ParameterError("gas_db_km", float(np.max(weather.gas_db_km)), "0 in the paper convention (no gas term)")
+    propagation = (np.asarray(sensor.d_rain_km, float) * gamma_rain if rain else 0.0) + (
+        np.asarray(sensor.d_fog_km, float) * gamma_fog if fog else 0.0
+    )
+    loss = total_loss_db(sensor.l_hardware_db, sensor.l_processing_db) + propagation
+    if rain or fog:
+        terms.append(Term("l_propagation_db", propagation, "dB", "Eq. 83"))
+    return solve_log_linear(budget_db - loss, 0.0, n=4.0), loss
 
 
 def _two_way_over_range(budget_db, gamma_weather_db_km, gas_db_km, terms):

@@ -14,6 +14,7 @@ import numpy as np
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, kruse_extinction_per_km, rain_extinction_per_km, transmittance
+from csuas.core.camera import CameraChain
 from csuas.core.horizon import line_of_sight_limit_m
 from csuas.core.modality import RECORDS, PartTable
 from csuas.core.mrtd import sensor_mrtd
@@ -28,10 +29,7 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p = s.params
     camera = None
     if convention == "physical":
-        camera = dict(
-            illuminance_lx=sc.environment["illuminance_lx"],
-            background_reflectance=sc.environment["background_reflectance"],
-            projected_area_m2=sc.target["projected_area_m2"],
+        chain = CameraChain(
             f_number=p["f_number"],
             optics_transmittance=p["optics_transmittance"],
             pixel_pitch_um=p["pixel_pitch_um"],
@@ -41,6 +39,12 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             read_noise_e=p["read_noise_e"],
             dark_current_e_s=p["dark_current_e_s"],
             required_snr=float(detection.gaussian_required_snr(p["p_desired"], p["pfa"])),
+        )
+        camera = dict(
+            camera=chain,
+            illuminance_lx=sc.environment["illuminance_lx"],
+            background_reflectance=sc.environment["background_reflectance"],
+            projected_area_m2=sc.target["projected_area_m2"],
         )
     return eo.eo_range(
         d_crit_m=sc.target["d_crit_m"],

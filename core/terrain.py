@@ -25,6 +25,8 @@ beyond the DEM, measured at 2000^2 and 4000^2 cells) where the NumPy version hel
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numba
 import numpy as np
 
@@ -92,6 +94,28 @@ def cells_around(shape, row: float, col: float, radius_cells: float) -> tuple[sl
     return rows, cols
 
 
+@dataclass(frozen=True)
+class RayLimits:
+    """How far and in which directions the viewshed's rays are traced.
+
+    Attributes
+    ----------
+    max_distance_m : float, optional
+        Farthest ground distance from the sensor traced [m], > 0: the rays stop there (no sample beyond
+        it is computed) and cells farther away come out not visible. Inside it the result is the
+        untruncated viewshed's, cell for cell (the horizon is a running maximum from the sensor out).
+        None: the whole grid.
+    sector_deg : (float, float), optional
+        ``(azimuth, width)`` [deg]: only the rays whose bearing (:func:`bearing_deg`) lies within
+        ``width / 2`` of ``azimuth``, and one ray spacing beyond, are traced, and cells outside the
+        sector come out not visible (the sensor's own cell excepted). Inside it the result is the
+        all-round viewshed's, cell for cell (each cell keeps its nearest ray). None: all round.
+    """
+
+    max_distance_m: float | None = None
+    sector_deg: tuple[float, float] | None = None
+
+
 def viewshed(
     dem_m: np.ndarray,
     cell_m: float,
@@ -100,8 +124,7 @@ def viewshed(
     sensor_height_m: float,
     target_height_m,
     k_factor: float = 4.0 / 3.0,
-    max_distance_m: float | None = None,
-    sector_deg: tuple[float, float] | None = None,
+    limits: RayLimits = RayLimits(),
 ) -> np.ndarray:
     """Cells of the DEM where a target ``target_height_m`` above the terrain is in the sensor's line of sight.
 
@@ -119,16 +142,8 @@ def viewshed(
         The target's height above the terrain of each cell (the flight level) [m], >= 0.
     k_factor : float
         Effective Earth-radius factor (4/3 radio; 1 / (1 - 0.13) for light).
-    max_distance_m : float, optional
-        Farthest ground distance from the sensor traced [m], > 0: the rays stop there (no sample beyond
-        it is computed) and cells farther away come out not visible. Inside it the result is the
-        untruncated viewshed's, cell for cell (the horizon is a running maximum from the sensor out).
-        None: the whole grid.
-    sector_deg : (float, float), optional
-        ``(azimuth, width)`` [deg]: only the rays whose bearing (:func:`bearing_deg`) lies within
-        ``width / 2`` of ``azimuth``, and one ray spacing beyond, are traced, and cells outside the
-        sector come out not visible (the sensor's own cell excepted). Inside it the result is the
-        all-round viewshed's, cell for cell (each cell keeps its nearest ray). None: all round.
+    limits : RayLimits
+        The farthest distance and the azimuth sector traced (default: the whole grid, all round).
 
     Returns
     -------
@@ -137,9 +152,7 @@ def viewshed(
     """
     dem = np.asarray(dem_m, dtype=float)
     h_target = np.broadcast_to(require("target_height_m", target_height_m, ge=0), dem.shape)
-    horizon, sensor = _horizons(
-        dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, max_distance_m, sector_deg
-    )
+    horizon, sensor = _horizons(dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, limits)
     visible = np.zeros(dem.shape, dtype=bool)
     _judge_visible(dem, h_target, sensor, horizon, visible)
     return visible
@@ -152,32 +165,30 @@ def lowest_visible_height_m(
     sensor_col: float,
     sensor_height_m: float,
     k_factor: float = 4.0 / 3.0,
-    max_distance_m: float | None = None,
-    sector_deg: tuple[float, float] | None = None,
+    limits: RayLimits = RayLimits(),
 ) -> np.ndarray:
     """The lowest height above the terrain [m] at which a target over each cell is in the sensor's line of sight.
 
     The same rays and horizons as :func:`viewshed` (its arguments, less the target's height): a target
     at least this high over a cell is visible there, one lower is not (GDAL's "DEM mode", a minimum
     visible height per cell). 0 where the ground itself is in sight (the sensor's own cell always);
-    +inf beyond ``max_distance_m`` or outside ``sector_deg``.
+    +inf beyond the limits' ``max_distance_m`` or outside their ``sector_deg``.
     """
     dem = np.asarray(dem_m, dtype=float)
-    horizon, sensor = _horizons(
-        dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, max_distance_m, sector_deg
-    )
+    horizon, sensor = _horizons(dem, cell_m, (sensor_row, sensor_col, sensor_height_m), k_factor, limits)
     lowest = np.empty(dem.shape)
     _lowest_heights(dem, sensor, horizon, lowest)
     return lowest
 
 
-def _horizons(dem: np.ndarray, cell_m, sensor, k_factor, max_distance_m, sector_deg) -> tuple[np.ndarray, tuple]:
+def _horizons(dem: np.ndarray, cell_m, sensor, k_factor, limits: RayLimits) -> tuple[np.ndarray, tuple]:
     """Checked inputs, then the horizon each cell's target must clear (tangent of an elevation angle).
 
     Returns the horizon grid (-inf at the sensor's own cell, NaN where not judged: beyond the limit or
     outside the sector) and the sensor record (row, col, eye height [m], cell [m], drop at 1 m [m]).
     """
     sensor_row, sensor_col, sensor_height_m = sensor
+    max_distance_m, sector_deg = limits.max_distance_m, limits.sector_deg
     if dem.ndim != 2 or min(dem.shape) < 2 or not np.isfinite(dem).all():
         raise ParameterError("dem_m", f"array of shape {dem.shape}", "a finite 2-D grid of at least 2 x 2 cells")
     cell = float(require("cell_m", cell_m, gt=0))

@@ -45,10 +45,7 @@ def test_camera_equation_exposure_and_noise():
 
 
 def test_light_limited_range_without_atmosphere_has_its_closed_form():
-    settings = dict(
-        illuminance_lx=0.01,
-        background_reflectance=0.3,
-        projected_area_m2=0.06,
+    chain = camera.CameraChain(
         f_number=2.0,
         optics_transmittance=0.9,
         pixel_pitch_um=2.9,
@@ -59,6 +56,7 @@ def test_light_limited_range_without_atmosphere_has_its_closed_form():
         dark_current_e_s=5.0,
         required_snr=4.753424,
     )
+    settings = dict(camera=chain, illuminance_lx=0.01, background_reflectance=0.3, projected_area_m2=0.06)
     ifov = math.radians(10.0) / 1920
     r, chain = camera.light_limited_range_m(c_eo=0.5, ifov_rad_=ifov, transmittance_at=lambda rr: 1.0, **settings)
     # by hand: background luminance, focal-plane illuminance, electrons in 33.3 ms, noise

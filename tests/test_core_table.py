@@ -220,6 +220,18 @@ ROWS = [
         "p_tx_w",
     ),
     (
+        "radar.radar_range_of",
+        radar.radar_range_of,  # the same radar as a RadarSensor record, against sigma = 0.02 m^2 (Eq. 109)
+        {
+            "sensor": radar.RadarSensor(
+                p_tx_w=100.0, g_tx_db=35.0, g_rx_db=35.0, wavelength_m=0.0125, bandwidth_mhz=50.0, k_b=1.381e-23
+            ),
+            "sigma_m2": 0.02,
+        },
+        (100 * 10**7 * 0.0125**2 * 0.02 / ((4 * math.pi) ** 3 * 10 * 1.381e-23 * 290 * 10 * 50e6)) ** 0.25,
+        "sigma_m2",
+    ),
+    (
         "lidar.divergence_rad",
         lidar.divergence_rad,
         {"wavelength_nm": 1550.0, "aperture_mm": 3.0},

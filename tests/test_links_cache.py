@@ -100,11 +100,13 @@ def test_polarization_is_part_of_the_scene():
 
 
 def test_radar_target_height_and_cross_section_follow_each_call():
-    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.links.radar import RadarTarget, radar_link_gain
 
     ranges = np.array([20.0, 200.0, 2000.0])
     for h_target, rcs in ((5.0, 0.01), (40.0, 0.01), (40.0, 2.5), (40.0, lambda az, el: np.full(np.shape(az), 0.3))):
-        result = radar_link_gain(10.0, ranges, radar_height_m=5.0, target_height_m=h_target, rcs=rcs, budget="draft")
+        result = radar_link_gain(
+            10.0, ranges, radar_height_m=5.0, target_height_m=h_target, target=RadarTarget(rcs), budget="draft"
+        )
         sigma = rcs if not callable(rcs) else 0.3
         slant = np.hypot(ranges, h_target - 5.0)
         lam = C / 10e9
@@ -114,7 +116,13 @@ def test_radar_target_height_and_cross_section_follow_each_call():
         assert_same(
             result,
             uncached(
-                radar_link_gain, 10.0, ranges, radar_height_m=5.0, target_height_m=h_target, rcs=rcs, budget="draft"
+                radar_link_gain,
+                10.0,
+                ranges,
+                radar_height_m=5.0,
+                target_height_m=h_target,
+                target=RadarTarget(rcs),
+                budget="draft",
             ),
         )
 

@@ -10,7 +10,7 @@ import pytest
 
 from csuas.base.errors import ParameterError
 from csuas.core.dielectric import complex_permittivity
-from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, resolve_budget
+from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, LinkBudget, resolve_budget
 from csuas.render.links.rcs_table import RCSTable, as_rcs_function, bisector_aspect
 from csuas.render.links.two_ray import (
     fresnel_coefficients,
@@ -155,6 +155,9 @@ def test_budgets():
     for kwargs in ({"budget": "fast"}, {"samples": 0}, {"samples": 2.5}, {"max_depth": -1}, {"max_depth": 11}):
         with pytest.raises(ParameterError):
             resolve_budget(**kwargs)
+    for budget, name in ((LinkBudget("custom", 0, 1), "samples"), (LinkBudget("custom", 4, 11), "max_depth")):
+        with pytest.raises(ParameterError, match=name):
+            resolve_budget(budget)
 
 
 def test_a_perfect_conductor_has_a_finite_real_and_minus_infinite_imaginary_permittivity():

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.render.links.budget import LinkBudget
 
 pytestmark = pytest.mark.slow
 
@@ -119,7 +120,7 @@ def test_ground_material_outside_its_frequency_range(links):
         ({"ground": "concrete", "rx_height_m": 0.0}, "rx_height_m"),
         ({"tx_height_m": -1.0}, "tx_height_m"),
         ({"polarization": "X"}, "polarization"),
-        ({"samples": 0}, "samples"),
+        ({"budget": LinkBudget("custom", 0, 1)}, "samples"),
         ({"budget": "best"}, "budget"),
     ],
 )
@@ -149,13 +150,17 @@ def test_radar_link_reads_the_rcs_table_at_the_radar_aspect(links):
     el = np.array([-45.0, 0.0, 45.0])
     sigma = np.outer(0.001 * (1.0 + az / 15.0), [1.0, 1.0, 1.0])  # 0.001 m^2 at 0 deg ... 0.024 at 345
     ranges = np.array([200.0, 2000.0])
-    result = radar.radar_link_gain(10.0, ranges, 20.0, 20.0, rcs=RCSTable(az, el, sigma), azimuth_deg=-30.0)
+    result = radar.radar_link_gain(
+        10.0, ranges, 20.0, 20.0, target=radar.RadarTarget(RCSTable(az, el, sigma), azimuth_deg=-30.0)
+    )
     lam = C / 10e9
     sigma_330 = 0.001 * (1.0 + 330.0 / 15.0)  # -30 deg is the 330 deg node
     np.testing.assert_allclose(
         result.path_gain_db, 10 * np.log10(lam**2 * sigma_330 / ((4 * np.pi) ** 3 * ranges**4)), atol=0.01
     )
-    result = radar.radar_link_gain(10.0, ranges, 20.0, 20.0, rcs=lambda a, e: 0.5 + 0 * a, azimuth_deg=10.0)
+    result = radar.radar_link_gain(
+        10.0, ranges, 20.0, 20.0, target=radar.RadarTarget(lambda a, e: 0.5 + 0 * a, azimuth_deg=10.0)
+    )
     np.testing.assert_allclose(
         result.path_gain_db, 10 * np.log10(lam**2 * 0.5 / ((4 * np.pi) ** 3 * ranges**4)), atol=0.01
     )
@@ -166,7 +171,9 @@ def test_radar_link_over_ground_is_four_path_model(links, f_ghz, material):
     _, radar = links
     h_radar, h_drone, sigma = 5.0, 30.0, 0.01
     ranges = np.geomspace(20.0, 2e4, 41)
-    result = radar.radar_link_gain(f_ghz, ranges, h_radar, h_drone, rcs=sigma, ground=material, budget="draft")
+    result = radar.radar_link_gain(
+        f_ghz, ranges, h_radar, h_drone, radar.RadarTarget(sigma), ground=material, budget="draft"
+    )
     lam = C / (f_ghz * 1e9)
     eta = itu_eta(material, f_ghz)
     amplitude = lam * np.sqrt(sigma) / (4 * np.pi) ** 1.5
@@ -183,16 +190,15 @@ def test_radar_link_over_ground_is_four_path_model(links, f_ghz, material):
 def test_radar_bad_input(links):
     _, radar = links
     with pytest.raises(ParameterError, match="rcs"):
-        radar.radar_link_gain(10.0, 100.0, rcs=-1.0)
+        radar.radar_link_gain(10.0, 100.0, target=radar.RadarTarget(-1.0))
     with pytest.raises(ParameterError, match="target_height_m"):
         radar.radar_link_gain(10.0, 100.0, target_height_m=0.02, ground="concrete")
     with pytest.raises(ParameterError, match="rcs"):
-        radar.radar_link_gain(10.0, 100.0, rcs=lambda a, e: np.full(np.shape(a), np.nan))
+        radar.radar_link_gain(10.0, 100.0, target=radar.RadarTarget(lambda a, e: np.full(np.shape(a), np.nan)))
 
 
 def test_accuracy_vs_time_rows(links):
     from csuas.render.links.accuracy import accuracy_vs_time
-    from csuas.render.links.budget import LinkBudget
 
     budgets = (LinkBudget("one_ray", 1, 1), LinkBudget("draft", 16, 1))
     rows = accuracy_vs_time("rf", 2.4, (100.0, 1000.0), 30.0, 2.0, "medium_dry_ground", budgets, repeats=1)

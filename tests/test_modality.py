@@ -48,7 +48,7 @@ def test_renderers_are_exactly_the_render_modes():
 
 
 def test_report_groups_are_groups_the_report_checks_declare():
-    groups = {spec.group for reference in SPEC_LISTS for spec in resolve(reference)}
+    groups = {spec.group.name for reference in SPEC_LISTS for spec in resolve(reference)}
     assert {m.report_group for m in RECORDS} <= groups
 
 

@@ -73,7 +73,7 @@ def plates():
     for side, n in ((1.0, 15.0), (1.5, 10.0)):
         mesh = fw.plate_mesh(side * lam, lam / n)
         out[side] = fw.monostatic_rcs_efie(
-            mesh.vertices, mesh.faces, 10.0, [0.0, 30.0], [90.0, 50.0], "VV", solver="lu"
+            mesh.vertices, mesh.faces, 10.0, [0.0, 30.0], [90.0, 50.0], "VV", fw.EfieSettings(solver="lu")
         )
     return lam, out
 
@@ -164,9 +164,9 @@ def test_bad_input_raises_parameter_error():
     with pytest.raises(ParameterError, match="azimuth_deg"):
         fw.monostatic_rcs_efie(v, f, 10.0, float("inf"), 0.0)
     with pytest.raises(ParameterError, match="solver"):
-        fw.monostatic_rcs_efie(v, f, 10.0, solver="cg")
+        fw.monostatic_rcs_efie(v, f, 10.0, settings=fw.EfieSettings(solver="cg"))
     with pytest.raises(ParameterError, match="tolerance"):
-        fw.monostatic_rcs_efie(v, f, 10.0, tolerance=0.0)
+        fw.monostatic_rcs_efie(v, f, 10.0, settings=fw.EfieSettings(tolerance=0.0))
     with pytest.raises(ParameterError, match="mesh"):  # 3 mm edges at 60 GHz: 1.5 edges per wavelength
         fw.monostatic_rcs_efie(v, f, 60.0)
     with pytest.raises(ParameterError, match="faces"):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.terrain import curvature_drop_m, height_at, lowest_visible_height_m, viewshed
+from csuas.core.terrain import RayLimits, curvature_drop_m, height_at, lowest_visible_height_m, viewshed
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -85,12 +85,12 @@ def test_a_truncated_viewshed_is_the_full_one_inside_its_reach():
     full = terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0)
     ground = np.hypot(rr - 100.3, cc - 170.6) * 30.0
     for limit in (45.0, 1500.0, 2500.0):
-        near = terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, max_distance_m=limit)
+        near = terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, limits=terrain.RayLimits(max_distance_m=limit))
         inside = ground <= limit
         assert np.array_equal(near[inside], full[inside]) and not near[~inside].any()
     assert full[ground > 2500.0].any() and not full[ground <= 2500.0].all()  # cells cut off; shadows inside
     with pytest.raises(ParameterError, match="max_distance_m"):
-        terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, max_distance_m=0.0)
+        terrain.viewshed(dem, 30.0, 100.3, 170.6, 10.0, 40.0, limits=terrain.RayLimits(max_distance_m=0.0))
 
 
 @pytest.mark.parametrize("azimuth_deg, width_deg", [(45.0, 90.0), (270.0, 120.0), (180.0, 10.0), (0.0, 359.0)])
@@ -102,7 +102,7 @@ def test_a_sector_traces_only_its_rays_and_matches_the_all_round_viewshed_inside
 
     dem = gaussian_hills(120, 50.0)
     full = viewshed(dem, 50.0, 60.3, 55.7, 5.0, 20.0)
-    cut = viewshed(dem, 50.0, 60.3, 55.7, 5.0, 20.0, sector_deg=(azimuth_deg, width_deg))
+    cut = viewshed(dem, 50.0, 60.3, 55.7, 5.0, 20.0, limits=RayLimits(sector_deg=(azimuth_deg, width_deg)))
     rows, cols = np.indices(dem.shape)
     inside = np.abs(off_boresight_deg(bearing_deg(rows - 60.3, cols - 55.7), azimuth_deg)) <= width_deg / 2
     own = np.hypot(rows - 60.3, cols - 55.7) < 0.5  # the sensor's own cell: always in sight
@@ -121,7 +121,7 @@ def test_cells_around_a_point_are_clipped_to_the_grid():
 
 def test_a_bad_sector_is_named():
     with pytest.raises(ParameterError, match="sector width_deg"):
-        viewshed(np.zeros((5, 5)), 10.0, 2.0, 2.0, 5.0, 10.0, sector_deg=(90.0, 0.0))
+        viewshed(np.zeros((5, 5)), 10.0, 2.0, 2.0, 5.0, 10.0, limits=RayLimits(sector_deg=(90.0, 0.0)))
 
 
 def test_lowest_visible_height_behind_a_wall_is_the_sight_line_over_its_top():
@@ -150,7 +150,9 @@ def test_lowest_visible_height_agrees_with_the_viewshed_at_every_flight_level():
         seen = viewshed(dem, 25.0, 60.3, 40.7, 10.0, h)
         disagree = seen != (lowest <= h)
         assert np.all(np.abs(lowest[disagree] - h) < 1e-6)  # only where the target grazes the horizon
-    limited = lowest_visible_height_m(dem, 25.0, 60.3, 40.7, 10.0, max_distance_m=500.0, sector_deg=(90.0, 60.0))
+    limited = lowest_visible_height_m(
+        dem, 25.0, 60.3, 40.7, 10.0, limits=RayLimits(max_distance_m=500.0, sector_deg=(90.0, 60.0))
+    )
     ground = np.hypot(*np.indices(dem.shape) - np.array([60.3, 40.7])[:, None, None]) * 25.0
     assert np.all(np.isinf(limited[ground > 500.0]))
     inside = np.isfinite(limited)

@@ -121,9 +121,23 @@ def test_radio_map_bad_input(kwargs, names):
         **kwargs,
     }
     with pytest.raises((ParameterError, InputErrors)) as caught:
-        tm.terrain_radio_map(**args)
+        site = {key: args.pop(key) for key in tm.RadioMapSite.__dataclass_fields__}
+        tm.terrain_radio_map(tm.RadioMapSite(**site), tm.RadioMapOptions(**args))
     errors = getattr(caught.value, "errors", [caught.value])
     assert [e.name for e in errors] == names
+
+
+def test_the_two_ray_oracle_refuses_terrain_and_ignores_a_constant_height():
+    """The flat-ground oracle: a DEM with relief is refused (naming dem_m); a DEM at one height everywhere gives
+    the map of a DEM at zero, since the mast and the flight level are heights above the ground."""
+    from csuas.validation.links.terrain_map import block_average_two_ray
+
+    site = tm.RadioMapSite(np.zeros((3, 9)), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    hill = tm.RadioMapSite(np.eye(3, 9), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    with pytest.raises(ParameterError, match="dem_m"):
+        block_average_two_ray(hill, 15.0 - 0.3j)
+    raised = tm.RadioMapSite(np.full((3, 9), 120.0), 25.0, 1.0, 0.0, 10.0, 60.0, 1.0)
+    assert np.array_equal(block_average_two_ray(raised, 15.0 - 0.3j), block_average_two_ray(site, 15.0 - 0.3j))
 
 
 @pytest.mark.slow
@@ -159,10 +173,10 @@ def test_flat_ground_is_the_two_ray_power_sum(polarization, step):
 @pytest.mark.slow
 def test_a_seed_gives_the_map_and_unreached_cells_are_minus_infinity():
     dem = np.zeros((21, 31))
-    args = (dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
-    a = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
-    b = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
-    c = tm.terrain_radio_map(*args, samples=2**14, seed=6, k_factor=None)
+    site = tm.RadioMapSite(dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
+    a = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**14, seed=5, k_factor=None))
+    b = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**14, seed=5, k_factor=None))
+    c = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**14, seed=6, k_factor=None))
     # the same rotations; Sionna's atomic float32 sums add the rays in a varying order (1e-7 dB measured)
     np.testing.assert_allclose(a.path_gain_db, b.path_gain_db, rtol=0, atol=1e-5)
     both = a.reached & c.reached
@@ -194,11 +208,12 @@ def test_hills_direct_rays_follow_the_viewshed_and_reflections_only_add():
     from csuas.validation.links.terrain_map import dark_tolerance, line_of_sight_agreement
 
     dem = _hills()
-    out = line_of_sight_agreement(dem, 50.0, 20.0, 20.0, 10.0, 40.0, 2.4, 2**18)
+    site = tm.RadioMapSite(dem, 50.0, 20.0, 20.0, 10.0, 40.0, 2.4)
+    out = line_of_sight_agreement(site, 2**18)
     assert out["hidden_lit"] == 0
     assert out["visible_dark"] <= dark_tolerance(out["expected_dark"])
     assert 0.5 < out["visible"].mean() < 0.9
-    full = tm.terrain_radio_map(dem, 50.0, 20.0, 20.0, 10.0, 40.0, 2.4, samples=2**18, max_depth=2)
+    full = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**18, max_depth=2))
     los = out["result"].path_gain_db
     # the same rotations shoot the same direct rays: the reflections add power, never remove it
     assert np.all(full.path_gain_db >= los - 1e-4)
@@ -212,20 +227,19 @@ def test_budget_meets_the_requested_bound():
 
     p = FLAT
     dem = np.zeros(p["shape"])
-    geometry = (dem, p["cell_m"], p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], p["frequency_ghz"])
-    budget, result = tm.radio_map_budget(
-        1.0, *geometry, start_samples=2**13, k_factor=None, polarization="H", max_depth=1
-    )
+    site = tm.RadioMapSite(dem, p["cell_m"], p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], p["frequency_ghz"])
+    options = tm.RadioMapOptions(k_factor=None, polarization="H", max_depth=1)
+    budget, result = tm.radio_map_budget(1.0, site, options, start_samples=2**13)
     steps = result.extra["budget_steps"]
     assert result.extra["budget_met"] and budget.samples == steps[-1]["samples"] == result.budget.samples
     assert [s["samples"] for s in steps] == [2**13 * 2**i for i in range(len(steps))] and len(steps) > 1
     assert steps[-1]["fraction_met"] >= 0.95 > steps[0]["fraction_met"]
     eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], 1.0)
-    oracle = block_average_two_ray(1.0, p["shape"], *geometry[1:6], eta, polarization="H")
+    oracle = block_average_two_ray(site, eta, polarization="H")
     error = np.abs(result.path_gain_db - 10 * np.log10(oracle))
     assert np.mean(error <= 1.0) >= tm.STATED_COVERAGE  # the promise holds against the oracle
     with pytest.raises(ParameterError, match="target_db"):
-        tm.radio_map_budget(0.0, *geometry)
+        tm.radio_map_budget(0.0, site)
 
 
 @pytest.mark.slow
@@ -235,10 +249,10 @@ def test_a_ground_given_by_its_constants_reflects_as_the_itu_ground_of_those_con
     from csuas.render.links.scene import ground_properties
 
     dem = np.zeros((21, 31))
-    args = (dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
+    site = tm.RadioMapSite(dem, 10.0, 10.0, 0.0, 10.0, 60.0, 2.4)
     constants = ground_properties("medium_dry_ground", 2.4)
-    named = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None)
-    given = tm.terrain_radio_map(*args, samples=2**14, seed=5, k_factor=None, ground=constants)
+    named = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**14, seed=5, k_factor=None))
+    given = tm.terrain_radio_map(site, tm.RadioMapOptions(samples=2**14, seed=5, k_factor=None, ground=constants))
     assert np.array_equal(named.reached, given.reached)
     np.testing.assert_allclose(named.path_gain_db[named.reached], given.path_gain_db[given.reached], atol=1e-5)
     with pytest.raises(ParameterError, match="ground"):

@@ -148,14 +148,19 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
     """
     from csuas.core.coverage import link_frequency_ghz, multipath_detection
     from csuas.core.terrain import cells_around
-    from csuas.render.links.terrain_map import radio_map_budget, terrain_radio_map
+    from csuas.render.links.terrain_map import RadioMapOptions, RadioMapSite, radio_map_budget, terrain_radio_map
 
     layers = {}
     for name in settings["sensors"]:
         placed, los = sited[name], per_sensor[name]
         frequency = link_frequency_ghz(scenario, name)
-        options = {"ground": settings["ground"], "step": settings["step"], "max_depth": settings["max_depth"]}
-        options["seed"] = settings["seed"]
+        options = RadioMapOptions(
+            ground=settings["ground"],
+            samples=settings["samples"],
+            max_depth=settings["max_depth"],
+            seed=settings["seed"],
+            step=settings["step"],
+        )
         radius = max(MAP_REACH_FACTOR * los["reach_m"] / cell_m, 1.0)  # at least 2 x 2 cells
         square = cells_around(dem.shape, placed.row, placed.col, radius)
         window = sector_window(los["aimed"], square, placed.row, placed.col)
@@ -165,18 +170,18 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
             print(f"csuas coverage: {name} radio map at {altitude:g} m ...", file=sys.stderr, flush=True)
             start = time.perf_counter()
             row, col = placed.row - origin[0], placed.col - origin[1]
-            where = (dem[window], cell_m, row, col, placed.mast_m, altitude, frequency)
+            where = RadioMapSite(dem[window], cell_m, row, col, placed.mast_m, altitude, frequency)
             if settings["accuracy_db"] is None:
-                result = terrain_radio_map(*where, samples=settings["samples"], **options)
+                result = terrain_radio_map(where, options)
             else:
                 _, result = radio_map_budget(
                     settings["accuracy_db"],
-                    *where,
+                    where,
+                    options,
                     fraction=ACCURACY_FRACTION,
                     judged=los["visible"][i][window],
                     start_samples=min(settings["samples"], ACCURACY_MAX_SAMPLES),
                     max_samples=ACCURACY_MAX_SAMPLES,
-                    **options,
                 )
             mapped = np.zeros(dem.shape, dtype=bool)
             mapped[window] = los["aimed"][window]  # the sensor's sector only, as its line of sight

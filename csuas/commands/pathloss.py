@@ -43,6 +43,7 @@ def run(args) -> dict:
     """Solve the links; return path_gain_db, friis_db, time_s (and two_ray_db over ground)."""
     from csuas.core.dielectric import complex_permittivity
     from csuas.core.rf import free_space_path_loss_db
+    from csuas.render.links.budget import resolve_budget
     from csuas.render.links.rf import rf_path_gain
     from csuas.render.links.two_ray import two_ray_path_gain_db
 
@@ -53,9 +54,7 @@ def run(args) -> dict:
         args.tx_height_m,
         args.rx_height_m,
         ground=ground,
-        budget=args.budget,
-        samples=args.samples,
-        max_depth=args.max_depth,
+        budget=resolve_budget(args.budget, args.samples, args.max_depth),
     )
     d = np.asarray(args.distance_m, dtype=float)
     slant = result.extra["slant_range_m"]

@@ -193,47 +193,56 @@ def run(args) -> dict:
         "bounces_tried": tried,
     }
     if args.sphere_average:
-        from csuas.render.rcs.sweep import sphere_average
-
-        avg = sphere_average(
-            engine,
-            args.frequency_ghz,
-            accuracy_db=args.sphere_accuracy_db,
-            polarisation=pol,
-            quality=args.quality,
-            rays_per_wavelength=args.rays_per_wavelength,
-            max_bounces=args.max_bounces,
-        )
-        out["sphere_average"] = {
-            k: (v.tolist()[0] if isinstance(v, np.ndarray) and v.size == 1 else v)
-            for k, v in avg.items()
-            if k not in ("samples_m2", "directions")
-        }
+        out["sphere_average"] = _sphere_average(args, engine)
     if args.plot:
-        from csuas.render.rcs.sweep import aspect_sweep, plot_polar
-
-        azimuth = np.arange(0.0, 360.0, 2.0)
-        cut = aspect_sweep(
-            engine,
-            args.frequency_ghz,
-            azimuth,
-            args.elevation_deg,
-            quality=args.quality,
-            rays_per_wavelength=args.rays_per_wavelength,
-            max_bounces=args.max_bounces,
-            error_estimate=False,
-        )
-        plot_polar(
-            azimuth,
-            {p: v[0] for p, v in cut["rcs_dbsm"].items()},
-            args.plot,
-            title=f"{args.mesh_or_preset}: RCS [dBsm] at {args.frequency_ghz:g} GHz, "
-            f"elevation {args.elevation_deg:g} deg",
-        )
+        _plot_azimuth_cut(args, engine)
         out["plot"] = args.plot
     out["time_s"] = time.perf_counter() - start
     out["sbr_time_s"] = res.time_s
     return out
+
+
+def _sphere_average(args, engine) -> dict:
+    """``--sphere-average``: Eq. 6's average of the chosen polarisation, its one-value arrays as numbers."""
+    from csuas.render.rcs.sweep import sphere_average
+
+    avg = sphere_average(
+        engine,
+        args.frequency_ghz,
+        accuracy_db=args.sphere_accuracy_db,
+        polarisation=args.polarisation,
+        quality=args.quality,
+        rays_per_wavelength=args.rays_per_wavelength,
+        max_bounces=args.max_bounces,
+    )
+    return {
+        k: (v.tolist()[0] if isinstance(v, np.ndarray) and v.size == 1 else v)
+        for k, v in avg.items()
+        if k not in ("samples_m2", "directions")
+    }
+
+
+def _plot_azimuth_cut(args, engine) -> None:
+    """``--plot``: a polar plot of every polarisation over azimuth at the chosen elevation, to ``args.plot``."""
+    from csuas.render.rcs.sweep import aspect_sweep, plot_polar
+
+    azimuth = np.arange(0.0, 360.0, 2.0)
+    cut = aspect_sweep(
+        engine,
+        args.frequency_ghz,
+        azimuth,
+        args.elevation_deg,
+        quality=args.quality,
+        rays_per_wavelength=args.rays_per_wavelength,
+        max_bounces=args.max_bounces,
+        error_estimate=False,
+    )
+    plot_polar(
+        azimuth,
+        {p: v[0] for p, v in cut["rcs_dbsm"].items()},
+        args.plot,
+        title=f"{args.mesh_or_preset}: RCS [dBsm] at {args.frequency_ghz:g} GHz, elevation {args.elevation_deg:g} deg",
+    )
 
 
 #: An error estimate above this [dB] says the estimate itself failed (the half-density run hit

@@ -32,7 +32,7 @@ from csuas.core import clutter, false_alarms, radar, radar_detection
 from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_reach_m
 from csuas.core.pd_curves import margin_db, sensor_pd
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
+from csuas.core.terrain import RayLimits, bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
 from csuas.core.units import C_LIGHT
 
 #: Modalities an engagement simulates (a detection needs a bearing and a range estimate).
@@ -215,8 +215,7 @@ class SensorModel:
             s.mast_m,
             0.0,
             self.k_factor,
-            self.reach_m,
-            None if s.sector_deg >= 360 else (s.azimuth_deg, s.sector_deg),
+            RayLimits(self.reach_m, None if s.sector_deg >= 360 else (s.azimuth_deg, s.sector_deg)),
         )
         rows, cols = np.nonzero(seen)
         ground = np.hypot(rows - s.row, cols - s.col) * t.cell_m

@@ -58,7 +58,8 @@ def resolve_budget(budget="standard", samples=None, max_depth=None) -> LinkBudge
     Parameters
     ----------
     budget : str or LinkBudget
-        ``"draft"``, ``"standard"``, ``"reference"``, ``"sionna_default"`` or a budget.
+        ``"draft"``, ``"standard"``, ``"reference"``, ``"sionna_default"`` or a budget (its
+        samples and depth checked as the overrides are).
     samples : int, optional
         Overrides the rays per source (>= 1).
     max_depth : int, optional
@@ -67,9 +68,14 @@ def resolve_budget(budget="standard", samples=None, max_depth=None) -> LinkBudge
     Returns
     -------
     LinkBudget
+
+    Raises
+    ------
+    ParameterError
+        An unknown preset, or samples or a depth out of range, named.
     """
     if isinstance(budget, LinkBudget):
-        base = budget
+        base = LinkBudget(budget.name, _checked_samples(budget.samples), _checked_depth(budget.max_depth))
     elif budget == SIONNA_DEFAULT.name:
         base = SIONNA_DEFAULT
     elif budget in PRESETS:
@@ -77,11 +83,21 @@ def resolve_budget(budget="standard", samples=None, max_depth=None) -> LinkBudge
     else:
         raise ParameterError("budget", budget, ", ".join([*PRESETS, SIONNA_DEFAULT.name]) + " or a LinkBudget")
     if samples is not None:
-        if isinstance(samples, bool) or int(samples) != samples or not 1 <= samples <= 100_000_000:
-            raise ParameterError("samples", samples, "an integer from 1 to 1e8")
-        base = LinkBudget("custom", int(samples), base.max_depth)
+        base = LinkBudget("custom", _checked_samples(samples), base.max_depth)
     if max_depth is not None:
-        if isinstance(max_depth, bool) or int(max_depth) != max_depth or not 0 <= max_depth <= 10:
-            raise ParameterError("max_depth", max_depth, "an integer from 0 to 10")
-        base = LinkBudget("custom", base.samples, int(max_depth))
+        base = LinkBudget("custom", base.samples, _checked_depth(max_depth))
     return base
+
+
+def _checked_samples(samples) -> int:
+    """Rays per source, an integer from 1 to 1e8."""
+    if isinstance(samples, bool) or int(samples) != samples or not 1 <= samples <= 100_000_000:
+        raise ParameterError("samples", samples, "an integer from 1 to 1e8")
+    return int(samples)
+
+
+def _checked_depth(max_depth) -> int:
+    """Maximum interactions per path, an integer from 0 to 10."""
+    if isinstance(max_depth, bool) or int(max_depth) != max_depth or not 0 <= max_depth <= 10:
+        raise ParameterError("max_depth", max_depth, "an integer from 0 to 10")
+    return int(max_depth)

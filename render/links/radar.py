@@ -22,6 +22,8 @@ combinations interfere (:func:`csuas.render.links.two_ray.radar_four_paths`).
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -67,18 +69,34 @@ def sionna_rcs_callable(rcs_function, constant_sigma=None):
     return rcs
 
 
+@dataclass(frozen=True)
+class RadarTarget:
+    """The drone as a radar link's sensing target (module docstring).
+
+    Attributes
+    ----------
+    rcs : float, RCSTable or callable, optional
+        Cross-section [m^2]: a constant, a table, or any vectorised f(azimuth_deg, elevation_deg);
+        None: 0.01 m^2 (Table 8).
+    azimuth_deg : float
+        Direction of the radars seen from the drone, in its body frame [deg].
+    size_m : tuple of 3 floats
+        Size of the drone's cuboid [m] (the error names it ``target_size_m``).
+    """
+
+    rcs: Any = None
+    azimuth_deg: float = 0.0
+    size_m: tuple = DEFAULT_TARGET_SIZE_M
+
+
 def radar_link_gain(
     frequency_ghz,
     range_m,
     radar_height_m=5.0,
     target_height_m=5.0,
-    rcs=None,
-    azimuth_deg=0.0,
+    target: RadarTarget = RadarTarget(),
     ground=None,
     budget="standard",
-    samples=None,
-    max_depth=None,
-    target_size_m=DEFAULT_TARGET_SIZE_M,
     seed=1,
 ) -> LinkResult:
     """Two-way gain [dB] of a monostatic radar link to the drone, by Sionna RT.
@@ -91,20 +109,14 @@ def radar_link_gain(
         Horizontal ranges from the drone to the radar [m], each in (0, 1e6].
     radar_height_m, target_height_m : float
         Heights [m] of the radar and of the drone's centre.
-    rcs : float, RCSTable or callable, optional
-        Cross-section [m^2]: a constant, a table, or any vectorised
-        f(azimuth_deg, elevation_deg); default 0.01 m^2.
-    azimuth_deg : float
-        Direction of the radars seen from the drone, in its body frame [deg].
+    target : RadarTarget
+        The drone's cross-section, the radars' direction in its body frame and its cuboid.
     ground : str or None
         ITU material of a flat ground at z = 0, or None for free space.
-    budget, samples, max_depth
-        Sample budget (see :mod:`csuas.render.links.budget`); here
-        ``samples`` are rays per scattering point and ``max_depth`` bounds
-        the scene interactions of each leg, so RCSSolver runs with depth
-        2 max_depth + 1 (the scattering on the target counts as one).
-    target_size_m : tuple of 3 floats
-        Size of the drone's cuboid [m].
+    budget : str or LinkBudget
+        Sample budget (see :mod:`csuas.render.links.budget`); here its ``samples`` are rays per
+        scattering point and its ``max_depth`` bounds the scene interactions of each leg, so
+        RCSSolver runs with depth 2 max_depth + 1 (the scattering on the target counts as one).
     seed : int
         Seed of Sionna's sampler.
 
@@ -120,16 +132,10 @@ def radar_link_gain(
     over_ground = ground is not None
     h_radar = check_height("radar_height_m", radar_height_m, over_ground)
     h_target = check_height("target_height_m", target_height_m, over_ground)
-    size = np.asarray(target_size_m, float)
-    if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size <= 0):
-        raise ParameterError("target_size_m", target_size_m, "three sizes > 0 m")
-    if over_ground and h_target <= size[2] / 2:
-        raise ParameterError(
-            "target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)"
-        )
-    rcs_function = as_rcs_function(rcs)
-    constant_sigma = None if callable(rcs) else float(rcs_function(0.0, 0.0))
-    chosen = resolve_budget(budget, samples, max_depth)
+    size = _checked_size(target.size_m, target_height_m, h_target, over_ground)
+    rcs_function = as_rcs_function(target.rcs)
+    constant_sigma = None if callable(target.rcs) else float(rcs_function(0.0, 0.0))
+    chosen = resolve_budget(budget)
     if not over_ground and chosen.name in PRESETS:
         chosen = LinkBudget(chosen.name, chosen.samples, 0)  # nothing to hit: direct legs only
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
@@ -145,7 +151,7 @@ def radar_link_gain(
         TargetSpec(tuple(float(v) for v in size), tuple(float(v) for v in target_pos)),
     )
     link.rcs.function = sionna_rcs_callable(rcs_function, constant_sigma)
-    az = np.radians(float(azimuth_deg))
+    az = np.radians(float(target.azimuth_deg))
     radar_pos = np.column_stack([r * np.cos(az), r * np.sin(az), np.full_like(r, h_radar)])
     link.place(radar_pos, radar_pos)
     paths = rcs_solver()(
@@ -162,12 +168,29 @@ def radar_link_gain(
     elapsed = time.perf_counter() - start
     with np.errstate(divide="ignore"):
         gain_db = 10.0 * np.log10(np.abs(coefficients.sum(-1)) ** 2)
-    to_radar = radar_pos - target_pos
-    slant = np.linalg.norm(to_radar, axis=-1)
-    direct_aspect = bisector_aspect(-to_radar / slant[:, None], to_radar / slant[:, None])
-    extra = {"slant_range_m": slant, "sigma_direct_m2": np.asarray(rcs_function(*direct_aspect), float)}
+    extra = _direct_path_extra(radar_pos, target_pos, rcs_function)
     if eps_sigma is not None:
         extra.update(relative_permittivity=eps_sigma[0], conductivity_s_m=eps_sigma[1])
     return LinkResult(
         gain_db, coefficients, np.count_nonzero(coefficients, axis=-1), elapsed, chosen, active_variant(), extra
     )
+
+
+def _checked_size(size_m, target_height_m, h_target: float, over_ground: bool) -> np.ndarray:
+    """The target's cuboid [m], three sizes > 0 that clear the ground at the target's height."""
+    size = np.asarray(size_m, float)
+    if size.shape != (3,) or not np.all(np.isfinite(size)) or np.any(size <= 0):
+        raise ParameterError("target_size_m", size_m, "three sizes > 0 m")
+    if over_ground and h_target <= size[2] / 2:
+        raise ParameterError(
+            "target_height_m", target_height_m, f"> {size[2] / 2:g} m (the target must clear the ground)"
+        )
+    return size
+
+
+def _direct_path_extra(radar_pos, target_pos, rcs_function) -> dict:
+    """Slant range [m] of each radar and the cross-section [m^2] the direct path sees (its bisector aspect)."""
+    to_radar = radar_pos - target_pos
+    slant = np.linalg.norm(to_radar, axis=-1)
+    direct_aspect = bisector_aspect(-to_radar / slant[:, None], to_radar / slant[:, None])
+    return {"slant_range_m": slant, "sigma_direct_m2": np.asarray(rcs_function(*direct_aspect), float)}

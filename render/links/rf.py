@@ -90,8 +90,6 @@ def rf_path_gain(
     rx_height_m=10.0,
     ground=None,
     budget="standard",
-    samples=None,
-    max_depth=None,
     polarization="V",
     seed=1,
 ) -> LinkResult:
@@ -110,10 +108,10 @@ def rf_path_gain(
         ITU-R P.2040 material of a flat ground at z = 0 (``"concrete"``,
         ``"medium_dry_ground"``, ...), or None for free space.
     budget : str or LinkBudget
-        ``"draft"``, ``"standard"``, ``"reference"`` or ``"sionna_default"``
-        (see :mod:`csuas.render.links.budget`).
-    samples, max_depth : int, optional
-        Override the budget's rays per source and maximum depth.
+        ``"draft"``, ``"standard"``, ``"reference"``, ``"sionna_default"``
+        (see :mod:`csuas.render.links.budget`) or a budget of its own rays per source and
+        maximum depth (:func:`csuas.render.links.budget.resolve_budget` makes one from a preset
+        and overrides).
     polarization : {"V", "H"}
         Polarisation of both isotropic antennas.
     seed : int
@@ -130,7 +128,7 @@ def rf_path_gain(
     h_rx = check_height("rx_height_m", rx_height_m, over_ground)
     if polarization not in ("V", "H"):
         raise ParameterError("polarization", polarization, "V or H")
-    chosen = resolve_budget(budget, samples, max_depth)
+    chosen = resolve_budget(budget)
     eps_sigma = ground_properties(ground, frequency_ghz) if over_ground else None
     if not over_ground and chosen.name in PRESETS:
         chosen = LinkBudget(chosen.name, chosen.samples, 0)  # nothing to hit: line of sight only

@@ -66,8 +66,9 @@ from __future__ import annotations
 import hashlib
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 
@@ -472,78 +473,11 @@ class TerrainRadioMap:
     extra: dict = field(default_factory=dict)
 
 
-def _check_count(name: str, value, low: int, high: int, errors: list) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= value <= high:
-        errors.append(ParameterError(name, value, f"an integer from {low} to {high}"))
-        return low
-    return int(value)
+@dataclass(frozen=True)
+class RadioMapSite:
+    """Where a terrain radio map is computed: the DEM, the sensor on its mast, the flight level, the carrier.
 
-
-def _check_inputs(
-    dem_m, cell_m, tx_row, tx_col, mast_m, altitude_m, frequency_ghz, ground, k_factor, polarization, errors
-):
-    """The arguments of :func:`terrain_radio_map` that shape the scene, checked; mistakes go to ``errors``."""
-    dem, cell = np.zeros((2, 2)), 1.0
-    try:
-        dem, cell = check_dem(dem_m, cell_m)
-    except ParameterError as exc:
-        errors.append(exc)
-    except InputErrors as exc:
-        errors.extend(exc.errors)
-    n_r, n_c = dem.shape
-    try:
-        row, col = float(tx_row), float(tx_col)
-        if not (0.0 <= row <= n_r - 1 and 0.0 <= col <= n_c - 1):
-            raise ValueError
-    except (TypeError, ValueError):
-        errors.append(ParameterError("tx position", (tx_row, tx_col), f"inside the grid 0..{n_r - 1} x 0..{n_c - 1}"))
-        row = col = 0.0
-    heights = []
-    for name, value in (("mast_m", mast_m), ("altitude_m", altitude_m)):
-        try:
-            heights.append(check_height(name, value, over_ground=True))
-        except ParameterError as exc:
-            errors.append(exc)
-            heights.append(1.0)
-    frequency = 1.0
-    try:
-        frequency = check_frequency(frequency_ghz)
-        ground_properties(ground, frequency)
-    except ParameterError as exc:
-        errors.append(exc)
-    if k_factor is not None:
-        try:
-            if not (np.isfinite(float(k_factor)) and float(k_factor) > 0):
-                raise ValueError
-        except (TypeError, ValueError):
-            errors.append(ParameterError("k_factor", k_factor, "None (flat Earth) or a number > 0"))
-    if polarization not in ("V", "H"):
-        errors.append(ParameterError("polarization", polarization, "V or H"))
-    return dem, cell, row, col, heights[0], heights[1], frequency
-
-
-def terrain_radio_map(
-    dem_m,
-    cell_m,
-    tx_row,
-    tx_col,
-    mast_m,
-    altitude_m,
-    frequency_ghz,
-    ground=DEFAULT_GROUND,
-    samples=DEFAULT_SAMPLES,
-    max_depth=DEFAULT_MAX_DEPTH,
-    seed=1,
-    replicas=REPLICAS,
-    step=1,
-    k_factor=K_RADIO,
-    polarization="V",
-    los=True,
-    reflection=True,
-) -> TerrainRadioMap:
-    """Path gain [dB] from a sensor on a mast to every cell of a flight level over a DEM, by Sionna RT.
-
-    Parameters
+    Attributes
     ----------
     dem_m : array_like (rows, cols)
         Terrain heights [m], finite, square cells.
@@ -556,8 +490,25 @@ def terrain_radio_map(
     altitude_m : float
         The flight level above the terrain [m], in (0, 1e5].
     frequency_ghz : float
-        Carrier frequency [GHz], inside the ITU ranges of ``ground`` (e.g. 1-10 GHz for
+        Carrier frequency [GHz], inside the ITU ranges of the ground (e.g. 1-10 GHz for
         ``medium_dry_ground``).
+    """
+
+    dem_m: Any
+    cell_m: Any
+    tx_row: Any
+    tx_col: Any
+    mast_m: Any
+    altitude_m: Any
+    frequency_ghz: Any
+
+
+@dataclass(frozen=True)
+class RadioMapOptions:
+    """How a terrain radio map is traced.
+
+    Attributes
+    ----------
     ground : str or tuple
         ITU-R P.2040 material of the terrain (:func:`csuas.render.links.scene.itu_materials`), or
         its constants (relative permittivity, conductivity [S/m]) at any frequency.
@@ -579,6 +530,101 @@ def terrain_radio_map(
         summing both polarisations).
     los, reflection : bool
         Keep the direct rays / the specular reflections off the terrain.
+    """
+
+    ground: Any = DEFAULT_GROUND
+    samples: Any = DEFAULT_SAMPLES
+    max_depth: Any = DEFAULT_MAX_DEPTH
+    seed: Any = 1
+    replicas: Any = REPLICAS
+    step: Any = 1
+    k_factor: Any = K_RADIO
+    polarization: Any = "V"
+    los: Any = True
+    reflection: Any = True
+
+
+def _check_count(name: str, value, low: int, high: int, errors: list) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= value <= high:
+        errors.append(ParameterError(name, value, f"an integer from {low} to {high}"))
+        return low
+    return int(value)
+
+
+def _check_inputs(site: RadioMapSite, options: RadioMapOptions, errors: list):
+    """The arguments that shape the scene, checked; mistakes go to ``errors``.
+
+    Returns the DEM, the cell size, the transmitter's row and column, the mast, the altitude and
+    the frequency, each a usable placeholder where it was wrong.
+    """
+    dem, cell = np.zeros((2, 2)), 1.0
+    try:
+        dem, cell = check_dem(site.dem_m, site.cell_m)
+    except ParameterError as exc:
+        errors.append(exc)
+    except InputErrors as exc:
+        errors.extend(exc.errors)
+    n_r, n_c = dem.shape
+    try:
+        row, col = float(site.tx_row), float(site.tx_col)
+        if not (0.0 <= row <= n_r - 1 and 0.0 <= col <= n_c - 1):
+            raise ValueError
+    except (TypeError, ValueError):
+        errors.append(
+            ParameterError("tx position", (site.tx_row, site.tx_col), f"inside the grid 0..{n_r - 1} x 0..{n_c - 1}")
+        )
+        row = col = 0.0
+    heights = []
+    for name, value in (("mast_m", site.mast_m), ("altitude_m", site.altitude_m)):
+        try:
+            heights.append(check_height(name, value, over_ground=True))
+        except ParameterError as exc:
+            errors.append(exc)
+            heights.append(1.0)
+    frequency = 1.0
+    try:
+        frequency = check_frequency(site.frequency_ghz)
+        ground_properties(options.ground, frequency)
+    except ParameterError as exc:
+        errors.append(exc)
+    k_factor = options.k_factor
+    if k_factor is not None:
+        try:
+            if not (np.isfinite(float(k_factor)) and float(k_factor) > 0):
+                raise ValueError
+        except (TypeError, ValueError):
+            errors.append(ParameterError("k_factor", k_factor, "None (flat Earth) or a number > 0"))
+    if options.polarization not in ("V", "H"):
+        errors.append(ParameterError("polarization", options.polarization, "V or H"))
+    return dem, cell, row, col, heights[0], heights[1], frequency
+
+
+def _check_tracing(options: RadioMapOptions, shape, errors: list) -> tuple[RadioMapOptions, LinkBudget | None]:
+    """The counts and flags of ``options`` checked (counts as ints), and the rays' budget; mistakes go to ``errors``."""
+    step = _check_count("step", options.step, 1, max(shape), errors)
+    replicas = _check_count("replicas", options.replicas, 2, 64, errors)
+    seed = _check_count("seed", options.seed, 0, 2**31 - 1, errors)
+    for name, flag in (("los", options.los), ("reflection", options.reflection)):
+        if not isinstance(flag, bool):
+            errors.append(ParameterError(name, flag, "True or False"))
+    budget = None
+    try:
+        budget = resolve_budget(LinkBudget("custom", 1, 0), samples=options.samples, max_depth=options.max_depth)
+    except ParameterError as exc:
+        errors.append(exc)
+    return replace(options, step=step, replicas=replicas, seed=seed), budget
+
+
+def terrain_radio_map(site: RadioMapSite, options: RadioMapOptions = RadioMapOptions()) -> TerrainRadioMap:
+    """Path gain [dB] from a sensor on a mast to every cell of a flight level over a DEM, by Sionna RT.
+
+    Parameters
+    ----------
+    site : RadioMapSite
+        The DEM, the sensor's cell and mast, the flight level and the carrier.
+    options : RadioMapOptions
+        Ground, rays per replica, depth, seed, replicas, measurement step, Earth, polarisation and
+        which paths are kept.
 
     Returns
     -------
@@ -591,62 +637,30 @@ def terrain_radio_map(
         Every invalid argument at once.
     """
     errors: list = []
-    dem, cell, row, col, mast, altitude, frequency = _check_inputs(
-        dem_m, cell_m, tx_row, tx_col, mast_m, altitude_m, frequency_ghz, ground, k_factor, polarization, errors
-    )
-    step = _check_count("step", step, 1, max(dem.shape), errors)
-    replicas = _check_count("replicas", replicas, 2, 64, errors)
-    seed = _check_count("seed", seed, 0, 2**31 - 1, errors)
-    for name, flag in (("los", los), ("reflection", reflection)):
-        if not isinstance(flag, bool):
-            errors.append(ParameterError(name, flag, "True or False"))
-    try:
-        budget = resolve_budget(LinkBudget("custom", 1, 0), samples=samples, max_depth=max_depth)
-    except ParameterError as exc:
-        errors.append(exc)
+    dem, cell, row, col, mast, altitude, frequency = _check_inputs(site, options, errors)
+    options, budget = _check_tracing(options, dem.shape, errors)
     raise_all(errors)
 
     rt = load_sionna_rt()  # the first call imports Sionna: not part of the map's time
     start = time.perf_counter()
-    terrain = terrain_scene(dem, cell, frequency, ground, k_factor)
-    surface = terrain.surface(altitude, step)
+    terrain = terrain_scene(dem, cell, frequency, options.ground, options.k_factor)
+    surface = terrain.surface(altitude, options.step)
     x, y = local_xy(row, col, dem.shape, cell)
-    z = float(height_at(dem, np.array([row]), np.array([col]))[0]) + mast - float(surface_drop_m(x, y, k_factor))
+    drop = float(surface_drop_m(x, y, options.k_factor))
+    z = float(height_at(dem, np.array([row]), np.array([col]))[0]) + mast - drop
     tx_m = np.array([float(x), float(y), z])
-    array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=polarization)
+    array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=options.polarization)
     terrain.scene.tx_array = terrain.scene.rx_array = array
     terrain.transmitter.position = [float(v) for v in tx_m]
-    rng = np.random.default_rng(seed)
-    n_blocks = (len(block_edges(dem.shape[0], step)) - 1, len(block_edges(dem.shape[1], step)) - 1)
-    areas = surface.areas_m2.reshape(-1, 2)
-    powers, replica_times = [], []
-    for k, angles in enumerate(random_rotation_angles(replicas, rng)):
-        t0 = time.perf_counter()
-        terrain.rotate(rotation_matrix(angles), tx_m, surface)
-        terrain.transmitter.orientation = [float(a) for a in angles]
-        radio_map = radio_map_solver()(
-            terrain.scene,
-            measurement_surface=surface.mesh,
-            samples_per_tx=budget.samples,
-            max_depth=budget.max_depth,
-            los=los,
-            specular_reflection=reflection,
-            diffuse_reflection=False,
-            refraction=False,
-            diffraction=False,
-            seed=seed + k,
-            modified_scene=surface.mi_scene,
-        )
-        gain = np.asarray(radio_map.path_gain.numpy(), dtype=float)[0].reshape(-1, 2)
-        powers.append((np.sum(gain * areas, axis=1) / areas.sum(axis=1)).reshape(n_blocks))
-        replica_times.append(time.perf_counter() - t0)
-    stack = np.stack(powers)
+    n_blocks = (len(block_edges(dem.shape[0], options.step)) - 1, len(block_edges(dem.shape[1], options.step)) - 1)
+    stack, replica_times = _replica_powers(terrain, surface, tx_m, n_blocks, budget, options)
     mean, error = bound_db(stack, BOUND_LEVEL)
     reached, reliable = np.any(stack > 0, axis=0), np.all(stack > 0, axis=0)
     with np.errstate(divide="ignore"):
         gain_db = 10.0 * np.log10(mean)
     elapsed = time.perf_counter() - start
-    eps_r, sigma = ground_properties(ground, frequency)
+    eps_r, sigma = ground_properties(options.ground, frequency)
+    step = options.step
     return TerrainRadioMap(
         blocks_to_grid(gain_db, dem.shape, step),
         blocks_to_grid(error, dem.shape, step),
@@ -654,7 +668,7 @@ def terrain_radio_map(
         blocks_to_grid(reliable, dem.shape, step),
         elapsed,
         budget,
-        replicas,
+        options.replicas,
         BOUND_LEVEL,
         active_variant() or "",
         {
@@ -667,6 +681,38 @@ def terrain_radio_map(
     )
 
 
+def _replica_powers(terrain: TerrainScene, surface: MeasurementSurface, tx_m, n_blocks, budget, options):
+    """Block-averaged path gain of every rotated replica (replicas, *n_blocks) and each replica's time [s].
+
+    Each replica rotates the scene about the transmitter by seeded random angles (the transmitter
+    turned with it) and solves Sionna's radio map on the measurement surface.
+    """
+    rng = np.random.default_rng(options.seed)
+    areas = surface.areas_m2.reshape(-1, 2)
+    powers, replica_times = [], []
+    for k, angles in enumerate(random_rotation_angles(options.replicas, rng)):
+        t0 = time.perf_counter()
+        terrain.rotate(rotation_matrix(angles), tx_m, surface)
+        terrain.transmitter.orientation = [float(a) for a in angles]
+        radio_map = radio_map_solver()(
+            terrain.scene,
+            measurement_surface=surface.mesh,
+            samples_per_tx=budget.samples,
+            max_depth=budget.max_depth,
+            los=options.los,
+            specular_reflection=options.reflection,
+            diffuse_reflection=False,
+            refraction=False,
+            diffraction=False,
+            seed=options.seed + k,
+            modified_scene=surface.mi_scene,
+        )
+        gain = np.asarray(radio_map.path_gain.numpy(), dtype=float)[0].reshape(-1, 2)
+        powers.append((np.sum(gain * areas, axis=1) / areas.sum(axis=1)).reshape(n_blocks))
+        replica_times.append(time.perf_counter() - t0)
+    return np.stack(powers), replica_times
+
+
 #: Rays per replica :func:`radio_map_budget` starts from and may not exceed.
 BUDGET_START_SAMPLES = 2**16
 BUDGET_MAX_SAMPLES = 2**24
@@ -674,18 +720,12 @@ BUDGET_MAX_SAMPLES = 2**24
 
 def radio_map_budget(
     target_db,
-    dem_m,
-    cell_m,
-    tx_row,
-    tx_col,
-    mast_m,
-    altitude_m,
-    frequency_ghz,
+    site: RadioMapSite,
+    options: RadioMapOptions = RadioMapOptions(),
     fraction=0.95,
     judged=None,
     start_samples=BUDGET_START_SAMPLES,
     max_samples=BUDGET_MAX_SAMPLES,
-    **options,
 ) -> tuple[LinkBudget, TerrainRadioMap]:
     """The rays per replica whose error bound meets ``target_db``: doubled from ``start_samples`` up to ``max_samples``.
 
@@ -696,8 +736,8 @@ def radio_map_budget(
     ----------
     target_db : float
         Requested bound on the path gain's error [dB] (at the map's level, 95 %), > 0.
-    dem_m, cell_m, tx_row, tx_col, mast_m, altitude_m, frequency_ghz
-        As for :func:`terrain_radio_map`.
+    site, options : RadioMapSite, RadioMapOptions
+        As for :func:`terrain_radio_map` (``options.samples`` is replaced by each step's).
     fraction : float
         Fraction of the judged cells that must meet the target, in (0, 1].
     judged : numpy.ndarray of bool (rows, cols), optional
@@ -706,9 +746,6 @@ def radio_map_budget(
         a path surely reaches them, while a hidden cell may have none at any budget.
     start_samples, max_samples : int
         First and largest rays per replica (1 to 1e8).
-    **options
-        Further arguments of :func:`terrain_radio_map` (``ground``, ``max_depth``, ``replicas``,
-        ``step``, ``k_factor``, ...).
 
     Returns
     -------
@@ -720,21 +757,9 @@ def radio_map_budget(
     """
     from csuas.core.terrain import viewshed
 
-    k_factor = options.get("k_factor", K_RADIO)
+    k_factor = options.k_factor
     errors: list = []
-    dem, cell, row, col, mast, altitude, _ = _check_inputs(
-        dem_m,
-        cell_m,
-        tx_row,
-        tx_col,
-        mast_m,
-        altitude_m,
-        frequency_ghz,
-        options.get("ground", DEFAULT_GROUND),
-        k_factor,
-        options.get("polarization", "V"),
-        errors,
-    )
+    dem, cell, row, col, mast, altitude, _ = _check_inputs(site, options, errors)
     try:
         target = float(target_db)
         if not (np.isfinite(target) and target > 0):
@@ -760,9 +785,7 @@ def radio_map_budget(
         judged = viewshed(dem, cell, row, col, mast, altitude, 1e12 if k_factor is None else k_factor)
     samples, steps = first, []
     while True:
-        result = terrain_radio_map(
-            dem_m, cell_m, tx_row, tx_col, mast_m, altitude_m, frequency_ghz, samples=samples, **options
-        )
+        result = terrain_radio_map(site, replace(options, samples=samples))
         met = result.reliable & (result.error_db <= target)
         share_met = float(met[judged].mean()) if judged.any() else 1.0
         steps.append({"samples": samples, "fraction_met": share_met, "time_s": result.time_s})

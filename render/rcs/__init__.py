@@ -7,7 +7,8 @@ when it first runs):
 * :func:`compute_rcs` -- monostatic or bistatic RCS of a mesh or drone preset
   for batches of frequencies x aspects, with quality presets and an error
   estimate (:mod:`csuas.render.rcs.solver`; engine in
-  :mod:`csuas.render.rcs.engine`);
+  :mod:`csuas.render.rcs.engine`); :func:`rcs_of` takes the same run as records
+  (:class:`RcsAspects`, :class:`RcsTracing`) for a prepared engine;
 * :func:`aspect_sweep`, :func:`rcs_table`, :func:`plot_polar`,
   :func:`band_sweep`, :func:`sphere_average` (Eq. 6) in
   :mod:`csuas.render.rcs.sweep`;
@@ -22,7 +23,7 @@ from csuas.drone_models.geometry import direction_vector
 from .convergence import convergence_curve, density_for_accuracy, preset_errors
 from .geometry import TargetMesh, load_target, polarisation_basis, prepare_mesh
 from .materials import RadioMaterial, resolve_material
-from .solver import QUALITY_PRESETS, RcsResult, compute_rcs
+from .solver import QUALITY_PRESETS, RcsAspects, RcsResult, RcsTracing, compute_rcs, rcs_of
 from .sweep import PAPER_BANDS_GHZ, aspect_sweep, band_sweep, plot_polar, rcs_table, sphere_average
 
 __all__ = [
@@ -36,6 +37,9 @@ __all__ = [
     "QUALITY_PRESETS",
     "RcsResult",
     "compute_rcs",
+    "rcs_of",
+    "RcsAspects",
+    "RcsTracing",
     "PAPER_BANDS_GHZ",
     "aspect_sweep",
     "band_sweep",

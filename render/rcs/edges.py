@@ -224,91 +224,8 @@ def find_edges(target: TargetMesh, min_turn_deg: float = MIN_TURN_DEG) -> Edges:
         turn = math.nan
     if not (0.0 < turn < 180.0):
         raise ParameterError("min_turn_deg", min_turn_deg, "0 < x < 180 deg")
-    v = np.asarray(target.vertices, float)
-    f = np.asarray(target.faces, np.int64)
-    scale = max(target.bounding_radius_m, 1e-12) * 1e-9
-    _, canon = np.unique(np.round(v / scale).astype(np.int64), axis=0, return_inverse=True)
-    canon = canon.ravel()
-    fc = canon[f]
-    # Directed edges (a -> b) of every face, with the face and its third vertex.
-    a = fc[:, [0, 1, 2]].ravel()
-    b = fc[:, [1, 2, 0]].ravel()
-    third = f[:, [2, 0, 1]].ravel()
-    face = np.repeat(np.arange(len(f)), 3)
-    ok = a != b
-    a, b, third, face = a[ok], b[ok], third[ok], face[ok]
-    key = np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1)
-    _, inv, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inv = inv.ravel()
-    order = np.argsort(inv, kind="stable")
-    first = np.r_[0, np.cumsum(count)[:-1]]
-    # representative vertex position per canonical index
-    pos = np.zeros((canon.max() + 1, 3))
-    pos[canon] = v
-    conductor = np.array([not _is_dielectric(m) for m in target.materials], bool)
-    fmat = np.asarray(target.face_material, np.int64)
-
-    rows = []
-    # rims: one face
-    rim = count == 1
-    e0 = order[first[rim]]
-    if len(e0):
-        p0, p1 = pos[key[e0, 0]], pos[key[e0, 1]]
-        t = _unit(p1 - p0)
-        w = v[third[e0]] - p0
-        w = _unit(w - (w * t).sum(-1, keepdims=True) * t)
-        nrm = target.face_normals[face[e0]]
-        fm = fmat[face[e0]]
-        rows.append(
-            (
-                p0,
-                p1,
-                np.stack([w, w], 1),
-                np.stack([nrm, nrm], 1),
-                np.full(len(e0), 2.0),
-                np.ones(len(e0), bool),
-                np.stack([face[e0], np.full(len(e0), -1)], 1),
-                np.stack([fm, np.full(len(e0), -1)], 1),
-                conductor[fm],
-            )
-        )
-    # wedges: two faces
-    two = count == 2
-    i0, i1 = order[first[two]], order[first[two] + 1]
-    if len(i0):
-        p0, p1 = pos[key[i0, 0]], pos[key[i0, 1]]
-        t = _unit(p1 - p0)
-        w0 = v[third[i0]] - p0
-        w0 = _unit(w0 - (w0 * t).sum(-1, keepdims=True) * t)
-        w1 = v[third[i1]] - p0
-        w1 = _unit(w1 - (w1 * t).sum(-1, keepdims=True) * t)
-        n0, n1 = target.face_normals[face[i0]].copy(), target.face_normals[face[i1]].copy()
-        consistent = a[i0] == b[i1]  # the two faces run along the edge in opposite directions
-        side = (n0 * w1).sum(-1)
-        # inconsistent winding: take the edge as convex (face 1 behind face 0's normal)
-        flip0 = ~consistent & (side > 0)
-        n0[flip0] *= -1
-        # face 1's free-space normal: perpendicular to w1 and t, on the side away from w0
-        n1 = np.cross(t, w1)
-        n1 *= np.where((n1 * w0).sum(-1) > 0, -1.0, 1.0)[:, None]
-        convex = (n0 * w1).sum(-1) < 0
-        alpha = np.arccos(np.clip((w0 * w1).sum(-1), -1.0, 1.0))  # interior angle
-        sharp = (np.pi - alpha) >= math.radians(turn) - 1e-12
-        fm0, fm1 = fmat[face[i0]], fmat[face[i1]]
-        keep = convex & sharp
-        rows.append(
-            (
-                p0[keep],
-                p1[keep],
-                np.stack([w0, w1], 1)[keep],
-                np.stack([n0, n1], 1)[keep],
-                (2.0 - alpha / np.pi)[keep],
-                np.zeros(int(keep.sum()), bool),
-                np.stack([face[i0], face[i1]], 1)[keep],
-                np.stack([fm0, fm1], 1)[keep],
-                (conductor[fm0] & conductor[fm1])[keep],
-            )
-        )
+    index = _EdgeIndex.of(target)
+    rows = [r for r in (_rim_rows(index, target), _wedge_rows(index, target, turn)) if r is not None]
     if not rows:
         rows.append(
             (np.zeros((0, 3)),) * 2
@@ -324,6 +241,124 @@ def find_edges(target: TargetMesh, min_turn_deg: float = MIN_TURN_DEG) -> Edges:
     keep = metal & (np.linalg.norm(p1 - p0, axis=-1) > 0)
     length = np.linalg.norm(p1 - p0, axis=-1)
     return Edges(p0, p1, t, length, fdir, nrm, wn, half, faces, mats).subset(keep)
+
+
+@dataclass(frozen=True)
+class _EdgeIndex:
+    """The undirected edges of a mesh after merging coincident vertices, grouped by edge.
+
+    ``a``, ``b``, ``third``, ``face``: each directed edge (a -> b, canonical vertices), the third
+    vertex of its face and the face; ``key`` the sorted pair; ``order``, ``first``, ``count``: the
+    directed edges sorted by undirected edge, where each group starts and its size; ``pos`` a
+    vertex position per canonical index; ``conductor`` per material, ``face_material`` per face.
+    """
+
+    vertices: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    third: np.ndarray
+    face: np.ndarray
+    key: np.ndarray
+    order: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    pos: np.ndarray
+    conductor: np.ndarray
+    face_material: np.ndarray
+
+    @classmethod
+    def of(cls, target: TargetMesh) -> _EdgeIndex:
+        """Vertices closer than 1e-9 of the bounding radius merged, then the edges grouped."""
+        v = np.asarray(target.vertices, float)
+        f = np.asarray(target.faces, np.int64)
+        scale = max(target.bounding_radius_m, 1e-12) * 1e-9
+        _, canon = np.unique(np.round(v / scale).astype(np.int64), axis=0, return_inverse=True)
+        canon = canon.ravel()
+        fc = canon[f]
+        # Directed edges (a -> b) of every face, with the face and its third vertex.
+        a = fc[:, [0, 1, 2]].ravel()
+        b = fc[:, [1, 2, 0]].ravel()
+        third = f[:, [2, 0, 1]].ravel()
+        face = np.repeat(np.arange(len(f)), 3)
+        ok = a != b
+        a, b, third, face = a[ok], b[ok], third[ok], face[ok]
+        key = np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1)
+        _, inv, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        inv = inv.ravel()
+        order = np.argsort(inv, kind="stable")
+        first = np.r_[0, np.cumsum(count)[:-1]]
+        # representative vertex position per canonical index
+        pos = np.zeros((canon.max() + 1, 3))
+        pos[canon] = v
+        conductor = np.array([not _is_dielectric(m) for m in target.materials], bool)
+        fmat = np.asarray(target.face_material, np.int64)
+        return cls(v, a, b, third, face, key, order, first, count, pos, conductor, fmat)
+
+
+def _in_face_direction(vertices, p0, t):
+    """Unit direction from the edge into a face: toward the face's third vertex, perpendicular to the edge."""
+    w = vertices - p0
+    return _unit(w - (w * t).sum(-1, keepdims=True) * t)
+
+
+def _rim_rows(index: _EdgeIndex, target: TargetMesh):
+    """Columns of the rims (edges of one face: half-planes, n = 2), or None without any."""
+    e0 = index.order[index.first[index.count == 1]]
+    if not len(e0):
+        return None
+    face, fmat = index.face[e0], index.face_material[index.face[e0]]
+    p0, p1 = index.pos[index.key[e0, 0]], index.pos[index.key[e0, 1]]
+    w = _in_face_direction(index.vertices[index.third[e0]], p0, _unit(p1 - p0))
+    nrm = target.face_normals[face]
+    return (
+        p0,
+        p1,
+        np.stack([w, w], 1),
+        np.stack([nrm, nrm], 1),
+        np.full(len(e0), 2.0),
+        np.ones(len(e0), bool),
+        np.stack([face, np.full(len(e0), -1)], 1),
+        np.stack([fmat, np.full(len(e0), -1)], 1),
+        index.conductor[fmat],
+    )
+
+
+def _wedge_rows(index: _EdgeIndex, target: TargetMesh, turn: float):
+    """Columns of the convex wedges (edges of two faces) turning by at least ``turn`` [deg], or None."""
+    two = index.count == 2
+    i0, i1 = index.order[index.first[two]], index.order[index.first[two] + 1]
+    if not len(i0):
+        return None
+    a, b, face, v = index.a, index.b, index.face, index.vertices
+    p0, p1 = index.pos[index.key[i0, 0]], index.pos[index.key[i0, 1]]
+    t = _unit(p1 - p0)
+    w0 = _in_face_direction(v[index.third[i0]], p0, t)
+    w1 = _in_face_direction(v[index.third[i1]], p0, t)
+    n0 = target.face_normals[face[i0]].copy()
+    consistent = a[i0] == b[i1]  # the two faces run along the edge in opposite directions
+    side = (n0 * w1).sum(-1)
+    # inconsistent winding: take the edge as convex (face 1 behind face 0's normal)
+    flip0 = ~consistent & (side > 0)
+    n0[flip0] *= -1
+    # face 1's free-space normal: perpendicular to w1 and t, on the side away from w0
+    n1 = np.cross(t, w1)
+    n1 *= np.where((n1 * w0).sum(-1) > 0, -1.0, 1.0)[:, None]
+    convex = (n0 * w1).sum(-1) < 0
+    alpha = np.arccos(np.clip((w0 * w1).sum(-1), -1.0, 1.0))  # interior angle
+    sharp = (np.pi - alpha) >= math.radians(turn) - 1e-12
+    fm0, fm1 = index.face_material[face[i0]], index.face_material[face[i1]]
+    keep = convex & sharp
+    return (
+        p0[keep],
+        p1[keep],
+        np.stack([w0, w1], 1)[keep],
+        np.stack([n0, n1], 1)[keep],
+        (2.0 - alpha / np.pi)[keep],
+        np.zeros(int(keep.sum()), bool),
+        np.stack([face[i0], face[i1]], 1)[keep],
+        np.stack([fm0, fm1], 1)[keep],
+        (index.conductor[fm0] & index.conductor[fm1])[keep],
+    )
 
 
 # ---------------------------------------------------------------------- coefficients
@@ -467,6 +502,7 @@ def edge_amplitude(
     th_i, ph_i = polarisation_basis(az, el)
     s = direction_vector(oaz, oel)  # (J, M, 3)
     th_s, ph_s = polarisation_basis(oaz, oel)
+    waves = _Waves(k, d_i, th_i, ph_i, s, th_s, ph_s)
     step_e = max(1, min(n_edges, CHUNK_ELEMENTS // max(1, n_obs)))
     step_j = max(1, CHUNK_ELEMENTS // (n_obs * step_e))
     for j0 in range(0, n_jobs, step_j):
@@ -474,14 +510,31 @@ def edge_amplitude(
         for e0 in range(0, n_edges, step_e):
             es = slice(e0, min(n_edges, e0 + step_e))
             vis = None if visible is None else visible[js, :, es]
-            out[js] += _chunk(
-                edges.subset(es), k[js], d_i[js], th_i[js], ph_i[js], s[js], th_s[js], ph_s[js], vis, mono
-            )
+            out[js] += _chunk(edges.subset(es), waves.rows(js), vis, mono)
     return out
 
 
-def _chunk(edges, k, d_i, th_i, ph_i, s, th_s, ph_s, visible, mono):
+@dataclass(frozen=True)
+class _Waves:
+    """The jobs' waves: wavenumber k (J,) [rad/m], incident direction ``d_i`` and polarisation basis
+    ``th_i``, ``ph_i`` (J, 3), receiver directions ``s`` and bases ``th_s``, ``ph_s`` (J, M, 3)."""
+
+    k: np.ndarray
+    d_i: np.ndarray
+    th_i: np.ndarray
+    ph_i: np.ndarray
+    s: np.ndarray
+    th_s: np.ndarray
+    ph_s: np.ndarray
+
+    def rows(self, jobs: slice) -> _Waves:
+        """The waves of some jobs."""
+        return _Waves(*(getattr(self, name)[jobs] for name in ("k", "d_i", "th_i", "ph_i", "s", "th_s", "ph_s")))
+
+
+def _chunk(edges: Edges, waves: _Waves, visible, mono: bool):
     """Amplitudes (J, M, 2, 2) of a chunk of jobs x edges (see :func:`edge_amplitude`)."""
+    k, d_i, th_i, ph_i, s, th_s, ph_s = (waves.k, waves.d_i, waves.th_i, waves.ph_i, waves.s, waves.th_s, waves.ph_s)
     t = edges.tangent  # (E, 3)
     x_e = edges.face_dir[:, 0]  # (E, 3)
     y0 = edges.normal[:, 0]

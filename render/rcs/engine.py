@@ -645,8 +645,40 @@ class SbrEngine:
         and where the reflected tube is strong enough to follow. Without thin
         shells in the scene the transmitted parts are empty.
         """
+        hit = self._hit_frame(dev, st, t, prim)
+        r_perp, r_par, t_perp, t_par, slab, pec = self._fresnel(dev, prim, hit)
+        refl, trans = [], []
+        for pol in ("ev", "eh"):
+            e_re, e_im = st[pol + "_re"], st[pol + "_im"]
+            r_re, r_im = self._split(hit, e_re, e_im, (r_perp, r_par), hit.par_r)
+            u_re, u_im = self._split(hit, e_re, e_im, (t_perp, t_par), hit.par_i)
+            # Reflection: eta*J = n x (k_i x E_i + k_r x E_r), M = (E_i + E_r) x n.
+            refl.append(
+                (
+                    self.dr.cross(hit.direction, e_re) + self.dr.cross(hit.dir_r, r_re),
+                    self.dr.cross(hit.direction, e_im) + self.dr.cross(hit.dir_r, r_im),
+                    e_re + r_re,
+                    e_im + r_im,
+                    r_re,
+                    r_im,
+                )
+            )
+            # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
+            trans.append(
+                (self.dr.cross(hit.direction, u_re), self.dr.cross(hit.direction, u_im), u_re, u_im, u_re, u_im)
+            )
+        contrib_r, contrib_t = self._po_contributions(dev, st, prim, hit, (refl, trans), n_obs, exact_area, silent)
+        keep_r = _tube_power(self.dr, refl) > dev["cutoff"]
+        has_t = slab & ~pec & (_tube_power(self.dr, trans) > dev["cutoff"])
+        st_r, st_t = self._new_tubes(dev, st, hit, refl, trans)
+        if not self._has_shells:
+            return contrib_r, st_r, [], {}, self.mi.Bool(), keep_r
+        return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
+
+    def _hit_frame(self, dev, st, t, prim) -> _HitFrame:
+        """The hit point, the facet's normal toward the ray, the reflected direction and the local TE/TM basis."""
         mi, dr = self.mi, self.dr
-        Float, UInt, V3, C = mi.Float, mi.UInt32, mi.Vector3f, mi.Complex2f
+        Float, V3 = mi.Float, mi.Vector3f
         job, direction = st["job"], st["dir"]
         p = st["o"] + t * direction
         n = dr.gather(V3, self._face_normal, prim)
@@ -661,8 +693,19 @@ class SbrEngine:
         fallback = dr.cross(direction, dr.select(dr.abs(direction.x) < 0.9, V3(1, 0, 0), V3(0, 1, 0)))
         perp = dr.normalize(dr.select(dr.norm(perp) > 1e-6, perp, fallback))
         par_i, par_r = dr.cross(direction, perp), dr.cross(dir_r, perp)
-        # Fresnel coefficients of the face material at the job's frequency (interface, then slab).
-        mat = dr.gather(UInt, self._face_material, prim) * dr.opaque(UInt, dev["n_jobs"]) + job
+        return _HitFrame(job, direction, p, n, cos_i, phase_len, dir_r, k, perp, par_i, par_r)
+
+    def _fresnel(self, dev, prim, hit: _HitFrame):
+        """Reflection and transmission coefficients (TE, TM) of the face material at the job's frequency.
+
+        The interface's Fresnel coefficients, or the slab's where the material is a thin shell (a
+        sheet at the slab's mid-plane); -1, +1 and no transmission on a perfect conductor. Returns
+        ``(r_perp, r_par, t_perp, t_par, slab, pec)``.
+        """
+        mi, dr = self.mi, self.dr
+        Float, UInt, C = mi.Float, mi.UInt32, mi.Complex2f
+        k, cos_i = hit.k, hit.cos_i
+        mat = dr.gather(UInt, self._face_material, prim) * dr.opaque(UInt, dev["n_jobs"]) + hit.job
         eps = C(dr.gather(Float, dev["eps_re"], mat), dr.gather(Float, dev["eps_im"], mat))
         thick = dr.gather(Float, dev["thick"], mat)
         pec = dr.gather(mi.Bool, dev["pec"], mat)
@@ -694,36 +737,31 @@ class SbrEngine:
         r_par = dr.select(pec, C(1.0, 0.0), dr.select(slab, r_par, g_par))
         t_perp = dr.select(slab & ~pec, t_perp, zero)
         t_par = dr.select(slab & ~pec, t_par, zero)
+        return r_perp, r_par, t_perp, t_par, slab, pec
 
-        def split(e_re, e_im, c_perp, c_par, out_par):
-            """Field (re, im) after multiplying the TE and TM components by c_perp and c_par."""
-            s_re, s_im = dr.dot(e_re, perp), dr.dot(e_im, perp)
-            q_re, q_im = dr.dot(e_re, par_i), dr.dot(e_im, par_i)
-            a_re = c_perp.real * s_re - c_perp.imag * s_im
-            a_im = c_perp.real * s_im + c_perp.imag * s_re
-            b_re = c_par.real * q_re - c_par.imag * q_im
-            b_im = c_par.real * q_im + c_par.imag * q_re
-            return a_re * perp + b_re * out_par, a_im * perp + b_im * out_par
+    def _split(self, hit: _HitFrame, e_re, e_im, coefficients, out_par):
+        """Field (re, im) after multiplying the TE and TM components by ``coefficients`` (c_perp, c_par)."""
+        dr, perp, par_i = self.dr, hit.perp, hit.par_i
+        c_perp, c_par = coefficients
+        s_re, s_im = dr.dot(e_re, perp), dr.dot(e_im, perp)
+        q_re, q_im = dr.dot(e_re, par_i), dr.dot(e_im, par_i)
+        a_re = c_perp.real * s_re - c_perp.imag * s_im
+        a_im = c_perp.real * s_im + c_perp.imag * s_re
+        b_re = c_par.real * q_re - c_par.imag * q_im
+        b_im = c_par.real * q_im + c_par.imag * q_re
+        return a_re * perp + b_re * out_par, a_im * perp + b_im * out_par
 
-        refl, trans = [], []
-        for pol in ("ev", "eh"):
-            e_re, e_im = st[pol + "_re"], st[pol + "_im"]
-            r_re, r_im = split(e_re, e_im, r_perp, r_par, par_r)
-            u_re, u_im = split(e_re, e_im, t_perp, t_par, par_i)
-            # Reflection: eta*J = n x (k_i x E_i + k_r x E_r), M = (E_i + E_r) x n.
-            refl.append(
-                (
-                    dr.cross(direction, e_re) + dr.cross(dir_r, r_re),
-                    dr.cross(direction, e_im) + dr.cross(dir_r, r_im),
-                    e_re + r_re,
-                    e_im + r_im,
-                    r_re,
-                    r_im,
-                )
-            )
-            # Transmission aperture on the far side (normal -n): eta*J = -n x (k x E_t), M = E_t x (-n).
-            trans.append((dr.cross(direction, u_re), dr.cross(direction, u_im), u_re, u_im, u_re, u_im))
+    def _po_contributions(self, dev, st, prim, hit: _HitFrame, fields, n_obs, exact_area, silent):
+        """PO far fields toward every receiver of the reflection's and the transmission's currents.
 
+        Over the tube's footprint on the facet, or over the whole facet where ``exact_area`` is given
+        (lit by the incident plane wave); the reflection of a facet integrated exactly elsewhere
+        (:meth:`_exact_first_hits`, ``silent``) is left out. Returns ``(contrib_r, contrib_t)``.
+        """
+        mi, dr = self.mi, self.dr
+        Float, V3 = mi.Float, mi.Vector3f
+        refl, trans = fields
+        job, direction, p, n, cos_i, k = hit.job, hit.direction, hit.p, hit.n, hit.cos_i, hit.k
         area = dr.norm(dr.cross(st["a1"], st["a2"])) / cos_i
         f1 = st["a1"] + (dr.dot(st["a1"], n) / cos_i) * direction  # footprint edges on the facet
         f2 = st["a2"] + (dr.dot(st["a2"], n) / cos_i) * direction
@@ -748,16 +786,16 @@ class SbrEngine:
                 s0, c0 = dr.sincos(k * dr.dot(q, rel0))
                 foot_re = 2.0 * exact_area * (c0 * g_re - s0 * g_im)
                 foot_im = 2.0 * exact_area * (c0 * g_im + s0 * g_re)
-            psi = k * (dr.dot(s, p) - phase_len)
+            psi = k * (dr.dot(s, p) - hit.phase_len)
             sin_psi, cos_psi = dr.sincos(psi)
             amp = k * (1.0 / (4.0 * math.pi))
             # -j k (foot e^{j psi}) / (4 pi)
             f_re = amp * (foot_re * sin_psi + foot_im * cos_psi)
             f_im = -amp * (foot_re * cos_psi - foot_im * sin_psi)
-            for fields, normal, out in sides:
+            for side_fields, normal, out in sides:
                 tn, pn = dr.cross(th, normal), dr.cross(ph, normal)
                 w_re, w_im = (f_re * audible, f_im * audible) if out is contrib_r else (f_re, f_im)
-                for x_re, x_im, y_re, y_im, _, _ in fields:
+                for x_re, x_im, y_re, y_im, _, _ in side_fields:
                     # V_theta = X.(theta x n) - Y.(phi x n);  V_phi = X.(phi x n) + Y.(theta x n)
                     vt_re = dr.dot(x_re, tn) - dr.dot(y_re, pn)
                     vt_im = dr.dot(x_im, tn) - dr.dot(y_im, pn)
@@ -769,24 +807,22 @@ class SbrEngine:
                         w_re * vp_re - w_im * vp_im,
                         w_re * vp_im + w_im * vp_re,
                     ]
+        return contrib_r, contrib_t
 
-        def power(fields):
-            return dr.maximum(
-                dr.squared_norm(fields[0][4]) + dr.squared_norm(fields[0][5]),
-                dr.squared_norm(fields[1][4]) + dr.squared_norm(fields[1][5]),
-            )
+    def _new_tubes(self, dev, st, hit: _HitFrame, refl, trans):
+        """The reflected tube's state and, with thin shells in the scene, the transmitted one's (else None).
 
-        keep_r = power(refl) > dev["cutoff"]
-        has_t = slab & ~pec & (power(trans) > dev["cutoff"])
-        # New tubes: origins nudged off the surface, path length corrected for the nudge. The nudge
-        # is relative to the target's bounding radius (>= 20 float32 ulps of any coordinate inside
-        # it), so that a scaled target at a scaled wavelength traces exactly the same tubes.
-        nudge = 2e-5 * dr.gather(Float, dev["radius"], UInt(0))
+        Origins nudged off the surface, path length corrected for the nudge. The nudge is relative to
+        the target's bounding radius (>= 20 float32 ulps of any coordinate inside it), so that a scaled
+        target at a scaled wavelength traces exactly the same tubes.
+        """
+        dr, n, p = self.dr, hit.n, hit.p
+        nudge = 2e-5 * dr.gather(self.mi.Float, dev["radius"], self.mi.UInt32(0))
         st_r = dict(st)
         st_r.update(
             o=p + nudge * n,
-            dir=dr.normalize(dir_r),
-            phase_len=phase_len + nudge * cos_i,
+            dir=dr.normalize(hit.dir_r),
+            phase_len=hit.phase_len + nudge * hit.cos_i,
             a1=st["a1"] - 2.0 * dr.dot(st["a1"], n) * n,
             a2=st["a2"] - 2.0 * dr.dot(st["a2"], n) * n,
             ev_re=refl[0][4],
@@ -795,17 +831,17 @@ class SbrEngine:
             eh_im=refl[1][5],
         )
         if not self._has_shells:
-            return contrib_r, st_r, [], {}, mi.Bool(), keep_r
+            return st_r, None
         st_t = dict(st)
         st_t.update(
             o=p - nudge * n,
-            phase_len=phase_len + nudge * cos_i,
+            phase_len=hit.phase_len + nudge * hit.cos_i,
             ev_re=trans[0][4],
             ev_im=trans[0][5],
             eh_re=trans[1][4],
             eh_im=trans[1][5],
         )
-        return contrib_r, st_r, contrib_t, st_t, has_t, keep_r
+        return st_r, st_t
 
     def _live_power(self, stats, st, mask) -> None:
         """Add ``|a1 x a2|^2 |E|^2`` (V, H transmit) of the tubes ``mask`` of ``st`` that would hit again to
@@ -904,6 +940,37 @@ def _concat(dr, a, b):
     if dr.size_v(a) == 3:
         return type(a)(*(dr.concat([a[i], b[i]]) for i in range(3)))
     return dr.concat([a, b])
+
+
+@dataclass(frozen=True)
+class _HitFrame:
+    """Where and how a tube hits a facet (Dr.Jit arrays, one per tube).
+
+    ``job``, the incident ``direction``, hit point ``p``, the facet's normal ``n`` facing the ray,
+    ``cos_i`` the cosine of incidence, ``phase_len`` the path length to ``p`` [m], ``dir_r`` the
+    reflected direction, ``k`` the wavenumber [rad/m], and the TE/TM basis ``perp``, ``par_i``,
+    ``par_r`` (e_par = k x e_perp of the incident and reflected waves).
+    """
+
+    job: object
+    direction: object
+    p: object
+    n: object
+    cos_i: object
+    phase_len: object
+    dir_r: object
+    k: object
+    perp: object
+    par_i: object
+    par_r: object
+
+
+def _tube_power(dr, fields):
+    """The larger of the V- and H-transmit powers |E|^2 of a tube's field (per tube)."""
+    return dr.maximum(
+        dr.squared_norm(fields[0][4]) + dr.squared_norm(fields[0][5]),
+        dr.squared_norm(fields[1][4]) + dr.squared_norm(fields[1][5]),
+    )
 
 
 def _sinc(dr, x):

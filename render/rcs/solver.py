@@ -348,6 +348,76 @@ def _receivers(az, el, observe_azimuth_deg, observe_elevation_deg) -> tuple[np.n
     return oaz, oel
 
 
+@dataclass(frozen=True)
+class RcsAspects:
+    """The grid a run computes: frequencies x transmitter directions x receivers.
+
+    Attributes
+    ----------
+    frequency_ghz : np.ndarray (F,)
+        Radar frequencies [GHz], finite and > 0.
+    azimuth_deg, elevation_deg : np.ndarray (A,)
+        Directions from the target toward the transmitter [deg].
+    observe_azimuth_deg, observe_elevation_deg : np.ndarray (A, M)
+        Receiver directions [deg]; the transmitter's own for monostatic RCS.
+    """
+
+    frequency_ghz: np.ndarray
+    azimuth_deg: np.ndarray
+    elevation_deg: np.ndarray
+    observe_azimuth_deg: np.ndarray
+    observe_elevation_deg: np.ndarray
+
+    @classmethod
+    def of(
+        cls, frequency_ghz, azimuth_deg=0.0, elevation_deg=0.0, observe_azimuth_deg=None, observe_elevation_deg=None
+    ):
+        """Checked and broadcast grid (arguments as :func:`compute_rcs` takes them).
+
+        Raises
+        ------
+        ParameterError
+            A non-positive or non-finite frequency, or angles out of range.
+        """
+        freq = np.atleast_1d(np.asarray(frequency_ghz, dtype=float)).ravel()
+        bad = ~(np.isfinite(freq) & (freq > 0))
+        if len(freq) == 0 or bad.any():
+            raise ParameterError("frequency_ghz", float(freq[bad][0]) if bad.any() else [], "0 < f < inf GHz")
+        az, el = np.broadcast_arrays(
+            np.atleast_1d(np.asarray(azimuth_deg, float)), np.atleast_1d(np.asarray(elevation_deg, float))
+        )
+        az, el = az.ravel(), el.ravel()
+        oaz, oel = _receivers(az, el, observe_azimuth_deg, observe_elevation_deg)
+        return cls(freq, az, el, oaz, oel)
+
+
+@dataclass(frozen=True)
+class RcsTracing:
+    """How a run traces (resolved from a quality preset and its overrides by :func:`compute_rcs`).
+
+    Attributes
+    ----------
+    rays_per_wavelength : float
+        Tube density N.
+    max_bounces : int
+    error_estimate : bool
+        Trace :data:`REPLICAS` shifted grids and bound the error from their spread.
+    radiate : {"exit", "all"}
+        Radiate at each tube's last hit (Ling et al.) or at every hit.
+    power_cutoff : float
+        Relative tube power below which a tube stops.
+    edge_diffraction : bool
+        Add the PTD fringe field of the target's edges (:mod:`csuas.render.rcs.edges`).
+    """
+
+    rays_per_wavelength: float
+    max_bounces: int
+    error_estimate: bool = True
+    radiate: str = "exit"
+    power_cutoff: float = POWER_CUTOFF
+    edge_diffraction: bool = False
+
+
 def compute_rcs(
     target,
     frequency_ghz,
@@ -367,7 +437,7 @@ def compute_rcs(
     power_cutoff: float = POWER_CUTOFF,
     edge_diffraction: bool = False,
 ) -> RcsResult:
-    """Radar cross-section of a mesh by SBR-PO for frequencies x aspects.
+    """Radar cross-section of a mesh by SBR-PO for frequencies x aspects (the keyword form of :func:`rcs_of`).
 
     Parameters
     ----------
@@ -414,34 +484,47 @@ def compute_rcs(
         ``max_bounces < 1``, angles out of range, unknown material or preset.
     """
     n, bounces = resolve_quality(quality, rays_per_wavelength, max_bounces)
-    freq = np.atleast_1d(np.asarray(frequency_ghz, dtype=float)).ravel()
-    bad = ~(np.isfinite(freq) & (freq > 0))
-    if len(freq) == 0 or bad.any():
-        raise ParameterError("frequency_ghz", float(freq[bad][0]) if bad.any() else [], "0 < f < inf GHz")
-    az, el = np.broadcast_arrays(
-        np.atleast_1d(np.asarray(azimuth_deg, float)), np.atleast_1d(np.asarray(elevation_deg, float))
-    )
-    az, el = az.ravel(), el.ravel()
-    n_f, n_a = len(freq), len(az)
-    oaz, oel = _receivers(az, el, observe_azimuth_deg, observe_elevation_deg)
+    aspects = RcsAspects.of(frequency_ghz, azimuth_deg, elevation_deg, observe_azimuth_deg, observe_elevation_deg)
     engine = get_engine(target, material, batch_size, shell_thickness_m)
-    f_job = np.repeat(freq, n_a)
+    tracing = RcsTracing(n, bounces, error_estimate, radiate, power_cutoff, edge_diffraction)
+    return rcs_of(engine, aspects, tracing)
 
-    shifts = replica_shifts(REPLICAS if error_estimate else 1)
+
+def rcs_of(engine: SbrEngine, aspects: RcsAspects, tracing: RcsTracing) -> RcsResult:
+    """Radar cross-section of a prepared engine's target over a grid, with its error estimate.
+
+    Parameters
+    ----------
+    engine : SbrEngine
+        The target, prepared (:func:`get_engine`).
+    aspects : RcsAspects
+        Frequencies x transmitter directions x receivers.
+    tracing : RcsTracing
+        Tube density, bounces, replicas and the optional terms.
+
+    Returns
+    -------
+    RcsResult
+    """
+    freq, az, el = aspects.frequency_ghz, aspects.azimuth_deg, aspects.elevation_deg
+    oaz, oel = aspects.observe_azimuth_deg, aspects.observe_elevation_deg
+    n_f, n_a = len(freq), len(az)
+    f_job = np.repeat(freq, n_a)
+    shifts = replica_shifts(REPLICAS if tracing.error_estimate else 1)
     replicas = len(shifts)
     jobs = Jobs.build(
         np.tile(az, n_f * replicas),
         np.tile(el, n_f * replicas),
         np.tile(f_job, replicas),
-        n,
+        tracing.rays_per_wavelength,
         np.tile(oaz, (n_f * replicas, 1)),
         np.tile(oel, (n_f * replicas, 1)),
         np.repeat(shifts, n_f * n_a, axis=0),
     )
-    main = engine.trace(jobs, bounces, radiate, power_cutoff)
+    main = engine.trace(jobs, tracing.max_bounces, tracing.radiate, tracing.power_cutoff)
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
     amplitude = main.amplitude.reshape((replicas, *shape))
-    if edge_diffraction:
+    if tracing.edge_diffraction:
         edge = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
         amplitude = amplitude + edge.reshape(shape)
     error_db, error_time = None, 0.0
@@ -457,8 +540,8 @@ def compute_rcs(
         el,
         np.asarray(oaz),
         np.asarray(oel),
-        n,
-        bounces,
+        tracing.rays_per_wavelength,
+        tracing.max_bounces,
         int(main.tubes.sum()),
         int(main.ray_casts),
         main.exits_by_bounce,

@@ -25,6 +25,7 @@ so each aspect is traced on one tube grid.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -245,8 +246,79 @@ def sphere_average(
         ``accuracy_db <= 0``, ``replicates < 2``, ``aspects_per_replicate < 4`` or ``max_aspects``
         below one batch.
     """
-    from csuas.base.errors import InputErrors
+    _check_sphere_budget(accuracy_db, replicates, aspects_per_replicate, max_aspects)
     from csuas.drone_models.geometry import direction_angles, rotated_lattices
+
+    kwargs.setdefault("error_estimate", False)
+    engine = get_engine(target, kwargs.pop("material", None), shell_thickness_m=kwargs.pop("shell_thickness_m", None))
+    start = time.perf_counter()
+    judged = str(polarisation)
+    frequencies = np.atleast_1d(np.asarray(frequency_ghz, float))
+    proposals = [flash_proposal(engine.target, f) for f in frequencies]
+    n_r, half = int(replicates), int(aspects_per_replicate)
+    drawn = _SphereSamples({pol: [] for pol in ("VV", "HH", judged)}, {pol: [] for pol in ("VV", "HH", judged)})
+    batch = 0
+    while True:
+        # per replicate: a rotated lattice (the uniform half, also the aspect distribution's sample) and
+        # as many flash-drawn aspects, all weighted by the balance heuristic (aspect_sampling)
+        rng = np.random.default_rng([seed, batch])
+        lattice = rotated_lattices(n_r, half, seed + batch)  # (R, n, 3)
+        for f_index, (f, proposal) in enumerate(zip(frequencies, proposals)):
+            flashes = proposal.sample(n_r * half, rng).reshape(n_r, half, 3)
+            both = np.concatenate([lattice, flashes], axis=1).reshape(-1, 3)
+            az, el = direction_angles(both)
+            result = compute_rcs(engine, f, az, el, **kwargs)
+            drawn.add(result, f_index, uniform_weight(both, proposal).reshape(n_r, 2 * half), half)
+        drawn.directions.append(lattice.reshape(-1, 3))
+        batch += 1
+        per_replicate = {pol: _by_frequency(chunks, len(frequencies)).T for pol, chunks in drawn.estimates.items()}
+        error_db = _average_bound_db(per_replicate[judged])  # (R, F) -> (F,)
+        next_total = 2 * half * (per_replicate[judged].shape[0] + n_r)
+        if np.all(error_db <= accuracy_db) or next_total > max_aspects:
+            break
+    found = {
+        **_sphere_statistics(frequencies, drawn, per_replicate, judged),
+        "error_db": error_db,
+        "quadrature_error_rel": 1.0 - 10.0 ** (-error_db / 10.0),
+        "converged": bool(np.all(error_db <= accuracy_db)),
+        "accuracy_db": float(accuracy_db),
+        "rays_per_wavelength": result.rays_per_wavelength,
+        "max_bounces": result.max_bounces,
+        "time_s": time.perf_counter() - start,
+        "polarisation": polarisation,
+    }
+    return {key: found[key] for key in SPHERE_AVERAGE_KEYS}
+
+
+#: Keys of :func:`sphere_average`'s result, in the order it gives them.
+SPHERE_AVERAGE_KEYS = (
+    "frequency_ghz",
+    "mean_m2",
+    "mean_dbsm",
+    "error_db",
+    "quadrature_error_rel",
+    "mean_of_dbsm",
+    "std_of_dbsm",
+    "median_m2",
+    "converged",
+    "accuracy_db",
+    "n_aspects",
+    "replicates",
+    "samples_m2",
+    "mean_m2_by_polarisation",
+    "error_db_by_polarisation",
+    "directions",
+    "rays",
+    "rays_per_wavelength",
+    "max_bounces",
+    "time_s",
+    "polarisation",
+)
+
+
+def _check_sphere_budget(accuracy_db, replicates, aspects_per_replicate, max_aspects) -> None:
+    """Refuse, all at once, an accuracy <= 0, fewer than 2 replicates or 4 aspects, or a budget under one batch."""
+    from csuas.base.errors import InputErrors
 
     problems = []
     if not (np.isfinite(accuracy_db) and accuracy_db > 0):
@@ -260,65 +332,52 @@ def sphere_average(
         problems.append(ParameterError("max_aspects", max_aspects, f">= one batch of {batch_aspects} aspects"))
     if problems:
         raise InputErrors(problems)
-    kwargs.setdefault("error_estimate", False)
-    engine = get_engine(target, kwargs.pop("material", None), shell_thickness_m=kwargs.pop("shell_thickness_m", None))
-    start = time.perf_counter()
-    judged = str(polarisation)
-    frequencies = np.atleast_1d(np.asarray(frequency_ghz, float))
-    proposals = [flash_proposal(engine.target, f) for f in frequencies]
-    n_r, half = int(replicates), int(aspects_per_replicate)
-    samples = {"VV": [], "HH": [], judged: []}
-    estimates = {pol: [] for pol in samples}
-    directions, rays, batch = [], 0, 0
-    while True:
-        # per replicate: a rotated lattice (the uniform half, also the aspect distribution's sample) and
-        # as many flash-drawn aspects, all weighted by the balance heuristic (aspect_sampling)
-        rng = np.random.default_rng([seed, batch])
-        lattice = rotated_lattices(n_r, half, seed + batch)  # (R, n, 3)
-        for f_index, (f, proposal) in enumerate(zip(frequencies, proposals)):
-            flashes = proposal.sample(n_r * half, rng).reshape(n_r, half, 3)
-            both = np.concatenate([lattice, flashes], axis=1).reshape(-1, 3)
-            az, el = direction_angles(both)
-            result = compute_rcs(engine, f, az, el, **kwargs)
-            rays += result.tubes
-            weight = uniform_weight(both, proposal).reshape(n_r, 2 * half)
-            for pol in samples:
-                sigma_pol = _polarised(result, pol)[0, :, 0].reshape(n_r, 2 * half)
-                estimates[pol].append((f_index, (sigma_pol * weight).mean(axis=1)))  # one estimate per replicate
-                samples[pol].append((f_index, sigma_pol[:, :half].ravel()))
-        directions.append(lattice.reshape(-1, 3))
-        batch += 1
-        per_replicate = {pol: _by_frequency(chunks, len(frequencies)).T for pol, chunks in estimates.items()}  # (R, F)
-        error_db = _average_bound_db(per_replicate[judged])
-        next_total = 2 * half * (per_replicate[judged].shape[0] + n_r)
-        if np.all(error_db <= accuracy_db) or next_total > max_aspects:
-            break
+
+
+@dataclass
+class _SphereSamples:
+    """What :func:`sphere_average` has drawn so far.
+
+    ``samples``: polarisation -> (frequency index, RCS [m^2] at the uniform aspects) chunks;
+    ``estimates``: polarisation -> (frequency index, one weighted mean per replicate) chunks;
+    ``directions``: the uniform aspects (n, 3) of each batch; ``rays``: tubes traced.
+    """
+
+    samples: dict
+    estimates: dict
+    directions: list = field(default_factory=list)
+    rays: int = 0
+
+    def add(self, result, f_index: int, weight: np.ndarray, half: int) -> None:
+        """Add one frequency's RCS over a batch: (R, 2 half) aspects, the first half uniform, with their weights."""
+        self.rays += result.tubes
+        n_r = weight.shape[0]
+        for pol in self.samples:
+            sigma_pol = _polarised(result, pol)[0, :, 0].reshape(n_r, 2 * half)
+            self.estimates[pol].append((f_index, (sigma_pol * weight).mean(axis=1)))  # one estimate per replicate
+            self.samples[pol].append((f_index, sigma_pol[:, :half].ravel()))
+
+
+def _sphere_statistics(frequencies, drawn: _SphereSamples, per_replicate: dict, judged: str) -> dict:
+    """The mean (Eq. 6), the moments of the RCS in dB and the samples of :func:`sphere_average`'s result."""
     mean = per_replicate[judged].mean(axis=0)
-    stacked = {pol: _by_frequency(chunks, len(frequencies)) for pol, chunks in samples.items()}
+    stacked = {pol: _by_frequency(chunks, len(frequencies)) for pol, chunks in drawn.samples.items()}
     sigma = stacked[judged]  # (F, uniform aspects)
     db = to_dbsm(sigma)
     return {
         "frequency_ghz": frequencies,
         "mean_m2": mean,
         "mean_dbsm": to_dbsm(mean),
-        "error_db": error_db,
-        "quadrature_error_rel": 1.0 - 10.0 ** (-error_db / 10.0),
         "mean_of_dbsm": db.mean(axis=1),
         "std_of_dbsm": db.std(axis=1),
         "median_m2": np.median(sigma, axis=1),
-        "converged": bool(np.all(error_db <= accuracy_db)),
-        "accuracy_db": float(accuracy_db),
         "n_aspects": int(2 * sigma.shape[1]),
         "replicates": int(per_replicate[judged].shape[0]),
         "samples_m2": stacked,
         "mean_m2_by_polarisation": {pol: r.mean(axis=0) for pol, r in per_replicate.items()},
         "error_db_by_polarisation": {pol: _average_bound_db(r) for pol, r in per_replicate.items()},
-        "directions": np.concatenate(directions),
-        "rays": rays,
-        "rays_per_wavelength": result.rays_per_wavelength,
-        "max_bounces": result.max_bounces,
-        "time_s": time.perf_counter() - start,
-        "polarisation": polarisation,
+        "directions": np.concatenate(drawn.directions),
+        "rays": drawn.rays,
     }
 
 

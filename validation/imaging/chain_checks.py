@@ -188,17 +188,16 @@ def rendered_light_limited_range(
         reference = frame_at(reference_range_m)["result"]
         ifov = reference.ifov_rad
         area = reference.values["pixels_on_target"] * (reference_range_m * ifov) ** 2
+        # the frame's camera: f-number, optics, pixel, QE, exposure limit, full well
+        chain = camera.CameraChain(**settings, read_noise_e=read, dark_current_e_s=0.0, required_snr=required)
         core, _ = camera.light_limited_range_m(
+            chain,
             illuminance_lx=float(lux),
             background_reflectance=0.3,
             c_eo=float(reference.values["contrast"]),
             transmittance_at=np.ones_like,
             projected_area_m2=area,
             ifov_rad_=ifov,
-            **settings,  # the frame's camera: f-number, optics, pixel, QE, exposure limit, full well
-            read_noise_e=read,
-            dark_current_e_s=0.0,
-            required_snr=required,
         )
         low, high, renders = math.log(core / 2.0), math.log(core * 2.0), 0
         while high - low > 1e-4:

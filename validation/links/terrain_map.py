@@ -19,11 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.dielectric import complex_permittivity
 from csuas.core.terrain import viewshed
 from csuas.render.links.terrain_map import (
     DEFAULT_GROUND,
     REPLICAS,
+    RadioMapOptions,
+    RadioMapSite,
     block_edges,
     blocks_to_grid,
     local_xy,
@@ -69,34 +72,15 @@ RIDGE = {
 }
 
 
-def block_average_two_ray(
-    frequency_ghz,
-    shape,
-    cell_m,
-    tx_row,
-    tx_col,
-    mast_m,
-    altitude_m,
-    eta,
-    step=1,
-    coherent=False,
-    order=ORDER,
-    polarization="V",
-):
+def block_average_two_ray(site: RadioMapSite, eta, step=1, coherent=False, order=ORDER, polarization="V"):
     """Two-ray path gain over flat ground averaged over each measurement block of the flight level.
 
     Parameters
     ----------
-    frequency_ghz : float
-        Carrier frequency [GHz].
-    shape : (int, int)
-        DEM rows and columns.
-    cell_m : float
-        Cell size [m].
-    tx_row, tx_col : float
-        Sensor's fractional cell position.
-    mast_m, altitude_m : float
-        Sensor's and flight level's heights above the ground [m].
+    site : RadioMapSite
+        The map's site: its DEM gives the grid's shape and must be flat (one height everywhere);
+        the sensor's fractional cell position, the mast and the flight level above the ground [m]
+        and the carrier frequency [GHz].
     eta : complex
         Complex relative permittivity of the ground.
     step : int
@@ -111,7 +95,16 @@ def block_average_two_ray(
     -------
     numpy.ndarray (rows, cols)
         Path gain averaged over the block of each DEM cell [linear].
+
+    Raises
+    ------
+    ParameterError
+        A DEM that is not flat (the two-ray model knows no terrain).
     """
+    dem = np.asarray(site.dem_m, float)
+    if dem.ndim != 2 or np.ptp(dem) != 0:
+        raise ParameterError("dem_m", f"array of shape {dem.shape}", "a flat 2-D grid (one height everywhere)")
+    shape, cell_m, tx_row, tx_col = dem.shape, site.cell_m, site.tx_row, site.tx_col
     nodes, weights = np.polynomial.legendre.leggauss(order)
     u, w = (nodes + 1.0) / 2.0, weights / 2.0
     r_edges, c_edges = block_edges(shape[0], step), block_edges(shape[1], step)
@@ -122,8 +115,9 @@ def block_average_two_ray(
     tx_x, tx_y = local_xy(tx_row, tx_col, shape, cell_m)
     px = np.broadcast_to(x[None, :, None, :], (len(rows), len(cols), order, order))
     py = np.broadcast_to(y[:, None, :, None], px.shape)
-    points = np.stack([px, py, np.full(px.shape, float(altitude_m))], axis=-1)
-    paths = two_ray_paths(frequency_ghz, np.array([tx_x, tx_y, mast_m], float), points, eta, polarization)
+    points = np.stack([px, py, np.full(px.shape, float(site.altitude_m))], axis=-1)
+    transmitter = np.array([tx_x, tx_y, site.mast_m], float)
+    paths = two_ray_paths(site.frequency_ghz, transmitter, points, eta, polarization)
     power = np.abs(paths.sum(-1)) ** 2 if coherent else np.sum(np.abs(paths) ** 2, axis=-1)
     mean = np.einsum("brij,i,j->br", power, w, w)
     return blocks_to_grid(mean, shape, step)
@@ -152,30 +146,28 @@ def flat_ground_comparison(samples, replicas=REPLICAS, seed=1, scene=None) -> di
     """
     p = {**FLAT, **(scene or {})}
     shape, cell = p["shape"], p["cell_m"]
+    site = RadioMapSite(
+        np.zeros(shape), cell, p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], p["frequency_ghz"]
+    )
     result = terrain_radio_map(
-        np.zeros(shape),
-        cell,
-        p["tx_row"],
-        p["tx_col"],
-        p["mast_m"],
-        p["altitude_m"],
-        p["frequency_ghz"],
-        ground=p["ground"],
-        samples=samples,
-        max_depth=1,
-        seed=seed,
-        replicas=replicas,
-        step=p["step"],
-        k_factor=None,
-        polarization=p["polarization"],
+        site,
+        RadioMapOptions(
+            ground=p["ground"],
+            samples=samples,
+            max_depth=1,
+            seed=seed,
+            replicas=replicas,
+            step=p["step"],
+            k_factor=None,
+            polarization=p["polarization"],
+        ),
     )
     eta = complex_permittivity(
         result.extra["relative_permittivity"], result.extra["conductivity_s_m"], p["frequency_ghz"]
     )
-    geometry = (p["frequency_ghz"], shape, cell, p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], eta)
     options = {"step": p["step"], "polarization": p["polarization"]}
-    power_db = 10.0 * np.log10(block_average_two_ray(*geometry, **options))
-    coherent_db = 10.0 * np.log10(block_average_two_ray(*geometry, coherent=True, **options))
+    power_db = 10.0 * np.log10(block_average_two_ray(site, eta, **options))
+    coherent_db = 10.0 * np.log10(block_average_two_ray(site, eta, coherent=True, **options))
     rows, cols = np.indices(shape)
     distance = np.hypot(rows - p["tx_row"], cols - p["tx_col"]) * cell
     ok = result.reliable
@@ -255,9 +247,7 @@ def triangle_solid_angles_sr(vertices: np.ndarray, faces: np.ndarray, origin: np
     return 2.0 * np.arctan2(numerator, denominator)
 
 
-def line_of_sight_agreement(
-    dem_m, cell_m, tx_row, tx_col, mast_m, altitude_m, frequency_ghz, samples, replicas=REPLICAS, seed=1, k_factor=4 / 3
-) -> dict:
+def line_of_sight_agreement(site: RadioMapSite, samples, replicas=REPLICAS, seed=1, k_factor=4 / 3) -> dict:
     """A direct-rays-only radio map against the viewshed of the same sensor and flight level.
 
     A seen cell stays dark when no ray of the lattice falls in its solid angle Omega: with the
@@ -265,6 +255,15 @@ def line_of_sight_agreement(
     and a Poisson count would be 0 with probability e^-n, so about the sum of exp(-K n) over the
     seen cells stay dark (``expected_dark``). The lattice's rows leave thin, grazing cells dark more
     often than that: :data:`DARK_EXCESS` (:func:`dark_tolerance`).
+
+    Parameters
+    ----------
+    site : RadioMapSite
+        The DEM, the sensor, the flight level and the carrier.
+    samples, replicas, seed : int
+        Rays per replica, replicas and seed of the map (:class:`RadioMapOptions`).
+    k_factor : float or None
+        Effective Earth-radius factor of the map and the viewshed (None: flat Earth).
 
     Returns
     -------
@@ -275,22 +274,14 @@ def line_of_sight_agreement(
         ``expected_dark`` (the Poisson estimate above), ``cells`` (off the edge), ``time_s``.
     """
     result = terrain_radio_map(
-        dem_m,
-        cell_m,
-        tx_row,
-        tx_col,
-        mast_m,
-        altitude_m,
-        frequency_ghz,
-        samples=samples,
-        max_depth=0,
-        seed=seed,
-        replicas=replicas,
-        k_factor=k_factor,
-        reflection=False,
+        site,
+        RadioMapOptions(
+            samples=samples, max_depth=0, seed=seed, replicas=replicas, k_factor=k_factor, reflection=False
+        ),
     )
-    dem = np.asarray(dem_m, float)
-    visible = viewshed(dem, cell_m, tx_row, tx_col, mast_m, altitude_m, 1e12 if k_factor is None else k_factor)
+    dem, cell_m, altitude_m = np.asarray(site.dem_m, float), site.cell_m, site.altitude_m
+    horizon_k = 1e12 if k_factor is None else k_factor
+    visible = viewshed(dem, cell_m, site.tx_row, site.tx_col, site.mast_m, altitude_m, horizon_k)
     edge = edge_cells(visible)
     inner = ~edge
     lit = result.reached
@@ -315,15 +306,5 @@ def ridge_line_of_sight(samples, replicas=REPLICAS, seed=1) -> dict:
     """:func:`line_of_sight_agreement` on the ridge of :data:`RIDGE` (radio k-factor 4/3)."""
     p = RIDGE
     dem = ridge_dem(p["shape"], p["ridge_col"], p["ridge_height_m"], p["ridge_width_cells"])
-    return line_of_sight_agreement(
-        dem,
-        p["cell_m"],
-        p["tx_row"],
-        p["tx_col"],
-        p["mast_m"],
-        p["altitude_m"],
-        p["frequency_ghz"],
-        samples,
-        replicas,
-        seed,
-    )
+    site = RadioMapSite(dem, p["cell_m"], p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], p["frequency_ghz"])
+    return line_of_sight_agreement(site, samples, replicas, seed)

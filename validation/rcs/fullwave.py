@@ -275,6 +275,27 @@ def _incident_trace():
     return _INCIDENT
 
 
+@dataclass(frozen=True)
+class EfieSettings:
+    """How :func:`monostatic_rcs_efie` solves.
+
+    Attributes
+    ----------
+    solver : {"gmres", "lu"}
+        GMRES (scipy, no restart below 2000 iterations, relative residual ``tolerance``) or
+        an LU factorisation of the dense matrix, reused for every aspect.
+    tolerance : float
+        GMRES's relative residual, in (0, 0.1]; with 1e-6 sigma differs from LU's by 3e-9
+        (relative) on the 320-triangle sphere at ka = 1 (50 iterations).
+    min_edges_per_wavelength : float
+        Refuse meshes whose wavelength over mean edge length is below this.
+    """
+
+    solver: str = "gmres"
+    tolerance: float = 1e-6
+    min_edges_per_wavelength: float = MIN_EDGES_PER_WAVELENGTH
+
+
 def monostatic_rcs_efie(
     vertices,
     faces,
@@ -282,10 +303,7 @@ def monostatic_rcs_efie(
     azimuth_deg=0.0,
     elevation_deg=0.0,
     polarisation: str = "VV",
-    *,
-    solver: str = "gmres",
-    tolerance: float = 1e-6,
-    min_edges_per_wavelength: float = MIN_EDGES_PER_WAVELENGTH,
+    settings: EfieSettings = EfieSettings(),
 ) -> FullWaveResult:
     """Monostatic RCS of a PEC triangle mesh by the EFIE (bempp-cl, RWG/SNC Galerkin).
 
@@ -306,14 +324,8 @@ def monostatic_rcs_efie(
         Directions from the target toward the radar [deg].
     polarisation : {"VV", "HH", "VH", "HV"}
         Receive-transmit pair of :attr:`FullWaveResult.sigma_m2`.
-    solver : {"gmres", "lu"}
-        GMRES (scipy, no restart below 2000 iterations, relative residual ``tolerance``) or
-        an LU factorisation of the dense matrix, reused for every aspect.
-    tolerance : float
-        GMRES's relative residual, in (0, 0.1]; with 1e-6 sigma differs from LU's by 3e-9
-        (relative) on the 320-triangle sphere at ka = 1 (50 iterations).
-    min_edges_per_wavelength : float
-        Refuse meshes whose wavelength over mean edge length is below this.
+    settings : EfieSettings
+        Solver, GMRES tolerance and the coarsest mesh accepted.
 
     Returns
     -------
@@ -331,81 +343,20 @@ def monostatic_rcs_efie(
     az, el = _angles(azimuth_deg, elevation_deg)
     pol = str(polarisation).upper()
     _polarisation(pol)
-    if solver not in SOLVERS:
-        raise ParameterError("solver", solver, ", ".join(SOLVERS))
-    tol = float(tolerance)
-    if not (math.isfinite(tol) and 0.0 < tol <= 0.1):
-        raise ParameterError("tolerance", tolerance, "0 < tolerance <= 0.1")
+    solver, tol = settings.solver, _checked_settings(settings)
     lam = wavelength_m(freq)
     per_wavelength = lam / float(lengths.mean())
-    if per_wavelength < float(min_edges_per_wavelength):
+    if per_wavelength < float(settings.min_edges_per_wavelength):
         raise ParameterError(
             "mesh",
             f"{per_wavelength:.2f} mean edges per wavelength at {freq:g} GHz",
-            f">= {float(min_edges_per_wavelength):g} (mesh_size_m gives the edge length)",
+            f">= {float(settings.min_edges_per_wavelength):g} (mesh_size_m gives the edge length)",
         )
-
-    import bempp_cl.api as bempp
-    from scipy import linalg
-    from scipy.sparse.linalg import gmres
-
-    from csuas.render.rcs.geometry import polarisation_basis
-
     k = 2.0 * math.pi / lam
     t0 = time.perf_counter()
-    grid = bempp.Grid(np.ascontiguousarray(v.T), np.ascontiguousarray(f.T))
-    rwg = bempp.function_space(grid, "RWG", 0)
-    snc = bempp.function_space(grid, "SNC", 0)
-    operator = bempp.operators.boundary.maxwell.electric_field(rwg, rwg, snc, k)
-    matrix = np.asarray(operator.weak_form().to_dense())
-    lu = linalg.lu_factor(matrix) if solver == "lu" else None
+    system = _EfieSystem.assemble(v, f, k, solver)
     assembly_s = time.perf_counter() - t0
-
-    a, e = np.radians(az), np.radians(el)
-    d = np.stack([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)], axis=1)
-    theta_hat, phi_hat = polarisation_basis(az, el)
-    basis = np.stack([theta_hat, phi_hat], axis=1)  # (A, 2 = V/H, 3)
-    incident = _incident_trace()
-    rhs_s = solve_s = far_s = 0.0
-    iterations = np.zeros((len(az), 2), dtype=int)
-    field = np.zeros((len(az), 2, 2), dtype=complex)  # receive x transmit far-field amplitude
-    far = bempp.operators.far_field.maxwell.electric_field(rwg, np.ascontiguousarray(d.T), k)
-    for i in range(len(az)):
-        for tx in range(2):
-            t = time.perf_counter()
-            params = np.concatenate([-k * d[i], basis[i, tx]]).astype(complex)
-            rhs = bempp.GridFunction(rwg, fun=incident, dual_space=snc, function_parameters=params)
-            b = rhs.projections(snc)
-            rhs_s += time.perf_counter() - t
-            t = time.perf_counter()
-            if lu is not None:
-                x = linalg.lu_solve(lu, b)
-            else:
-                count = [0]
-
-                def _count(_residual, count=count):
-                    count[0] += 1
-
-                x, info = gmres(
-                    matrix,
-                    b,
-                    rtol=tol,
-                    atol=0.0,
-                    restart=2000,
-                    maxiter=1,
-                    callback=_count,
-                    callback_type="pr_norm",
-                )
-                if info != 0:
-                    raise ParameterError(
-                        "solver", f"gmres did not converge in {count[0]} iterations", "solver='lu' for this mesh"
-                    )
-                iterations[i, tx] = count[0]
-            solve_s += time.perf_counter() - t
-            t = time.perf_counter()
-            pattern = far.evaluate(bempp.GridFunction(rwg, coefficients=x))[:, i]  # (3,)
-            field[i, :, tx] = basis[i] @ pattern
-            far_s += time.perf_counter() - t
+    field, iterations, times = system.solve_aspects(az, el, tol)
     scattering = 4.0 * math.pi * np.abs(field) ** 2
     rx, tx = POLARISATIONS[pol]
     return FullWaveResult(
@@ -416,17 +367,114 @@ def monostatic_rcs_efie(
         azimuth_deg=az,
         elevation_deg=el,
         elements=len(f),
-        unknowns=int(rwg.global_dof_count),
+        unknowns=int(system.rwg.global_dof_count),
         edges_per_wavelength=per_wavelength,
         iterations=iterations,
         solver=solver,
         tolerance=tol,
         assembly_s=assembly_s,
-        rhs_s=rhs_s,
-        solve_s=solve_s,
-        far_field_s=far_s,
+        rhs_s=times[0],
+        solve_s=times[1],
+        far_field_s=times[2],
         details={"wavenumber_rad_m": k, "mean_edge_m": float(lengths.mean()), "max_edge_m": float(lengths.max())},
     )
+
+
+def _checked_settings(settings: EfieSettings) -> float:
+    """The GMRES tolerance, after refusing an unknown solver or a tolerance outside (0, 0.1]."""
+    if settings.solver not in SOLVERS:
+        raise ParameterError("solver", settings.solver, ", ".join(SOLVERS))
+    tol = float(settings.tolerance)
+    if not (math.isfinite(tol) and 0.0 < tol <= 0.1):
+        raise ParameterError("tolerance", settings.tolerance, "0 < tolerance <= 0.1")
+    return tol
+
+
+@dataclass
+class _EfieSystem:
+    """The assembled EFIE of a mesh at one wavenumber: spaces, dense matrix and its LU factors (LU solver)."""
+
+    bempp: object
+    k: float
+    rwg: object
+    snc: object
+    matrix: np.ndarray
+    lu: object
+
+    @classmethod
+    def assemble(cls, v, f, k: float, solver: str) -> _EfieSystem:
+        """Grid, RWG/SNC spaces and the EFIE's dense weak form (factorised for ``solver == "lu"``)."""
+        import bempp_cl.api as bempp
+        from scipy import linalg
+
+        grid = bempp.Grid(np.ascontiguousarray(v.T), np.ascontiguousarray(f.T))
+        rwg = bempp.function_space(grid, "RWG", 0)
+        snc = bempp.function_space(grid, "SNC", 0)
+        operator = bempp.operators.boundary.maxwell.electric_field(rwg, rwg, snc, k)
+        matrix = np.asarray(operator.weak_form().to_dense())
+        lu = linalg.lu_factor(matrix) if solver == "lu" else None
+        return cls(bempp, k, rwg, snc, matrix, lu)
+
+    def solve_aspects(self, az, el, tol: float):
+        """Far-field amplitudes (A, 2, 2) (receive x transmit), GMRES iterations (A, 2) and the times [s].
+
+        The times are those of the right-hand sides, the solves and the far fields, summed.
+        """
+        from csuas.render.rcs.geometry import polarisation_basis
+
+        bempp, k, rwg = self.bempp, self.k, self.rwg
+        a, e = np.radians(az), np.radians(el)
+        d = np.stack([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)], axis=1)
+        theta_hat, phi_hat = polarisation_basis(az, el)
+        basis = np.stack([theta_hat, phi_hat], axis=1)  # (A, 2 = V/H, 3)
+        incident = _incident_trace()
+        rhs_s = solve_s = far_s = 0.0
+        iterations = np.zeros((len(az), 2), dtype=int)
+        field = np.zeros((len(az), 2, 2), dtype=complex)  # receive x transmit far-field amplitude
+        far = bempp.operators.far_field.maxwell.electric_field(rwg, np.ascontiguousarray(d.T), k)
+        for i in range(len(az)):
+            for tx in range(2):
+                t = time.perf_counter()
+                params = np.concatenate([-k * d[i], basis[i, tx]]).astype(complex)
+                rhs = bempp.GridFunction(rwg, fun=incident, dual_space=self.snc, function_parameters=params)
+                b = rhs.projections(self.snc)
+                rhs_s += time.perf_counter() - t
+                t = time.perf_counter()
+                x, iterations[i, tx] = self._solve(b, tol)
+                solve_s += time.perf_counter() - t
+                t = time.perf_counter()
+                pattern = far.evaluate(bempp.GridFunction(rwg, coefficients=x))[:, i]  # (3,)
+                field[i, :, tx] = basis[i] @ pattern
+                far_s += time.perf_counter() - t
+        return field, iterations, (rhs_s, solve_s, far_s)
+
+    def _solve(self, b, tol: float):
+        """Surface-current coefficients for the right-hand side ``b`` and the GMRES iterations (0 with LU)."""
+        from scipy import linalg
+        from scipy.sparse.linalg import gmres
+
+        if self.lu is not None:
+            return linalg.lu_solve(self.lu, b), 0
+        count = [0]
+
+        def _count(_residual, count=count):
+            count[0] += 1
+
+        x, info = gmres(
+            self.matrix,
+            b,
+            rtol=tol,
+            atol=0.0,
+            restart=2000,
+            maxiter=1,
+            callback=_count,
+            callback_type="pr_norm",
+        )
+        if info != 0:
+            raise ParameterError(
+                "solver", f"gmres did not converge in {count[0]} iterations", "solver='lu' for this mesh"
+            )
+        return x, count[0]
 
 
 def richardson(sigma_fine: float, sigma_coarse: float, ratio: float = 2.0, order: float = 2.0) -> tuple[float, float]:
@@ -708,34 +756,30 @@ class Comparison:
 
 
 def compare_sbr_to_fullwave(
-    case,
+    mesh,
     frequency_ghz: float,
     aspects,
     *,
     polarisations=("VV", "HH"),
-    edges_per_wavelength: float = EDGES_PER_WAVELENGTH,
-    full: bool = False,
     sbr_quality: str = "reference",
-    solver: str = "gmres",
+    efie: EfieSettings = EfieSettings(),
     edge_diffraction: bool = False,
 ) -> Comparison:
     """Run :func:`csuas.render.rcs.solver.compute_rcs` (PEC) and the EFIE on the same mesh.
 
     Parameters
     ----------
-    case : str or trimesh.Trimesh
-        A case of :data:`CASES` (meshed by :func:`case_mesh`) or a mesh [m].
+    mesh : trimesh.Trimesh
+        The mesh [m], e.g. a case of :data:`CASES` meshed by :func:`case_mesh`.
     frequency_ghz : float
         Frequency [GHz].
     aspects : array_like (A, 2)
         (azimuth_deg, elevation_deg) pairs [deg], toward the radar.
     polarisations : sequence of {"VV", "HH", "VH", "HV"}
-    edges_per_wavelength, full : float, bool
-        Mesh density and case size (:func:`case_mesh`).
     sbr_quality : str
         :data:`csuas.render.rcs.solver.QUALITY_PRESETS` name.
-    solver : {"gmres", "lu"}
-        EFIE solver.
+    efie : EfieSettings
+        How the EFIE solves.
     edge_diffraction : bool
         Add the PTD fringe field to the SBR-PO result (:mod:`csuas.render.rcs.edges`).
 
@@ -745,7 +789,6 @@ def compare_sbr_to_fullwave(
     """
     from csuas.render.rcs.solver import compute_rcs
 
-    mesh = case_mesh(case, frequency_ghz, edges_per_wavelength, full) if isinstance(case, str) else case
     asp = np.asarray(aspects, dtype=float)
     if asp.ndim == 1 and asp.shape == (2,):
         asp = asp[None, :]
@@ -754,7 +797,7 @@ def compare_sbr_to_fullwave(
     pols = [str(p).upper() for p in polarisations]
     for p in pols:
         _polarisation(p)
-    efie = monostatic_rcs_efie(mesh.vertices, mesh.faces, frequency_ghz, asp[:, 0], asp[:, 1], pols[0], solver=solver)
+    efie = monostatic_rcs_efie(mesh.vertices, mesh.faces, frequency_ghz, asp[:, 0], asp[:, 1], pols[0], efie)
     t = time.perf_counter()
     sbr = compute_rcs(
         mesh,

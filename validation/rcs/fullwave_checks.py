@@ -170,9 +170,8 @@ def sbr_checks(case: str, full: bool = False, polarisations=("VV", "HH")) -> lis
     spec = SBR_CASES[case]
     freq = 10.0 if (full and case == "arm_motor") else spec["frequency_ghz"]
     n_edges = 12.0 if (full and case == "arm_motor") else spec["edges_per_wavelength"]
-    cmp = fw.compare_sbr_to_fullwave(
-        case, freq, spec["aspects"], polarisations=polarisations, edges_per_wavelength=n_edges, full=full
-    )
+    mesh = fw.case_mesh(case, freq, n_edges, full)
+    cmp = fw.compare_sbr_to_fullwave(mesh, freq, spec["aspects"], polarisations=polarisations)
     k = 2 * math.pi / fw.wavelength_m(freq)
     ell = _smallest_face_m(case, freq, full)
     tol = 20.0 * math.log10(1.0 + 1.0 / (k * ell))

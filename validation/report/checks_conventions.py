@@ -477,7 +477,7 @@ EXPLAIN_5 = (
 
 def rf_radar_adverse_links(budget: str) -> Section:
     """RF and radar ranges in the adverse scenario; Sionna RT link budgets at the physical ranges."""
-    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.links.radar import RadarTarget, radar_link_gain
     from csuas.render.links.rf import rf_path_gain
 
     s = Section()
@@ -534,7 +534,8 @@ def rf_radar_adverse_links(budget: str) -> Section:
 
     lam = radar_wavelength_m(rp, "physical")
     f_radar = float(frequency_ghz(lam))
-    link, elapsed = timed(radar_link_gain, f_radar, r_rad, 5.0, 5.0, rcs=sc.target["sigma_radar_m2"], budget=budget)
+    drone = RadarTarget(sc.target["sigma_radar_m2"])
+    link, elapsed = timed(radar_link_gain, f_radar, r_rad, 5.0, 5.0, drone, budget=budget)
     loss = float(phys["radar"].term("l_total_db").value)
     noise = float(radar.thermal_noise_power_w(rp["t0_k"], rp["noise_figure_db"], rp["bandwidth_mhz"]))
     gain = float(radar.integration_gain(rp["n_pulses"], rp["integration"], "physical"))

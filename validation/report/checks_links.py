@@ -187,7 +187,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     value itself and Eq. 68 with that sigma is the closed form.
     """
     from csuas.render.links.accuracy import closed_form_db
-    from csuas.render.links.radar import radar_link_gain
+    from csuas.render.links.radar import RadarTarget, radar_link_gain
     from csuas.render.links.rcs_table import RCSTable
     from csuas.render.rcs.sweep import rcs_table
 
@@ -211,7 +211,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     d = np.array(DISTANCES_M)
     lines, points = [], []
     for aspect in (0.0, 90.0):
-        link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, rcs=rcs, azimuth_deg=aspect, budget="draft")
+        link, t_link = timed(radar_link_gain, f, d, 5.0, 5.0, RadarTarget(rcs, azimuth_deg=aspect), budget="draft")
         sigma = float(table["rcs_m2"][SBR_AZIMUTHS_DEG.index(aspect), SBR_ELEVATIONS_DEG.index(0.0)])
         eq68 = closed_form_db("radar", f, d, 5.0, 5.0, sigma_m2=sigma)
         s.outcomes.append(
@@ -301,134 +301,15 @@ TERRAIN_MAP_SAMPLES = {"quick": 2**18, "full": 2**22}
 
 def terrain_radio_maps(samples: int) -> Section:
     """Sionna radio maps over a flat DEM (two-ray model, power sum) and over a ridge (viewshed), with their cost."""
-    from csuas.core.dielectric import complex_permittivity
-    from csuas.render.links.terrain_map import BOUND_LEVEL, STATED_COVERAGE
-    from csuas.render.links.two_ray import two_ray_path_gain_db
-    from csuas.validation.links.terrain_map import (
-        FLAT,
-        RIDGE,
-        accuracy_vs_samples,
-        dark_tolerance,
-        flat_ground_comparison,
-        ridge_line_of_sight,
-    )
+    from csuas.render.links.terrain_map import BOUND_LEVEL
+    from csuas.validation.links.terrain_map import accuracy_vs_samples, flat_ground_comparison, ridge_line_of_sight
 
     s = Section()
     flat = flat_ground_comparison(samples)
     result = flat["result"]
-    scene = (
-        f"{FLAT['frequency_ghz']:g} GHz, {FLAT['polarization']} polarisation, {FLAT['mast_m']:g} m mast, "
-        f"flight level {FLAT['altitude_m']:g} m, {FLAT['shape'][0]} x {FLAT['shape'][1]} cells of "
-        f"{FLAT['cell_m']:g} m over {FLAT['ground']}"
-    )
-    method = f"Sionna RT RadioMapSolver, {result.replicas} rotated replicas of {samples} rays, {scene}"
-    common = {
-        "median_bound_db": flat["median_bound_db"],
-        "p95_abs_error_db": flat["p95_abs_error_db"],
-        "reliable_fraction": flat["reliable_fraction"],
-        "coherent_median_abs_db": flat["coherent_median_abs_db"],
-        "coherent_p95_abs_db": flat["coherent_p95_abs_db"],
-    }
-    s.outcomes.append(
-        Check(
-            "links.terrain_map.flat.median_abs_error_db",
-            0.0,
-            flat["median_abs_error_db"],
-            flat["median_bound_db"],
-            "dB",
-            error_estimate=flat["median_bound_db"],
-            time_s=result.time_s,
-            source="two-ray model, power sum |h_direct|^2 + |h_ground|^2 averaged over each cell "
-            "(csuas.render.links.two_ray, Gauss-Legendre)",
-            method=method,
-            tolerance_source=f"the median of the replicas' {BOUND_LEVEL:.0%} bound over the same cells",
-            details=common,
-        )
-    )
-    s.outcomes.append(
-        Check(
-            "links.terrain_map.flat.bound_miss_fraction",
-            0.0,
-            1.0 - flat["coverage"],
-            1.0 - STATED_COVERAGE,
-            "-",
-            time_s=result.time_s,
-            source="two-ray model, power sum averaged over each cell",
-            method=f"fraction of the reliable cells whose |error| exceeds the error bound; {method}",
-            tolerance_source=f"the bound is stated to cover {STATED_COVERAGE:.0%} of the cells",
-            details={"coverage": flat["coverage"], **common},
-        )
-    )
-    ridge = ridge_line_of_sight(samples)
-    ridge_method = (
-        f"direct rays only, {RIDGE['ridge_height_m']:g} m ridge {RIDGE['ridge_col'] * RIDGE['cell_m']:g} m from a "
-        f"{RIDGE['mast_m']:g} m mast, flight level {RIDGE['altitude_m']:g} m, {ridge['cells']} cells off the "
-        f"viewshed's edge; {samples} rays x {ridge['result'].replicas} replicas"
-    )
-    ridge_details = {
-        "agreement": ridge["agreement"],
-        "agreement_all_cells": ridge["agreement_all"],
-        "edge_cells": int(ridge["edge"].sum()),
-        "expected_dark": ridge["expected_dark"],
-    }
-    s.outcomes.append(
-        Check(
-            "links.terrain_map.ridge.hidden_cells_lit",
-            0.0,
-            float(ridge["hidden_lit"]),
-            0.0,
-            "cells",
-            time_s=ridge["time_s"],
-            source="R2 viewshed (csuas.core.terrain.viewshed), radio k = 4/3",
-            method=ridge_method,
-            tolerance_source="exact: no straight ray crosses the terrain",
-            details=ridge_details,
-        )
-    )
-    s.outcomes.append(
-        Check(
-            "links.terrain_map.ridge.visible_cells_dark",
-            0.0,
-            float(ridge["visible_dark"]),
-            dark_tolerance(ridge["expected_dark"]),
-            "cells",
-            time_s=ridge["time_s"],
-            source="R2 viewshed (csuas.core.terrain.viewshed), radio k = 4/3",
-            method=ridge_method,
-            tolerance_source="seen cells whose solid angle Omega catches no ray: the Poisson estimate "
-            "sum exp(-K N Omega / 4 pi) times DARK_EXCESS (the lattice's measured excess), plus 3 standard deviations",
-            details=ridge_details,
-        )
-    )
-    row = int(FLAT["tx_row"])
-    d = flat["distance_m"][row]
-    fine = np.linspace(50.0, d[-1], 8000)  # 4 points or more per lobe of the coherent sum beyond 50 m
-    f = FLAT["frequency_ghz"]
-    eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], f)
-    points = two_ray_path_gain_db(f, fine, FLAT["mast_m"], FLAT["altitude_m"], eta, FLAT["polarization"])
-    s.figures.append(
-        curves(
-            "links_terrain_map_flat_profile",
-            f"Radio map over flat ground vs two-ray, {f:g} GHz {FLAT['polarization']}",
-            x_label="distance from the mast [m]",
-            y_label="path gain [dB]",
-            lines=[
-                ("two-ray, coherent, at points", fine, points),
-                ("two-ray, coherent, cell average", d, flat["coherent_db"][row]),
-                ("two-ray, power sum, cell average", d, flat["power_db"][row]),
-            ],
-            points=[  # every third cell, so the power-sum line shows between them
-                (
-                    f"Sionna radio map, {BOUND_LEVEL:.0%} bound",
-                    d[::3],
-                    result.path_gain_db[row][::3],
-                    result.error_db[row][::3],
-                )
-            ],
-            caption="Sionna's radio map adds the rays' powers: it follows the power sum, not the lobes and nulls "
-            "(every third cell shown).",
-        )
-    )
+    s.outcomes += _flat_map_checks(flat, samples)
+    s.outcomes += _ridge_checks(ridge_line_of_sight(samples), samples)
+    s.figures.append(_flat_profile_figure(flat))
     exponents = range(14, int(np.log2(samples)) + 1, 2)
     rows, elapsed = timed(accuracy_vs_samples, [2**e for e in exponents])
     s.figures.append(
@@ -450,6 +331,138 @@ def terrain_radio_maps(samples: int) -> Section:
         f"95th percentile {flat['coherent_p95_abs_db']:.2f} dB; accuracy sweep {elapsed:.1f} s"
     )
     return s
+
+
+def _flat_map_checks(flat: dict, samples: int) -> list:
+    """The flat DEM's map against the two-ray power sum: its median error within the median bound, and the
+    fraction of cells the bound misses within the stated coverage."""
+    from csuas.render.links.terrain_map import BOUND_LEVEL, STATED_COVERAGE
+    from csuas.validation.links.terrain_map import FLAT
+
+    result = flat["result"]
+    scene = (
+        f"{FLAT['frequency_ghz']:g} GHz, {FLAT['polarization']} polarisation, {FLAT['mast_m']:g} m mast, "
+        f"flight level {FLAT['altitude_m']:g} m, {FLAT['shape'][0]} x {FLAT['shape'][1]} cells of "
+        f"{FLAT['cell_m']:g} m over {FLAT['ground']}"
+    )
+    method = f"Sionna RT RadioMapSolver, {result.replicas} rotated replicas of {samples} rays, {scene}"
+    common = {
+        "median_bound_db": flat["median_bound_db"],
+        "p95_abs_error_db": flat["p95_abs_error_db"],
+        "reliable_fraction": flat["reliable_fraction"],
+        "coherent_median_abs_db": flat["coherent_median_abs_db"],
+        "coherent_p95_abs_db": flat["coherent_p95_abs_db"],
+    }
+    return [
+        Check(
+            "links.terrain_map.flat.median_abs_error_db",
+            0.0,
+            flat["median_abs_error_db"],
+            flat["median_bound_db"],
+            "dB",
+            error_estimate=flat["median_bound_db"],
+            time_s=result.time_s,
+            source="two-ray model, power sum |h_direct|^2 + |h_ground|^2 averaged over each cell "
+            "(csuas.render.links.two_ray, Gauss-Legendre)",
+            method=method,
+            tolerance_source=f"the median of the replicas' {BOUND_LEVEL:.0%} bound over the same cells",
+            details=common,
+        ),
+        Check(
+            "links.terrain_map.flat.bound_miss_fraction",
+            0.0,
+            1.0 - flat["coverage"],
+            1.0 - STATED_COVERAGE,
+            "-",
+            time_s=result.time_s,
+            source="two-ray model, power sum averaged over each cell",
+            method=f"fraction of the reliable cells whose |error| exceeds the error bound; {method}",
+            tolerance_source=f"the bound is stated to cover {STATED_COVERAGE:.0%} of the cells",
+            details={"coverage": flat["coverage"], **common},
+        ),
+    ]
+
+
+def _ridge_checks(ridge: dict, samples: int) -> list:
+    """The ridge's direct-ray map against the viewshed: no hidden cell lit (exact), few seen cells dark (Poisson)."""
+    from csuas.validation.links.terrain_map import RIDGE, dark_tolerance
+
+    ridge_method = (
+        f"direct rays only, {RIDGE['ridge_height_m']:g} m ridge {RIDGE['ridge_col'] * RIDGE['cell_m']:g} m from a "
+        f"{RIDGE['mast_m']:g} m mast, flight level {RIDGE['altitude_m']:g} m, {ridge['cells']} cells off the "
+        f"viewshed's edge; {samples} rays x {ridge['result'].replicas} replicas"
+    )
+    ridge_details = {
+        "agreement": ridge["agreement"],
+        "agreement_all_cells": ridge["agreement_all"],
+        "edge_cells": int(ridge["edge"].sum()),
+        "expected_dark": ridge["expected_dark"],
+    }
+    return [
+        Check(
+            "links.terrain_map.ridge.hidden_cells_lit",
+            0.0,
+            float(ridge["hidden_lit"]),
+            0.0,
+            "cells",
+            time_s=ridge["time_s"],
+            source="R2 viewshed (csuas.core.terrain.viewshed), radio k = 4/3",
+            method=ridge_method,
+            tolerance_source="exact: no straight ray crosses the terrain",
+            details=ridge_details,
+        ),
+        Check(
+            "links.terrain_map.ridge.visible_cells_dark",
+            0.0,
+            float(ridge["visible_dark"]),
+            dark_tolerance(ridge["expected_dark"]),
+            "cells",
+            time_s=ridge["time_s"],
+            source="R2 viewshed (csuas.core.terrain.viewshed), radio k = 4/3",
+            method=ridge_method,
+            tolerance_source="seen cells whose solid angle Omega catches no ray: the Poisson estimate "
+            "sum exp(-K N Omega / 4 pi) times DARK_EXCESS (the lattice's measured excess), plus 3 standard deviations",
+            details=ridge_details,
+        ),
+    ]
+
+
+def _flat_profile_figure(flat: dict):
+    """The flat map along the transmitter's row against the two-ray model: coherent at points and per cell,
+    power sum per cell, and every third cell of the map with its bound."""
+    from csuas.core.dielectric import complex_permittivity
+    from csuas.render.links.terrain_map import BOUND_LEVEL
+    from csuas.render.links.two_ray import two_ray_path_gain_db
+    from csuas.validation.links.terrain_map import FLAT
+
+    result = flat["result"]
+    row = int(FLAT["tx_row"])
+    d = flat["distance_m"][row]
+    fine = np.linspace(50.0, d[-1], 8000)  # 4 points or more per lobe of the coherent sum beyond 50 m
+    f = FLAT["frequency_ghz"]
+    eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], f)
+    points = two_ray_path_gain_db(f, fine, FLAT["mast_m"], FLAT["altitude_m"], eta, FLAT["polarization"])
+    return curves(
+        "links_terrain_map_flat_profile",
+        f"Radio map over flat ground vs two-ray, {f:g} GHz {FLAT['polarization']}",
+        x_label="distance from the mast [m]",
+        y_label="path gain [dB]",
+        lines=[
+            ("two-ray, coherent, at points", fine, points),
+            ("two-ray, coherent, cell average", d, flat["coherent_db"][row]),
+            ("two-ray, power sum, cell average", d, flat["power_db"][row]),
+        ],
+        points=[  # every third cell, so the power-sum line shows between them
+            (
+                f"Sionna radio map, {BOUND_LEVEL:.0%} bound",
+                d[::3],
+                result.path_gain_db[row][::3],
+                result.error_db[row][::3],
+            )
+        ],
+        caption="Sionna's radio map adds the rays' powers: it follows the power sum, not the lobes and nulls "
+        "(every third cell shown).",
+    )
 
 
 #: The report section of these checks.

@@ -99,11 +99,22 @@ def _cell_count_error_km2(outer_m: float, inner_m: float, sector_deg: float, cel
 
 def coverage(_knob=None) -> Section:
     """Detected areas, a hill's shadow and k-of-n fusion of the coverage layers against closed forms."""
-    from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
     from csuas.core.scenario import load_scenario
 
     s = Section()
     scenario = load_scenario("default")
+    s.outcomes += _horizon_sector_checks(scenario)
+    s.outcomes += _range_sector_checks(scenario)
+    s.outcomes += _hill_shadow_checks(scenario)
+    s.outcomes += _k_of_n_checks()
+    return s
+
+
+def _horizon_sector_checks(scenario) -> list:
+    """The RF detector's detected area in a flat sector, limited by the radio horizon."""
+    from csuas.core.coverage import SitedSensor, sensor_layers
+
+    out = []
     # (a) horizon-limited: the RF detector (range 125 km) on a 10 m mast, 30 m flight level, 120 degree sector
     # toward 30 degrees, 2 km minimum range
     cell, mast, flight, sector, min_range = HORIZON_CELL_M, 10.0, 30.0, 120.0, 2000.0
@@ -113,7 +124,7 @@ def coverage(_knob=None) -> Section:
     ground_range = math.sqrt(layers["range_m"] ** 2 - (flight - mast) ** 2)
     outer, inner = min(ground_range, horizon), math.sqrt(min_range**2 - (flight - mast) ** 2)
     band = 2 * 1.5 * cell * outer * math.radians(sector) / 1e6  # the viewshed's 1.5-cell horizon band
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.flat_horizon_sector.area_km2",
             _annular_sector_km2(outer, inner, sector),
@@ -129,6 +140,14 @@ def coverage(_knob=None) -> Section:
             "perimeter), plus the viewshed's 1.5-cell band either side of the horizon arc",
         )
     )
+    return out
+
+
+def _range_sector_checks(scenario) -> list:
+    """The EO camera's detected area in a flat sector, limited by its range, and its cone of silence."""
+    from csuas.core.coverage import SitedSensor, sensor_layers
+
+    out = []
     # (a) range-limited with the overhead cone of silence: the EO camera (range 555.5 m) on a 5 m mast,
     # 120 m flight level, 90 degree sector toward 200 degrees, blind above 45 degrees
     cell, mast, flight, sector, el_max = RANGE_CELL_M, 5.0, 120.0, 90.0, 45.0
@@ -141,7 +160,7 @@ def coverage(_knob=None) -> Section:
     detected = layers["detected"][0]
     rr, cc = np.indices(detected.shape)
     ground = np.hypot(rr - 120.0, cc - 120.0) * cell
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.flat_range_sector.area_km2",
             _annular_sector_km2(outer, inner, sector),
@@ -157,7 +176,7 @@ def coverage(_knob=None) -> Section:
             "perimeter)",
         )
     )
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.cone_of_silence.radius_m",
             inner,
@@ -171,6 +190,14 @@ def coverage(_knob=None) -> Section:
             "nearest one outside the circle is at most a diagonal out",
         )
     )
+    return out
+
+
+def _hill_shadow_checks(scenario) -> list:
+    """Where a cone-shaped hill's shadow starts at a flight level behind it."""
+    from csuas.core.coverage import SitedSensor, sensor_layers
+
+    out = []
     # (b) a cone-shaped hill (60 m high, 300 m base radius) 1 km east of the RF detector on a 5 m mast, its apex
     # on a cell centre of the sensor's row; a 100 m flight level is hidden from where the sight line over the
     # apex meets it: x^2 / (2 k R) + s_a x - (h - e) = 0, s_a = (H - D^2 / (2 k R) - e) / D
@@ -182,7 +209,7 @@ def coverage(_knob=None) -> Section:
     k_r = K_RADIO * EARTH_RADIUS_M
     slope_apex = (height - apex**2 / (2 * k_r) - eye) / apex
     expected = k_r * (-slope_apex + math.sqrt(slope_apex**2 + 2 * (flight - eye) / k_r))
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.cone_hill.shadow_start_m",
             expected,
@@ -197,6 +224,14 @@ def coverage(_knob=None) -> Section:
             tolerance_source="2 cells, as the wall: the first hidden cell centre and the cell's own half-cell path",
         )
     )
+    return out
+
+
+def _k_of_n_checks() -> list:
+    """k-of-n fused Pd against the enumeration of subsets and the binomial tail."""
+    from csuas.core.coverage import fused_layers
+
+    out = []
     # (c) k-of-n Pd: 5 independent sensors with random Pd, and 5 equal ones (the binomial)
     rng = np.random.default_rng(15)
     n, k = 5, 3
@@ -207,7 +242,7 @@ def coverage(_knob=None) -> Section:
     for chosen in itertools.product((False, True), repeat=n):
         if sum(chosen) >= k:
             brute += np.prod([p if c else 1.0 - p for p, c in zip(pd, chosen)], axis=0)
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.k_of_n.max_abs_error_vs_enumeration",
             0.0,
@@ -223,7 +258,7 @@ def coverage(_knob=None) -> Section:
     equal = {f"s{i}": {"detected": np.ones((1, 1, 1), bool), "pd": np.full((1, 1, 1), 0.6)} for i in range(n)}
     fused, elapsed = timed(fused_layers, equal, k)
     binomial = sum(math.comb(n, j) * 0.6**j * 0.4 ** (n - j) for j in range(k, n + 1))
-    s.outcomes.append(
+    out.append(
         Check(
             "terrain.coverage.k_of_n.binomial_pd",
             binomial,
@@ -236,7 +271,7 @@ def coverage(_knob=None) -> Section:
             tolerance_source="rounding of a sum of n + 1 terms, far below 1e-12",
         )
     )
-    return s
+    return out
 
 
 #: GDAL cross-check cases: (terrain, observer row, observer col, target height [m]).
