@@ -56,7 +56,8 @@ def bench_sweeps(folder: Path) -> list[dict]:
     from csuas.base.fileio import read_spec
     from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec
-    from csuas.sweep.cost import axis_lengths, rcs_estimate, sweep_estimate
+    from csuas.sweep.cost import axis_lengths, sweep_estimate
+    from csuas.sweep.cost_rcs import rcs_estimate
 
     drawn = 'job = "{job}"\n[axes]\n"environment.rain_rate_mm_h" = {{min = 0.0, max = 50.0, samples = {n}}}\n'
     rcs = 'job = "rcs"\n[options]\ntarget = "dji_mini_4_pro"\nquality = "draft"\nrays_per_wavelength = {f}\n'

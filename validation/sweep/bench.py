@@ -16,8 +16,7 @@ import time
 from pathlib import Path
 
 from csuas.sweep import parse_spec, run_sweep
-from csuas.sweep.jobs import run_chunk
-from csuas.sweep.run import chunk_bounds
+from csuas.sweep.run import chunk_bounds, run_chunk
 
 RCS_SPEC = {
     "job": "rcs",
