@@ -14,11 +14,11 @@ from pathlib import Path
 
 from csuas.base.fileio import write_text_atomic
 from csuas.base.schema import key_rows, key_table, replace_generated
-from csuas.render.site_schema import SiteSchema
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES
 from csuas.defaults.scenario_schema import scenario_schema, section_schema
 from csuas.render.imaging.dataset_schema import DatasetSchema
+from csuas.render.site_schema import SiteSchema
 from csuas.sweep.kinds import JOB_KINDS
 from csuas.sweep.schema import SweepCommon
 

@@ -1,4 +1,4 @@
-"""The ``engage`` sweep job: runs of ``csuas engage`` as chunks, identical whatever the chunking, resumed chunk by chunk.
+"""The ``engage`` sweep job: runs of ``csuas engage`` as chunks, the same whatever the chunking, resumed by chunk.
 
 A short approach (640 m, 43 looks a sensor, no birds) keeps a run under a second; the reference for each
 row is the engagement simulator called directly for the same run index (``run_once``), not the sweep.
@@ -18,9 +18,7 @@ from csuas.render.engagement.build import load_engagement
 from csuas.render.engagement.simulate import CAUSES, run_once
 from csuas.sweep import parse_spec, read_results, run_sweep
 
-LONG_APPROACH = (
-    "waypoints = [[504000.0, 5002700.0, 30.0], [506600.0, 5003150.0, 30.0], [505000.0, 5005000.0, 30.0]]"
-)
+LONG_APPROACH = "waypoints = [[504000.0, 5002700.0, 30.0], [506600.0, 5003150.0, 30.0], [505000.0, 5005000.0, 30.0]]"
 SHORT_APPROACH = "waypoints = [[505400.0, 5004500.0, 30.0], [505000.0, 5005000.0, 30.0]]"
 RUNS = 3
 
