@@ -92,9 +92,8 @@ def run_all(engagement, runs: int, workers: int) -> list:
 
 def run(args) -> dict:
     """Validate, estimate, run every Monte Carlo run, and write engage.json and the plots."""
-    from csuas.base.fileio import prepare_output_dir, write_text_atomic
+    from csuas.base.fileio import exclusive_lock, prepare_output_dir
     from csuas.base.paths import inside
-    from csuas.render.engagement.metrics import curves, looks_table, summarise
 
     if args.print_example:
         return {"example": _spec_source("example").read_text(encoding="utf-8")}
@@ -115,7 +114,23 @@ def run(args) -> dict:
         )
     out = prepare_output_dir(args.out)
     # every file is checked before the runs: inside --out, never a device or a FIFO (base/paths.py)
-    map_png, curve_png, summary = (inside(out, name) for name in ("engage_map.png", "engage_curve.png", "engage.json"))
+    files = tuple(inside(out, name) for name in ("engage_map.png", "engage_curve.png", "engage.json"))
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _run_locked(args, spec, engagement, estimate, files)
+
+
+#: Lock file inside the output folder: one engagement writes into a folder at a time (as sweep, dataset,
+#: coverage and report do).
+LOCK_NAME = ".csuas-engage.lock"
+
+
+def _run_locked(args, spec, engagement, estimate: float, files: tuple) -> dict:
+    """The runs, engage.json and the plots, holding the output folder's lock."""
+    from csuas.base.fileio import write_text_atomic
+    from csuas.commands.engage_plots import curve_plot, map_plot
+    from csuas.render.engagement.metrics import curves, looks_table, summarise
+
+    map_png, curve_png, summary = files
     started = time.perf_counter()
     records = run_all(engagement, spec.runs, args.workers)
     elapsed = time.perf_counter() - started
@@ -133,12 +148,10 @@ def run(args) -> dict:
         "runs_per_second": spec.runs / elapsed,
         "runs_detail": records,
     }
-    from csuas.commands.engage_plots import curve_plot, map_plot
-
     result["map_png"] = str(map_plot(map_png, engagement, records, result["metrics"]))
     result["curve_png"] = str(curve_plot(curve_png, engagement, result["curves"], result["metrics"]))
     write_text_atomic(summary, json.dumps(result, indent=1, allow_nan=False))
-    result["out"] = str(out)
+    result["out"] = str(summary.parent)
     return result
 
 
