@@ -17,10 +17,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from csuas.base.cost import Estimate
 
 if TYPE_CHECKING:
     from .spec import SweepSpec
@@ -51,6 +54,13 @@ def prepare(spec: SweepSpec) -> SweepSpec:
     text = json.dumps(read_spec(source, engagement_path, "engagement spec"), sort_keys=True, default=str)
     digest = hashlib.sha256(f"{spec.digest}\0{runs}\0{text}".encode()).hexdigest()
     return replace(spec, count=runs, context=engagement, digest=digest)
+
+
+def runs_estimate(spec: SweepSpec, base, n_workers: int):
+    """``base`` (one point) plus the other runs of the sweep at :data:`SECONDS_PER_RUN`, shared by the workers."""
+    parallel = min(n_workers, os.cpu_count() or 1)
+    seconds = base.seconds + (spec.n_points - 1) * SECONDS_PER_RUN / parallel
+    return Estimate(f"an engage sweep of {spec.n_points:,} runs on {n_workers} worker(s)", seconds, base.bytes)
 
 
 def engage_columns(spec: SweepSpec) -> list[str]:

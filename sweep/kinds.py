@@ -194,7 +194,9 @@ JOB_KINDS: dict[str, JobKind] = {
             job_engage.CHUNK_RUNS,
             job_engage.engage_chunk,
             job_engage.engage_columns,
-            JobCost(job_engage.PROCESS_BYTES, seconds_per_point=job_engage.SECONDS_PER_RUN),
+            JobCost(
+                job_engage.PROCESS_BYTES, seconds_per_point=job_engage.SECONDS_PER_RUN, refine=job_engage.runs_estimate
+            ),
             takes_scenario=False,
             prepare=job_engage.prepare,
         ),

@@ -188,7 +188,7 @@ def render_text(result: dict) -> str:
 def bench_runs(runs: int = 4) -> list[dict]:
     """Runs per second of the embedded example, on one process and on two, and without birds (``csuas bench``).
 
-    Lives beside the command because the example's site is read by the command line's site loader. Each
+    Lives beside the command because it times the command's own process pool (:func:`run_all`). Each
     figure times only the runs (the engagement is built before the timer).
     """
     from csuas.base.fileio import read_spec
