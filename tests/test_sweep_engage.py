@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.cli import main
 from csuas.defaults import engagement_path
 from csuas.render.engagement.build import load_engagement
 from csuas.render.engagement.simulate import CAUSES, run_once
@@ -91,3 +92,13 @@ def test_engage_takes_no_axes_and_an_unknown_job_names_the_jobs(engagement_file)
         parse_spec({"job": "engagement"})
     assert unknown.value.name == "job"
     assert "range, pd, render, rcs, engage" in str(unknown.value)
+
+
+def test_the_cost_estimate_counts_the_runs_before_any_run(engagement_file, tmp_path, capsys):
+    spec = tmp_path / "many.toml"
+    spec.write_text(f'job = "engage"\n[options]\nengagement = "{engagement_file}"\nruns = 1000\n', encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["sweep", str(spec), "--out", str(out), "--scheduler", "serial", "--max-seconds", "600"]) == 2
+    err = capsys.readouterr().err
+    assert "an engage sweep of 1,000 runs" in err and "--max-seconds" in err, err
+    assert not out.exists()
