@@ -28,11 +28,12 @@ from csuas.base.cost import Estimate
 if TYPE_CHECKING:
     from .spec import SweepSpec
 
-#: Runs per task: a run of the example takes 5-10 s on one core, so a task is a minute or two of work.
+#: Runs per task: a run of the example takes 3.4 s of CPU, so a task is about half a minute of one core.
 CHUNK_RUNS = 8
-#: Wall time of one run [s]: the embedded example (radar and EO, birds at 2 per km^2) on one core of a
-#: 2-core machine loaded by other work (load 10: 10.5 s a run; 5 s at load ~2).
-SECONDS_PER_RUN = 8.0
+#: Time of one run on a core of its own [s]: the embedded example (radar and EO, birds at 2 per km^2), CPU
+#: time of Dask workers over 16 runs (``csuas bench --only sweep_engage``): 3.39 s a run on one worker,
+#: 3.52 s on two. On 2 cores shared with other work (load 13) the wall time was 22 s a run.
+SECONDS_PER_RUN = 3.5
 #: Resident memory of a process running engage chunks [B]: Stone Soup, SciPy and the engagement (266 MB).
 PROCESS_BYTES = 280e6
 #: What a run reports once, as the record of ``run_once`` names it.
