@@ -3,10 +3,12 @@
 :func:`axis_lengths` reads each axis's length from the TOML table (a list's length, a drawn axis's
 ``samples``) and refuses a count that is not a finite whole number or exceeds
 :data:`~csuas.sweep.spec.MAX_POINTS`, before :func:`~csuas.sweep.spec.parse_spec` draws a single
-value. :func:`sweep_estimate` turns the lengths into an :class:`~csuas.base.cost.Estimate`; for
-the ``rcs`` job :func:`rcs_estimate` adds the tube count of every point (the estimate of
-``csuas rcs --max-tubes``). Chunks are streamed: a worker holds one chunk, and the results table
-is gathered chunk by chunk, so the memory of a sweep does not grow with its points beyond its axes.
+value. :func:`sweep_estimate` turns the lengths into an :class:`~csuas.base.cost.Estimate` with the
+job's cost model (:class:`csuas.sweep.kinds.JobCost`); a job whose cost needs the parsed spec refines
+it then (``JobCost.refine``: the ``rcs`` job's tubes, :func:`csuas.sweep.cost_rcs.rcs_estimate`, the
+estimate of ``csuas rcs --max-tubes``; the ``engage`` job's runs). Chunks are streamed: a worker
+holds one chunk, and the results table is gathered chunk by chunk, so the memory of a sweep does not
+grow with its points beyond its axes.
 
 Constants measured with ``csuas sweep --scheduler serial`` on 2 CPU cores of a machine loaded by
 other work, the default scenario (6 sensors), ru_maxrss and wall time (each job's own in
