@@ -17,25 +17,26 @@ from csuas.base.fileio import write_text_atomic
 from csuas.base.quality import ladders_table
 from csuas.base.registry import resolve
 from csuas.base.schema import key_rows, key_table, replace_generated
-from csuas.commands.coverage_schema import SiteSchema
 from csuas.core.result import CONVENTIONS
 from csuas.defaults import MODALITIES
 from csuas.defaults.scenario_schema import scenario_schema, section_schema
 from csuas.render.imaging.dataset_schema import DatasetSchema
 from csuas.render.quality import LADDERS
-from csuas.sweep.schema import SCHEMAS, SweepCommon
+from csuas.render.site_schema import SiteSchema
+from csuas.sweep.kinds import JOB_KINDS
+from csuas.sweep.schema import SweepCommon
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _sweep_tables() -> dict:
     common = key_rows(SweepCommon)
-    per_job = [("job", "required", ", ".join(SCHEMAS), "what each point computes")]
-    chunks = ", ".join(f"{job} {model.model_fields['chunk_points'].default}" for job, model in SCHEMAS.items())
+    per_job = [("job", "required", ", ".join(JOB_KINDS), "what each point computes")]
+    chunks = ", ".join(f"{job} {kind.chunk_points}" for job, kind in JOB_KINDS.items())
     per_job.append(("chunk_points", chunks, "a whole number >= 1", "points per task"))
     tables = {"sweep": key_table(per_job + common)}
-    for job, model in SCHEMAS.items():
-        options = [row for row in key_rows(model) if row[0].startswith("options.")]
+    for job, kind in JOB_KINDS.items():
+        options = [row for row in key_rows(kind.schema) if row[0].startswith("options.")]
         tables[f"sweep-options-{job}"] = key_table(options) if options else "(none)"
     return tables
 

@@ -9,15 +9,17 @@
 * ``rcs``: SBR-PO, one call per frequency for all the chunk's aspects (the engine is cached by
   the worker process).
 
-Every function returns ``{column: array}`` aligned with the chunk's points, plus ``time_s`` per
-point (the chunk's wall time shared equally).
+Every chunk function returns ``{column: array}`` aligned with the chunk's points, its columns
+those its job declares (the ``*_columns`` function beside it); :func:`csuas.sweep.run.run_chunk`
+adds the points, their axes and ``time_s`` (the chunk's wall time shared equally). The jobs are
+declared, each once, in :mod:`csuas.sweep.kinds`.
 """
 
 from __future__ import annotations
 
 import sys
-import time
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,7 +28,10 @@ from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario, johnson_derived
 from csuas.defaults import load_parameters
 
-from .spec import JOB_AXES, SweepSpec, point_seed
+from .schema import RENDER_AXES
+
+if TYPE_CHECKING:
+    from .spec import SweepSpec
 
 #: Environment parameters the models branch on, with the predicate that decides the branch.
 EFFECT_PREDICATES = {
@@ -48,6 +53,12 @@ class _FixedEffects(Scenario):
     @property
     def effects(self) -> frozenset:  # type: ignore[override]
         return self.group_effects
+
+
+def point_seed(seed: int, index) -> np.ndarray:
+    """Seed of each point: from the spec's seed and the point's index alone, so any scheduler agrees."""
+    idx = np.atleast_1d(np.asarray(index, dtype=np.int64))
+    return np.array([np.random.SeedSequence([seed, int(i)]).generate_state(1)[0] for i in idx], dtype=np.int64)
 
 
 def with_values(scenario: Scenario, values: dict) -> Scenario:
@@ -84,6 +95,11 @@ def _is_scalar(scenario: Scenario, key: str) -> bool:
     return "choices" in spec or parts[-1] in SCALAR_NAMES or isinstance(spec.get("value"), int)
 
 
+def range_columns(spec: SweepSpec) -> list[str]:
+    """Columns of the ``range`` job: ``range_m.SENSOR`` [m] of every sensor of the scenario."""
+    return [f"range_m.{name}" for name in spec.scenario.sensors]
+
+
 def range_chunk(spec: SweepSpec, columns: dict) -> dict:
     """Range of every sensor at each point of the chunk (vectorised by groups)."""
     scenario = spec.scenario
@@ -98,7 +114,7 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
         group = np.unique(np.stack(codes), axis=1, return_inverse=True)[1].reshape(-1)
     else:
         group = np.zeros(n, dtype=np.int64)
-    out = {f"range_m.{name}": np.full(n, np.nan) for name in scenario.sensors}
+    out = {column: np.full(n, np.nan) for column in range_columns(spec)}
     for g in np.unique(group):
         idx = np.nonzero(group == g)[0]
         first = with_values(scenario, {k: v[idx[0]] for k, v in columns.items()})
@@ -115,16 +131,19 @@ def _sensor_pd_of_range(scenario, name: str, convention):
     return lambda r: sensor_pd(scenario, name, r, convention).pd
 
 
+def pd_columns(spec: SweepSpec) -> list[str]:
+    """Columns of the ``pd`` job: ranges at each reported Pd of every sensor and fused [m], then each sensor's Pd
+    at its deterministic range."""
+    names = list(spec.scenario.sensors)
+    ranges = [f"range_at_pd_{p:g}.{name}" for name in [*names, "fused"] for p in REPORTED_PD]
+    return ranges + [f"pd_at_deterministic_range.{name}" for name in names]
+
+
 def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
     """Per point: each sensor's Pd at its deterministic range and its ranges at Pd 0.5 and 0.9, and fused."""
     n = len(next(iter(columns.values()))) if columns else 1
     names = list(spec.scenario.sensors)
-    out = {}
-    for name in [*names, "fused"]:
-        for p in REPORTED_PD:
-            out[f"range_at_pd_{p:g}.{name}"] = np.full(n, np.nan)
-    for name in names:
-        out[f"pd_at_deterministic_range.{name}"] = np.full(n, np.nan)
+    out = {column: np.full(n, np.nan) for column in pd_columns(spec)}
     convention = spec.options.get("convention")
     for i in range(n):
         scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items()})
@@ -142,6 +161,15 @@ def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
     return out
 
 
+#: What a render reports per point (the ``stderr`` of pixels_on_target follows them).
+RENDER_VALUES = ("pixels_on_target", "pixels_across_dcrit", "contrast", "delta_t_k", "lcs_m2")
+
+
+def render_columns(spec: SweepSpec) -> list[str]:
+    """Columns of the ``render`` job: :data:`RENDER_VALUES` and ``pixels_on_target_stderr``."""
+    return [*RENDER_VALUES, "pixels_on_target_stderr"]
+
+
 def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
     """Per point: the scenario's render mode at the point's range and aspect, seeded by the point."""
     from csuas.render.imaging.modes import eo_scenario, tir_scenario
@@ -150,13 +178,11 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
     mode = {"eo": eo_scenario, "tir": tir_scenario, "lidar": render_lidar}[spec.options["mode"]]
     n = len(next(iter(columns.values()), [None]))  # no axes: the one point of the options
     seeds = point_seed(spec.seed, np.arange(start, start + n))
-    keys = ("pixels_on_target", "pixels_across_dcrit", "contrast", "delta_t_k", "lcs_m2")
-    out = {k: np.full(n, np.nan) for k in keys}
-    out["pixels_on_target_stderr"] = np.full(n, np.nan)
-    own = {k: v for k, v in columns.items() if k in JOB_AXES["render"]}
+    out = {k: np.full(n, np.nan) for k in render_columns(spec)}
+    own = {k: v for k, v in columns.items() if k in RENDER_AXES}
     for i in range(n):
         scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items() if k not in own})
-        at = {k: float(own[k][i]) if k in own else spec.options[k] for k in JOB_AXES["render"]}
+        at = {k: float(own[k][i]) if k in own else spec.options[k] for k in RENDER_AXES}
         (row,) = mode(
             scenario,
             ranges_m=[at["range_m"]],
@@ -165,12 +191,17 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
             elevation_deg=at["elevation_deg"],
             seed=int(seeds[i] % (2**31)),
         )
-        for k in keys:
+        for k in RENDER_VALUES:
             value = row.get(k)
             if isinstance(value, (int, float)):
                 out[k][i] = value
         out["pixels_on_target_stderr"][i] = row.get("stderr", {}).get("pixels_on_target", np.nan)
     return out
+
+
+def rcs_columns(spec: SweepSpec) -> list[str]:
+    """Columns of the ``rcs`` job: RCS [dBsm] and its error estimate [dB], VV and HH."""
+    return ["rcs_dbsm.VV", "rcs_dbsm.HH", "error_db.VV", "error_db.HH"]
 
 
 def rcs_chunk(spec: SweepSpec, columns: dict) -> dict:
@@ -182,7 +213,7 @@ def rcs_chunk(spec: SweepSpec, columns: dict) -> dict:
     n = len(columns["frequency_ghz"])
     az = np.asarray(columns.get("azimuth_deg", np.full(n, spec.options["azimuth_deg"])), float)
     el = np.asarray(columns.get("elevation_deg", np.full(n, spec.options["elevation_deg"])), float)
-    out = {k: np.full(n, np.nan) for k in ("rcs_dbsm.VV", "rcs_dbsm.HH", "error_db.VV", "error_db.HH")}
+    out = {k: np.full(n, np.nan) for k in rcs_columns(spec)}
     for f in np.unique(columns["frequency_ghz"]):
         idx = np.nonzero(columns["frequency_ghz"] == f)[0]
         res = compute_rcs(
@@ -200,20 +231,3 @@ def rcs_chunk(spec: SweepSpec, columns: dict) -> dict:
             if res.error_db is not None:
                 out[f"error_db.{name}"][idx] = res.error_db[0, :, 0, rx, tx]
     return out
-
-
-def run_chunk(spec: SweepSpec, start: int, stop: int) -> dict:
-    """Result columns of points ``start..stop``: the axes, the job's outputs, ``point`` and ``time_s``."""
-    t0 = time.perf_counter()
-    columns = spec.points(start, stop)
-    if spec.job == "range":
-        result = range_chunk(spec, columns)
-    elif spec.job == "pd":
-        result = pd_chunk(spec, columns)
-    elif spec.job == "render":
-        result = render_chunk(spec, columns, start)
-    else:
-        result = rcs_chunk(spec, columns)
-    n = stop - start
-    elapsed = time.perf_counter() - t0
-    return {"point": np.arange(start, stop), **columns, **result, "time_s": np.full(n, elapsed / max(n, 1))}

@@ -10,9 +10,9 @@ holds the spec's digest). When every chunk is done, ``DIR/results.parquet`` gath
 point order and ``DIR/sweep.json`` records the provenance. Results depend only on the spec (each
 point's seed comes from the spec's seed and its index), so every scheduler gives the same table.
 
-Simulator workers (``render``, ``rcs``) are restarted by their nanny after ``recycle_after``
-tasks (the client keeps one task a worker in flight, so the worker is idle then), so memory stays
-bounded; a worker that dies mid-task is replaced by Dask and its task run again. When the
+Simulator workers (jobs declared ``simulator``: ``render``, ``rcs``) are restarted by their nanny
+after ``recycle_after`` tasks (the client keeps one task a worker in flight, so the worker is idle
+then), so memory stays bounded; a worker that dies mid-task is replaced by Dask and its task run again. When the
 cluster's workers declare a ``GPU`` resource, simulator tasks ask for one.
 """
 
@@ -30,10 +30,8 @@ from csuas.base.errors import CsuasError, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 
-from .jobs import run_chunk
 from .spec import SweepSpec
 
-SIMULATORS = ("render", "rcs")
 #: Seconds to wait for a ``tcp://`` scheduler before giving up.
 CONNECT_TIMEOUT_S = 10.0
 #: Seconds a cluster may have no worker at all before the sweep stops (``--no-worker-timeout-s``).
@@ -44,6 +42,26 @@ def chunk_bounds(spec: SweepSpec) -> list[tuple[int, int]]:
     """``(start, stop)`` of every chunk, in point order."""
     n, size = spec.n_points, spec.chunk_points
     return [(start, min(start + size, n)) for start in range(0, n, size)]
+
+
+def run_chunk(spec: SweepSpec, start: int, stop: int) -> dict:
+    """Result columns of points ``start..stop``: ``point``, the axes, the job's declared columns and ``time_s``.
+
+    Raises
+    ------
+    CsuasError
+        A chunk function that returned other columns than its job declares (:class:`csuas.sweep.kinds.JobKind`).
+    """
+    t0 = time.perf_counter()
+    columns = spec.points(start, stop)
+    kind = spec.kind
+    result = kind.chunk(spec, columns, start, stop)
+    declared = list(kind.columns(spec))
+    if list(result) != declared:
+        raise CsuasError(f"sweep job {kind.name}: its chunk returned columns {list(result)}, not {declared}")
+    n = stop - start
+    elapsed = time.perf_counter() - t0
+    return {"point": np.arange(start, stop), **columns, **result, "time_s": np.full(n, elapsed / max(n, 1))}
 
 
 def _chunk_path(out: Path, index: int) -> Path:
@@ -79,7 +97,7 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple
     Returns the process id and the Dask worker address that ran it (None in this process), for
     the provenance and for recycling.
     """
-    if spec.job in SIMULATORS:
+    if spec.kind.simulator:
         _one_thread_per_worker()
     _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
     try:
@@ -167,7 +185,7 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
     bounds, started = chunk_bounds(spec), time.perf_counter()
     info = client.scheduler_info()
     n_workers = len(info.get("workers", {}))
-    simulator = spec.job in SIMULATORS
+    simulator = spec.kind.simulator
     gpu = simulator and any(w.get("resources", {}).get("GPU") for w in info["workers"].values())
 
     def submit(i):

@@ -1,8 +1,9 @@
 """The declared schema of a sweep spec (docs/sweeps.md): its keys, their types, defaults and what is allowed.
 
-One model per job (``range``, ``pd``, ``render``, ``rcs``), chosen by the spec's ``job``; each holds the job's
-``[options]``. What depends on the base scenario (which parameters and sensors an axis may name, and their
-ranges from ``defaults/parameters.toml``) is checked by :func:`csuas.sweep.spec.parse_spec` after this schema.
+The keys every sweep has (:class:`SweepCommon`), each job's ``[options]`` model, and :func:`sweep_schema`,
+which makes a job's whole schema; the jobs themselves are declared in :mod:`csuas.sweep.kinds`. What
+depends on the base scenario (which parameters and sensors an axis may name, and their ranges from
+``defaults/parameters.toml``) is checked by :func:`csuas.sweep.spec.parse_spec` after this schema.
 """
 
 from __future__ import annotations
@@ -10,15 +11,22 @@ from __future__ import annotations
 from math import isfinite
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, Discriminator, Field, Tag, ValidationInfo, field_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationInfo,
+    create_model,
+    field_validator,
+)
 
 from csuas.base.quality import RUNGS, RUNGS_TEXT
 from csuas.base.schema import Schema, key, number, one_of, text, whole
 
 #: Most points one sweep may hold (and so the most samples of one drawn axis).
 MAX_POINTS = 100_000_000
-#: Points per task: analytic points go to the core in large NumPy chunks, simulator points in small groups.
-CHUNK_POINTS = {"range": 1_000_000, "pd": 32, "render": 4, "rcs": 16}
 CONVENTION = one_of("paper", "physical", allowed="paper or physical")
 QUALITY = one_of(*RUNGS, allowed=RUNGS_TEXT)
 AZIMUTH = number(-360.0, 360.0, "deg")
@@ -105,6 +113,12 @@ class RenderOptions(Schema):
     elevation_deg: ELEVATION = key(0.0, "elevation of every point without an elevation_deg axis")
 
 
+#: The render job's own axes: name -> (lowest, highest) allowed.
+RENDER_AXES = {"range_m": (1e-3, 1e7), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)}
+#: The rcs job's own axes.
+RCS_AXES = {"frequency_ghz": (1e-3, 1e4), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)}
+
+
 class RcsOptions(Schema):
     """``[options]`` of the ``rcs`` job."""
 
@@ -115,44 +129,22 @@ class RcsOptions(Schema):
     elevation_deg: ELEVATION = key(0.0, "elevation of every point without an elevation_deg axis")
 
 
-class RangeSweep(SweepCommon):
-    """A sweep of the ``range`` job."""
+class EngageOptions(Schema):
+    """``[options]`` of the ``engage`` job: whose runs the sweep shares out."""
 
-    job: Literal["range"] = key(description="range, pd, render or rcs")
-    options: RangeOptions = key(RangeOptions(), None)
-    chunk_points: whole(1) = key(CHUNK_POINTS["range"], "points per task")
-
-
-class PdSweep(SweepCommon):
-    """A sweep of the ``pd`` job."""
-
-    job: Literal["pd"] = key(description="range, pd, render or rcs")
-    options: PdOptions = key(PdOptions(), None)
-    chunk_points: whole(1) = key(CHUNK_POINTS["pd"], "points per task")
+    engagement: text("an embedded engagement spec or a file (docs/engagements.md)") = key(
+        "example", "the engagement spec; its runs are the sweep's points, each seeded by the spec's seed and its index"
+    )
+    runs: whole(1, MAX_POINTS) | None = key(None, "Monte Carlo runs (the engagement spec's runs unless given)")
 
 
-class RenderSweep(SweepCommon):
-    """A sweep of the ``render`` job."""
-
-    job: Literal["render"] = key(description="range, pd, render or rcs")
-    options: RenderOptions = key(RenderOptions(), None)
-    chunk_points: whole(1) = key(CHUNK_POINTS["render"], "points per task")
-
-
-class RcsSweep(SweepCommon):
-    """A sweep of the ``rcs`` job."""
-
-    job: Literal["rcs"] = key(description="range, pd, render or rcs")
-    options: RcsOptions = key(RcsOptions(), None)
-    chunk_points: whole(1) = key(CHUNK_POINTS["rcs"], "points per task")
-
-
-#: The schema of each job.
-SCHEMAS = {"range": RangeSweep, "pd": PdSweep, "render": RenderSweep, "rcs": RcsSweep}
-#: Axes a job takes besides the scenario's parameters: name -> (lowest, highest) allowed.
-JOB_AXES = {
-    "range": {},
-    "pd": {},
-    "render": {"range_m": (1e-3, 1e7), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)},
-    "rcs": {"frequency_ghz": (1e-3, 1e4), "azimuth_deg": (-360.0, 360.0), "elevation_deg": (-90.0, 90.0)},
-}
+def sweep_schema(job: str, options: type[Schema], chunk_points: int) -> type[SweepCommon]:
+    """The schema of a sweep of ``job``: the common keys, ``job = "<job>"``, its ``[options]`` and ``chunk_points``."""
+    return create_model(
+        f"{job.title()}Sweep",
+        __base__=SweepCommon,
+        __doc__=f"A sweep of the ``{job}`` job.",
+        job=(Literal[job], key(description="the job (sweep/kinds.py JOB_KINDS)")),
+        options=(options, key(options(), None)),
+        chunk_points=(whole(1), key(chunk_points, "points per task")),
+    )

@@ -8,7 +8,9 @@ import stat
 
 import tomllib
 
+from csuas.base.fileio import exclusive_lock
 from csuas.cli import main
+from csuas.commands.engage import LOCK_NAME
 from csuas.defaults import engagement_path
 from csuas.render.engagement.spec import parse_spec
 
@@ -83,3 +85,16 @@ def test_a_device_node_named_like_an_output_survives_and_is_refused_before_the_r
     assert len(err) == 1 and "never replaced" in err[0], err
     assert stat.S_ISFIFO(os.lstat(out / "engage.json").st_mode)
     assert sorted(p.name for p in out.iterdir()) == ["engage.json"]
+
+
+def test_a_folder_another_engagement_writes_into_is_refused(tmp_path, capsys):
+    """The output folder's lock (the base helper sweep, dataset, coverage and report hold): exit 2, nothing written."""
+    spec = tmp_path / "small.toml"
+    spec.write_text(_example().replace("runs = 50", "runs = 1").replace("birds_per_km2 = 2.0", "birds_per_km2 = 0.0"))
+    out = tmp_path / "out"
+    out.mkdir()
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        assert main(["engage", str(spec), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--out" in err[0] and LOCK_NAME in err[0], err
+    assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]

@@ -22,7 +22,7 @@ from csuas.cli import main
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import parse_scenario
 from csuas.sweep import parse_spec, read_results, run_sweep
-from csuas.sweep.spec import point_seed
+from csuas.sweep.jobs import point_seed
 
 VENV_BIN = Path(sys.executable).parent
 

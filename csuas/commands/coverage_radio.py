@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.commands.coverage_schema import RadioMapTable
+from csuas.render.site_schema import RadioMapTable
 
 #: Keys of a ground given by its constants (instead of an ITU material's name).
 GROUND_CONSTANTS = ("relative_permittivity", "conductivity_s_m")
@@ -38,7 +38,7 @@ ACCURACY_MAX_SAMPLES = 2**23
 
 
 def radio_map_settings(site, scenario) -> dict | None:
-    """The radio-map settings of a validated site (:class:`~csuas.commands.coverage_schema.SiteSchema`);
+    """The radio-map settings of a validated site (:class:`~csuas.render.site_schema.SiteSchema`);
     None without a ``[radio_map]`` table."""
     if site.radio_map is None:
         return None

@@ -15,21 +15,13 @@ from __future__ import annotations
 import json
 import sys
 import time
-from pathlib import Path
 
-import numpy as np
-
-from csuas.base.errors import ParameterError, raise_all
+from csuas.base.errors import ParameterError
+from csuas.render.engagement.build import build, load_engagement
 
 #: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`), and
 #: the most time it may take [s] (it then counts the looks it took).
 PILOT_LOOKS, PILOT_BUDGET_S = 10, 20.0
-#: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
-LOOK_DEFAULTS = {
-    "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
-    "eo": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-    "tir": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-}
 
 
 def add_arguments(parser):
@@ -50,104 +42,6 @@ def _spec_source(name: str):
     from csuas.defaults import engagement_path
 
     return engagement_path(name)
-
-
-def _scenario(spec, site: dict, base: Path | None):
-    """The scenario of the engagement: the spec's (name, file beside the spec or inline table) or the site's."""
-    from csuas.core.scenario import load_scenario, parse_scenario
-    from csuas.defaults import scenario_path
-
-    source = spec.scenario if spec.scenario is not None else site.get("scenario", "default")
-    if isinstance(source, dict):
-        data = dict(source)
-    else:
-        import tomllib
-
-        path = Path(source)
-        if base is not None and not path.is_absolute() and (base / path).is_file():
-            path = base / path
-        if not path.is_file():
-            path = Path(str(scenario_path(str(source))))
-        if not path.is_file():
-            return load_scenario(source)  # its own error, naming the scenario
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    data["target"] = {**data.get("target", {}), "preset": spec.drone.target}
-    return parse_scenario(data, str(data.get("name", "scenario")))
-
-
-def build(spec, spec_dir: Path | None):
-    """The :class:`csuas.render.engagement.simulate.Engagement` of a validated spec (site, scenario, sensors)."""
-    from csuas.base.fileio import read_spec
-    from csuas.commands.coverage import load_dem, validated_site
-    from csuas.core.coverage import POINTING, SitedSensor
-    from csuas.defaults import load_birds, load_clutter, site_path
-    from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LookSettings, SensorModel, Terrain
-    from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement
-
-    site_source = spec.site
-    if spec_dir is not None and (spec_dir / site_source).is_file():
-        site_source = str(spec_dir / site_source)
-    site = read_spec(site_source, site_path, "site")
-    scenario = _scenario(spec, site, spec_dir)
-    chosen = spec.sensors or list(site.get("sensors", {}))
-    missing = [
-        ParameterError("sensors", n, "sensors of the site: " + ", ".join(site.get("sensors", {})))
-        for n in chosen
-        if n not in site.get("sensors", {})
-    ]
-    raise_all(missing)
-    site = {**site, "sensors": {n: site["sensors"][n] for n in chosen}}
-    site.pop("radio_map", None)
-    site.pop("fusion_k", None)
-    checked = validated_site(site, scenario)
-    errors = [
-        ParameterError(
-            f"sensors.{n}", scenario.sensors[n].modality, "a radar, EO or thermal sensor (engage simulates these)"
-        )
-        for n in chosen
-        if scenario.sensors[n].modality not in ENGAGED_MODALITIES
-    ]
-    errors += [
-        ParameterError(f"looks.{n}", n, "a sensor taking part: " + ", ".join(chosen))
-        for n in spec.looks
-        if n not in chosen
-    ]
-    raise_all(errors)
-    site_file = Path(site_source)
-    dem, transform, _, cell = load_dem(checked.dem, site_file if site_file.is_file() else None)
-    terrain = Terrain(dem, cell, float(transform.c), float(transform.f))
-    waypoints = np.array(spec.drone.waypoints, float)
-    rows, cols = terrain.rowcol(waypoints[:, 0], waypoints[:, 1])
-    outside = ~((rows >= 0) & (rows <= dem.shape[0] - 1) & (cols >= 0) & (cols <= dem.shape[1] - 1))
-    raise_all(
-        [
-            ParameterError(f"drone.waypoints[{i}]", spec.drone.waypoints[i], "a point inside the DEM")
-            for i in np.flatnonzero(outside)
-        ]
-    )
-    gamma = load_clutter()["gamma_db"]
-    sensors = {}
-    for name in chosen:
-        table = checked.sensors[name]
-        row, col = terrain.rowcol(float(table.x), float(table.y))
-        pointing = {key: float(getattr(table, key)) for key in POINTING}
-        sited = SitedSensor(name, float(row), float(col), float(table.mast_m), **pointing)
-        modality = scenario.sensors[name].modality
-        given = spec.looks[name].model_dump(exclude_none=True) if name in spec.looks else {}
-        settings = LookSettings(**{**LOOK_DEFAULTS[modality], **given})
-        sensors[name] = SensorModel(scenario, sited, terrain, settings, gamma[settings.land_cover])
-    birds = BirdSettings(spec.confusers.birds_per_km2, tuple(spec.confusers.bird_classes), spec.confusers.radius_m)
-    path = DronePath(waypoints, spec.drone.speed_m_s)
-    return Engagement(
-        terrain,
-        sensors,
-        path,
-        birds,
-        tuple(spec.tracker.confirm),
-        spec.tracker.delete_after_misses,
-        spec.seed,
-        load_birds(),
-    )
 
 
 def estimate_seconds(engagement, runs: int) -> float:
@@ -198,10 +92,8 @@ def run_all(engagement, runs: int, workers: int) -> list:
 
 def run(args) -> dict:
     """Validate, estimate, run every Monte Carlo run, and write engage.json and the plots."""
-    from csuas.base.fileio import prepare_output_dir, read_spec, write_text_atomic
+    from csuas.base.fileio import exclusive_lock, prepare_output_dir
     from csuas.base.paths import inside
-    from csuas.render.engagement.metrics import curves, looks_table, summarise
-    from csuas.render.engagement.spec import parse_spec
 
     if args.print_example:
         return {"example": _spec_source("example").read_text(encoding="utf-8")}
@@ -211,9 +103,7 @@ def run(args) -> dict:
         raise ParameterError("--max-seconds", args.max_seconds, "a time > 0 [s]")
     if not 1 <= args.workers <= 256:
         raise ParameterError("--workers", args.workers, "1 to 256 processes")
-    spec = parse_spec(read_spec(args.spec, _spec_source, "engagement spec"))
-    source = Path(args.spec)
-    engagement = build(spec, source.parent if source.is_file() else None)
+    spec, engagement = load_engagement(args.spec)
     estimate = estimate_seconds(engagement, spec.runs) / min(args.workers, spec.runs)
     if estimate > args.max_seconds:
         most = max(int(spec.runs * args.max_seconds / estimate), 0)
@@ -224,7 +114,23 @@ def run(args) -> dict:
         )
     out = prepare_output_dir(args.out)
     # every file is checked before the runs: inside --out, never a device or a FIFO (base/paths.py)
-    map_png, curve_png, summary = (inside(out, name) for name in ("engage_map.png", "engage_curve.png", "engage.json"))
+    files = tuple(inside(out, name) for name in ("engage_map.png", "engage_curve.png", "engage.json"))
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        return _run_locked(args, spec, engagement, estimate, files)
+
+
+#: Lock file inside the output folder: one engagement writes into a folder at a time (as sweep, dataset,
+#: coverage and report do).
+LOCK_NAME = ".csuas-engage.lock"
+
+
+def _run_locked(args, spec, engagement, estimate: float, files: tuple) -> dict:
+    """The runs, engage.json and the plots, holding the output folder's lock."""
+    from csuas.base.fileio import write_text_atomic
+    from csuas.commands.engage_plots import curve_plot, map_plot
+    from csuas.render.engagement.metrics import curves, looks_table, summarise
+
+    map_png, curve_png, summary = files
     started = time.perf_counter()
     records = run_all(engagement, spec.runs, args.workers)
     elapsed = time.perf_counter() - started
@@ -242,12 +148,10 @@ def run(args) -> dict:
         "runs_per_second": spec.runs / elapsed,
         "runs_detail": records,
     }
-    from csuas.commands.engage_plots import curve_plot, map_plot
-
     result["map_png"] = str(map_plot(map_png, engagement, records, result["metrics"]))
     result["curve_png"] = str(curve_plot(curve_png, engagement, result["curves"], result["metrics"]))
     write_text_atomic(summary, json.dumps(result, indent=1, allow_nan=False))
-    result["out"] = str(out)
+    result["out"] = str(summary.parent)
     return result
 
 
@@ -289,7 +193,7 @@ def render_text(result: dict) -> str:
 def bench_runs(runs: int = 4) -> list[dict]:
     """Runs per second of the embedded example, on one process and on two, and without birds (``csuas bench``).
 
-    Lives beside the command because the example's site is read by the command line's site loader. Each
+    Lives beside the command because it times the command's own process pool (:func:`run_all`). Each
     figure times only the runs (the engagement is built before the timer).
     """
     from csuas.base.fileio import read_spec

@@ -12,9 +12,6 @@ import sys
 
 from csuas.base.cost import add_limit_arguments
 
-#: Jobs a sweep runs (the spec's validator names any other).
-SWEEP_JOBS = ("range", "pd", "render", "rcs")
-
 
 def add_arguments(parser):
     """Declare the options of ``csuas sweep``."""
@@ -48,21 +45,23 @@ def run(args) -> dict:
     from csuas.core.scenario import load_scenario
     from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec, read_results, run_sweep
-    from csuas.sweep.cost import axis_lengths, rcs_estimate, sweep_estimate, workers_of
+    from csuas.sweep.cost import axis_lengths, sweep_estimate, workers_of
+    from csuas.sweep.kinds import JOB_KINDS
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError("workers", args.workers, "a whole number >= 1")
     data = read_spec(args.spec, sweep_path, "sweep spec")
     lengths = axis_lengths(data)  # before any axis is drawn
-    if data.get("job") not in SWEEP_JOBS or not isinstance(data.get("scenario", "default"), str):
+    if data.get("job") not in JOB_KINDS or not isinstance(data.get("scenario", "default"), str):
         parse_spec(data)  # refuses the job or the scenario, with every other mistake of the spec
-    job = data["job"]
-    sensors = 0 if job == "rcs" else len(load_scenario(data.get("scenario", "default")).sensors)
+    kind = JOB_KINDS[data["job"]]
+    sensors = len(load_scenario(data.get("scenario", "default")).sensors) if kind.takes_scenario else 0
     estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
-    check_limits(estimate, args, "sweep", announce=job != "rcs")
+    refine = kind.cost.refine  # a cost that needs the parsed spec (rcs: the tubes, from the target and frequencies)
+    check_limits(estimate, args, "sweep", announce=refine is None)
     spec = parse_spec(data)
-    if spec.job == "rcs":  # the tubes, from the target's size and the frequencies
-        estimate = rcs_estimate(spec, estimate, workers_of(args.scheduler, args.workers))
+    if refine is not None:
+        estimate = refine(spec, estimate, workers_of(args.scheduler, args.workers))
         check_limits(estimate, args, "sweep")
     provenance = run_sweep(
         spec, args.out, args.scheduler, args.workers, progress=sys.stderr, no_worker_timeout_s=args.no_worker_timeout_s

@@ -56,7 +56,8 @@ def bench_sweeps(folder: Path) -> list[dict]:
     from csuas.base.fileio import read_spec
     from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec
-    from csuas.sweep.cost import axis_lengths, rcs_estimate, sweep_estimate
+    from csuas.sweep.cost import axis_lengths, sweep_estimate
+    from csuas.sweep.kinds import JOB_KINDS
 
     drawn = 'job = "{job}"\n[axes]\n"environment.rain_rate_mm_h" = {{min = 0.0, max = 50.0, samples = {n}}}\n'
     rcs = 'job = "rcs"\n[options]\ntarget = "dji_mini_4_pro"\nquality = "draft"\nrays_per_wavelength = {f}\n'
@@ -68,9 +69,10 @@ def bench_sweeps(folder: Path) -> list[dict]:
     for i, (job, size, text) in enumerate(cases):
         spec_file = _toml(folder / f"sweep{i}.toml", text)
         data = read_spec(spec_file, sweep_path, "sweep spec")
-        estimate = sweep_estimate(data, axis_lengths(data), 0 if job == "rcs" else 6, "serial", None)
-        if job == "rcs":
-            estimate = rcs_estimate(parse_spec(data), estimate, 1)
+        kind = JOB_KINDS[job]
+        estimate = sweep_estimate(data, axis_lengths(data), 6 if kind.takes_scenario else 0, "serial", None)
+        if kind.cost.refine is not None:  # rcs: its tubes
+            estimate = kind.cost.refine(parse_spec(data), estimate, 1)
         argv = ["sweep", spec_file, "--out", str(folder / f"sweep{i}"), "--scheduler", "serial"]
         rows.append(_row(f"sweep {job}", f"{size}", estimate, argv, folder))
     return rows

@@ -6,18 +6,20 @@
 * per-task overhead: tiny range chunks on one worker against the same chunks computed in this
   process, per task;
 * memory: the resident memory of one worker rendering the default drone many times (EO, draft),
-  read after every block of renders, without recycling, to show whether it stays flat.
+  read after every block of renders, without recycling, to show whether it stays flat;
+* engage: an ``engage`` sweep (Monte Carlo runs of ``csuas engage``) on 1 and 2 workers
+  (:func:`bench_engage_sweep`), the speedup with the CPU share the workers got.
 """
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
 from pathlib import Path
 
 from csuas.sweep import parse_spec, run_sweep
-from csuas.sweep.jobs import run_chunk
-from csuas.sweep.run import chunk_bounds
+from csuas.sweep.run import chunk_bounds, run_chunk
 
 RCS_SPEC = {
     "job": "rcs",
@@ -104,4 +106,68 @@ def bench_sweep(renders: int = 1000, block: int = 100, repeats: int = 2) -> dict
         "worker_rss_mb_first_block": memory[0],
         "worker_rss_mb_last_block": memory[-1],
         "worker_rss_growth_mb_per_1000_renders": (memory[-1] - memory[0]) / max(renders - block, 1) * 1000,
+    }
+
+
+def _worker_cpu_s() -> float:
+    """CPU time of this worker process so far [s] (user + system)."""
+    import resource
+
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _import_engagement() -> None:
+    """Import the engagement's modules (Stone Soup among them) on a worker before the timer starts."""
+    import csuas.render.engagement.simulate  # noqa: F401
+
+
+def _engage_on_cluster(spec, n_workers: int, folder: Path) -> dict:
+    """Wall time of the engage sweep on a fresh cluster of ``n_workers`` one-thread workers, its modules imported
+    first; the workers' CPU time over the run and the machine's load average before and after."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=40) as cluster, Client(cluster.scheduler_address) as client:  # fmt: skip
+        client.run(_import_engagement)
+        cpu_before = sum(client.run(_worker_cpu_s).values())
+        load_before = os.getloadavg()[0]
+        start = time.perf_counter()
+        run_sweep(spec, folder / f"engage{n_workers}", cluster.scheduler_address, progress=None)
+        wall = time.perf_counter() - start
+        cpu = sum(client.run(_worker_cpu_s).values()) - cpu_before
+    return {"wall_s": wall, "worker_cpu_s": cpu, "load_before": load_before, "load_after": os.getloadavg()[0]}
+
+
+def bench_engage_sweep(runs: int = 16, chunk_runs: int = 2, engagement: str = "example") -> dict:
+    """An ``engage`` sweep of ``runs`` runs of ``engagement`` on a LocalCluster of 1 and of 2 one-thread workers.
+
+    Each cluster is started and its workers import the engagement's modules before the timer; the
+    timed run includes the tasks' transfer of the engagement (1.4 MB for the example) and the gathering
+    of the results. The speedup is the ratio of the wall times; ``worker_cpu_per_wall`` (the workers' CPU
+    seconds over the wall time) says how much of the machine the workers got: 2 on two idle cores, less
+    where other work shares them (the load averages are reported beside); ``worker_cpu_s_per_run`` (1 and 2
+    workers) is what a run costs the workers whatever the load, so that the two agree shows the sweep
+    adds little work for its second worker. Issue 24's target: >= 1.7x on
+    2 cores for 10^4 runs (``csuas bench --only sweep_engage --engage-runs 10000``: hours on 2 cores).
+    """
+    spec = parse_spec(
+        {"job": "engage", "chunk_points": chunk_runs, "options": {"engagement": engagement, "runs": runs}}
+    )
+    with tempfile.TemporaryDirectory() as tmp:
+        one = _engage_on_cluster(spec, 1, Path(tmp))
+        two = _engage_on_cluster(spec, 2, Path(tmp))
+    return {
+        "engagement": engagement,
+        "runs": runs,
+        "tasks": len(chunk_bounds(spec)),
+        "cpu_count": os.cpu_count(),
+        "one_worker_s": one["wall_s"],
+        "two_workers_s": two["wall_s"],
+        "speedup_1_to_2": one["wall_s"] / two["wall_s"],
+        "one_worker_cpu_per_wall": one["worker_cpu_s"] / one["wall_s"],
+        "two_workers_cpu_per_wall": two["worker_cpu_s"] / two["wall_s"],
+        "seconds_per_run_one_worker": one["wall_s"] / runs,
+        "worker_cpu_s_per_run": [one["worker_cpu_s"] / runs, two["worker_cpu_s"] / runs],
+        "load_average_before_after": [one["load_before"], two["load_after"]],
     }

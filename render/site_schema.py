@@ -3,8 +3,9 @@
 The pointing and dead-zone keys of a sited sensor and their domains come from
 :data:`csuas.core.coverage.POINTING`, the record the core checks too. What depends on the scenario (which
 sensors it has, which are RF or radar, their carriers against the ground's material) and on the DEM (a
-position inside it) is checked beside this schema, in :mod:`csuas.commands.coverage` and
-:mod:`csuas.commands.coverage_radio`.
+position inside it) is checked beside this schema, in :mod:`csuas.render.site` and
+:mod:`csuas.commands.coverage_radio`. It lives below the command line so that what reads a site for a
+simulation (``csuas engage``, the ``engage`` sweep job) can use it.
 """
 
 from __future__ import annotations
