@@ -58,7 +58,6 @@ MAX_PARAMETERS = 8
 KNOWN_DEBTS = {
     ("core/radar.py", "radar_range", "lines"): 139,  # +7 lines: the gas term and registry bounds, 2026-11-27
     ("render/imaging/eo.py", "render_eo", "lines"): 135,
-    ("render/imaging/frame.py", "eo_frame", "lines"): 106,
     ("render/imaging/medium.py", "medium_vs_analytic_airlight", "lines"): 101,
     ("render/imaging/tir.py", "render_tir", "lines"): 164,
     ("render/imaging/trace.py", "trace_window", "lines"): 141,
@@ -90,7 +89,6 @@ KNOWN_DEBTS = {
     ("core/terrain.py", "viewshed", "parameters"): 9,
     ("core/tir.py", "tir_mrtd_range", "parameters"): 10,
     ("core/tir.py", "tir_netd_range", "parameters"): 10,
-    ("render/imaging/background.py", "clear_sky_frame", "parameters"): 13,
     ("render/imaging/common.py", "prepare", "parameters"): 9,
     ("render/imaging/frame.py", "eo_frame", "parameters"): 10,
     ("render/imaging/frame.py", "tir_frame", "parameters"): 9,

@@ -9,6 +9,8 @@ import pytest
 from scipy import integrate
 
 from csuas.render.imaging.background import clear_sky_frame, relative_sky_luminance, zenith_luminance
+from csuas.render.imaging.camera import SensorGeometry
+from csuas.render.imaging.records import Daylight, View
 
 
 def _cie12(z, chi, zs):
@@ -48,19 +50,9 @@ def test_zenith_luminance_gives_the_diffuse_illuminance():
 
 def test_the_horizon_lies_where_the_view_ray_turns_level():
     ifov = math.radians(40.0) / 1920
-    frame = clear_sky_frame(
-        1920,
-        1080,
-        ifov,
-        30.0,
-        5.0,
-        (0.0, 300.0),
-        diffuse_illuminance_lx=10500.0,
-        illuminance_lx=70000.0,
-        sun_azimuth_deg=100.0,
-        sun_elevation_deg=25.0,
-        ground_reflectance=0.2,
-    )
+    light = Daylight(illuminance_lx=70000.0, sun_azimuth_deg=100.0, sun_elevation_deg=25.0, ground_reflectance=0.2)
+    assert light.diffuse_fraction * light.illuminance_lx == pytest.approx(10500.0)
+    frame = clear_sky_frame(SensorGeometry(ifov, 1920, 1080), View(1.0, 30.0, 5.0, (0.0, 300.0)), light)
     ground = 0.2 * 70000.0 / math.pi
     column = frame[:, 960]
     first_ground = int(np.argmax(column == ground))
@@ -90,15 +82,13 @@ def test_clouds_cover_the_share_asked_with_a_fractal_spectrum_and_a_seed():
 
 def test_clouds_stay_in_the_sky():
     ifov = math.radians(40.0) / 1920
-    common = dict(
-        diffuse_illuminance_lx=10500.0,
-        illuminance_lx=70000.0,
-        sun_azimuth_deg=100.0,
-        sun_elevation_deg=25.0,
-        ground_reflectance=0.2,
+    args = (
+        SensorGeometry(ifov, 1920, 1080),
+        View(1.0, 30.0, 5.0, (0.0, 300.0)),
+        Daylight(illuminance_lx=70000.0, sun_azimuth_deg=100.0, sun_elevation_deg=25.0, ground_reflectance=0.2),
     )
-    clear = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), **common)
-    cloudy = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), cloud_cover=0.5, seed=1, **common)
+    clear = clear_sky_frame(*args)
+    cloudy = clear_sky_frame(*args, cloud_cover=0.5, seed=1)
     ground = clear == 0.2 * 70000.0 / math.pi
     assert np.array_equal(cloudy[ground], clear[ground]) and not np.array_equal(cloudy[~ground], clear[~ground])
     assert cloudy[~ground].max() <= 70000.0 / math.pi + 1e-9

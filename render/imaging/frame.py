@@ -107,21 +107,8 @@ def eo_frame(
     cols = slice(window.x0, window.x0 + window.width)
     rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
     if gradient:
-        frame = clear_sky_frame(
-            sensor.n_h,
-            sensor.n_v,
-            res.ifov_rad,
-            view.azimuth_deg,
-            view.elevation_deg,
-            view.target_offset_px,
-            diffuse_illuminance_lx=light.diffuse_fraction * light.illuminance_lx,
-            illuminance_lx=light.illuminance_lx,
-            sun_azimuth_deg=view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg,
-            sun_elevation_deg=light.sun_elevation_deg,
-            ground_reflectance=light.ground_reflectance,
-            cloud_cover=cloud_cover,
-            seed=seed,
-        )
+        geometry = SensorGeometry(res.ifov_rad, sensor.n_h, sensor.n_v)
+        frame = clear_sky_frame(geometry, view, light, cloud_cover=cloud_cover, seed=seed)
         behind = frame[rows, cols].copy()
         uncovered = 1.0 - res.coverage
         # the render's uniform sky leaves the target's own light; the gradient fills what it does not cover
