@@ -38,7 +38,7 @@ from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_eo_scene, path_integrator
-from csuas.render.imaging.trace import trace_window
+from csuas.render.imaging.trace import Sampling, trace_window
 
 #: Luminance weights of linear Rec. 709 / sRGB primaries (ITU-R BT.709).
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
@@ -120,13 +120,7 @@ def render_eo(
     """
     if atmosphere and light.visibility_km is None:
         raise ParameterError("visibility_km", None, "a visibility > 0 km when atmosphere=True")
-    range_m, azimuth_deg, elevation_deg, target_offset_px = (
-        view.range_m,
-        view.azimuth_deg,
-        view.elevation_deg,
-        view.target_offset_px,
-    )
-    hfov_deg, n_h, n_v, wavelength_nm = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.wavelength_nm
+    azimuth_deg, elevation_deg, wavelength_nm = view.azimuth_deg, view.elevation_deg, sensor.wavelength_nm
     lp_task, n_ttpf, c_min = sensor.lp_task, sensor.n_ttpf, sensor.c_min
     illuminance_lx, background = light.illuminance_lx, light.background
     visibility_km = light.visibility_km if atmosphere else None
@@ -135,17 +129,8 @@ def render_eo(
 
     t0 = time.perf_counter()
     q = resolve_quality(quality)
-    r, camera, normalised, window, target_px, bounds = prepare(
-        target,
-        range_m=range_m,
-        hfov_deg=hfov_deg,
-        n_h=n_h,
-        n_v=n_v,
-        azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg,
-        target_offset_px=target_offset_px,
-        full=settings.full_frame,
-    )
+    r, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
+    camera, window = framing.sensor, framing.window
     sky = sun_and_sky(illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
     if isinstance(background, str):
         if background != "sky":
@@ -168,20 +153,8 @@ def render_eo(
     )
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render eo {r:g} m", progress)
-    tally = trace_window(
-        scene,
-        path_integrator(max_depth),
-        camera,
-        window,
-        target_px,
-        r / normalised.radius_m,
-        n_side=q.n_side,
-        n_batches=q.n_batches,
-        seed=seed,
-        channels=3,
-        bounds=bounds,
-        progress=progress,
-    )
+    sampling = Sampling(q.n_side, q.n_batches, seed, channels=3)
+    tally = trace_window(scene, path_integrator(max_depth), framing, sampling, progress=progress)
     path = eo_path(r, visibility_km, wavelength_nm, sky["sky_radiance"], light.rain_extinction_per_km)
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)

@@ -39,7 +39,7 @@ from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_parts
-from csuas.render.imaging.trace import trace_window
+from csuas.render.imaging.trace import Sampling, trace_window
 
 
 def default_mrtd(
@@ -104,8 +104,7 @@ def render_tir(
         raise ParameterError("extinction_db_km", None, "a number [dB/km] when atmosphere=True")
     if reflected_surroundings and scene.surroundings_k is None:
         raise ParameterError("surroundings_k", None, "a temperature > 0 K when reflected_surroundings=True")
-    range_m, azimuth_deg, elevation_deg = view.range_m, view.azimuth_deg, view.elevation_deg
-    hfov_deg, n_h, n_v, band, mrtd = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.band, sensor.mrtd
+    azimuth_deg, elevation_deg, band, mrtd = view.azimuth_deg, view.elevation_deg, sensor.band, sensor.mrtd
     lp_task, n_ttpf = sensor.lp_task, sensor.n_ttpf
     t_bg_k, emissivity_bg, air_temperature_k = scene.t_bg_k, scene.emissivity_bg, scene.air_temperature_k
     surroundings_k = scene.surroundings_k if reflected_surroundings else None
@@ -120,37 +119,16 @@ def render_tir(
         if not 0.0 <= value <= 1.0:
             raise ParameterError(name, value, "0 <= x <= 1")
     q = resolve_quality(quality)
-    r, camera, normalised, window, target_px, bounds = prepare(
-        target,
-        range_m=range_m,
-        hfov_deg=hfov_deg,
-        n_h=n_h,
-        n_v=n_v,
-        azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg,
-        target_offset_px=view.target_offset_px,
-        full=settings.full_frame,
-    )
+    r, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
+    camera, window = framing.sensor, framing.window
     l_surr = 0.0 if surroundings_k is None else float(band_radiance(surroundings_k, band))
     l_bg = emissivity_bg * float(band_radiance(t_bg_k, band)) + (1.0 - emissivity_bg) * l_surr
     use_variant("ad_mono", settings.variant)
     mitsuba_scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render tir {r:g} m", progress)
-    tally = trace_window(
-        mitsuba_scene,
-        path_integrator(max_depth),
-        camera,
-        window,
-        target_px,
-        r / normalised.radius_m,
-        n_side=q.n_side,
-        n_batches=q.n_batches,
-        seed=seed,
-        channels=1,
-        bounds=bounds,
-        progress=progress,
-    )
+    sampling = Sampling(q.n_side, q.n_batches, seed, channels=1)
+    tally = trace_window(mitsuba_scene, path_integrator(max_depth), framing, sampling, progress=progress)
     path = tir_path(r, extinction_db_km, air_temperature_k, band, scene.rain_db_km)
 
     def to_temperature(radiance):
