@@ -83,6 +83,16 @@ def silhouette_box_px(target, range_m: float, azimuth_deg: float, elevation_deg:
     return float(x.min()), float(x.max()), float(y.min()), float(y.max())
 
 
+def window_notes(window, tally) -> list:
+    """Notes of a window render: a target beyond the frame, and shaded samples that were not finite."""
+    notes = []
+    if window.clipped:
+        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
+    if tally.nonfinite_samples:
+        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
+    return notes
+
+
 def progress_printer(label: str, stream):
     """A progress callback writing ``label: NN %`` to ``stream`` at 10 % steps (None: silent)."""
     if stream is None:
