@@ -699,13 +699,14 @@ EXPLAIN_8 = (
 def lidar_interaction_and_transmission(quality: str) -> Section:
     """Lidar: I_laser paper vs bounded vs ray-traced under the beam, eta_TL, ranges."""
     from csuas.render.lidar.runner import render_lidar
+    from csuas.render.request import RenderRequest
 
     s = Section()
     sc = scenario("default")
     p, t = sc.sensors["lidar"].params, sc.target
     paper, phys = _ranges("default", "paper")["lidar"], _ranges("default", "physical")["lidar"]
     ranges = [10.0, 100.0]
-    rows, elapsed = timed(render_lidar, sc, ranges, quality)
+    rows, elapsed = timed(render_lidar, sc, RenderRequest(ranges, quality))
     for row in rows:
         r = row["range_m"]
         a_illum = math.pi * (r * float(lidar.divergence_rad(p["wavelength_nm"], p["aperture_mm"])) / 2) ** 2
