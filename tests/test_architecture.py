@@ -83,8 +83,6 @@ KNOWN_DEBTS = {
     ("core/terrain.py", "viewshed", "parameters"): 9,
     ("core/tir.py", "tir_mrtd_range", "parameters"): 10,
     ("core/tir.py", "tir_netd_range", "parameters"): 10,
-    ("render/imaging/frame.py", "eo_frame", "parameters"): 10,
-    ("render/imaging/frame.py", "tir_frame", "parameters"): 9,
     ("render/links/radar.py", "radar_link_gain", "parameters"): 12,
     ("render/links/rf.py", "rf_path_gain", "parameters"): 10,
     ("render/links/terrain_map.py", "_check_inputs", "parameters"): 11,

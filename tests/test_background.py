@@ -100,7 +100,7 @@ def test_the_targets_excess_is_taken_against_the_background_behind_it():
     background; on the clear sky's gradient it stays the target's own (the frame's median would count the
     whole gradient)."""
     from csuas.render.imaging.frame import camera_from_params, eo_frame
-    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
     from csuas.render.imaging.sensor_chain import ChainSettings
 
     def frame(background):
@@ -111,7 +111,7 @@ def test_the_targets_excess_is_taken_against_the_background_behind_it():
             Daylight(background=background),
             camera_from_params(),
             ChainSettings(stages=()),
-            seed=0,
+            settings=RenderSettings(quality="draft", seed=0),
         )
 
     uniform = frame("sky")
@@ -133,14 +133,21 @@ def test_a_thermal_frame_shows_a_cold_sky_above_the_horizon_and_the_ground_below
     than the 298 K ground does.
     """
     from csuas.render.imaging.frame import tir_frame
-    from csuas.render.imaging.records import ThermalScene, ThermalSensor, View
+    from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
     from csuas.render.imaging.sensor_chain import ChainSettings
 
     scene = ThermalScene(surroundings_k=288.15)
     view = View(200.0, 40.0, elevation_deg)
-    frame = tir_frame("dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0)
+    draft = RenderSettings(quality="draft", seed=0)
+    frame = tir_frame("dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), settings=draft)
     sky = tir_frame(
-        "dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0, sky_temperature_k=230.0
+        "dji_mini_4_pro",
+        view,
+        ThermalSensor(),
+        scene,
+        ChainSettings(stages=()),
+        settings=draft,
+        sky_temperature_k=230.0,
     )
     window = sky["result"].window
     outside = np.ones(sky["temperature"].shape, dtype=bool)
