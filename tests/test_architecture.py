@@ -64,7 +64,6 @@ KNOWN_DEBTS = {
     ("render/rcs/solver.py", "compute_rcs", "lines"): 123,
     ("render/rcs/sweep.py", "sphere_average", "lines"): 127,
     ("validation/core/checks.py", "sensor_checks", "lines"): 111,
-    ("validation/imaging/checks.py", "_eo_checks", "lines"): 107,
     ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "lines"): 152,
     ("validation/report/checks_conventions.py", "eo_fog_transmission", "lines"): 105,
     ("validation/report/checks_conventions.py", "thermal_contrast", "lines"): 145,
