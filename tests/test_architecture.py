@@ -65,7 +65,6 @@ KNOWN_DEBTS = {
     ("render/rcs/sweep.py", "sphere_average", "lines"): 127,
     ("validation/core/checks.py", "sensor_checks", "lines"): 111,
     ("validation/rcs/fullwave.py", "monostatic_rcs_efie", "lines"): 152,
-    ("validation/report/checks_imaging.py", "sensor_chain", "lines"): 116,
     ("validation/report/checks_links.py", "terrain_radio_maps", "lines"): 151,
     ("validation/report/checks_terrain.py", "coverage", "lines"): 140,
     ("csuas/commands/rcs.py", "run", "lines"): 102,
