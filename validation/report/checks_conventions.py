@@ -29,7 +29,7 @@ from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
-from csuas.validation.report.figures import curves
+from csuas.validation.report.figures import PlotAxes, curves
 from csuas.validation.report.registry import CheckSpec, Section, timed
 
 #: Render quality per report quality (samples per pixel: draft 32, reference 2048).
@@ -202,9 +202,7 @@ def _fog_contrast_figure(ranges, measured, c_se, c0_mean: float, beta: float, c_
     return curves(
         "conv1_contrast_vs_range",
         f"EO apparent contrast in fog (V = {v_km * 1000:g} m, 550 nm)",
-        x_label="slant range [m]",
-        y_label="|apparent contrast| (Weber)",
-        log_y=True,
+        axes=PlotAxes("slant range [m]", "|apparent contrast| (Weber)", log_y=True),
         lines=[
             ("paper: C0 10^(-sigma R/10)", rr, c0_mean * atmosphere.transmittance(beta, rr, "paper")),
             ("physical: C0 exp(-beta R)", rr, c0_mean * atmosphere.transmittance(beta, rr, "physical")),
@@ -430,8 +428,7 @@ def _attenuated_delta_t(s: Section, sc, settings: RenderSettings) -> None:
         curves(
             "conv2_delta_t_vs_range",
             "TIR apparent Delta T vs range (LWIR, 1 dB/km)",
-            x_label="range [m]",
-            y_label="apparent Delta T [K]",
+            axes=PlotAxes("range [m]", "apparent Delta T [K]"),
             lines=[
                 ("paper: Eq. 26 x exp(-sigma z) (Eq. 31)", rr, tir.attenuated_delta_t(dt_lin, rr, sigma, "paper")),
                 (

@@ -21,8 +21,8 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.render.imaging.records import EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
+from csuas.validation.report.figures import AccuracyColumns, PlotAxes, curves, image
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.figures import curves, image
 from csuas.validation.report.registry import CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
@@ -117,8 +117,7 @@ def johnson(quality: str) -> Section:
         curves(
             "imaging_pixels_vs_range",
             "EO: pixels across d_crit vs range (Johnson, Eq. 18)",
-            x_label="slant range [m]",
-            y_label="pixels across d_crit",
+            axes=PlotAxes("slant range [m]", "pixels across d_crit"),
             lines=[
                 (
                     f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m",
@@ -179,10 +178,9 @@ def pixels_on_target(settings: dict) -> Section:
             "imaging_accuracy_vs_time",
             f"EO render: pixels on target at {r:g} m vs time",
             rows,
-            knob="spp",
-            error_key="abs_relative_error",
-            error_label="|relative error| vs exact area",
-            stderr_key="stderr_rel",
+            columns=AccuracyColumns(
+                "spp", "abs_relative_error", error_label="|relative error| vs exact area", stderr_key="stderr_rel"
+            ),
             caption="Labels: samples per pixel (jittered strata x 8 batches).",
             presets={name: q.n_side**2 * q.n_batches for name, q in QUALITY_PRESETS.items()},
         )
@@ -295,8 +293,7 @@ def sensor_chain(_knob=None) -> Section:
         curves(
             "imaging_sensor_chain_mtf",
             "Sensor chain MTF: slanted edge against the analytic chain",
-            x_label="spatial frequency [cycles / pixel]",
-            y_label="MTF",
+            axes=PlotAxes("spatial frequency [cycles / pixel]", "MTF"),
             lines=[("analytic: diffraction x jitter x pixel", f, mtf["analytic"])],
             points=[("slanted edge (ISO 12233)", f, mtf["measured"], None)],
             caption="f/8 at 0.55 um on 2.9 um pixels, 0.3 px rms jitter.",
@@ -467,8 +464,7 @@ def closed_loop(settings: dict) -> Section:
         curves(
             "imaging_closed_loop",
             f"Detection of a DJI Mini 4 Pro at {CLOSED_LOOP_LUX:g} lx: a matched filter on rendered frames",
-            x_label="range [m]",
-            y_label="Pd (Pfa 0.01)",
+            axes=PlotAxes("range [m]", "Pd (Pfa 0.01)"),
             lines=[
                 ("matched filter, Gaussian prediction", r, [row["pd_matched_filter"] for row in rows]),
                 ("core: uniform blob, light-limited model", r, [row["pd_core_light"] for row in rows]),
