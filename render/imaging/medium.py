@@ -58,7 +58,8 @@ def medium_vs_analytic_airlight(
     *,
     visibility_km: float,
     horizon_radiance: float = 3342.0,
-    settings: RenderSettings = RenderSettings(max_depth=MEDIUM_MAX_DEPTH),
+    settings: RenderSettings = RenderSettings(),
+    medium_depth: int = MEDIUM_MAX_DEPTH,
 ) -> dict:
     """Apparent target luminance through a fog medium, against the analytic Koschmieder airlight.
 
@@ -74,8 +75,9 @@ def medium_vs_analytic_airlight(
     horizon_radiance : float
         Uniform sky luminance L_h [cd m^-2] lighting the medium.
     settings : RenderSettings
-        Quality and seed as in :func:`csuas.render.imaging.eo.render_eo`; ``max_depth`` is the longest
-        path of the volumetric path tracer (the vacuum render traces 3).
+        Quality and seed as in :func:`csuas.render.imaging.eo.render_eo` (the vacuum render traces paths of 3).
+    medium_depth : int
+        Longest path of the volumetric path tracer (Russian roulette ends most paths earlier).
 
     Returns
     -------
@@ -95,7 +97,7 @@ def medium_vs_analytic_airlight(
     geometry = _scene(normalised, horizon_radiance)
     path = eo_path(r, visibility_km, sensor.wavelength_nm, horizon_radiance)
     vacuum = _vacuum_render(geometry, framing, sampling, horizon_radiance, path)
-    fog = _fog_render(normalised, geometry, framing, sampling, horizon_radiance, beta, settings.max_depth)
+    fog = _fog_render(normalised, geometry, framing, sampling, horizon_radiance, beta, medium_depth)
     l_med, se = fog["radiance"], fog["stderr"]
     l_an, se_an = vacuum["analytic_radiance"], vacuum["analytic_stderr"]
     combined = float(np.hypot(se, se_an))

@@ -18,7 +18,7 @@ from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear
 from csuas.render.imaging.eo import render_eo
-from csuas.render.imaging.medium import MEDIUM_MAX_DEPTH, medium_vs_analytic_airlight
+from csuas.render.imaging.medium import medium_vs_analytic_airlight
 from csuas.render.imaging.quality import Quality, resolve_quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.targets import plate
@@ -212,7 +212,7 @@ MEDIUM_QUALITY = Quality("medium_check", 6, 8)
 def _medium_check(seed) -> Check:
     t0 = time.perf_counter()
     q = MEDIUM_QUALITY
-    settings = RenderSettings(quality=q, seed=seed, max_depth=MEDIUM_MAX_DEPTH)
+    settings = RenderSettings(quality=q, seed=seed)
     m = medium_vs_analytic_airlight(
         plate(width_m=0.3, height_m=0.3, reflectance=0.05), View(300.0), visibility_km=0.5, settings=settings
     )
