@@ -174,6 +174,7 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
     """Per point: the scenario's render mode at the point's range and aspect, seeded by the point."""
     from csuas.render.imaging.modes import eo_scenario, tir_scenario
     from csuas.render.lidar.runner import render_lidar
+    from csuas.render.request import RenderRequest
 
     mode = {"eo": eo_scenario, "tir": tir_scenario, "lidar": render_lidar}[spec.options["mode"]]
     n = len(next(iter(columns.values()), [None]))  # no axes: the one point of the options
@@ -183,14 +184,14 @@ def render_chunk(spec: SweepSpec, columns: dict, start: int) -> dict:
     for i in range(n):
         scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items() if k not in own})
         at = {k: float(own[k][i]) if k in own else spec.options[k] for k in RENDER_AXES}
-        (row,) = mode(
-            scenario,
+        request = RenderRequest(
             ranges_m=[at["range_m"]],
             quality=spec.options["quality"],
             azimuth_deg=at["azimuth_deg"],
             elevation_deg=at["elevation_deg"],
             seed=int(seeds[i] % (2**31)),
         )
+        (row,) = mode(scenario, request)
         for k in RENDER_VALUES:
             value = row.get(k)
             if isinstance(value, (int, float)):

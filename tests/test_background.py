@@ -9,6 +9,8 @@ import pytest
 from scipy import integrate
 
 from csuas.render.imaging.background import clear_sky_frame, relative_sky_luminance, zenith_luminance
+from csuas.render.imaging.camera import SensorGeometry
+from csuas.render.imaging.records import Daylight, View
 
 
 def _cie12(z, chi, zs):
@@ -48,19 +50,9 @@ def test_zenith_luminance_gives_the_diffuse_illuminance():
 
 def test_the_horizon_lies_where_the_view_ray_turns_level():
     ifov = math.radians(40.0) / 1920
-    frame = clear_sky_frame(
-        1920,
-        1080,
-        ifov,
-        30.0,
-        5.0,
-        (0.0, 300.0),
-        diffuse_illuminance_lx=10500.0,
-        illuminance_lx=70000.0,
-        sun_azimuth_deg=100.0,
-        sun_elevation_deg=25.0,
-        ground_reflectance=0.2,
-    )
+    light = Daylight(illuminance_lx=70000.0, sun_azimuth_deg=100.0, sun_elevation_deg=25.0, ground_reflectance=0.2)
+    assert light.diffuse_fraction * light.illuminance_lx == pytest.approx(10500.0)
+    frame = clear_sky_frame(SensorGeometry(ifov, 1920, 1080), View(1.0, 30.0, 5.0, (0.0, 300.0)), light)
     ground = 0.2 * 70000.0 / math.pi
     column = frame[:, 960]
     first_ground = int(np.argmax(column == ground))
@@ -90,15 +82,13 @@ def test_clouds_cover_the_share_asked_with_a_fractal_spectrum_and_a_seed():
 
 def test_clouds_stay_in_the_sky():
     ifov = math.radians(40.0) / 1920
-    common = dict(
-        diffuse_illuminance_lx=10500.0,
-        illuminance_lx=70000.0,
-        sun_azimuth_deg=100.0,
-        sun_elevation_deg=25.0,
-        ground_reflectance=0.2,
+    args = (
+        SensorGeometry(ifov, 1920, 1080),
+        View(1.0, 30.0, 5.0, (0.0, 300.0)),
+        Daylight(illuminance_lx=70000.0, sun_azimuth_deg=100.0, sun_elevation_deg=25.0, ground_reflectance=0.2),
     )
-    clear = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), **common)
-    cloudy = clear_sky_frame(1920, 1080, ifov, 30.0, 5.0, (0.0, 300.0), cloud_cover=0.5, seed=1, **common)
+    clear = clear_sky_frame(*args)
+    cloudy = clear_sky_frame(*args, cloud_cover=0.5, seed=1)
     ground = clear == 0.2 * 70000.0 / math.pi
     assert np.array_equal(cloudy[ground], clear[ground]) and not np.array_equal(cloudy[~ground], clear[~ground])
     assert cloudy[~ground].max() <= 70000.0 / math.pi + 1e-9
@@ -110,7 +100,7 @@ def test_the_targets_excess_is_taken_against_the_background_behind_it():
     background; on the clear sky's gradient it stays the target's own (the frame's median would count the
     whole gradient)."""
     from csuas.render.imaging.frame import camera_from_params, eo_frame
-    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
     from csuas.render.imaging.sensor_chain import ChainSettings
 
     def frame(background):
@@ -121,7 +111,7 @@ def test_the_targets_excess_is_taken_against_the_background_behind_it():
             Daylight(background=background),
             camera_from_params(),
             ChainSettings(stages=()),
-            seed=0,
+            settings=RenderSettings(quality="draft", seed=0),
         )
 
     uniform = frame("sky")
@@ -143,14 +133,21 @@ def test_a_thermal_frame_shows_a_cold_sky_above_the_horizon_and_the_ground_below
     than the 298 K ground does.
     """
     from csuas.render.imaging.frame import tir_frame
-    from csuas.render.imaging.records import ThermalScene, ThermalSensor, View
+    from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
     from csuas.render.imaging.sensor_chain import ChainSettings
 
     scene = ThermalScene(surroundings_k=288.15)
     view = View(200.0, 40.0, elevation_deg)
-    frame = tir_frame("dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0)
+    draft = RenderSettings(quality="draft", seed=0)
+    frame = tir_frame("dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), settings=draft)
     sky = tir_frame(
-        "dji_mini_4_pro", view, ThermalSensor(), scene, ChainSettings(stages=()), seed=0, sky_temperature_k=230.0
+        "dji_mini_4_pro",
+        view,
+        ThermalSensor(),
+        scene,
+        ChainSettings(stages=()),
+        settings=draft,
+        sky_temperature_k=230.0,
     )
     window = sky["result"].window
     outside = np.ones(sky["temperature"].shape, dtype=bool)

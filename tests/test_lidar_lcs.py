@@ -21,6 +21,7 @@ from scipy.integrate import quad
 
 from csuas.base.errors import ParameterError
 from csuas.render.lidar import LidarTarget, lidar_cross_section, material_reflectance
+from csuas.render.lidar.cross_section import RayGrid
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.sphere_average import mean_lidar_cross_section
 from csuas.validation.lidar.accuracy import accuracy_vs_time, preset_accuracy
@@ -256,8 +257,8 @@ def test_bad_range(sphere, range_m):
     "kwargs,name",
     [
         ({"quality": "ultra"}, "quality"),
-        ({"grid": 0}, "grid"),
-        ({"replicates": 1}, "replicates"),
+        ({"quality": RayGrid(0, 8)}, "grid"),
+        ({"quality": RayGrid(48, 1)}, "replicates"),
         ({"azimuth_deg": 400.0}, "azimuth_deg"),
         ({"elevation_deg": 95.0}, "elevation_deg"),
         ({"beam_radius_m": 0.0}, "beam_radius_m"),

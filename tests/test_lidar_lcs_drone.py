@@ -19,6 +19,7 @@ from csuas.render.lidar import LidarTarget, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
 from csuas.render.lidar.sphere_average import drone_lcs_versus_rule
+from csuas.render.request import RenderRequest
 
 pytestmark = pytest.mark.slow
 
@@ -74,7 +75,7 @@ def test_mini_4_pro_single_bounce_two_ways_and_multibounce(drone, target, az, el
 def test_render_lidar_results_files_and_range_independence(scenario, tmp_path, drone):
     import OpenEXR
 
-    rows = render_lidar(scenario, [10.0, 20000.0], "draft", 30.0, 20.0, tmp_path)
+    rows = render_lidar(scenario, RenderRequest([10.0, 20000.0], "draft", 30.0, 20.0, tmp_path))
     near, far = rows
     for row in rows:
         for key in ("range_m", "lcs_m2", "stderr", "time_s", "files", "projected_area_m2", "k_lcs_measured"):
@@ -105,14 +106,14 @@ def test_render_lidar_results_files_and_range_independence(scenario, tmp_path, d
 @pytest.mark.parametrize("ranges", [[0.0], [-10.0], [float("nan")], []])
 def test_render_lidar_bad_ranges(scenario, ranges):
     with pytest.raises(ParameterError, match="range_m"):
-        render_lidar(scenario, ranges, "draft")
+        render_lidar(scenario, RenderRequest(ranges, "draft"))
 
 
 def test_render_lidar_bad_sensor_and_range_inside_the_drone(scenario):
     with pytest.raises(ParameterError, match="sensor"):
-        render_lidar(scenario, [100.0], "draft", sensor="nope")
+        render_lidar(scenario, RenderRequest([100.0], "draft", sensor="nope"))
     with pytest.raises(ParameterError, match="range_m"):
-        render_lidar(scenario, [0.1], "draft")
+        render_lidar(scenario, RenderRequest([0.1], "draft"))
 
 
 def test_default_checks_table_8():
@@ -155,17 +156,19 @@ def test_render_lidar_follows_the_render_mode_contract():
     stream = io.StringIO()
     rows = render_lidar(
         load_scenario("default"),
-        ranges_m=[100.0],
-        quality="draft",
-        azimuth_deg=0.0,
-        elevation_deg=0.0,
-        out_dir=None,
-        seed=0,
-        sensor=None,
-        atmosphere="on",
-        progress=stream,
+        RenderRequest(
+            ranges_m=[100.0],
+            quality="draft",
+            azimuth_deg=0.0,
+            elevation_deg=0.0,
+            out_dir=None,
+            seed=0,
+            sensor=None,
+            atmosphere="on",
+            progress=stream,
+        ),
     )
     assert "[1/1] lidar 100 m" in stream.getvalue()
     assert rows[0]["files"] == [] and any("atmosphere" in n for n in rows[0]["notes"])
     with pytest.raises(ParameterError, match="atmosphere"):
-        render_lidar(load_scenario("default"), ranges_m=[100.0], quality="draft", atmosphere="fog")
+        render_lidar(load_scenario("default"), RenderRequest(ranges_m=[100.0], quality="draft", atmosphere="fog"))

@@ -8,6 +8,7 @@ import pytest
 
 from csuas.render.imaging import Quality
 from csuas.render.imaging.medium import medium_vs_analytic_airlight
+from csuas.render.imaging.records import RenderSettings, View
 from csuas.render.imaging.targets import plate
 
 pytestmark = pytest.mark.slow
@@ -17,9 +18,9 @@ pytestmark = pytest.mark.slow
 def test_medium_agrees_with_analytic_airlight(range_m, visibility_km, n_side):
     out = medium_vs_analytic_airlight(
         plate(width_m=0.3, height_m=0.3, reflectance=0.05),
-        range_m=range_m,
+        View(range_m),
         visibility_km=visibility_km,
-        quality=Quality("t", n_side, 8),
+        settings=RenderSettings(quality=Quality("t", n_side, 8)),
     )
     beta = math.log(50.0) / visibility_km  # [1/km], Kruse factor 1 at 550 nm
     assert out["transmittance"] == pytest.approx(math.exp(-beta * range_m / 1000.0), rel=1e-12)

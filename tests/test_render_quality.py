@@ -52,9 +52,9 @@ def test_accuracy_sweep_error_falls_with_samples_and_stays_within_stderr():
 def test_launch_size_bounds_memory_without_changing_samples():
     """Coverage depends only on the sample positions, not on how launches are packed."""
     from csuas.render.backend import use_variant
-    from csuas.render.imaging.camera import SensorGeometry, target_bounds, target_window
+    from csuas.render.imaging.camera import Framing, SensorGeometry, target_bounds, target_window
     from csuas.render.imaging.scene import build_tir_scene, normalise_target, path_integrator
-    from csuas.render.imaging.trace import trace_window
+    from csuas.render.imaging.trace import Sampling, trace_window
 
     use_variant("ad_mono")
     sensor = SensorGeometry.from_fov(10.0, 1920, 1080)
@@ -63,9 +63,9 @@ def test_launch_size_bounds_memory_without_changing_samples():
     tp = sensor.default_target_px()
     w = target_window(sensor, 300.0, nt.radius_m, tp)
     b = target_bounds(sensor, 300.0, nt.radius_m, tp)
-    args = (scene, path_integrator(2), sensor, w, tp, 300.0 / nt.radius_m)
-    small = trace_window(*args, n_side=4, n_batches=4, channels=1, bounds=b, max_launch=4096)
-    large = trace_window(*args, n_side=4, n_batches=4, channels=1, bounds=b)
+    args = (scene, path_integrator(2), Framing(sensor, w, tp, 300.0 / nt.radius_m, b))
+    small = trace_window(*args, Sampling(n_side=4, n_batches=4, channels=1, max_launch=4096))
+    large = trace_window(*args, Sampling(n_side=4, n_batches=4, channels=1))
     assert w.n_pixels * 16 * 4 > 4096 * 4  # many launches in the small case
     np.testing.assert_array_equal(small.coverage, large.coverage)
     np.testing.assert_array_equal(small.extent, large.extent)

@@ -22,7 +22,7 @@ from csuas.validation.report import checks_conventions, checks_links, checks_rcs
 from csuas.validation.report.baseline import compare
 from csuas.validation.report.checks_conventions import SPECS as CONVENTION_SPECS
 from csuas.validation.report.checks_defaults import SPECS as DEFAULT_SPECS
-from csuas.validation.report.figures import curves
+from csuas.validation.report.figures import PlotAxes, curves
 from csuas.validation.report.registry import CheckSpec, Section, run_spec
 
 SPEC8_KEYS = {"name", "expected", "measured", "tolerance", "ok", "known_deviation", "time_s"}
@@ -34,8 +34,7 @@ def _passing(_knob):
     fig = curves(
         "test_curve",
         "1/x",
-        x_label="x",
-        y_label="y",
+        axes=PlotAxes("x", "y"),
         lines=[("1/x", x, 1 / x)],
         points=[("samples", x[::5], 1 / x[::5], 0.01 * np.ones(4))],
     )

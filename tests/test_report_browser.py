@@ -19,7 +19,7 @@ BROWSER = next((shutil.which(b) for b in ("chromium", "chromium-browser", "googl
 
 
 def _plots(_knob):
-    from csuas.validation.report.figures import curves, image
+    from csuas.validation.report.figures import PlotAxes, curves, image
 
     x = np.linspace(1.0, 10.0, 50)
     rgb = np.zeros((16, 16, 3))
@@ -27,7 +27,7 @@ def _plots(_knob):
     return Section(
         outcomes=[Check("browser.figure", 1.0, 1.0, 0.1)],
         figures=[
-            curves("browser_curve", "a plot", x_label="x", y_label="y", lines=[("x^2", x, x * x)]),
+            curves("browser_curve", "a plot", axes=PlotAxes("x", "y"), lines=[("x^2", x, x * x)]),
             image("browser_image", "an image", rgb),
         ],
     )

@@ -128,12 +128,18 @@ def test_rendered_light_limited_range_equals_the_core_camera_model():
 def test_a_frame_without_light_is_read_noise_only_and_zero_netd_adds_nothing():
     """0 lx: the longest exposure, no signal, an SNR of 0 and DN of read noise alone; NETD 0: the exact scene."""
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
-    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 
     camera = camera_from_params()
     stages = ChainSettings(stages=("shot_noise", "read_noise", "quantise"), read_noise_e=2.0)
     frame = eo_frame(
-        "dji_mini_4_pro", View(300.0, 30.0, 10.0), EoSensor(), Daylight(0.0, background=0.3), camera, stages, seed=0
+        "dji_mini_4_pro",
+        View(300.0, 30.0, 10.0),
+        EoSensor(),
+        Daylight(0.0, background=0.3),
+        camera,
+        stages,
+        settings=RenderSettings(quality="draft", seed=0),
     )
     assert frame["exposure_s"] == pytest.approx(camera["max_exposure_ms"] / 1000.0)
     assert frame["target_excess_e"] == 0.0 and target_snr(frame, 2.0) == 0.0

@@ -17,8 +17,10 @@ from csuas.base.fileio import prepare_output_dir
 from csuas.base.quality import RUNGS
 from csuas.base.registry import resolve
 from csuas.render.quality import IMAGING, LIDAR
+from csuas.render.request import RenderRequest
 
-#: Mode name -> "module:function" of a render mode ``f(scenario, **options) -> list of dict``.
+#: Mode name -> "module:function" of a render mode ``f(scenario, request) -> list of dict``
+#: (:class:`csuas.render.request.RenderRequest`).
 MODES = {
     "eo": "csuas.render.imaging.modes:eo_scenario",
     "tir": "csuas.render.imaging.modes:tir_scenario",
@@ -101,11 +103,9 @@ def run(args) -> dict:
     if args.out is not None:
         _refuse_unsafe_targets(scenario, args, directions)
     mode = resolve_mode(args.mode)
-    options = {"exposure": "auto" if args.auto_exposure else "scene"} if args.mode == "eo" else {}
     results = []
     for azimuth, elevation in directions:
-        rows = mode(
-            scenario,
+        request = RenderRequest(
             ranges_m=list(args.range_m),
             quality=args.quality,
             azimuth_deg=azimuth,
@@ -115,8 +115,9 @@ def run(args) -> dict:
             sensor=args.sensor,
             atmosphere=args.atmosphere,
             progress=None if args.quiet else sys.stderr,
-            **options,
+            exposure="auto" if args.auto_exposure else "scene",
         )
+        rows = mode(scenario, request)
         results += [{**row, "azimuth_deg": azimuth, "elevation_deg": elevation} for row in rows]
     return {
         "mode": args.mode,

@@ -22,6 +22,8 @@ import math
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector, view_basis
+from csuas.render.imaging.camera import SensorGeometry
+from csuas.render.imaging.records import Daylight, View
 
 #: CIE standard general sky type 12 (clear sky, low turbidity): gradation a, b and indicatrix c, d, e.
 CIE_CLEAR_SKY = {"a": -1.0, "b": -0.32, "c": 10.0, "d": -3.0, "e": 0.45}
@@ -76,35 +78,38 @@ def view_rays(n_h: int, n_v: int, ifov_rad: float, azimuth_deg: float, elevation
 
 
 def clear_sky_frame(
-    n_h: int,
-    n_v: int,
-    ifov_rad: float,
-    azimuth_deg: float,
-    elevation_deg: float,
-    target_offset_px,
-    *,
-    diffuse_illuminance_lx: float,
-    illuminance_lx: float,
-    sun_azimuth_deg: float,
-    sun_elevation_deg: float,
-    ground_reflectance: float,
-    cloud_cover: float = 0.0,
-    seed: int = 0,
+    geometry: SensorGeometry, view: View, light: Daylight, *, cloud_cover: float = 0.0, seed: int = 0
 ) -> np.ndarray:
     """Background luminance [cd/m^2] of every pixel of a frame looking at the target (module docstring).
 
-    The target lies at pixel (n_h // 2 + 0.5, n_v // 2 + 0.5) + ``target_offset_px`` of the frame;
-    ``azimuth_deg``/``elevation_deg`` give the direction from the target toward the sensor. With
-    ``cloud_cover`` > 0 the sky carries seeded clouds (:func:`cloud_opacity`) as bright as a white
-    Lambertian sheet under the scene illuminance, E_v / pi.
+    Parameters
+    ----------
+    geometry : SensorGeometry
+        The frame's pixel grid (IFOV [rad], N_H, N_V).
+    view : View
+        The target lies at pixel (n_h // 2 + 0.5, n_v // 2 + 0.5) + ``view.target_offset_px``;
+        ``view.azimuth_deg``/``view.elevation_deg`` give the direction from the target toward the sensor.
+    light : Daylight
+        Illuminance E_v [lx] and its diffuse share (the sky's horizontal illuminance), the sun (its
+        azimuth None: behind the sensor, at the view's azimuth) and the ground's reflectance.
+    cloud_cover : float
+        With ``cloud_cover`` > 0 the sky carries seeded clouds (:func:`cloud_opacity`) as bright as a white
+        Lambertian sheet under the scene illuminance, E_v / pi.
+    seed : int
+        Seed of the clouds.
     """
-    rays = view_rays(n_h, n_v, ifov_rad, azimuth_deg, elevation_deg, target_offset_px)
+    n_h, n_v = geometry.n_h, geometry.n_v
+    illuminance_lx = light.illuminance_lx
+    diffuse_illuminance_lx = light.diffuse_fraction * illuminance_lx
+    sun_azimuth_deg = view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+    sun_elevation_deg = light.sun_elevation_deg
+    rays = view_rays(n_h, n_v, geometry.ifov_rad, view.azimuth_deg, view.elevation_deg, view.target_offset_px)
     sun = direction_vector(sun_azimuth_deg, sun_elevation_deg)
     sun_zenith = math.radians(90.0 - sun_elevation_deg)
     zenith = np.arccos(np.clip(rays[..., 2], -1.0, 1.0))
     chi = np.arccos(np.clip(rays @ sun, -1.0, 1.0))
     sky = zenith_luminance(diffuse_illuminance_lx, sun_zenith) * relative_sky_luminance(zenith, chi, sun_zenith)
-    ground = ground_reflectance * illuminance_lx / math.pi
+    ground = light.ground_reflectance * illuminance_lx / math.pi
     is_sky = rays[..., 2] > 0.0
     frame = np.where(is_sky, sky, ground)
     if cloud_cover > 0.0:

@@ -85,6 +85,32 @@ class Window:
         return {"x0": self.x0, "y0": self.y0, "width": self.width, "height": self.height, "clipped": self.clipped}
 
 
+@dataclass(frozen=True)
+class Framing:
+    """Where the target's image falls on the sensor, and which pixels a render samples.
+
+    Attributes
+    ----------
+    sensor : SensorGeometry
+        The sensor's pixel grid.
+    window : Window
+        The pixels rendered (the target's window, or the full frame).
+    target_px : (float, float)
+        Film coordinates of the target's centre (the render-frame origin).
+    camera_distance : float
+        Camera position on the render frame's +z axis [render units] = range / bounding radius.
+    bounds : (x_lo, x_hi, y_lo, y_hi) or None
+        Film-coordinate box containing the target's image (:func:`target_bounds`); pixels are
+        sampled only inside it. None: every pixel of the window, uniformly.
+    """
+
+    sensor: SensorGeometry
+    window: Window
+    target_px: tuple[float, float]
+    camera_distance: float
+    bounds: tuple | None = None
+
+
 def full_frame(sensor: SensorGeometry) -> Window:
     """The whole sensor frame as a window."""
     return Window(0, 0, sensor.n_h, sensor.n_v)

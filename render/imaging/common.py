@@ -7,7 +7,8 @@ import math
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.render.imaging.camera import SensorGeometry, full_frame, target_bounds, target_window
+from csuas.render.imaging.camera import Framing, SensorGeometry, full_frame, target_bounds, target_window
+from csuas.render.imaging.records import View
 from csuas.render.imaging.scene import normalise_target
 
 
@@ -22,29 +23,40 @@ def check_range(range_m) -> float:
     return r
 
 
-def prepare(target, *, range_m, hfov_deg, n_h, n_v, azimuth_deg, elevation_deg, target_offset_px, full):
-    """Normalised target, sensor, window, target position and sampling box for one render.
+def prepare(target, view: View, sensor, *, full: bool = False) -> tuple:
+    """Slant range [m], normalised target and framing of one render.
 
-    The full frame (``full=True``, the benchmark's naive reference) samples
-    every pixel uniformly; the window samples only the box that contains
-    the target's image.
+    Parameters
+    ----------
+    target : str, Drone or list of parts
+    view : View
+        Slant range, aspect and the target's pixel offset.
+    sensor : EoSensor or ThermalSensor
+        Its ``hfov_deg``, ``n_h`` and ``n_v`` (IFOV = HFOV / N_H, Eq. 15).
+    full : bool
+        The full frame (the benchmark's naive reference) samples every pixel uniformly; otherwise
+        the window samples only the box that contains the target's image.
+
+    Returns
+    -------
+    (float, NormalisedTarget, Framing)
 
     Raises
     ------
     ParameterError
         When the sensor would sit inside the target's bounding sphere.
     """
-    r = check_range(range_m)
-    sensor = SensorGeometry.from_fov(hfov_deg, n_h, n_v)
-    normalised = normalise_target(target, azimuth_deg, elevation_deg)
+    r = check_range(view.range_m)
+    geometry = SensorGeometry.from_fov(sensor.hfov_deg, sensor.n_h, sensor.n_v)
+    normalised = normalise_target(target, view.azimuth_deg, view.elevation_deg)
     if r <= 1.001 * normalised.radius_m:
         raise ParameterError("range_m", r, f"> {normalised.radius_m * 1.001:.4g} m (the target's bounding radius)")
-    cx, cy = sensor.default_target_px()
-    ox, oy = (float(v) for v in target_offset_px)
+    cx, cy = geometry.default_target_px()
+    ox, oy = (float(v) for v in view.target_offset_px)
     target_px = (cx + ox, cy + oy)
-    window = full_frame(sensor) if full else target_window(sensor, r, normalised.radius_m, target_px)
-    bounds = None if full else target_bounds(sensor, r, normalised.radius_m, target_px)
-    return r, sensor, normalised, window, target_px, bounds
+    window = full_frame(geometry) if full else target_window(geometry, r, normalised.radius_m, target_px)
+    bounds = None if full else target_bounds(geometry, r, normalised.radius_m, target_px)
+    return r, normalised, Framing(geometry, window, target_px, r / normalised.radius_m, bounds)
 
 
 def silhouette_box_px(target, range_m: float, azimuth_deg: float, elevation_deg: float, sensor, target_px) -> tuple:
@@ -69,6 +81,16 @@ def silhouette_box_px(target, range_m: float, azimuth_deg: float, elevation_deg:
     x = target_px[0] + vertices[:, 0] / depth / sensor.ifov_rad
     y = target_px[1] - vertices[:, 1] / depth / sensor.ifov_rad
     return float(x.min()), float(x.max()), float(y.min()), float(y.max())
+
+
+def window_notes(window, tally) -> list:
+    """Notes of a window render: a target beyond the frame, and shaded samples that were not finite."""
+    notes = []
+    if window.clipped:
+        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
+    if tally.nonfinite_samples:
+        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
+    return notes
 
 
 def progress_printer(label: str, stream):

@@ -327,7 +327,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
 def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
     """An EO frame of the draw, with the target's blob SNR against shot and read noise."""
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
-    from csuas.render.imaging.records import Daylight, EoSensor
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings
     from csuas.render.imaging.sensor_chain import ChainSettings
     from csuas.render.imaging.sequence import sequence_target
 
@@ -348,6 +348,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         sun_azimuth_deg=item.get(
             "sun_azimuth_deg"
         ),  # a sequence's sun is fixed in the world; a still's behind the camera
+        cloud_cover=spec.cloud_cover,
     )
     frame = eo_frame(
         sequence_target(item),
@@ -356,9 +357,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         light,
         camera_from_params(p),
         chain,
-        seed=seed,
-        quality=spec.quality,
-        cloud_cover=spec.cloud_cover,
+        settings=RenderSettings(quality=spec.quality, seed=seed),
     )
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
@@ -368,7 +367,7 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     """A thermal frame of the draw (the chain's thermal stages), with the target's blob SNR against the NETD."""
     from csuas.core.detection import blob_snr
     from csuas.render.imaging.frame import tir_frame
-    from csuas.render.imaging.records import ThermalScene, ThermalSensor
+    from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
     from csuas.render.imaging.sequence import sequence_target
 
@@ -389,8 +388,7 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         ThermalSensor.from_params(p),
         scene,
         chain,
-        seed=seed,
-        quality=spec.quality,
+        settings=RenderSettings(quality=spec.quality, seed=seed),
         sky_temperature_k=spec.sky_temperature_k,
     )
     excess = abs(frame["target_excess_k"])

@@ -31,14 +31,14 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core.eo import contrast_limited_range_m
 from csuas.drone_models.geometry import direction_vector
-from csuas.render.imaging.common import prepare, progress_printer
+from csuas.render.imaging.common import prepare, progress_printer, window_notes
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path
 from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_eo_scene, path_integrator
-from csuas.render.imaging.trace import trace_window
+from csuas.render.imaging.trace import Sampling, trace_window
 
 #: Luminance weights of linear Rec. 709 / sRGB primaries (ITU-R BT.709).
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
@@ -120,81 +120,28 @@ def render_eo(
     """
     if atmosphere and light.visibility_km is None:
         raise ParameterError("visibility_km", None, "a visibility > 0 km when atmosphere=True")
-    range_m, azimuth_deg, elevation_deg, target_offset_px = (
-        view.range_m,
-        view.azimuth_deg,
-        view.elevation_deg,
-        view.target_offset_px,
-    )
-    hfov_deg, n_h, n_v, wavelength_nm = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.wavelength_nm
-    lp_task, n_ttpf, c_min = sensor.lp_task, sensor.n_ttpf, sensor.c_min
-    illuminance_lx, background = light.illuminance_lx, light.background
     visibility_km = light.visibility_km if atmosphere else None
-    quality, seed, max_depth, progress = settings.quality, settings.seed, settings.max_depth, settings.progress
-    from csuas.render.backend import use_variant
-
+    progress = settings.progress
     t0 = time.perf_counter()
-    q = resolve_quality(quality)
-    r, camera, normalised, window, target_px, bounds = prepare(
-        target,
-        range_m=range_m,
-        hfov_deg=hfov_deg,
-        n_h=n_h,
-        n_v=n_v,
-        azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg,
-        target_offset_px=target_offset_px,
-        full=settings.full_frame,
-    )
-    sky = sun_and_sky(illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
-    if isinstance(background, str):
-        if background != "sky":
-            raise ParameterError("background", background, "'sky' or a reflectance 0..1")
-        l_bg = sky["sky_radiance"]
-    else:
-        if not (0.0 <= float(background) <= 1.0):
-            raise ParameterError("background", background, "'sky' or a reflectance 0..1")
-        l_bg = float(background) * illuminance_lx / math.pi
-    sun_az = azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
-    use_variant("ad_rgb", settings.variant)
-    to_sun = normalised.to_render(direction_vector(sun_az, light.sun_elevation_deg))
-    scene = build_eo_scene(
-        normalised,
-        sun_direction_render=to_sun,
-        sun_irradiance=sky["sun_irradiance_lx"],
-        sky_radiance=sky["sky_radiance"],
-        ground_radiance=sky["ground_radiance"],
-        up_render=normalised.to_render([0.0, 0.0, 1.0]),
-    )
+    q = resolve_quality(settings.quality)
+    r, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    l_bg = _background_luminance(light, sky)
+    scene = _daylight_scene(normalised, view, light, sky, settings.variant)
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render eo {r:g} m", progress)
-    tally = trace_window(
-        scene,
-        path_integrator(max_depth),
-        camera,
-        window,
-        target_px,
-        r / normalised.radius_m,
-        n_side=q.n_side,
-        n_batches=q.n_batches,
-        seed=seed,
-        channels=3,
-        bounds=bounds,
-        progress=progress,
-    )
-    path = eo_path(r, visibility_km, wavelength_nm, sky["sky_radiance"], light.rain_extinction_per_km)
+    sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=3)
+    tally = trace_window(scene, path_integrator(settings.max_depth), framing, sampling, progress=progress)
+    path = eo_path(r, visibility_km, sensor.wavelength_nm, sky["sky_radiance"], light.rain_extinction_per_km)
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
     for name in ("contrast", "contrast_weber"):
         m.values[f"{name}_inherent"], m.stderr[f"{name}_inherent"] = inherent.values[name], inherent.stderr[name]
-    _range_figures(m, r, lp_task, n_ttpf, c_min, path)
+    _range_figures(m, r, sensor.lp_task, sensor.n_ttpf, sensor.c_min, path)
     notes = list(m.notes)
     if visibility_km is None:
         notes.append("no atmosphere: the contrast-limited range is unbounded (null)")
-    if window.clipped:
-        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
-    if tally.nonfinite_samples:
-        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
+    notes += window_notes(framing.window, tally)
     m.values.update(
         sun_irradiance_lx=sky["sun_irradiance_lx"],
         sky_radiance=sky["sky_radiance"],
@@ -204,10 +151,10 @@ def render_eo(
         "eo",
         "visible",
         r,
-        float(azimuth_deg),
-        float(elevation_deg),
-        camera.ifov_rad,
-        window,
+        float(view.azimuth_deg),
+        float(view.elevation_deg),
+        framing.sensor.ifov_rad,
+        framing.window,
         m.values,
         m.stderr,
         m.image,
@@ -220,4 +167,33 @@ def render_eo(
         tally.n_side**2 * tally.n_batches,
         time.perf_counter() - t0,
         notes,
+    )
+
+
+def _background_luminance(light: Daylight, sky: dict) -> float:
+    """L_b [cd m^-2]: the horizon sky, or a Lambertian background of reflectance rho_b, rho_b E_v / pi."""
+    background = light.background
+    if isinstance(background, str):
+        if background != "sky":
+            raise ParameterError("background", background, "'sky' or a reflectance 0..1")
+        return sky["sky_radiance"]
+    if not (0.0 <= float(background) <= 1.0):
+        raise ParameterError("background", background, "'sky' or a reflectance 0..1")
+    return float(background) * light.illuminance_lx / math.pi
+
+
+def _daylight_scene(normalised, view: View, light: Daylight, sky: dict, variant: str | None):
+    """The Mitsuba scene of the target under the sun (behind the sensor unless placed), sky and ground."""
+    from csuas.render.backend import use_variant
+
+    sun_az = view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+    use_variant("ad_rgb", variant)
+    to_sun = normalised.to_render(direction_vector(sun_az, light.sun_elevation_deg))
+    return build_eo_scene(
+        normalised,
+        sun_direction_render=to_sun,
+        sun_irradiance=sky["sun_irradiance_lx"],
+        sky_radiance=sky["sky_radiance"],
+        ground_radiance=sky["ground_radiance"],
+        up_render=normalised.to_render([0.0, 0.0, 1.0]),
     )

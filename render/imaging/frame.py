@@ -55,10 +55,8 @@ def eo_frame(
     camera: dict,
     chain: ChainSettings,
     *,
-    seed: int,
-    quality: str = "draft",
+    settings: RenderSettings = RenderSettings(quality="draft"),
     atmosphere: bool = False,
-    cloud_cover: float = 0.0,
 ) -> dict:
     """Render, expose, degrade and label one full EO frame.
 
@@ -69,20 +67,17 @@ def eo_frame(
     view, sensor, light
         As :func:`csuas.render.imaging.eo.render_eo`; ``light.background`` may also be ``"clear_sky"``: the
         CIE clear sky's gradient from the sun and the ground below the horizon
-        (:mod:`csuas.render.imaging.background`), without atmosphere.
+        (:mod:`csuas.render.imaging.background`), without atmosphere, with ``light.cloud_cover`` of its sky
+        under seeded clouds (0..1).
     camera : dict
         ``f_number``, ``optics_transmittance``, ``pixel_pitch_um``, ``quantum_efficiency``,
         ``max_exposure_ms``, ``full_well_e`` (a scenario's EO parameters).
     chain : ChainSettings
         Sensor-chain stages and constants; its exposure is replaced by the auto-exposure.
-    seed : int
-        Render and noise seed.
-    quality : str
-        Render quality preset.
+    settings : RenderSettings
+        The render's quality (default draft) and seed, which also seeds the clouds and the chain's noise.
     atmosphere : bool
         Koschmieder path of the render.
-    cloud_cover : float
-        Share of a ``"clear_sky"`` background's sky under seeded clouds (0..1).
 
     Returns
     -------
@@ -97,7 +92,8 @@ def eo_frame(
     if gradient and atmosphere:
         raise ParameterError("background", "clear_sky", "'sky' or a reflectance when the atmosphere is on")
     lit = replace(light, background="sky") if gradient else light
-    res = render_eo(target, view, sensor, lit, atmosphere=atmosphere, settings=RenderSettings(quality, seed))
+    seed = settings.seed
+    res = render_eo(target, view, sensor, lit, atmosphere=atmosphere, settings=settings)
     if lit.background == "sky":
         background = float(res.values["sky_radiance"])
     else:
@@ -107,21 +103,8 @@ def eo_frame(
     cols = slice(window.x0, window.x0 + window.width)
     rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
     if gradient:
-        frame = clear_sky_frame(
-            sensor.n_h,
-            sensor.n_v,
-            res.ifov_rad,
-            view.azimuth_deg,
-            view.elevation_deg,
-            view.target_offset_px,
-            diffuse_illuminance_lx=light.diffuse_fraction * light.illuminance_lx,
-            illuminance_lx=light.illuminance_lx,
-            sun_azimuth_deg=view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg,
-            sun_elevation_deg=light.sun_elevation_deg,
-            ground_reflectance=light.ground_reflectance,
-            cloud_cover=cloud_cover,
-            seed=seed,
-        )
+        geometry = SensorGeometry(res.ifov_rad, sensor.n_h, sensor.n_v)
+        frame = clear_sky_frame(geometry, view, light, cloud_cover=light.cloud_cover, seed=seed)
         behind = frame[rows, cols].copy()
         uncovered = 1.0 - res.coverage
         # the render's uniform sky leaves the target's own light; the gradient fills what it does not cover
@@ -141,14 +124,14 @@ def eo_frame(
     electrons_per_nit = float(
         per_lux * focal_plane_illuminance_lx(1.0, camera["f_number"], camera["optics_transmittance"])
     )
-    settings = replace(chain, exposure_s=exposure, full_well_e=camera["full_well_e"])
+    exposed_chain = replace(chain, exposure_s=exposure, full_well_e=camera["full_well_e"])
     return {
         "result": res,
         "luminance": frame,
         "electrons": electrons,
         "target_excess_e": float(np.sum(frame[rows, cols] - behind)) * electrons_per_nit * exposure,
         "background_behind_e": float(np.mean(behind)) * electrons_per_nit * exposure,
-        "chain": apply_chain(electrons, settings, seed),
+        "chain": apply_chain(electrons, exposed_chain, seed),
         "label": frame_label(target, view, res, sensor.n_h, sensor.n_v, chain),
         "exposure_s": exposure,
         "background_luminance": background,
@@ -209,8 +192,7 @@ def tir_frame(
     scene,
     chain: ChainSettings,
     *,
-    seed: int,
-    quality: str = "draft",
+    settings: RenderSettings = RenderSettings(quality="draft"),
     reflected_surroundings: bool = True,
     sky_temperature_k: float | None = None,
 ) -> dict:
@@ -222,7 +204,8 @@ def tir_frame(
     (``psf`` at the chain's wavelength, ``netd``, ``agc``, ``quantise``). With ``sky_temperature_k``
     the frame is split at the horizon (:func:`csuas.render.imaging.background.view_rays`): a blackbody
     sky of that apparent temperature [K] above it, the scene's background below, and the window's
-    uncovered share of each pixel shows what lies behind it.
+    uncovered share of each pixel shows what lies behind it. ``settings``: the render's quality
+    (default draft) and seed, which also seeds the chain's noise.
 
     Returns
     -------
@@ -242,7 +225,7 @@ def tir_frame(
         sensor,
         scene,
         reflected_surroundings=reflected_surroundings,
-        settings=RenderSettings(quality, seed),
+        settings=settings,
     )
     radiance = res.image[0]
     uncovered = res.coverage == 0
@@ -267,7 +250,7 @@ def tir_frame(
     return {
         "result": res,
         "temperature": temperature,
-        "chain": apply_chain(temperature, chain, seed, thermal=True),
+        "chain": apply_chain(temperature, chain, settings.seed, thermal=True),
         "label": frame_label(target, view, res, sensor.n_h, sensor.n_v, chain),
         "background_k": background_k,
         "target_excess_k": excess,

@@ -24,13 +24,15 @@ import time
 import numpy as np
 
 from csuas.core.atmosphere import extinction_per_km, transmittance
+from csuas.render.imaging.camera import Framing
 from csuas.render.imaging.common import prepare
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, eo_path
 from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.records import EoSensor, RenderSettings, View
 from csuas.render.imaging.scene import diffuse_rgb, mitsuba_mesh, path_integrator
-from csuas.render.imaging.trace import trace_window
+from csuas.render.imaging.trace import Sampling, trace_window
 
 
 def _scene(normalised, horizon_radiance: float, medium=None, medium_radius: float = 0.0):
@@ -45,36 +47,36 @@ def _scene(normalised, horizon_radiance: float, medium=None, medium_radius: floa
     return mi.load_dict(scene)
 
 
+#: Path length of the medium's volumetric path tracer: Russian roulette ends most paths earlier.
+MEDIUM_MAX_DEPTH = 4096
+
+
 def medium_vs_analytic_airlight(
     target,
+    view: View,
+    sensor: EoSensor = EoSensor(),
     *,
-    range_m: float,
     visibility_km: float,
     horizon_radiance: float = 3342.0,
-    wavelength_nm: float = 550.0,
-    hfov_deg: float = 10.0,
-    n_h: int = 1920,
-    n_v: int = 1080,
-    azimuth_deg: float = 0.0,
-    elevation_deg: float = 0.0,
-    quality="standard",
-    max_depth: int = 4096,
-    seed: int = 0,
+    settings: RenderSettings = RenderSettings(),
+    medium_depth: int = MEDIUM_MAX_DEPTH,
 ) -> dict:
     """Apparent target luminance through a fog medium, against the analytic Koschmieder airlight.
 
     Parameters
     ----------
     target : str, Drone or list of parts
-    range_m : float
-        Slant range [m].
+    view : View
+        Slant range [m], aspect and pixel offset, as in :func:`csuas.render.imaging.eo.render_eo`.
+    sensor : EoSensor
+        Field of view, pixels and the wavelength of the Kruse/Kim extinction (Eqs. 19-20).
     visibility_km : float
         Visibility of the Kruse/Kim extinction [km].
     horizon_radiance : float
         Uniform sky luminance L_h [cd m^-2] lighting the medium.
-    wavelength_nm, hfov_deg, n_h, n_v, azimuth_deg, elevation_deg, quality, seed
-        As in :func:`csuas.render.imaging.eo.render_eo`.
-    max_depth : int
+    settings : RenderSettings
+        Quality and seed as in :func:`csuas.render.imaging.eo.render_eo` (the vacuum render traces paths of 3).
+    medium_depth : int
         Longest path of the volumetric path tracer (Russian roulette ends most paths earlier).
 
     Returns
@@ -85,64 +87,66 @@ def medium_vs_analytic_airlight(
         and its ``medium_stderr`` (jackknife), ``difference_sigma``,
         ``time_vacuum_s``, ``time_medium_s``.
     """
-    import mitsuba as mi
-
     from csuas.render.backend import use_variant
 
-    q = resolve_quality(quality)
-    r, sensor, normalised, window, target_px, bounds = prepare(
-        target,
-        range_m=range_m,
-        hfov_deg=hfov_deg,
-        n_h=n_h,
-        n_v=n_v,
-        azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg,
-        target_offset_px=(0.0, 0.0),
-        full=False,
-    )
+    q = resolve_quality(settings.quality)
+    r, normalised, framing = prepare(target, view, sensor)
     use_variant("ad_rgb")
-    distance = r / normalised.radius_m
-    beta = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
-    tau = float(transmittance(beta, r, "physical"))
-    background = np.full(3, horizon_radiance)
-    common = dict(n_side=q.n_side, n_batches=q.n_batches, seed=seed, channels=3, bounds=bounds)
-
-    t0 = time.perf_counter()
+    beta = float(extinction_per_km(sensor.wavelength_nm, visibility_km, "physical"))
+    sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=3)
     geometry = _scene(normalised, horizon_radiance)
-    vacuum = trace_window(geometry, path_integrator(3), sensor, window, target_px, distance, **common)
-    inherent = measure_window(vacuum, background, NO_PATH, LUMINANCE_WEIGHTS)
-    analytic = measure_window(
-        vacuum, background, eo_path(r, visibility_km, wavelength_nm, horizon_radiance), LUMINANCE_WEIGHTS
-    )
-    t_vacuum = time.perf_counter() - t0
-
-    t0 = time.perf_counter()
-    sigma_t = beta / 1000.0 * normalised.radius_m  # per render unit
-    fog = mi.load_dict({"type": "homogeneous", "sigma_t": sigma_t, "albedo": 1.0})
-    scene = _scene(normalised, horizon_radiance, fog, medium_radius=1.5 * distance)
-    integrator = mi.load_dict({"type": "volpath", "max_depth": int(max_depth)})
-    foggy = trace_window(
-        scene, integrator, sensor, window, target_px, distance, medium=fog, geometry=geometry, **common
-    )
-    # The medium render already contains the path: measure it without analytic path effects.
-    medium = measure_window(foggy, background, NO_PATH, LUMINANCE_WEIGHTS)
-    t_medium = time.perf_counter() - t0
-
-    l_med, se = medium.values["target_radiance"], medium.stderr["target_radiance"]
-    l_an = analytic.values["target_radiance_apparent"]
-    se_an = analytic.stderr["target_radiance_apparent"]
+    path = eo_path(r, visibility_km, sensor.wavelength_nm, horizon_radiance)
+    vacuum = _vacuum_render(geometry, framing, sampling, horizon_radiance, path)
+    fog = _fog_render(normalised, geometry, framing, sampling, horizon_radiance, beta, medium_depth)
+    l_med, se = fog["radiance"], fog["stderr"]
+    l_an, se_an = vacuum["analytic_radiance"], vacuum["analytic_stderr"]
     combined = float(np.hypot(se, se_an))
     return {
         "range_m": r,
         "extinction_per_km": beta,
-        "transmittance": tau,
-        "inherent_radiance": inherent.values["target_radiance"],
+        "transmittance": float(transmittance(beta, r, "physical")),
+        "inherent_radiance": vacuum["inherent_radiance"],
         "analytic_radiance": l_an,
         "analytic_stderr": se_an,
         "medium_radiance": l_med,
         "medium_stderr": se,
         "difference_sigma": abs(l_med - l_an) / combined if combined > 0 else 0.0,
-        "time_vacuum_s": t_vacuum,
-        "time_medium_s": t_medium,
+        "time_vacuum_s": vacuum["time_s"],
+        "time_medium_s": fog["time_s"],
+    }
+
+
+def _vacuum_render(geometry, framing: Framing, sampling: Sampling, horizon_radiance: float, path) -> dict:
+    """The target in vacuum: its inherent luminance and the analytic path's apparent one, each with its error."""
+    t0 = time.perf_counter()
+    background = np.full(3, horizon_radiance)
+    vacuum = trace_window(geometry, path_integrator(3), framing, sampling)
+    inherent = measure_window(vacuum, background, NO_PATH, LUMINANCE_WEIGHTS)
+    analytic = measure_window(vacuum, background, path, LUMINANCE_WEIGHTS)
+    return {
+        "inherent_radiance": inherent.values["target_radiance"],
+        "analytic_radiance": analytic.values["target_radiance_apparent"],
+        "analytic_stderr": analytic.stderr["target_radiance_apparent"],
+        "time_s": time.perf_counter() - t0,
+    }
+
+
+def _fog_render(
+    normalised, geometry, framing: Framing, sampling: Sampling, horizon_radiance: float, beta: float, max_depth: int
+) -> dict:
+    """The target inside a homogeneous conservative medium of extinction ``beta`` [1/km] (module docstring)."""
+    import mitsuba as mi
+
+    t0 = time.perf_counter()
+    sigma_t = beta / 1000.0 * normalised.radius_m  # per render unit
+    fog = mi.load_dict({"type": "homogeneous", "sigma_t": sigma_t, "albedo": 1.0})
+    scene = _scene(normalised, horizon_radiance, fog, medium_radius=1.5 * framing.camera_distance)
+    integrator = mi.load_dict({"type": "volpath", "max_depth": int(max_depth)})
+    foggy = trace_window(scene, integrator, framing, sampling, medium=fog, geometry=geometry)
+    # The medium render already contains the path: measure it without analytic path effects.
+    medium = measure_window(foggy, np.full(3, horizon_radiance), NO_PATH, LUMINANCE_WEIGHTS)
+    return {
+        "radiance": medium.values["target_radiance"],
+        "stderr": medium.stderr["target_radiance"],
+        "time_s": time.perf_counter() - t0,
     }

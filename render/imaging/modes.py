@@ -1,15 +1,9 @@
 """Scenario-driven EO and thermal renders behind ``csuas render eo|tir`` (docs/command-line.md).
 
-A *render mode* is a callable ``mode(scenario, **options) -> list of dict``
-returning one JSON-ready result per range with at least the docs/command-line.md keys
-``range_m``, ``pixels_on_target``, ``pixels_across_dcrit``, ``contrast``,
-``stderr``, ``time_s`` and ``files``. Options passed by the command:
-``ranges_m`` (list of float), ``quality`` (str), ``azimuth_deg``,
-``elevation_deg`` (float), ``out_dir`` (path or None: no files), ``seed``
-(int), ``sensor`` (sensor name or None: the scenario's first sensor of the
-modality), ``atmosphere`` ("auto", "on", "off"), ``progress`` (a text
-stream or None) and, for EO only, ``exposure`` of the preview ("scene": a camera set
-for clear daylight, so night looks dark; "auto": the brightest pixel white).
+A *render mode* is a callable ``mode(scenario, request) -> list of dict`` returning one JSON-ready
+result per range (contract and options: :class:`csuas.render.request.RenderRequest`); the EO mode
+also reads the request's ``exposure`` of the preview ("scene": a camera set for clear daylight, so
+night looks dark; "auto": the brightest pixel white).
 File names and EXR metadata: :mod:`csuas.render.files`.
 
 ``atmosphere="auto"`` applies the path wherever ``csuas range`` applies one (docs/scenarios.md
@@ -28,8 +22,7 @@ from pathlib import Path
 
 from csuas.base.errors import ParameterError
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
-
-ATMOSPHERE_CHOICES = ("auto", "on", "off")
+from csuas.render.request import ATMOSPHERE_CHOICES, RenderRequest
 
 
 def _sensor(scenario, modality: str, name):
@@ -82,7 +75,9 @@ def scenario_thermal_scene(scenario, spec) -> ThermalScene:
     )
 
 
-def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: str = "scene") -> list:
+def _files(result, scenario, spec, request: RenderRequest, exposure: str = "scene") -> list:
+    """The EXR and PNG of one range's render in the request's ``out_dir`` (none without it)."""
+    out_dir, quality, seed = request.out_dir, request.quality, request.seed
     if out_dir is None:
         return []
     from csuas.render.files import file_stem
@@ -110,77 +105,52 @@ def _files(result, out_dir, scenario, spec, quality: str, seed: int, exposure: s
     return write_images(result, Path(out_dir), stem, meta, exposure=exposure)
 
 
-def eo_scenario(
-    scenario,
-    *,
-    ranges_m,
-    quality="standard",
-    azimuth_deg=0.0,
-    elevation_deg=0.0,
-    out_dir=None,
-    seed=0,
-    sensor=None,
-    atmosphere="auto",
-    progress=None,
-    exposure="scene",
-) -> list:
-    """Render the scenario's EO sensor at each range (mode ``eo``)."""
+def eo_scenario(scenario, request: RenderRequest) -> list:
+    """Render the scenario's EO sensor at each range of the request (mode ``eo``)."""
     from csuas.render.imaging.eo import render_eo
 
-    spec = _sensor(scenario, "eo", sensor)
+    spec = _sensor(scenario, "eo", request.sensor)
     camera = EoSensor.from_params(spec.params)
     light = scenario_daylight(scenario)
-    settings = RenderSettings(quality=quality, seed=seed, progress=progress)
+    settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
     out = []
-    for r in ranges_m:
+    for r in request.ranges_m:
         res = render_eo(
             scenario.target_preset,
-            View(r, azimuth_deg, elevation_deg),
+            View(r, request.azimuth_deg, request.elevation_deg),
             camera,
             light,
-            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
+            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
             settings=settings,
         )
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed, exposure))
+        row.update(sensor=spec.name, files=_files(res, scenario, spec, request, request.exposure))
         out.append(row)
     return out
 
 
-def tir_scenario(
-    scenario,
-    *,
-    ranges_m,
-    quality="standard",
-    azimuth_deg=0.0,
-    elevation_deg=0.0,
-    out_dir=None,
-    seed=0,
-    sensor=None,
-    atmosphere="auto",
-    progress=None,
-) -> list:
-    """Render the scenario's thermal sensor at each range (mode ``tir``)."""
+def tir_scenario(scenario, request: RenderRequest) -> list:
+    """Render the scenario's thermal sensor at each range of the request (mode ``tir``)."""
     from csuas.render.imaging.tir import render_tir
 
-    spec = _sensor(scenario, "tir", sensor)
+    spec = _sensor(scenario, "tir", request.sensor)
     target = scenario.target
     camera = ThermalSensor.from_params(spec.params)
     thermal_scene = scenario_thermal_scene(scenario, spec)
-    settings = RenderSettings(quality=quality, seed=seed, progress=progress)
+    settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
     out = []
-    for r in ranges_m:
+    for r in request.ranges_m:
         res = render_tir(
             scenario.target_preset,
-            View(r, azimuth_deg, elevation_deg),
+            View(r, request.azimuth_deg, request.elevation_deg),
             camera,
             thermal_scene,
-            atmosphere=_atmosphere_on(scenario, atmosphere, spec),
+            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
             reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
             settings=settings,
         )
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, out_dir, scenario, spec, quality, seed))
+        row.update(sensor=spec.name, files=_files(res, scenario, spec, request))
         out.append(row)
     return out

@@ -121,6 +121,9 @@ class Daylight:
         ``atmosphere`` switch is on.
     rain_extinction_per_km : float
         Extinction of the scene's rain [1/km], added to the visibility's with the atmosphere on.
+    cloud_cover : float
+        Share of the sky under seeded clouds (0..1) of a full frame's ``"clear_sky"`` background
+        (:func:`csuas.render.imaging.frame.eo_frame`); the window render's uniform sky has none.
     """
 
     illuminance_lx: float = 70000.0
@@ -131,6 +134,7 @@ class Daylight:
     background: str | float = "sky"
     visibility_km: float | None = None
     rain_extinction_per_km: float = 0.0
+    cloud_cover: float = 0.0
 
 
 @dataclass(frozen=True)

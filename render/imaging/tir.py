@@ -32,14 +32,14 @@ from csuas.base.errors import ParameterError
 from csuas.core.mrtd import ParametricMrtd
 from csuas.core.radiometry import BANDS_UM, band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear, tir_mrtd_range
-from csuas.render.imaging.common import prepare, progress_printer
+from csuas.render.imaging.common import prepare, progress_printer, window_notes
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, tir_path
 from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.result import ImagingResult
 from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_parts
-from csuas.render.imaging.trace import trace_window
+from csuas.render.imaging.trace import Sampling, trace_window
 
 
 def default_mrtd(
@@ -100,73 +100,87 @@ def render_tir(
     settings : RenderSettings
         As in :func:`csuas.render.imaging.eo.render_eo`.
     """
-    if atmosphere and scene.extinction_db_km is None:
-        raise ParameterError("extinction_db_km", None, "a number [dB/km] when atmosphere=True")
-    if reflected_surroundings and scene.surroundings_k is None:
-        raise ParameterError("surroundings_k", None, "a temperature > 0 K when reflected_surroundings=True")
-    range_m, azimuth_deg, elevation_deg = view.range_m, view.azimuth_deg, view.elevation_deg
-    hfov_deg, n_h, n_v, band, mrtd = sensor.hfov_deg, sensor.n_h, sensor.n_v, sensor.band, sensor.mrtd
-    lp_task, n_ttpf = sensor.lp_task, sensor.n_ttpf
-    t_bg_k, emissivity_bg, air_temperature_k = scene.t_bg_k, scene.emissivity_bg, scene.air_temperature_k
-    surroundings_k = scene.surroundings_k if reflected_surroundings else None
-    extinction_db_km = scene.extinction_db_km if atmosphere else None
-    quality, seed, max_depth, progress = settings.quality, settings.seed, settings.max_depth, settings.progress
     from csuas.render.backend import use_variant
 
+    _check_thermal(sensor, scene, atmosphere, reflected_surroundings)
+    band, progress = sensor.band, settings.progress
+    surroundings_k = scene.surroundings_k if reflected_surroundings else None
+    extinction_db_km = scene.extinction_db_km if atmosphere else None
     t0 = time.perf_counter()
-    if band not in BANDS_UM:
-        raise ParameterError("band", band, ", ".join(BANDS_UM))
-    for name, value in (("emissivity_bg", emissivity_bg),):
-        if not 0.0 <= value <= 1.0:
-            raise ParameterError(name, value, "0 <= x <= 1")
-    q = resolve_quality(quality)
-    r, camera, normalised, window, target_px, bounds = prepare(
-        target,
-        range_m=range_m,
-        hfov_deg=hfov_deg,
-        n_h=n_h,
-        n_v=n_v,
-        azimuth_deg=azimuth_deg,
-        elevation_deg=elevation_deg,
-        target_offset_px=view.target_offset_px,
-        full=settings.full_frame,
-    )
+    q = resolve_quality(settings.quality)
+    r, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
     l_surr = 0.0 if surroundings_k is None else float(band_radiance(surroundings_k, band))
-    l_bg = emissivity_bg * float(band_radiance(t_bg_k, band)) + (1.0 - emissivity_bg) * l_surr
+    l_bg = scene.emissivity_bg * float(band_radiance(scene.t_bg_k, band)) + (1.0 - scene.emissivity_bg) * l_surr
     use_variant("ad_mono", settings.variant)
     mitsuba_scene = build_tir_scene(normalised, band=band, surroundings_radiance=l_surr)
     if progress is not None and not callable(progress):
         progress = progress_printer(f"render tir {r:g} m", progress)
-    tally = trace_window(
-        mitsuba_scene,
-        path_integrator(max_depth),
-        camera,
-        window,
-        target_px,
-        r / normalised.radius_m,
-        n_side=q.n_side,
-        n_batches=q.n_batches,
-        seed=seed,
-        channels=1,
-        bounds=bounds,
-        progress=progress,
-    )
-    path = tir_path(r, extinction_db_km, air_temperature_k, band, scene.rain_db_km)
+    sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=1)
+    tally = trace_window(mitsuba_scene, path_integrator(settings.max_depth), framing, sampling, progress=progress)
+    path = tir_path(r, extinction_db_km, scene.air_temperature_k, band, scene.rain_db_km)
 
     def to_temperature(radiance):
         return radiance_temperature(radiance, band)
 
     m = measure_window(tally, [l_bg], path, (1.0,), to_temperature)
     inherent = measure_window(tally, [l_bg], NO_PATH, (1.0,), to_temperature)
+    m.values["delta_t_inherent_k"] = inherent.values["delta_t_k"]
+    m.stderr["delta_t_inherent_k"] = inherent.stderr["delta_t_k"]
+    eps_t, t_t = linear_reference or area_weighted_graybody(target, band)
+    m.values["delta_t_linear_k"] = float(delta_t_linear(eps_t, t_t, scene.emissivity_bg, scene.t_bg_k))
+    _mrtd_figures(m, inherent, sensor, framing.sensor.ifov_rad, r, extinction_db_km, scene.air_temperature_k)
+    notes = list(m.notes)
+    if sensor.lp_task * sensor.n_ttpf <= 0:
+        notes.append("n_ttpf * lp_task = 0: the MRTD range is unbounded")
+    notes += window_notes(framing.window, tally)
+    return ImagingResult(
+        "tir",
+        band,
+        r,
+        float(view.azimuth_deg),
+        float(view.elevation_deg),
+        framing.sensor.ifov_rad,
+        framing.window,
+        m.values,
+        m.stderr,
+        m.image,
+        m.coverage,
+        "W m^-2 sr^-1",
+        ("L",),
+        list(path.terms),
+        q,
+        tally.samples,
+        tally.n_side**2 * tally.n_batches,
+        time.perf_counter() - t0,
+        notes,
+    )
+
+
+def _check_thermal(sensor: ThermalSensor, scene: ThermalScene, atmosphere: bool, reflected_surroundings: bool) -> None:
+    """The scene's values that the render's switches use are given, the band is known and eps_bg in [0, 1]."""
+    if atmosphere and scene.extinction_db_km is None:
+        raise ParameterError("extinction_db_km", None, "a number [dB/km] when atmosphere=True")
+    if reflected_surroundings and scene.surroundings_k is None:
+        raise ParameterError("surroundings_k", None, "a temperature > 0 K when reflected_surroundings=True")
+    if sensor.band not in BANDS_UM:
+        raise ParameterError("band", sensor.band, ", ".join(BANDS_UM))
+    if not 0.0 <= scene.emissivity_bg <= 1.0:
+        raise ParameterError("emissivity_bg", scene.emissivity_bg, "0 <= x <= 1")
+
+
+def _mrtd_figures(
+    m, inherent, sensor: ThermalSensor, ifov_rad: float, range_m: float, extinction_db_km, air_temperature_k: float
+) -> None:
+    """Add the MRTD range (Eqs. 24, 27-29) of the rendered inherent Delta T and d_crit, with its error, to ``m``.
+
+    Also the target's spatial frequency f(R) = lp n_TTPF R / d_crit and the MRTD there, and the rendered d_crit.
+    """
     values, stderr = m.values, m.stderr
     dt0, dt0_se = inherent.values["delta_t_k"], inherent.stderr["delta_t_k"]
-    values["delta_t_inherent_k"], stderr["delta_t_inherent_k"] = dt0, dt0_se
-    eps_t, t_t = linear_reference or area_weighted_graybody(target, band)
-    values["delta_t_linear_k"] = float(delta_t_linear(eps_t, t_t, emissivity_bg, t_bg_k))
-    # MRTD: spatial frequency of the target at this range and the range where Delta T meets the curve.
-    curve = mrtd if mrtd is not None else default_mrtd(camera.ifov_rad, band)
-    d_crit = values["pixels_across_dcrit"] * camera.ifov_rad * r
-    d_crit_se = stderr["pixels_across_dcrit"] * camera.ifov_rad * r
+    lp_task, n_ttpf, band = sensor.lp_task, sensor.n_ttpf, sensor.band
+    curve = sensor.mrtd if sensor.mrtd is not None else default_mrtd(ifov_rad, band)
+    d_crit = values["pixels_across_dcrit"] * ifov_rad * range_m
+    d_crit_se = stderr["pixels_across_dcrit"] * ifov_rad * range_m
     sigma = 0.0 if extinction_db_km is None else float(extinction_db_km)
     t_bg_app = inherent.values["background_temperature_apparent_k"]
 
@@ -197,35 +211,7 @@ def render_tir(
         )
     )
     if d_crit > 0 and lp_task * n_ttpf > 0:
-        freq = lp_task * n_ttpf * r / d_crit
+        freq = lp_task * n_ttpf * range_m / d_crit
         values["target_frequency_cy_rad"] = freq
         values["mrtd_at_range_k"] = float(curve(freq))
     values["d_crit_rendered_m"], stderr["d_crit_rendered_m"] = d_crit, d_crit_se
-    notes = list(m.notes)
-    if lp_task * n_ttpf <= 0:
-        notes.append("n_ttpf * lp_task = 0: the MRTD range is unbounded")
-    if window.clipped:
-        notes.append("the target reaches beyond the sensor frame; figures cover the visible part only")
-    if tally.nonfinite_samples:
-        notes.append(f"{tally.nonfinite_samples} shaded samples were not finite and counted as 0")
-    return ImagingResult(
-        "tir",
-        band,
-        r,
-        float(azimuth_deg),
-        float(elevation_deg),
-        camera.ifov_rad,
-        window,
-        values,
-        stderr,
-        m.image,
-        m.coverage,
-        "W m^-2 sr^-1",
-        ("L",),
-        list(path.terms),
-        q,
-        tally.samples,
-        tally.n_side**2 * tally.n_batches,
-        time.perf_counter() - t0,
-        notes,
-    )

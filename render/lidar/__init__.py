@@ -14,7 +14,7 @@ Importing this package does not import Mitsuba; the first trace selects the
 ``ad_mono`` variant through :func:`csuas.render.backend.use_variant`.
 """
 
-from csuas.render.lidar.cross_section import QUALITY_PRESETS, LcsResult, lidar_cross_section, trace_lcs
+from csuas.render.lidar.cross_section import QUALITY_PRESETS, LcsResult, RayGrid, lidar_cross_section, trace_lcs
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
 from csuas.render.lidar.sphere_average import drone_lcs_versus_rule, mean_lidar_cross_section
@@ -24,6 +24,7 @@ __all__ = [
     "LidarTarget",
     "LcsResult",
     "QUALITY_PRESETS",
+    "RayGrid",
     "drone_lcs_versus_rule",
     "lidar_cross_section",
     "material_reflectance",

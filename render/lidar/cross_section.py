@@ -143,24 +143,40 @@ class LcsResult:
         }
 
 
-def resolve_quality(quality: str, grid=None, replicates=None, presets: dict = QUALITY_PRESETS) -> tuple:
-    """Return ``(grid, replicates, name)`` from a preset and optional overrides.
+@dataclass(frozen=True)
+class RayGrid:
+    """The rays of one direction: a quality of its own, beside the presets of :data:`QUALITY_PRESETS`.
+
+    Attributes
+    ----------
+    grid : int
+        Cells per window side (one jittered ray per cell; ~ film pixels per side of a path-traced render).
+    replicates : int
+        Independent jitter replicates (renders), whose spread gives the standard error.
+    """
+
+    grid: int
+    replicates: int
+
+
+def resolve_quality(quality, presets: dict = QUALITY_PRESETS) -> tuple:
+    """Return ``(grid, replicates, name)`` of a preset name, or of a :class:`RayGrid` (name ``"custom"``).
 
     Raises
     ------
     ParameterError
         Unknown preset, ``grid < 1`` or ``replicates < 2``.
     """
-    if quality not in presets:
-        raise ParameterError("quality", quality, ", ".join(presets))
-    g0, r0 = presets[quality]
-    g = g0 if grid is None else grid
-    r = r0 if replicates is None else replicates
+    if isinstance(quality, RayGrid):
+        g, r, name = quality.grid, quality.replicates, "custom"
+    elif quality in presets:
+        (g, r), name = presets[quality], quality
+    else:
+        raise ParameterError("quality", quality, ", ".join(presets) + " or a RayGrid")
     if not isinstance(g, (int, np.integer)) or isinstance(g, bool) or g < 1:
         raise ParameterError("grid", g, "integer >= 1")
     if not isinstance(r, (int, np.integer)) or isinstance(r, bool) or r < 2:
         raise ParameterError("replicates", r, "integer >= 2")
-    name = quality if grid is None and replicates is None else "custom"
     return int(g), int(r), name
 
 
@@ -263,8 +279,7 @@ def trace_lcs(
     directions,
     azimuth_deg=None,
     range_m: float = math.inf,
-    grid: int = 128,
-    replicates: int = 8,
+    rays: RayGrid = RayGrid(128, 8),
     seed: int = 0,
     beam_radius_m: float | None = None,
     keep_images: bool = False,
@@ -280,8 +295,8 @@ def trace_lcs(
         Azimuths [deg] of the directions (only for the image axes at the poles).
     range_m : float
         Sensor distance [m], ``inf`` for a plane wave.
-    grid, replicates : int
-        Cells per window side and independent jitter replicates.
+    rays : RayGrid
+        Cells per window side and independent jitter replicates (not checked: 1 replicate is allowed).
     seed : int
         Seed of the jitter (results are deterministic for a seed).
     beam_radius_m : float, optional
@@ -297,14 +312,17 @@ def trace_lcs(
         ``windows`` (list), ``rays`` (int), ``images`` (list or None).
     """
     scene = target.scene()
+    grid, replicates = rays.grid, rays.replicates
     d = np.atleast_2d(np.asarray(directions, dtype=float))
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     radius = target.bounding_radius_m
     windows = sampling_windows(target.vertices, radius, d, azimuth_deg, range_m, grid, beam_radius_m)
     rng = np.random.default_rng(seed)
-    lcs = np.zeros((len(d), replicates))
-    area = np.zeros((len(d), replicates))
-    images = [np.zeros((w.n_v, w.n_u)) for w in windows] if keep_images else None
+    sums = _LcsSums(
+        np.zeros((len(d), replicates)),
+        np.zeros((len(d), replicates)),
+        [np.zeros((w.n_v, w.n_u)) for w in windows] if keep_images else None,
+    )
     # tasks = (direction, replicate); batched so one batch holds at most MAX_RAYS_PER_BATCH rays
     tasks = [(j, r) for j in range(len(d)) for r in range(replicates) if windows[j].n_u]
     batch, batch_rays = [], 0
@@ -312,18 +330,26 @@ def trace_lcs(
     for task in tasks + [None]:
         n_task = 0 if task is None else windows[task[0]].n_u * windows[task[0]].n_v
         if batch and (task is None or batch_rays + n_task > MAX_RAYS_PER_BATCH):
-            total_rays += _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, lcs, area, images)
+            total_rays += _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, sums)
             batch, batch_rays = [], 0
         if task is not None:
             batch.append(task)
             batch_rays += n_task
-    if images is not None:
-        images = [img / replicates for img in images]
-    return {"lcs_m2": lcs, "area_m2": area, "windows": windows, "rays": total_rays, "images": images}
+    images = None if sums.images is None else [img / replicates for img in sums.images]
+    return {"lcs_m2": sums.lcs, "area_m2": sums.area, "windows": windows, "rays": total_rays, "images": images}
 
 
-def _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, lcs, area, images) -> int:
-    """Trace one batch of (direction, replicate) tasks and accumulate into ``lcs``, ``area``, ``images``."""
+@dataclass
+class _LcsSums:
+    """Per (direction, replicate) LCS and traced area [m^2], and per-direction LCS images summed over replicates."""
+
+    lcs: np.ndarray
+    area: np.ndarray
+    images: list | None
+
+
+def _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, sums: _LcsSums) -> int:
+    """Trace one batch of (direction, replicate) tasks and accumulate into ``sums``."""
     origins, dirs, weights_pre, uu, ww, sizes = [], [], [], [], [], []
     r_front = ORIGIN_PLANE_FACTOR * radius
     for j, _ in batch:
@@ -360,10 +386,10 @@ def _trace_batch(scene, windows, batch, range_m, radius, rng, beam_radius_m, lcs
         sl = slice(bounds[k], bounds[k + 1])
         cell = windows[j].du * windows[j].dw
         contribution = 4.0 * math.pi * cell * value[sl] * factor[sl]
-        lcs[j, r] = contribution.sum()
-        area[j, r] = cell * np.count_nonzero(hit[sl] & (pre[sl, 0] > 0.0))
-        if images is not None:
-            images[j] += contribution.reshape(windows[j].n_v, windows[j].n_u)[::-1]
+        sums.lcs[j, r] = contribution.sum()
+        sums.area[j, r] = cell * np.count_nonzero(hit[sl] & (pre[sl, 0] > 0.0))
+        if sums.images is not None:
+            sums.images[j] += contribution.reshape(windows[j].n_v, windows[j].n_u)[::-1]
     return int(bounds[-1])
 
 
@@ -372,9 +398,7 @@ def lidar_cross_section(
     azimuth_deg: float = 0.0,
     elevation_deg: float = 0.0,
     range_m: float = math.inf,
-    quality: str = "standard",
-    grid: int | None = None,
-    replicates: int | None = None,
+    quality: str | RayGrid = "standard",
     seed: int = 0,
     beam_radius_m: float | None = None,
     keep_image: bool = False,
@@ -388,9 +412,8 @@ def lidar_cross_section(
         Direction from the target toward the sensor [deg] (docs/command-line.md convention).
     range_m : float
         Sensor distance [m]; ``inf`` (default) for a plane wave.
-    quality : {"draft", "standard", "reference"}
-        Preset of :data:`QUALITY_PRESETS`; ``grid`` and ``replicates`` override it.
-    grid, replicates : int, optional
+    quality : {"draft", "standard", "reference"} or RayGrid
+        Preset of :data:`QUALITY_PRESETS`, or the rays' grid and replicates (quality ``"custom"``).
     seed : int
     beam_radius_m : float, optional
         Radius of a top-hat beam centred on the target centre [m], on the
@@ -406,14 +429,14 @@ def lidar_cross_section(
     az, el = validate_angles(azimuth_deg, elevation_deg)
     if az.ndim or el.ndim:
         raise ParameterError("azimuth_deg/elevation_deg", (azimuth_deg, elevation_deg), "scalars")
-    g, r, name = resolve_quality(quality, grid, replicates)
+    g, r, name = resolve_quality(quality)
     rng_m = check_range(range_m, target.bounding_radius_m)
     if beam_radius_m is not None and not (math.isfinite(float(beam_radius_m)) and beam_radius_m > 0.0):
         raise ParameterError("beam_radius_m", beam_radius_m, "x > 0 m, or None for full illumination")
     target.scene()  # build (and select the variant) outside the timed section
     start = time.perf_counter()
     d = direction_vector(az, el)
-    out = trace_lcs(target, d[None, :], np.atleast_1d(az), rng_m, g, r, seed, beam_radius_m, keep_image)
+    out = trace_lcs(target, d[None, :], np.atleast_1d(az), rng_m, RayGrid(g, r), seed, beam_radius_m, keep_image)
     values, areas = out["lcs_m2"][0], out["area_m2"][0]
     w = out["windows"][0]
     elapsed = time.perf_counter() - start

@@ -30,6 +30,7 @@ from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.lidar.files import write_lcs_map
 from csuas.render.lidar.sphere_average import K_LCS_PAPER
 from csuas.render.lidar.target import LidarTarget
+from csuas.render.request import ATMOSPHERE_CHOICES, RenderRequest
 
 #: Diffraction-limited divergence factor of Eq. 87 (circular aperture).
 AIRY_FACTOR = 1.22
@@ -101,18 +102,7 @@ def _check_ranges(ranges_m) -> np.ndarray:
     return values
 
 
-def render_lidar(
-    scenario,
-    ranges_m,
-    quality: str = "standard",
-    azimuth_deg: float = 0.0,
-    elevation_deg: float = 0.0,
-    out_dir=None,
-    sensor: str | None = None,
-    seed: int = 0,
-    atmosphere: str = "auto",
-    progress=None,
-) -> list:
+def render_lidar(scenario, request: RenderRequest) -> list:
     """Lidar cross-section of the scenario's drone at each range, with errors, times and files.
 
     Parameters
@@ -120,25 +110,15 @@ def render_lidar(
     scenario : csuas.core.scenario.Scenario
         Uses ``target_preset`` (a :func:`csuas.drone_models.build_drone`
         preset) and the lidar sensor's ``wavelength_nm`` and ``aperture_mm``.
-    ranges_m : float or sequence of float
-        Slant ranges [m], finite, > 0 and beyond the drone's bounding sphere.
-    quality : {"draft", "standard", "reference"}
-        Ray-sampling preset (:data:`csuas.render.lidar.QUALITY_PRESETS`).
-    azimuth_deg, elevation_deg : float
-        Direction from the drone toward the sensor [deg] (docs/command-line.md).
-    out_dir : str or pathlib.Path, optional
-        Where to write ``lidar_<preset>_<range>m.exr`` and ``.png``; no files when omitted.
-    sensor : str, optional
-        Which lidar sensor of the scenario.
-    seed : int
-        Seed of the ray jitter.
-    atmosphere : {"auto", "on", "off"}
-        Accepted for the render-mode contract (:mod:`csuas.render.imaging.modes`);
-        the LCS is a property of the target, so no atmosphere enters it (the
-        path transmission is the range equation's, Eqs. 100-104); a note says so
-        when ``"on"``.
-    progress : text stream or callable, optional
-        A stream gets one line per range; a callable is called as
+    request : RenderRequest
+        The render mode's options (:class:`csuas.render.request.RenderRequest`): ``ranges_m`` (finite,
+        > 0 and beyond the drone's bounding sphere); ``quality``, the ray-sampling preset
+        (:data:`csuas.render.lidar.QUALITY_PRESETS`); ``azimuth_deg``, ``elevation_deg``; ``out_dir``
+        for an EXR and PNG map of the far-field LCS per pixel (no files without it); ``sensor``, which
+        lidar sensor of the scenario; ``seed`` of the ray jitter; ``atmosphere``, accepted for the
+        render-mode contract: the LCS is a property of the target, so no atmosphere enters it (the path
+        transmission is the range equation's, Eqs. 100-104), and a note says so when ``"on"``;
+        ``progress``: a stream gets one line per range, a callable is called as
         ``progress(index, count, message)``.
 
     Returns
@@ -155,95 +135,118 @@ def render_lidar(
     from csuas.drone_models import build_drone
     from csuas.drone_models.silhouette import projected_metrics
 
-    ranges = _check_ranges(ranges_m)
-    if atmosphere not in ("auto", "on", "off"):
-        raise ParameterError("atmosphere", atmosphere, "auto, on, off")
-    params = lidar_parameters(scenario, sensor)
-    lidars = [n for n, s in (getattr(scenario, "sensors", {}) or {}).items() if getattr(s, "modality", None) == "lidar"]
-    sensor_name = sensor or (lidars[0] if lidars else "table45")
+    ranges = _check_ranges(request.ranges_m)
+    if request.atmosphere not in ATMOSPHERE_CHOICES:
+        raise ParameterError("atmosphere", request.atmosphere, ", ".join(ATMOSPHERE_CHOICES))
+    params = lidar_parameters(scenario, request.sensor)
+    sensors = getattr(scenario, "sensors", {}) or {}
+    lidars = [n for n, s in sensors.items() if getattr(s, "modality", None) == "lidar"]
+    labels = {"scenario": scenario.name, "sensor": request.sensor or (lidars[0] if lidars else "table45")}
+    notes = _lidar_notes(bool(lidars), request.atmosphere)
+    drone = build_drone(getattr(scenario, "target_preset", None))
+    labels["target"] = drone.name
+    target = LidarTarget.from_drone(drone, params["wavelength_nm"])
+    view = projected_metrics(drone, request.azimuth_deg, request.elevation_deg)
+    results = []
+    for index, range_m in enumerate(ranges):
+        start = time.perf_counter()
+        row, far = _range_row(target, view, params, range_m, request)
+        if request.out_dir is not None:
+            row["files"] = _lcs_map_files(far, range_m, labels, params, request)
+        row["time_s"] = time.perf_counter() - start
+        row["notes"] = list(notes)
+        results.append(row)
+        message = f"lidar {range_m:g} m: LCS {far.lcs_m2:.4g} m^2 ({time.perf_counter() - start:.2f} s)"
+        if callable(request.progress):
+            request.progress(index + 1, len(ranges), message)
+        elif request.progress is not None:
+            request.progress.write(f"[{index + 1}/{len(ranges)}] {message}\n")
+            request.progress.flush()
+    return results
+
+
+def _lidar_notes(has_lidar: bool, atmosphere: str) -> list:
+    """Notes of every range: Table 45's defaults without a lidar sensor; an atmosphere asked for but not applied."""
     notes = []
-    if not any(getattr(s, "modality", None) == "lidar" for s in (getattr(scenario, "sensors", {}) or {}).values()):
+    if not has_lidar:
         notes.append("no lidar sensor in the scenario: Table 45 defaults (1550 nm, 3 mm aperture)")
     if atmosphere == "on":
         notes.append(
             "atmosphere not applied: the LCS is a target property; path transmission belongs to the "
             "lidar range equation (Eqs. 100-104)"
         )
-    preset = getattr(scenario, "target_preset", None)
-    drone = build_drone(preset)
-    target = LidarTarget.from_drone(drone, params["wavelength_nm"])
-    view = projected_metrics(drone, azimuth_deg, elevation_deg)
+    return notes
+
+
+def _range_row(target: LidarTarget, view: dict, params: dict, range_m, request: RenderRequest) -> tuple:
+    """One range's row (``time_s``, ``files`` and ``notes`` still to fill) and its far-field :class:`LcsResult`.
+
+    The far-field LCS (its image kept when files are written) and the LCS under the sensor's beam at
+    the range, beside the exact projected area and the paper's rule k_LCS A_p (Eq. 9).
+    """
+    az, el, quality, seed = request.azimuth_deg, request.elevation_deg, request.quality, request.seed
+    far = lidar_cross_section(target, az, el, math.inf, quality, seed=seed, keep_image=request.out_dir is not None)
+    diameter = beam_diameter_m(range_m, params["wavelength_nm"], params["aperture_mm"])
+    near = lidar_cross_section(target, az, el, range_m, quality, seed=seed + 1, beam_radius_m=0.5 * diameter)
+    fraction = illuminated_fraction(view, target.centre_m, 0.5 * diameter)
     area = view["projected_area_m2"]
-    results = []
-    for index, range_m in enumerate(ranges):
-        start = time.perf_counter()
-        far = lidar_cross_section(
-            target, azimuth_deg, elevation_deg, math.inf, quality, seed=seed, keep_image=out_dir is not None
-        )
-        diameter = beam_diameter_m(range_m, params["wavelength_nm"], params["aperture_mm"])
-        near = lidar_cross_section(
-            target, azimuth_deg, elevation_deg, range_m, quality, seed=seed + 1, beam_radius_m=0.5 * diameter
-        )
-        fraction = illuminated_fraction(view, target.centre_m, 0.5 * diameter)
-        files = []
-        if out_dir is not None:
-            pixel = (far.window_m[1] - far.window_m[0]) / far.image_m2.shape[1]
-            stem = file_stem(scenario.name, sensor_name, "lidar", range_m, azimuth_deg, elevation_deg, quality, seed)
-            rows, columns = far.image_m2.shape
-            files = write_lcs_map(
-                out_dir,
-                stem,
-                far.image_m2,
-                {
-                    "modality": "lidar",
-                    "target": drone.name,
-                    "scenario": scenario.name,
-                    "sensor": sensor_name,
-                    "band": f"{params['wavelength_nm']:g} nm",
-                    "units": "m^2 per pixel",
-                    "channels": "Y",
-                    "quality": str(far.quality),
-                    "seed": seed,
-                    "frame_width_px": columns,
-                    "frame_height_px": rows,
-                    "range_m": float(range_m),
-                    "azimuth_deg": float(azimuth_deg),
-                    "elevation_deg": float(elevation_deg),
-                    "ifov_rad": pixel / range_m,
-                    "quantity": "lidar cross-section per pixel (far field)",
-                    "pixel_size_m": pixel,
-                    "lcs_m2": far.lcs_m2,
-                    "stderr_m2": far.stderr_m2,
-                },
-            )
-        results.append(
-            {
-                "range_m": float(range_m),
-                "lcs_m2": far.lcs_m2,
-                "stderr": far.stderr_m2,
-                "time_s": time.perf_counter() - start,
-                "files": files,
-                "projected_area_m2": area,
-                "k_lcs_measured": far.lcs_m2 / area if area > 0.0 else 0.0,
-                "k_lcs_paper": K_LCS_PAPER,
-                "lcs_rule_m2": K_LCS_PAPER * area,
-                "beam_diameter_m": diameter,
-                "illuminated_fraction": fraction,
-                "lcs_illuminated_m2": near.lcs_m2,
-                "lcs_illuminated_stderr": near.stderr_m2,
-                "rays": far.rays + near.rays,
-                "quality": far.quality,
-                "method": "single_bounce",
-                "wavelength_nm": float(params["wavelength_nm"]),
-                "azimuth_deg": float(azimuth_deg),
-                "elevation_deg": float(elevation_deg),
-                "notes": list(notes),
-            }
-        )
-        message = f"lidar {range_m:g} m: LCS {far.lcs_m2:.4g} m^2 ({time.perf_counter() - start:.2f} s)"
-        if callable(progress):
-            progress(index + 1, len(ranges), message)
-        elif progress is not None:
-            progress.write(f"[{index + 1}/{len(ranges)}] {message}\n")
-            progress.flush()
-    return results
+    row = {
+        "range_m": float(range_m),
+        "lcs_m2": far.lcs_m2,
+        "stderr": far.stderr_m2,
+        "time_s": None,
+        "files": [],
+        "projected_area_m2": area,
+        "k_lcs_measured": far.lcs_m2 / area if area > 0.0 else 0.0,
+        "k_lcs_paper": K_LCS_PAPER,
+        "lcs_rule_m2": K_LCS_PAPER * area,
+        "beam_diameter_m": diameter,
+        "illuminated_fraction": fraction,
+        "lcs_illuminated_m2": near.lcs_m2,
+        "lcs_illuminated_stderr": near.stderr_m2,
+        "rays": far.rays + near.rays,
+        "quality": far.quality,
+        "method": "single_bounce",
+        "wavelength_nm": float(params["wavelength_nm"]),
+        "azimuth_deg": float(az),
+        "elevation_deg": float(el),
+        "notes": [],
+    }
+    return row, far
+
+
+def _lcs_map_files(far, range_m, labels: dict, params: dict, request: RenderRequest) -> list:
+    """The far-field LCS per pixel as EXR and PNG in the request's ``out_dir``, with its metadata.
+
+    ``labels``: the ``scenario``, ``sensor`` and ``target`` names of the file's stem and metadata.
+    """
+    az, el, quality, seed = request.azimuth_deg, request.elevation_deg, request.quality, request.seed
+    pixel = (far.window_m[1] - far.window_m[0]) / far.image_m2.shape[1]
+    stem = file_stem(labels["scenario"], labels["sensor"], "lidar", range_m, az, el, quality, seed)
+    rows, columns = far.image_m2.shape
+    return write_lcs_map(
+        request.out_dir,
+        stem,
+        far.image_m2,
+        {
+            "modality": "lidar",
+            "target": labels["target"],
+            "scenario": labels["scenario"],
+            "sensor": labels["sensor"],
+            "band": f"{params['wavelength_nm']:g} nm",
+            "units": "m^2 per pixel",
+            "channels": "Y",
+            "quality": str(far.quality),
+            "seed": seed,
+            "frame_width_px": columns,
+            "frame_height_px": rows,
+            "range_m": float(range_m),
+            "azimuth_deg": float(az),
+            "elevation_deg": float(el),
+            "ifov_rad": pixel / range_m,
+            "quantity": "lidar cross-section per pixel (far field)",
+            "pixel_size_m": pixel,
+            "lcs_m2": far.lcs_m2,
+            "stderr_m2": far.stderr_m2,
+        },
+    )

@@ -29,7 +29,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import rotated_lattices
 from csuas.drone_models.silhouette import SilhouetteModel, metrics_for_directions
-from csuas.render.lidar.cross_section import trace_lcs
+from csuas.render.lidar.cross_section import RayGrid, trace_lcs
 from csuas.render.lidar.target import LidarTarget
 from csuas.render.quality import LIDAR_SPHERE
 
@@ -106,7 +106,7 @@ def mean_lidar_cross_section(
     target.scene()
     start = time.perf_counter()
     directions = rotated_lattices(r, m, seed).reshape(-1, 3)
-    traced = trace_lcs(target, directions, None, math.inf, g, 1, seed + 1)
+    traced = trace_lcs(target, directions, None, math.inf, RayGrid(g, 1), seed + 1)
     lcs = traced["lcs_m2"][:, 0].reshape(r, m)
     area_traced = traced["area_m2"][:, 0].reshape(r, m)
     if exact_area_mesh is not None:

@@ -90,7 +90,13 @@ def bench_frames(n_frames: int = 10, range_m: float = 300.0) -> dict:
     for i in range(int(n_frames) + 1):
         start = time.perf_counter()
         out = eo_frame(
-            "dji_mini_4_pro", View(range_m, (37.0 * i) % 360.0, 5.0), EoSensor(), Daylight(), camera, chain, seed=i
+            "dji_mini_4_pro",
+            View(range_m, (37.0 * i) % 360.0, 5.0),
+            EoSensor(),
+            Daylight(),
+            camera,
+            chain,
+            settings=RenderSettings(quality="draft", seed=i),
         )
         total = time.perf_counter() - start
         if i:

@@ -98,27 +98,33 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
     from csuas.core import camera, detection
     from csuas.defaults import default_values
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
-    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 
-    settings = camera_from_params()
+    optics = camera_from_params()
     read = float(default_values("eo")["read_noise_e"])
     rows = []
     for lux in illuminances_lx:
         light = Daylight(illuminance_lx=float(lux), background=0.3)
         frame = eo_frame(
-            "dji_mini_4_pro", View(range_m, 30.0, 10.0), EoSensor(), light, settings, ChainSettings(stages=()), seed=0
+            "dji_mini_4_pro",
+            View(range_m, 30.0, 10.0),
+            EoSensor(),
+            light,
+            optics,
+            ChainSettings(stages=()),
+            settings=RenderSettings(quality="draft", seed=0),
         )
         background = frame["background_behind_e"]
         pixels = float(frame["label"]["pixels_on_target"])
         rendered = target_snr(frame, read)
         luminance = 0.3 * float(lux) / math.pi
         rate = camera.electron_rate(
-            camera.focal_plane_illuminance_lx(luminance, settings["f_number"], settings["optics_transmittance"]),
-            settings["pixel_pitch_um"],
-            settings["quantum_efficiency"],
+            camera.focal_plane_illuminance_lx(luminance, optics["f_number"], optics["optics_transmittance"]),
+            optics["pixel_pitch_um"],
+            optics["quantum_efficiency"],
             camera.photons_per_lumen(),
         )
-        exposure = camera.auto_exposure_s(rate, settings["full_well_e"], settings["max_exposure_ms"] / 1000.0)
+        exposure = camera.auto_exposure_s(rate, optics["full_well_e"], optics["max_exposure_ms"] / 1000.0)
         s_b = float(rate * exposure)
         contrast = float(frame["result"].values["contrast"])
         core = float(
@@ -169,9 +175,9 @@ def rendered_light_limited_range(
     from csuas.core import camera, detection
     from csuas.defaults import default_values
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
-    from csuas.render.imaging.records import Daylight, EoSensor, View
+    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 
-    settings = camera_from_params()
+    optics = camera_from_params()
     eo = default_values("eo")
     read = float(eo["read_noise_e"])
     required = float(detection.gaussian_required_snr(eo["p_desired"], eo["pfa"]))
@@ -182,14 +188,20 @@ def rendered_light_limited_range(
         def frame_at(range_m, light=light):
             view = View(float(range_m), 30.0, 10.0)
             return eo_frame(
-                "dji_mini_4_pro", view, EoSensor(), light, settings, ChainSettings(stages=()), seed=0, quality=quality
+                "dji_mini_4_pro",
+                view,
+                EoSensor(),
+                light,
+                optics,
+                ChainSettings(stages=()),
+                settings=RenderSettings(quality=quality, seed=0),
             )
 
         reference = frame_at(reference_range_m)["result"]
         ifov = reference.ifov_rad
         area = reference.values["pixels_on_target"] * (reference_range_m * ifov) ** 2
         # the frame's camera: f-number, optics, pixel, QE, exposure limit, full well
-        chain = camera.CameraChain(**settings, read_noise_e=read, dark_current_e_s=0.0, required_snr=required)
+        chain = camera.CameraChain(**optics, read_noise_e=read, dark_current_e_s=0.0, required_snr=required)
         core, _ = camera.light_limited_range_m(
             chain,
             illuminance_lx=float(lux),

@@ -86,6 +86,12 @@ def _thermal_checks(q, seed) -> list:
 
 
 def _eo_checks(q, seed) -> list:
+    """The visible-band checks: the drone's silhouette and contrast, a plate's Eq. 4 contrast, and Eq. 21's range."""
+    return [*_drone_checks(q, seed), _plate_contrast_check(q, seed), _contrast_limited_range_check(q, seed)]
+
+
+def _drone_checks(q, seed) -> list:
+    """The default drone's pixels on target at 500 m (exact silhouette), its Johnson range (Eq. 18) and C0."""
     from csuas.drone_models import build_drone
     from csuas.drone_models.silhouette import projected_metrics
 
@@ -142,6 +148,11 @@ def _eo_checks(q, seed) -> list:
             ),
         )
     )
+    return out
+
+
+def _plate_contrast_check(q, seed) -> Check:
+    """Eq. 4: a sunlit Lambertian plate against a Lambertian background under the same illuminance."""
     rho, rho_bg = 0.5, 0.2
     res = render_eo(
         plate(reflectance=rho),
@@ -151,18 +162,20 @@ def _eo_checks(q, seed) -> list:
         ),
         settings=RenderSettings(quality=q, seed=seed),
     )
-    out.append(
-        Check.of_paper(
-            "Eq4.contrast.lambertian_plate",
-            (rho - rho_bg) / (rho + rho_bg),
-            res.values["contrast"],
-            "-",
-            "Eq. 4 (same illuminance on target and background)",
-            "rendered Eq. 3 contrast of a sunlit plate",
-            rel_tol=1e-4,
-            extra=_extra(res, "contrast"),
-        )
+    return Check.of_paper(
+        "Eq4.contrast.lambertian_plate",
+        (rho - rho_bg) / (rho + rho_bg),
+        res.values["contrast"],
+        "-",
+        "Eq. 4 (same illuminance on target and background)",
+        "rendered Eq. 3 contrast of a sunlit plate",
+        rel_tol=1e-4,
+        extra=_extra(res, "contrast"),
     )
+
+
+def _contrast_limited_range_check(q, seed) -> Check:
+    """Eq. 21: the range where the rendered Koschmieder contrast at 1 and 3 km (V = 5 km) falls to c_min."""
     near, far = (
         render_eo(
             plate(reflectance=0.05),
@@ -179,19 +192,16 @@ def _eo_checks(q, seed) -> list:
     expected = float(
         contrast_limited_range_m(abs(near.values["contrast_weber_inherent"]), 0.05, math.log(50.0) / 5.0, "physical")
     )
-    out.append(
-        Check.of_paper(
-            "Eq21.contrast_limited_range.rendered",
-            expected,
-            rendered,
-            "m",
-            "Eq. 21 (physical convention) with the rendered C0, V = 5 km, c_min = 0.05",
-            "range where the rendered Koschmieder contrast (1 and 3 km) falls to c_min",
-            rel_tol=0.02,
-            extra={"time_s": near.time_s + far.time_s, "quality": q.name},
-        )
+    return Check.of_paper(
+        "Eq21.contrast_limited_range.rendered",
+        expected,
+        rendered,
+        "m",
+        "Eq. 21 (physical convention) with the rendered C0, V = 5 km, c_min = 0.05",
+        "range where the rendered Koschmieder contrast (1 and 3 km) falls to c_min",
+        rel_tol=0.02,
+        extra={"time_s": near.time_s + far.time_s, "quality": q.name},
     )
-    return out
 
 
 #: Samples of the fog-medium check at every preset: volumetric random walks have heavy-tailed
@@ -202,8 +212,9 @@ MEDIUM_QUALITY = Quality("medium_check", 6, 8)
 def _medium_check(seed) -> Check:
     t0 = time.perf_counter()
     q = MEDIUM_QUALITY
+    settings = RenderSettings(quality=q, seed=seed)
     m = medium_vs_analytic_airlight(
-        plate(width_m=0.3, height_m=0.3, reflectance=0.05), range_m=300.0, visibility_km=0.5, quality=q, seed=seed
+        plate(width_m=0.3, height_m=0.3, reflectance=0.05), View(300.0), visibility_km=0.5, settings=settings
     )
     return Check.of_paper(
         "render.eo.fog_medium_vs_koschmieder_airlight",

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from csuas.drone_models.geometry import direction_vector
-from csuas.render.lidar.cross_section import QUALITY_PRESETS, lidar_cross_section
+from csuas.render.lidar.cross_section import QUALITY_PRESETS, RayGrid, lidar_cross_section
 from csuas.render.lidar.target import LidarTarget
 
 #: The reference problem: icosphere subdivisions, radius [m], albedo, azimuth and elevation [deg].
@@ -83,9 +83,7 @@ def accuracy_vs_time(grids=DEFAULT_GRIDS, replicates: int = 8, seed: int = 0) ->
                 p["azimuth_deg"],
                 p["elevation_deg"],
                 math.inf,
-                "standard",
-                grid=int(g),
-                replicates=replicates,
+                RayGrid(int(g), replicates),
                 seed=seed,
             ),
             exact,

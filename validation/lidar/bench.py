@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from csuas.render.lidar.cross_section import QUALITY_PRESETS, lidar_cross_section
+from csuas.render.lidar.cross_section import QUALITY_PRESETS, RayGrid, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.sphere_average import mean_lidar_cross_section
 from csuas.render.lidar.target import LidarTarget
@@ -70,7 +70,7 @@ def bench(preset: str = "dji_mini_4_pro") -> dict:
     lidar_cross_section(target, az, el, quality="draft")  # warm-up: kernel compilation
     raw = _raw_throughput(target, RAW_RAYS)
     big = min(
-        (lidar_cross_section(target, az, el, quality="standard", grid=512, replicates=8) for _ in range(3)),
+        (lidar_cross_section(target, az, el, quality=RayGrid(512, 8)) for _ in range(3)),
         key=lambda r: r.time_s,
     )
     single = {}

@@ -29,7 +29,7 @@ from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
-from csuas.validation.report.figures import curves
+from csuas.validation.report.figures import PlotAxes, curves
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Render quality per report quality (samples per pixel: draft 32, reference 2048).
@@ -96,8 +96,6 @@ EXPLAIN_1 = (
 
 def eo_fog_transmission(render_quality: str) -> Section:
     """Table 47's eta_TL and the EO contrast limit in fog, paper vs physical vs rendered contrast."""
-    from csuas.render.imaging import render_eo
-
     s = Section()
     sigma = float(atmosphere.kruse_extinction_per_km(1550.0, 3.0))
     eta_paper = float(atmosphere.transmittance(sigma, 3000.0, "paper"))
@@ -125,26 +123,7 @@ def eo_fog_transmission(render_quality: str) -> Section:
 
     # Rendered contrast in the same fog at several ranges (Koschmieder: C(R) = C0 exp(-beta R) against the sky).
     ranges = np.array([40.0, 80.0, 120.0, 160.0, 200.0, 260.0])
-    rows = []
-    for r in ranges:
-        res = render_eo(
-            sc.target_preset,
-            View(range_m=float(r)),
-            sensor=EoSensor(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"], wavelength_nm=p["wavelength_nm"]),
-            light=Daylight(illuminance_lx=sc.environment["illuminance_lx"], visibility_km=v_km),
-            settings=RenderSettings(quality=render_quality, seed=1),
-            atmosphere=v_km is not None,
-        )
-        rows.append(
-            (
-                res.values["contrast_weber"],
-                res.stderr["contrast_weber"],
-                res.values["contrast_weber_inherent"],
-                res.stderr["contrast_weber_inherent"],
-                res.time_s,
-            )
-        )
-    c, c_se, c0, c0_se, times = (np.array(x) for x in zip(*rows))
+    c, c_se, c0, c0_se, times = _fog_contrasts(sc, ranges, render_quality)
     c0_mean = float(np.average(np.abs(c0), weights=1.0 / np.maximum(c0_se, 1e-9) ** 2))
     measured = np.abs(c)
     # range where the rendered |C| falls to c_min: weighted least-squares line through ln|C| against R at all
@@ -180,25 +159,59 @@ def eo_fog_transmission(render_quality: str) -> Section:
             details={"ranges_m": ranges, "contrast_weber": c, "stderr": c_se, "beta_per_km": beta, **fit},
         )
     )
-    rr = np.linspace(1.0, 1.3 * max(r_paper_sim, ranges[-1]), 300)
-    s.figures.append(
-        curves(
-            "conv1_contrast_vs_range",
-            f"EO apparent contrast in fog (V = {v_km * 1000:g} m, 550 nm)",
-            x_label="slant range [m]",
-            y_label="|apparent contrast| (Weber)",
-            log_y=True,
-            lines=[
-                ("paper: C0 10^(-sigma R/10)", rr, c0_mean * atmosphere.transmittance(beta, rr, "paper")),
-                ("physical: C0 exp(-beta R)", rr, c0_mean * atmosphere.transmittance(beta, rr, "physical")),
-            ],
-            points=[("rendered (Mitsuba)", ranges, measured, N_SIGMA * c_se)],
-            hlines=[("c_min", c_min)],
-            caption="Contrast limit (Eq. 21): analytic curves with the rendered inherent contrast C0; points: "
-            f"rendered apparent contrast, error bars {N_SIGMA:g} standard errors.",
-        )
-    )
+    farthest = max(r_paper_sim, ranges[-1])
+    s.figures.append(_fog_contrast_figure(ranges, measured, c_se, c0_mean, beta, c_min, farthest, v_km))
     return s
+
+
+def _fog_contrasts(sc, ranges, render_quality: str) -> tuple:
+    """Rendered apparent and inherent Weber contrasts of the scenario's drone in its fog at ``ranges`` [m].
+
+    Returns arrays of the contrast, its standard error, the inherent contrast and its standard error, and the
+    render times [s].
+    """
+    from csuas.render.imaging import render_eo
+
+    p = sc.sensors["eo"].params
+    v_km = sc.optical_visibility_km
+    rows = []
+    for r in ranges:
+        res = render_eo(
+            sc.target_preset,
+            View(range_m=float(r)),
+            sensor=EoSensor(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"], wavelength_nm=p["wavelength_nm"]),
+            light=Daylight(illuminance_lx=sc.environment["illuminance_lx"], visibility_km=v_km),
+            settings=RenderSettings(quality=render_quality, seed=1),
+            atmosphere=v_km is not None,
+        )
+        rows.append(
+            (
+                res.values["contrast_weber"],
+                res.stderr["contrast_weber"],
+                res.values["contrast_weber_inherent"],
+                res.stderr["contrast_weber_inherent"],
+                res.time_s,
+            )
+        )
+    return tuple(np.array(x) for x in zip(*rows))
+
+
+def _fog_contrast_figure(ranges, measured, c_se, c0_mean: float, beta: float, c_min: float, farthest_m: float, v_km):
+    """Paper and physical contrast against range up to 1.3 ``farthest_m``, beside the rendered points (Eq. 21)."""
+    rr = np.linspace(1.0, 1.3 * farthest_m, 300)
+    return curves(
+        "conv1_contrast_vs_range",
+        f"EO apparent contrast in fog (V = {v_km * 1000:g} m, 550 nm)",
+        axes=PlotAxes("slant range [m]", "|apparent contrast| (Weber)", log_y=True),
+        lines=[
+            ("paper: C0 10^(-sigma R/10)", rr, c0_mean * atmosphere.transmittance(beta, rr, "paper")),
+            ("physical: C0 exp(-beta R)", rr, c0_mean * atmosphere.transmittance(beta, rr, "physical")),
+        ],
+        points=[("rendered (Mitsuba)", ranges, measured, N_SIGMA * c_se)],
+        hlines=[("c_min", c_min)],
+        caption="Contrast limit (Eq. 21): analytic curves with the rendered inherent contrast C0; points: "
+        f"rendered apparent contrast, error bars {N_SIGMA:g} standard errors.",
+    )
 
 
 def contrast_crossing_m(ranges_m, contrast, stderr, c_min: float):
@@ -264,16 +277,31 @@ def _plate(emissivity: float, temperature_k: float, side_m: float):
 
 def thermal_contrast(render_quality: str) -> Section:
     """Delta T of the defaults: linear 33.6 K, radiometric 15.3 K, rendered plate; Eq. 31 over 1 and 3 km."""
-    from csuas.render.imaging import render_tir
-
     s = Section()
     sc = scenario("default")
+    settings = RenderSettings(quality=render_quality, seed=2)
+    _plate_delta_t(s, sc, settings)
+    _drone_delta_t_with_surroundings(s, sc, settings)
+    _attenuated_delta_t(s, sc, settings)
+    return s
+
+
+def _thermal_inputs(sc) -> tuple:
+    """Eq. 26's arguments (eps_t, T_t, eps_bg, T_bg), the TIR camera's field of view and pixels, the background."""
     t, env, p = sc.target, sc.environment, sc.sensors["tir"].params
     args = (t["emissivity_suas"], t["t_suas_k"], env["emissivity_bg"], env["t_bg_k"])
-    dt_lin = float(tir.delta_t_linear(*args))
     camera = dict(hfov_deg=p["hfov_deg"], n_h=p["n_h"], n_v=p["n_v"])
     background = dict(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"])
-    settings = RenderSettings(quality=render_quality, seed=2)
+    return args, camera, background
+
+
+def _plate_delta_t(s: Section, sc, settings: RenderSettings) -> None:
+    """Linear vs radiometric Delta T per band, beside a rendered graybody plate without reflected surroundings."""
+    from csuas.render.imaging import render_tir
+
+    t = sc.target
+    args, camera, background = _thermal_inputs(sc)
+    dt_lin = float(tir.delta_t_linear(*args))
     for band in ("lwir", "mwir"):
         dt_rad = float(tir.delta_t_radiometric(*args, band))
         plate = _plate(t["emissivity_suas"], t["t_suas_k"], 1.0)
@@ -304,10 +332,18 @@ def thermal_contrast(render_quality: str) -> Section:
                 time_s=res.time_s,
                 source="band Planck radiometry (csuas.core.radiometry), docs/validation.md",
                 method=f"Mitsuba thermal render of a graybody plate (eps {t['emissivity_suas']}, {t['t_suas_k']} K) "
-                f"against the background graybody, {render_quality} quality",
+                f"against the background graybody, {settings.quality} quality",
             )
         )
-    # reflected surroundings at the air temperature (physical only) and the rendered drone
+
+
+def _drone_delta_t_with_surroundings(s: Section, sc, settings: RenderSettings) -> None:
+    """Radiometric Delta T with the surroundings at the air temperature reflected, beside the rendered drone."""
+    from csuas.render.imaging import render_tir
+
+    env = sc.environment
+    args, camera, background = _thermal_inputs(sc)
+    dt_lin = float(tir.delta_t_linear(*args))
     dt_surr = float(tir.delta_t_radiometric(*args, "lwir", env["temperature_k"]))
     res = render_tir(
         sc.target_preset,
@@ -329,7 +365,15 @@ def thermal_contrast(render_quality: str) -> Section:
             "(not a uniform graybody), at 100 m",
         )
     )
-    # Eq. 31 over the path: paper exp(-sigma z), physical radiance transmittance + path radiance, rendered plate
+
+
+def _attenuated_delta_t(s: Section, sc, settings: RenderSettings) -> None:
+    """Eq. 31 over the path: paper exp(-sigma z), physical radiance transmittance and path radiance, rendered plate."""
+    from csuas.render.imaging import render_tir
+
+    t, env = sc.target, sc.environment
+    args, camera, background = _thermal_inputs(sc)
+    dt_lin = float(tir.delta_t_linear(*args))
     sigma = 1.0
     t_bg_app = float(graybody_apparent_temperature(env["emissivity_bg"], env["t_bg_k"], "lwir"))
     dt0 = float(tir.delta_t_radiometric(*args, "lwir"))
@@ -384,8 +428,7 @@ def thermal_contrast(render_quality: str) -> Section:
         curves(
             "conv2_delta_t_vs_range",
             "TIR apparent Delta T vs range (LWIR, 1 dB/km)",
-            x_label="range [m]",
-            y_label="apparent Delta T [K]",
+            axes=PlotAxes("range [m]", "apparent Delta T [K]"),
             lines=[
                 ("paper: Eq. 26 x exp(-sigma z) (Eq. 31)", rr, tir.attenuated_delta_t(dt_lin, rr, sigma, "paper")),
                 (
@@ -406,7 +449,6 @@ def thermal_contrast(render_quality: str) -> Section:
             caption="Target colder than the background: Delta T < 0.",
         )
     )
-    return s
 
 
 # --- 3. C_TIR ---------------------------------------------------------------------------------------------
@@ -700,13 +742,14 @@ EXPLAIN_8 = (
 def lidar_interaction_and_transmission(quality: str) -> Section:
     """Lidar: I_laser paper vs bounded vs ray-traced under the beam, eta_TL, ranges."""
     from csuas.render.lidar.runner import render_lidar
+    from csuas.render.request import RenderRequest
 
     s = Section()
     sc = scenario("default")
     p, t = sc.sensors["lidar"].params, sc.target
     paper, phys = _ranges("default", "paper")["lidar"], _ranges("default", "physical")["lidar"]
     ranges = [10.0, 100.0]
-    rows, elapsed = timed(render_lidar, sc, ranges, quality)
+    rows, elapsed = timed(render_lidar, sc, RenderRequest(ranges, quality))
     for row in rows:
         r = row["range_m"]
         a_illum = math.pi * (r * float(lidar.divergence_rad(p["wavelength_nm"], p["aperture_mm"])) / 2) ** 2

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from csuas.base.checks import Check
-from csuas.validation.report.figures import curves
+from csuas.validation.report.figures import PlotAxes, curves
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 N_SIGMA = 3.0
@@ -205,8 +205,7 @@ def drone_fluctuation(settings: dict) -> Section:
         curves(
             "pd_drone_fluctuation",
             "Pd of the drone's own aspect distribution vs the Swerling models (10 pulses, Pfa 1e-6)",
-            x_label="mean single-pulse SNR [dB] (40 dB = a tenth of the range)",
-            y_label="probability of detection",
+            axes=PlotAxes("mean single-pulse SNR [dB] (40 dB = a tenth of the range)", "probability of detection"),
             lines=lines,
             caption=f"SBR-PO at {samples['tubes']:,} tubes over {settings['aspects']} random aspects in "
             f"{samples['time_s']:.1f} s; the drone's chi-square degrees of freedom per band are in the table.",

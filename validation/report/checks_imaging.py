@@ -21,8 +21,8 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.render.imaging.records import EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
+from csuas.validation.report.figures import AccuracyColumns, PlotAxes, curves, image
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.figures import curves, image
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 QUALITY = {"quick": "draft", "full": "reference"}
@@ -117,8 +117,7 @@ def johnson(quality: str) -> Section:
         curves(
             "imaging_pixels_vs_range",
             "EO: pixels across d_crit vs range (Johnson, Eq. 18)",
-            x_label="slant range [m]",
-            y_label="pixels across d_crit",
+            axes=PlotAxes("slant range [m]", "pixels across d_crit"),
             lines=[
                 (
                     f"d_crit / (IFOV R), Table 8 d_crit {sc.target['d_crit_m']} m",
@@ -179,10 +178,9 @@ def pixels_on_target(settings: dict) -> Section:
             "imaging_accuracy_vs_time",
             f"EO render: pixels on target at {r:g} m vs time",
             rows,
-            knob="spp",
-            error_key="abs_relative_error",
-            error_label="|relative error| vs exact area",
-            stderr_key="stderr_rel",
+            columns=AccuracyColumns(
+                "spp", "abs_relative_error", error_label="|relative error| vs exact area", stderr_key="stderr_rel"
+            ),
             caption="Labels: samples per pixel (jittered strata x 8 batches).",
             presets={name: q.n_side**2 * q.n_batches for name, q in QUALITY_PRESETS.items()},
         )
@@ -284,16 +282,31 @@ CHAIN_NETD_K = 0.05
 
 def sensor_chain(_knob=None) -> Section:
     """Slanted-edge MTF, photon-transfer gain and read noise, and flat-field NETD of the sensor chain."""
-    from csuas.render.imaging.sensor_chain import ChainSettings
-    from csuas.validation.imaging.chain_checks import (
-        flat_field_netd,
-        photon_transfer,
-        rendered_light_limited_range,
-        rendered_snr_against_core,
-        slanted_edge_mtf,
-    )
-
     s = Section()
+    mtf = _slanted_edge_check(s)
+    _photon_transfer_checks(s)
+    _flat_field_netd_check(s)
+    _rendered_snr_checks(s)
+    _light_limited_range_checks(s)
+    f = mtf["frequency_cy_px"]
+    s.figures.append(
+        curves(
+            "imaging_sensor_chain_mtf",
+            "Sensor chain MTF: slanted edge against the analytic chain",
+            axes=PlotAxes("spatial frequency [cycles / pixel]", "MTF"),
+            lines=[("analytic: diffraction x jitter x pixel", f, mtf["analytic"])],
+            points=[("slanted edge (ISO 12233)", f, mtf["measured"], None)],
+            caption="f/8 at 0.55 um on 2.9 um pixels, 0.3 px rms jitter.",
+        )
+    )
+    return s
+
+
+def _slanted_edge_check(s: Section) -> dict:
+    """The slanted edge's MTF at 0.25 cy/px against the analytic chain; returns the measured and analytic MTF."""
+    from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.validation.imaging.chain_checks import slanted_edge_mtf
+
     edge_settings = ChainSettings(stages=("psf",), **CHAIN_EDGE)
     mtf, t_mtf = timed(slanted_edge_mtf, edge_settings)
     quarter = int(np.argmin(np.abs(mtf["frequency_cy_px"] - 0.25)))
@@ -311,6 +324,14 @@ def sensor_chain(_knob=None) -> Section:
             details={"max_abs_difference_to_nyquist": mtf["max_abs_difference"]},
         )
     )
+    return mtf
+
+
+def _photon_transfer_checks(s: Section) -> None:
+    """EMVA 1288 photon transfer: the conversion gain and the read noise of the detector stages."""
+    from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.validation.imaging.chain_checks import photon_transfer
+
     detector = ChainSettings(stages=("shot_noise", "read_noise", "quantise"), **CHAIN_DETECTOR)
     ptc, t_ptc = timed(photon_transfer, detector)
     s.outcomes += [
@@ -337,6 +358,13 @@ def sensor_chain(_knob=None) -> Section:
             tolerance_source="10 %: the intercept of a fit dominated by shot noise",
         ),
     ]
+
+
+def _flat_field_netd_check(s: Section) -> None:
+    """The NETD stage: the temporal standard deviation of a flat frame against the configured NETD."""
+    from csuas.render.imaging.sensor_chain import ChainSettings
+    from csuas.validation.imaging.chain_checks import flat_field_netd
+
     thermal = ChainSettings(stages=("netd",), netd_k=CHAIN_NETD_K)
     netd, t_netd = timed(flat_field_netd, thermal)
     s.outcomes.append(
@@ -352,6 +380,12 @@ def sensor_chain(_knob=None) -> Section:
             tolerance_source="2 %: the standard deviation of 65 536 samples (0.3 %)",
         )
     )
+
+
+def _rendered_snr_checks(s: Section) -> None:
+    """Blob SNR of rendered full frames against the core's camera equation, per illuminance."""
+    from csuas.validation.imaging.chain_checks import rendered_snr_against_core
+
     rows, t_snr = timed(rendered_snr_against_core)
     for row in rows:
         s.outcomes.append(
@@ -368,6 +402,12 @@ def sensor_chain(_knob=None) -> Section:
                 details={"background_e": row["background_e_rendered"]},
             )
         )
+
+
+def _light_limited_range_checks(s: Section) -> None:
+    """The range where rendered frames' SNR meets the threshold against the core's light-limited range."""
+    from csuas.validation.imaging.chain_checks import rendered_light_limited_range
+
     ranges, t_range = timed(rendered_light_limited_range)
     for row in ranges:
         s.outcomes.append(
@@ -385,19 +425,6 @@ def sensor_chain(_knob=None) -> Section:
                 "root and at the 300 m reference); the range moves by at most the SNR's relative error",
             )
         )
-    f = mtf["frequency_cy_px"]
-    s.figures.append(
-        curves(
-            "imaging_sensor_chain_mtf",
-            "Sensor chain MTF: slanted edge against the analytic chain",
-            x_label="spatial frequency [cycles / pixel]",
-            y_label="MTF",
-            lines=[("analytic: diffraction x jitter x pixel", f, mtf["analytic"])],
-            points=[("slanted edge (ISO 12233)", f, mtf["measured"], None)],
-            caption="f/8 at 0.55 um on 2.9 um pixels, 0.3 px rms jitter.",
-        )
-    )
-    return s
 
 
 def closed_loop(settings: dict) -> Section:
@@ -437,8 +464,7 @@ def closed_loop(settings: dict) -> Section:
         curves(
             "imaging_closed_loop",
             f"Detection of a DJI Mini 4 Pro at {CLOSED_LOOP_LUX:g} lx: a matched filter on rendered frames",
-            x_label="range [m]",
-            y_label="Pd (Pfa 0.01)",
+            axes=PlotAxes("range [m]", "Pd (Pfa 0.01)"),
             lines=[
                 ("matched filter, Gaussian prediction", r, [row["pd_matched_filter"] for row in rows]),
                 ("core: uniform blob, light-limited model", r, [row["pd_core_light"] for row in rows]),

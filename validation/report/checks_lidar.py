@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 from csuas.base.checks import Check
+from csuas.validation.report.figures import AccuracyColumns
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
@@ -104,10 +105,9 @@ def accuracy(grids) -> Section:
             "lidar_accuracy_vs_time",
             "Lidar cross-section: |error| vs time (Lambertian icosphere)",
             rows,
-            knob="grid",
-            error_key="error_rel",
-            error_label="|relative error| vs exact",
-            stderr_key="stderr_rel",
+            columns=AccuracyColumns(
+                "grid", "error_rel", error_label="|relative error| vs exact", stderr_key="stderr_rel"
+            ),
             caption="8 jitter replicates per grid; labels: grid cells per side.",
             presets={name: grid for name, (grid, _) in QUALITY_PRESETS.items()},
         )

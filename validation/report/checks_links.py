@@ -20,8 +20,8 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.render.quality import LINKS
+from csuas.validation.report.figures import AccuracyColumns, PlotAxes, curves
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.figures import curves
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Sample budget of the link checks per report quality.
@@ -97,9 +97,7 @@ def rf_links(budget: str) -> Section:
         curves(
             "links_rf_range_curve",
             "RF path gain drone (30 m) -> sensor (2 m), 2.4 GHz",
-            x_label="distance [m]",
-            y_label="path gain [dB]",
-            log_x=True,
+            axes=PlotAxes("distance [m]", "path gain [dB]", log_x=True),
             lines=[
                 ("Friis (Eq. 54)", dd, closed_form_db("rf", f, dd, 30.0, 2.0)),
                 (f"two-ray over {GROUND}", dd, closed_form_db("rf", f, dd, 30.0, 2.0, eta)),
@@ -157,9 +155,7 @@ def radar_links(budget: str) -> Section:
         curves(
             "links_radar_range_curve",
             "Radar two-way gain, drone 0.01 m^2",
-            x_label="range [m]",
-            y_label="P_rx / (P_tx G_tx G_rx) [dB]",
-            log_x=True,
+            axes=PlotAxes("range [m]", "P_rx / (P_tx G_tx G_rx) [dB]", log_x=True),
             lines=[
                 ("Eq. 68, 23.98 GHz", dd, closed_form_db("radar", 23.98, dd, 5.0, 5.0)),
                 (f"four-path, 10 GHz over {GROUND}", dd, closed_form_db("radar", 10.0, dd, 5.0, 10.0, eta)),
@@ -234,9 +230,7 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
         curves(
             "links_radar_sbr_range_curve",
             f"Radar link to the SBR-PO drone, {f:g} GHz",
-            x_label="range [m]",
-            y_label="P_rx / (P_tx G_tx G_rx) [dB]",
-            log_x=True,
+            axes=PlotAxes("range [m]", "P_rx / (P_tx G_tx G_rx) [dB]", log_x=True),
             lines=lines,
             points=points,
         )
@@ -268,9 +262,7 @@ def link_accuracy(budgets) -> Section:
                 f"links_{link}_accuracy_vs_time",
                 f"Sionna RT {link} link over {GROUND}: error vs time",
                 rows,
-                knob="samples",
-                error_key="max_error_db",
-                error_label="largest |error| vs closed form [dB]",
+                columns=AccuracyColumns("samples", "max_error_db", error_label="largest |error| vs closed form [dB]"),
                 caption="Warm wall time per solve; labels: rays per source.",
                 presets={name: b.samples for name, b in PRESETS.items()},
             )
@@ -299,9 +291,27 @@ def link_accuracy(budgets) -> Section:
 TERRAIN_MAP_SAMPLES = {"quick": 2**18, "full": 2**22}
 
 
+def _map_accuracy_figure(rows: list, replicas: int):
+    """The flat-ground radio map's median error and bound against rays per replica and wall time."""
+    from csuas.render.links.terrain_map import BOUND_LEVEL
+
+    return plot_accuracy(
+        "links_terrain_map_accuracy_vs_time",
+        "Radio map over flat ground: error vs rays per replica",
+        rows,
+        columns=AccuracyColumns(
+            "samples",
+            "median_abs_error_db",
+            error_label="median |error| vs two-ray power sum [dB]",
+            stderr_key="median_bound_db",
+            stderr_label=f"median {BOUND_LEVEL:.0%} bound [dB]",
+        ),
+        caption=f"{replicas} replicas per map; wall time of the whole map.",
+    )
+
+
 def terrain_radio_maps(samples: int) -> Section:
     """Sionna radio maps over a flat DEM (two-ray model, power sum) and over a ridge (viewshed), with their cost."""
-    from csuas.render.links.terrain_map import BOUND_LEVEL
     from csuas.validation.links.terrain_map import accuracy_vs_samples, flat_ground_comparison, ridge_line_of_sight
 
     s = Section()
@@ -312,19 +322,7 @@ def terrain_radio_maps(samples: int) -> Section:
     s.figures.append(_flat_profile_figure(flat))
     exponents = range(14, int(np.log2(samples)) + 1, 2)
     rows, elapsed = timed(accuracy_vs_samples, [2**e for e in exponents])
-    s.figures.append(
-        plot_accuracy(
-            "links_terrain_map_accuracy_vs_time",
-            "Radio map over flat ground: error vs rays per replica",
-            rows,
-            knob="samples",
-            error_key="median_abs_error_db",
-            error_label="median |error| vs two-ray power sum [dB]",
-            stderr_key="median_bound_db",
-            stderr_label=f"median {BOUND_LEVEL:.0%} bound [dB]",
-            caption=f"{result.replicas} replicas per map; wall time of the whole map.",
-        )
-    )
+    s.figures.append(_map_accuracy_figure(rows, result.replicas))
     s.table += [{"map": "flat", **r} for r in rows]
     s.notes.append(
         f"map vs coherent two-ray (lobes): median |difference| {flat['coherent_median_abs_db']:.2f} dB, "
@@ -445,8 +443,7 @@ def _flat_profile_figure(flat: dict):
     return curves(
         "links_terrain_map_flat_profile",
         f"Radio map over flat ground vs two-ray, {f:g} GHz {FLAT['polarization']}",
-        x_label="distance from the mast [m]",
-        y_label="path gain [dB]",
+        axes=PlotAxes("distance from the mast [m]", "path gain [dB]"),
         lines=[
             ("two-ray, coherent, at points", fine, points),
             ("two-ray, coherent, cell average", d, flat["coherent_db"][row]),

@@ -20,8 +20,8 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core.units import wavenumber_rad_m
+from csuas.validation.report.figures import AccuracyColumns, from_writer
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
-from csuas.validation.report.figures import from_writer
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: SBR quality preset per report quality.
@@ -82,11 +82,13 @@ def convergence(settings: dict) -> Section:
             "rcs_accuracy_vs_time",
             "SBR-PO: mean |error| on the 0.1 m plate at 10 GHz vs time",
             rows,
-            knob="rays_per_wavelength",
-            error_key="mean_abs_error_db",
-            error_label="mean |error| [dB]",
-            stderr_key="model_error_db",
-            stderr_label="error model C P lambda / (A N)",
+            columns=AccuracyColumns(
+                "rays_per_wavelength",
+                "mean_abs_error_db",
+                error_label="mean |error| [dB]",
+                stderr_key="model_error_db",
+                stderr_label="error model C P lambda / (A N)",
+            ),
             caption=f"{settings['trials']} random grid placements per density; labels: rays per wavelength.",
             presets={name: q["rays_per_wavelength"] for name, q in QUALITY_PRESETS.items()},
         )

@@ -281,7 +281,7 @@ GDAL_CASES = (("hills", 200, 200, 30.0), ("hills", 120, 300, 2.0), ("hills", 330
 def gdal_cross_check(_knob=None) -> Section:
     """The viewshed against GDAL's gdal_viewshed and the exact sight line (validation/terrain)."""
     from csuas.core.terrain import gaussian_hills
-    from csuas.validation.terrain.viewshed_oracles import compare_viewsheds, fractal_dem, gdal_available
+    from csuas.validation.terrain.viewshed_oracles import ViewshedCase, compare_viewsheds, fractal_dem, gdal_available
 
     s = Section()
     if not gdal_available():
@@ -293,7 +293,8 @@ def gdal_cross_check(_knob=None) -> Section:
     }
     for name, row, col, target in GDAL_CASES:
         dem, cell, k = terrains[name]
-        result, elapsed = timed(compare_viewsheds, dem, cell, row, col, 10.0, target, k, exact_samples=1000)
+        problem = ViewshedCase(dem, cell, row, col, 10.0, target, k)
+        result, elapsed = timed(compare_viewsheds, problem, exact_samples=1000)
         case = f"terrain.gdal.{name}_r{row}_c{col}_{target:g}m"
         where = f"{dem.shape[0]} x {dem.shape[1]} cells of {cell:g} m, 10 m mast, {target:g} m target"
         s.table.append({"case": case, **result})

@@ -9,6 +9,7 @@ from __future__ import annotations
 import io
 import math
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,23 +34,31 @@ def _png(fig) -> bytes:
     return buffer.getvalue()
 
 
-def curves(
-    name: str,
-    title: str,
-    *,
-    x_label: str,
-    y_label: str,
-    lines=(),
-    points=(),
-    hlines=(),
-    log_x: bool = False,
-    log_y: bool = False,
-    caption: str = "",
-) -> Figure:
+@dataclass(frozen=True)
+class PlotAxes:
+    """The axes of a plot: their labels (with units) and scales.
+
+    Attributes
+    ----------
+    x_label, y_label : str
+        Axis labels, units in brackets.
+    log_x, log_y : bool
+        Logarithmic scales.
+    """
+
+    x_label: str
+    y_label: str
+    log_x: bool = False
+    log_y: bool = False
+
+
+def curves(name: str, title: str, *, axes: PlotAxes, lines=(), points=(), hlines=(), caption: str = "") -> Figure:
     """Analytic curves and simulated points with error bars.
 
     Parameters
     ----------
+    axes : PlotAxes
+        Labels and scales.
     lines : iterable of (label, x, y)
         Analytic curves.
     points : iterable of (label, x, y, yerr or None)
@@ -65,12 +74,12 @@ def curves(
         ax.errorbar(x, y, yerr=err, fmt="o", ms=5, capsize=3, label=label)
     for label, y in hlines:
         ax.axhline(y, ls="--", color="grey", lw=1, label=label)
-    if log_x:
+    if axes.log_x:
         ax.set_xscale("log")
-    if log_y:
+    if axes.log_y:
         ax.set_yscale("log")
-    ax.set_xlabel(x_label)
-    ax.set_ylabel(y_label)
+    ax.set_xlabel(axes.x_label)
+    ax.set_ylabel(axes.y_label)
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
@@ -160,19 +169,35 @@ def _label_points(ax, labels, marks, fontsize: float = 8.0) -> int:
     return left_out
 
 
+@dataclass(frozen=True)
+class AccuracyColumns:
+    """Which columns of an accuracy sweep's rows :func:`accuracy_vs_time` plots, and their labels.
+
+    Attributes
+    ----------
+    knob : str
+        The accuracy knob (rays per wavelength, samples per pixel, grid), one value per row.
+    error_key, error_label : str
+        The measured error against the reference, and its axis label.
+    stderr_key : str or None
+        The run's own error estimate (standard error), drawn beside the measured |error| (a single
+        Monte Carlo run's error scatters about it); None: none drawn.
+    stderr_label : str
+        Its legend label.
+    time_key : str
+        The wall time [s].
+    """
+
+    knob: str
+    error_key: str
+    error_label: str = "error"
+    stderr_key: str | None = None
+    stderr_label: str = "standard error (estimate)"
+    time_key: str = "time_s"
+
+
 def accuracy_vs_time(
-    name: str,
-    title: str,
-    rows,
-    *,
-    knob: str,
-    error_key: str,
-    time_key: str = "time_s",
-    error_label: str = "error",
-    stderr_key: str | None = None,
-    stderr_label: str = "standard error (estimate)",
-    caption: str = "",
-    presets: dict | None = None,
+    name: str, title: str, rows, columns: AccuracyColumns, *, caption: str = "", presets: dict | None = None
 ) -> Figure:
     """Accuracy against the knob (left) and against wall time (right), log-log.
 
@@ -183,14 +208,15 @@ def accuracy_vs_time(
     Parameters
     ----------
     rows : list of dict
-        One per knob value, with ``knob``, ``error_key``, ``time_key`` and optionally ``stderr_key``.
-    stderr_key : str, optional
-        The run's own error estimate (standard error), drawn beside the
-        measured |error| (a single Monte Carlo run's error scatters about it).
+        One per knob value, with the columns' ``knob``, ``error_key``, ``time_key`` and optionally ``stderr_key``.
+    columns : AccuracyColumns
+        Which columns to plot, and their labels.
     presets : dict, optional
         Preset name -> knob value (``{"draft": 4, "standard": 10, ...}``), marked where a row has it.
     """
     plt = _pyplot()
+    knob, error_key, time_key = columns.knob, columns.error_key, columns.time_key
+    error_label, stderr_key, stderr_label = columns.error_label, columns.stderr_key, columns.stderr_label
     k = [r[knob] for r in rows]
     numeric = all(isinstance(v, (int, float)) for v in k)
     x = np.array(k, float) if numeric else np.arange(len(k), dtype=float)

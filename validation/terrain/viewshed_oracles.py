@@ -20,6 +20,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -142,7 +143,34 @@ def fractal_dem(cells: int, relief_m: float, spectral_slope: float, seed: int) -
     return (dem - dem.min()) / (dem.max() - dem.min()) * relief_m
 
 
-def compare_viewsheds(dem_m, cell_m, row, col, mast_m, target_m, k_factor, exact_samples=2000, seed=0) -> dict:
+@dataclass(frozen=True)
+class ViewshedCase:
+    """A line-of-sight problem over terrain, as :func:`csuas.core.terrain.viewshed` poses it.
+
+    Attributes
+    ----------
+    dem_m : ndarray (rows, cols)
+        Terrain heights [m] on square cells.
+    cell_m : float
+        Cell size [m].
+    row, col : int
+        The mast's cell.
+    mast_m, target_m : float
+        Heights above the terrain of the sensor on its mast and of the target [m].
+    k_factor : float
+        Effective Earth-radius factor of the refraction.
+    """
+
+    dem_m: np.ndarray
+    cell_m: float
+    row: int
+    col: int
+    mast_m: float
+    target_m: float
+    k_factor: float
+
+
+def compare_viewsheds(case: ViewshedCase, exact_samples: int = 2000, seed: int = 0) -> dict:
     """csuas's viewshed against GDAL's, and both against the exact sight line on random cells.
 
     A cell *grazes* when its exact sight line passes within one cell's relief (:func:`cell_relief_m`)
@@ -158,6 +186,8 @@ def compare_viewsheds(dem_m, cell_m, row, col, mast_m, target_m, k_factor, exact
         (share of the cells where csuas and the sight line disagree that graze), ``relief_m`` and
         ``visible`` (share csuas sees).
     """
+    dem_m, cell_m, row, col = case.dem_m, case.cell_m, case.row, case.col
+    mast_m, target_m, k_factor = case.mast_m, case.target_m, case.k_factor
     dem = np.asarray(dem_m, dtype=np.float32).astype(float)  # the grid GDAL reads
     relief = cell_relief_m(dem)
     ours = viewshed(dem, cell_m, row, col, mast_m, target_m, k_factor)
