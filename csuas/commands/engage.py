@@ -24,12 +24,6 @@ from csuas.base.errors import ParameterError, raise_all
 #: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`), and
 #: the most time it may take [s] (it then counts the looks it took).
 PILOT_LOOKS, PILOT_BUDGET_S = 10, 20.0
-#: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
-LOOK_DEFAULTS = {
-    "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
-    "eo": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-    "tir": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-}
 
 
 def add_arguments(parser):
@@ -81,7 +75,13 @@ def build(spec, spec_dir: Path | None):
     from csuas.commands.coverage import load_dem, validated_site
     from csuas.core.coverage import POINTING, SitedSensor
     from csuas.defaults import load_birds, load_clutter, site_path
-    from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LookSettings, SensorModel, Terrain
+    from csuas.render.engagement.sensors import (
+        ENGAGED_MODALITIES,
+        LOOK_DEFAULTS,
+        LookSettings,
+        SensorModel,
+        Terrain,
+    )
     from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement
 
     site_source = spec.site
@@ -102,7 +102,9 @@ def build(spec, spec_dir: Path | None):
     checked = validated_site(site, scenario)
     errors = [
         ParameterError(
-            f"sensors.{n}", scenario.sensors[n].modality, "a radar, EO or thermal sensor (engage simulates these)"
+            f"sensors.{n}",
+            scenario.sensors[n].modality,
+            "a modality engage simulates: " + ", ".join(ENGAGED_MODALITIES),
         )
         for n in chosen
         if scenario.sensors[n].modality not in ENGAGED_MODALITIES
