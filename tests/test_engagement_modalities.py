@@ -103,7 +103,7 @@ def test_look_pd_is_the_modalitys_pd_curve_at_the_slant_range(name):
 
 
 def test_birds_rf_and_acoustic_none_lidar_from_size():
-    """RF and acoustic see no bird; a lidar sees a bird as the drone at R (d_drone / d_bird)^(1/2) (paper, R ~ sigma^1/4)."""
+    """RF and acoustic see no bird; lidar: a bird as the drone at R (d_drone / d_bird)^(1/2) (paper: R ~ sigma^1/4)."""
     gull = load_birds()["gull"]
     for name in ("rf", "acoustic"):
         sensor = _sensor(name, LookSettings())
