@@ -130,3 +130,17 @@ def test_spec_takes_the_new_look_keys_and_names_bad_ones():
         parse_spec({**base, "looks": {"lidar": {"range_gate_m": -1.0, "beam_positions": 0}}})
     text = str(caught.value)
     assert "looks.lidar.range_gate_m" in text and "looks.lidar.beam_positions" in text
+
+
+def test_rf_alone_confirms_at_the_third_look_with_its_coarse_range():
+    """Pd 1 from the first look (125 km paper range), Pfa 1e-15: 3 of 5 confirms at t = 2 s in every run.
+
+    The exact M-of-N program gives P(first track at look 3) = 1 at Pd = 1; the RF's 50 % range from the
+    received level (defaults) must not break the association of its own successive detections.
+    """
+    sensor = _sensor("rf", LookSettings(pfa=1e-15, sigma_range_fraction=0.5, sigma_bearing_deg=3.0))
+    path = DronePath(np.array([[sensor.x - 2000.0, sensor.y, 30.0], [sensor.x - 200.0, sensor.y, 30.0]]), 15.0)
+    engagement = Engagement(sensor.terrain, {"rf": sensor}, path, BirdSettings(0.0, ()), (3, 5), 5, 2, load_birds())
+    assert np.all(engagement.looks["rf"].pd == 1.0)
+    times = [run_once(engagement, i)["first_track_time_s"] for i in range(10)]
+    assert times == [2.0] * 10
