@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.core.coverage import SitedSensor
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.scenario import parse_scenario
@@ -144,3 +145,10 @@ def test_rf_alone_confirms_at_the_third_look_with_its_coarse_range():
     assert np.all(engagement.looks["rf"].pd == 1.0)
     times = [run_once(engagement, i)["first_track_time_s"] for i in range(10)]
     assert times == [2.0] * 10
+
+
+def test_aspect_decorrelation_is_refused_for_a_sensor_without_a_wavelength_rule():
+    """The aspect rule needs a radar's wavelength: an RF sensor asking for it is named with its key."""
+    with pytest.raises(ParameterError) as caught:
+        _sensor("rf", LookSettings(decorrelation="aspect"))
+    assert "looks.rf.decorrelation" in str(caught.value)

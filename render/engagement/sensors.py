@@ -33,6 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core import birds as bird_model
 from csuas.core import clutter, false_alarms, radar, radar_detection
 from csuas.core.acoustic_spectrum import BAND_NUMBERS
@@ -174,6 +175,10 @@ class SensorModel:
         self.spec = scenario.sensors[sited.name]
         self.modality = self.spec.modality
         self.k_factor = K_FACTOR[self.modality]
+        if settings.decorrelation == "aspect" and self.modality != "radar":
+            raise ParameterError(
+                f"looks.{self.name}.decorrelation", "aspect", "independent or correlated (aspect: a radar's rule)"
+            )
         self.x, self.y = (float(v) for v in terrain.xy(sited.row, sited.col))
         self.eye_z = float(height_at(terrain.dem_m, np.array([sited.row]), np.array([sited.col]))[0]) + sited.mast_m
         farthest = float(np.hypot(*terrain.dem_m.shape) * terrain.cell_m)
