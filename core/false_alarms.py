@@ -9,7 +9,11 @@ small Pfa), and Pfa * C * 3600 / T_revisit per hour. The cells per look by modal
   from its gain, G = 4 pi / theta^2 (Skolnik, *Introduction to Radar Systems*, 3rd ed., Eq. 9.2 with
   unit aperture efficiency);
 * EO and thermal cameras: pixels x frames per look;
-* RF and acoustic energy detectors: their detector's frequency (or bearing) bins per look.
+* RF and acoustic energy detectors: their detector's bins per look, frequency bins (an RF
+  channeliser's FFT bins, an acoustic array's frequency bands) x bearing cells (a direction-finding
+  receiver's or a beamformer's beams across its sector, each sector / theta, theta from the antenna's
+  gain or the array's directivity as above);
+* lidar: range gates x beam positions per scan, range gates (reach - minimum range) / gate length.
 
 References
 ----------
@@ -102,6 +106,46 @@ def imaging_cells(n_h, n_v, frames_per_look=1):
     return float(h * v * f)
 
 
+def receiver_cells(frequency_bins, sector_deg, beam_deg):
+    """Cells an RF or acoustic detector tests per look: frequency bins x ceil(sector / beam) [-].
+
+    Parameters
+    ----------
+    frequency_bins : int
+        Frequency bins (RF channeliser) or bands (acoustic) tested at each bearing, >= 1.
+    sector_deg, beam_deg : float
+        Azimuth sector (0 < sector <= 360) and the width of one bearing cell (> 0) [deg].
+    """
+    bins, sector, beam = require_all(
+        ("frequency_bins", frequency_bins, {"ge": 1}),
+        ("sector_deg", sector_deg, {"gt": 0, "le": 360}),
+        ("beam_deg", beam_deg, {"gt": 0}),
+    )
+    return float(bins * np.ceil(sector / beam))
+
+
+def lidar_cells(reach_m, min_range_m, range_gate_m, beam_positions):
+    """Cells a scanning lidar tests per look: ceil((reach - min) / gate) x beam positions [-].
+
+    Parameters
+    ----------
+    reach_m, min_range_m : float
+        Instrumented range and the start of the range window [m], reach > min >= 0.
+    range_gate_m : float
+        Range gate [m], > 0 (c tau / 2 of the gate tau).
+    beam_positions : int
+        Beam positions of one scan, >= 1.
+    """
+    reach, low, gate, positions = require_all(
+        ("reach_m", reach_m, {"gt": 0}),
+        ("min_range_m", min_range_m, {"ge": 0}),
+        ("range_gate_m", range_gate_m, {"gt": 0}),
+        ("beam_positions", beam_positions, {"ge": 1}),
+    )
+    require("reach_m", reach, gt=float(low), why="beyond min_range_m")
+    return float(np.ceil((reach - low) / gate) * positions)
+
+
 def false_alarms_per_look(pfa, cells):
     """Mean false alarms per look, Pfa * cells [-].
 
@@ -110,8 +154,8 @@ def false_alarms_per_look(pfa, cells):
     pfa : array_like
         False-alarm probability of one cell, 0..1.
     cells : array_like
-        Independent cells tested per look, >= 0 (:func:`radar_cells`, :func:`imaging_cells`, or an
-        RF / acoustic detector's bins).
+        Independent cells tested per look, >= 0 (:func:`radar_cells`, :func:`imaging_cells`,
+        :func:`receiver_cells`, :func:`lidar_cells`).
     """
     p, c = require_all(("pfa", pfa, {"ge": 0, "le": 1}), ("cells", cells, {"ge": 0}))
     return p * c

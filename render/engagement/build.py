@@ -18,17 +18,10 @@ from csuas.base.fileio import read_spec
 from csuas.core.coverage import POINTING, SitedSensor
 from csuas.core.scenario import load_scenario, parse_scenario
 from csuas.defaults import engagement_path, load_birds, load_clutter, scenario_path, site_path
-from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LookSettings, SensorModel, Terrain
+from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LOOK_DEFAULTS, LookSettings, SensorModel, Terrain
 from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement
 from csuas.render.engagement.spec import EngageSpec, parse_spec
 from csuas.render.site import load_dem, validated_site
-
-#: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md).
-LOOK_DEFAULTS = {
-    "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
-    "eo": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-    "tir": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
-}
 
 
 def _scenario(spec, site: dict, base: Path | None):
@@ -69,7 +62,9 @@ def build(spec, spec_dir: Path | None):
     checked = validated_site(site, scenario)
     errors = [
         ParameterError(
-            f"sensors.{n}", scenario.sensors[n].modality, "a radar, EO or thermal sensor (engage simulates these)"
+            f"sensors.{n}",
+            scenario.sensors[n].modality,
+            "a modality engage simulates: " + ", ".join(ENGAGED_MODALITIES),
         )
         for n in chosen
         if scenario.sensors[n].modality not in ENGAGED_MODALITIES

@@ -8,12 +8,18 @@ from its own signature: on radar its RCS at that aspect (:func:`csuas.core.birds
 steady target at the SNR that RCS gives; on a camera the drone's Pd at the range where the drone
 subtends what the bird does (Johnson's cycles scale as d_crit / R, Eq. 17), d_crit of the bird
 sqrt(wingspan x body diameter) until rendered bird signatures (drone_models/birds.py) replace it
-(:meth:`SensorModel.bird_pd`). A detection reports the ground bearing and ground range from the
-sensor with Gaussian noise: a radar its measured range; a camera its bearing and a range from the
-target's apparent size, with a relative error (passive ranging).
+(:meth:`SensorModel.bird_pd`); on a lidar the drone's Pd with the drone's lidar cross-section and
+projected area scaled by the bird's d_crit^2 over the drone's (the same seam, the same reflectance);
+RF and acoustic sensors see no bird (a bird emits no radio signal, and its wingbeat is quiet in the
+drone's rotor bands: Pd 0). A detection reports the ground bearing and ground range from the
+sensor with Gaussian noise: a radar and a lidar their measured range; a camera its bearing and a range
+from the target's apparent size, with a relative error (passive ranging); an RF direction finder and an
+acoustic array their bearing and a coarse range from the received level (the level's spread of a few dB
+inverted through spherical spreading, a relative error of 50 %).
 
-False alarms per look are binomial with the sensor's cells and Pfa (:mod:`csuas.core.false_alarms`),
-placed uniformly over the ground area of its field of regard out to its reach. Ground clutter
+False alarms per look are binomial with the sensor's cells and Pfa (:mod:`csuas.core.false_alarms`;
+the cells by modality in :meth:`SensorModel.cells_per_look`), placed uniformly over the ground area of
+its field of regard out to its reach. Ground clutter
 (radar): every DEM cell the radar sees, inside its sector and reach, holds cell area / (dR R theta)
 resolution cells of constant-gamma clutter (:mod:`csuas.core.clutter`); each raises a false alarm at a
 fixed threshold with probability Pfa^(1/(1+CNR')) (the excess over Pfa is counted as clutter), placed
@@ -23,20 +29,41 @@ left out).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core import birds as bird_model
 from csuas.core import clutter, false_alarms, radar, radar_detection
+from csuas.core.acoustic_spectrum import BAND_NUMBERS
 from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_reach_m
 from csuas.core.pd_curves import margin_db, sensor_pd
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import RayLimits, bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
 from csuas.core.units import C_LIGHT
 
-#: Modalities an engagement simulates (a detection needs a bearing and a range estimate).
-ENGAGED_MODALITIES = ("radar", "eo", "tir")
+#: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md); the rest are LookSettings' own. RF and
+#: acoustic ranges come from the received level: a level known to +-4.3 dB (emitter power, fading,
+#: directivity) is a relative range error of 4.3 ln(10) / 20 = 0.5 through spherical spreading.
+LOOK_DEFAULTS = {
+    "radar": {"revisit_s": 1.0, "sigma_range_m": 5.0, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 1.0},
+    "eo": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
+    "tir": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.2, "sigma_bearing_deg": 0.05},
+    "rf": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.5, "sigma_bearing_deg": 3.0},
+    "acoustic": {"revisit_s": 1.0, "sigma_range_m": 0.0, "sigma_range_fraction": 0.5, "sigma_bearing_deg": 2.0},
+    "lidar": {"revisit_s": 1.0, "sigma_range_m": 0.5, "sigma_range_fraction": 0.0, "sigma_bearing_deg": 0.1},
+}
+#: Modalities an engagement simulates: those with look defaults and a cell rule (:meth:`SensorModel.cells_per_look`).
+ENGAGED_MODALITIES = tuple(LOOK_DEFAULTS)
+#: An RF channeliser's frequency bins per bearing cell (assumption: a 1024-point FFT over the monitored band).
+RF_FREQUENCY_BINS = 1024
+#: A scanning lidar's beam positions per look (assumption: a 100 x 100 scan pattern).
+LIDAR_BEAM_POSITIONS = 10_000
+#: A lidar's range gate [m] (assumption: a 10 ns gate, c tau / 2).
+LIDAR_RANGE_GATE_M = 1.5
+#: Gain [dB] below which a receiver's bearing cell is taken as 1 rad wide (the pencil-beam rule's limit).
+BEARING_CELL_MIN_GAIN_DB = 11.0
 
 
 @dataclass(frozen=True)
@@ -94,6 +121,16 @@ class LookSettings:
         ``correlated`` looks; None: ``aspect`` for radar, the sensor's ``looks`` otherwise.
     attitude_jitter_deg : float
         RMS change of the drone's attitude between looks [deg] (wind, control), added to the aspect change.
+    frequency_bins : int or None
+        RF: channeliser bins (None: RF_FREQUENCY_BINS); acoustic: frequency bands (None: the 24
+        one-third-octave bands 50 Hz-10 kHz of the physical convention's ``bands`` detector, else 1).
+    bearing_cells : int or None
+        RF and acoustic: bearing cells across the sector; None: sector / theta, theta = sqrt(4 pi / G)
+        of the RF antenna's gain or the acoustic array's gain (its directivity), 1 rad below 11 dB.
+    range_gate_m : float
+        Lidar range gate [m].
+    beam_positions : int
+        Lidar beam positions per look (one scan).
     """
 
     revisit_s: float = 1.0
@@ -110,6 +147,10 @@ class LookSettings:
     clutter: bool = True
     decorrelation: str | None = None
     attitude_jitter_deg: float = 2.0
+    frequency_bins: int | None = None
+    bearing_cells: int | None = None
+    range_gate_m: float = LIDAR_RANGE_GATE_M
+    beam_positions: int = LIDAR_BEAM_POSITIONS
 
 
 @dataclass
@@ -134,6 +175,10 @@ class SensorModel:
         self.spec = scenario.sensors[sited.name]
         self.modality = self.spec.modality
         self.k_factor = K_FACTOR[self.modality]
+        if settings.decorrelation == "aspect" and self.modality != "radar":
+            raise ParameterError(
+                f"looks.{self.name}.decorrelation", "aspect", "independent or correlated (aspect: a radar's rule)"
+            )
         self.x, self.y = (float(v) for v in terrain.xy(sited.row, sited.col))
         self.eye_z = float(height_at(terrain.dem_m, np.array([sited.row]), np.array([sited.col]))[0]) + sited.mast_m
         farthest = float(np.hypot(*terrain.dem_m.shape) * terrain.cell_m)
@@ -162,18 +207,39 @@ class SensorModel:
         return int(np.ceil(self.sited.sector_deg / self.spec.params["hfov_deg"] - 1e-9))
 
     def _cells(self) -> float:
-        p = self.spec.params
+        """Cells tested per look by modality (:mod:`csuas.core.false_alarms`; docs/engagements.md)."""
+        p, low = self.spec.params, min(self.sited.min_range_m, 0.99 * self.reach_m)
         if self.modality == "radar":
             return false_alarms.radar_cells(
                 self.reach_m,
-                min(self.sited.min_range_m, 0.99 * self.reach_m),
+                low,
                 self.range_resolution_m(),
                 self.sited.sector_deg,
                 self.beam_deg(),
                 self.settings.doppler_bins,
                 self.settings.elevation_beams,
             )
+        if self.modality in ("rf", "acoustic"):
+            return false_alarms.receiver_cells(self.frequency_bins(), self.sited.sector_deg, self.bearing_cell_deg())
+        if self.modality == "lidar":
+            return false_alarms.lidar_cells(self.reach_m, low, self.settings.range_gate_m, self.settings.beam_positions)
         return false_alarms.imaging_cells(p["n_h"], p["n_v"], self.frames_per_look())
+
+    def frequency_bins(self) -> int:
+        """RF channeliser bins or acoustic frequency bands tested at each bearing (LookSettings.frequency_bins)."""
+        if self.settings.frequency_bins is not None:
+            return int(self.settings.frequency_bins)
+        if self.modality == "rf":
+            return RF_FREQUENCY_BINS
+        bands = self.scenario.convention == "physical" and self.spec.params["detector"] == "bands"
+        return BAND_NUMBERS.size if bands else 1  # the paper's acoustic model is one broadband SNR
+
+    def bearing_cell_deg(self) -> float:
+        """Width of an RF or acoustic bearing cell [deg]: sector / bearing_cells, else the beam of its gain."""
+        if self.settings.bearing_cells is not None:
+            return self.sited.sector_deg / int(self.settings.bearing_cells)
+        gain_db = self.spec.params["g_rx_db" if self.modality == "rf" else "g_array_db"]
+        return float(false_alarms.beamwidth_deg(max(float(gain_db), BEARING_CELL_MIN_GAIN_DB)))
 
     def false_alarm_xy(self, rng: np.random.Generator) -> np.ndarray:
         """Noise false alarms of one look, uniform over the ground area of the field of regard (n, 2) [m]."""
@@ -272,7 +338,7 @@ class SensorModel:
         return pd
 
     def bird_pd(self, geometry: Geometry, bird: dict, aspect_rad) -> np.ndarray:
-        """A bird's Pd at each point: radar from its RCS at the aspect, a camera from its size (the seam)."""
+        """A bird's Pd at each point: radar from its RCS at its aspect, cameras, lidar from size; RF and acoustic 0."""
         gate = geometry.in_regard & geometry.visible
         pd = np.zeros(geometry.slant_m.shape)
         if not gate.any():
@@ -290,9 +356,21 @@ class SensorModel:
             )
             pd[gate] = radar_detection.pd_exact(self.radar_snr_db(slant, rcs) - gain_db, self.pfa, n, 0, mode)
             return pd
+        if self.modality in ("rf", "acoustic"):
+            return pd  # a bird emits no radio signal and is quiet in the drone's rotor bands: Pd 0
         scale = self.scenario.target["d_crit_m"] / bird_critical_dimension_m(bird)
+        if self.modality == "lidar":
+            pd[gate] = sensor_pd(self.bird_scenario(scale), self.name, slant).pd
+            return pd
         pd[gate] = sensor_pd(self.scenario, self.name, slant * scale).pd
         return pd
+
+    def bird_scenario(self, scale: float) -> Scenario:
+        """The scenario with the drone's lidar cross-section and projected area times 1 / scale^2 (a bird's size)."""
+        t = self.scenario.target
+        area = 1.0 / scale**2
+        target = {**t, "sigma_lidar_m2": t["sigma_lidar_m2"] * area, "projected_area_m2": t["projected_area_m2"] * area}
+        return replace(self.scenario, target=target)
 
     def look_correlation(self, aspect_change_rad) -> np.ndarray:
         """Correlation of the drone's detection draws between successive looks (docs/engagements.md).

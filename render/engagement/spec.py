@@ -57,6 +57,10 @@ class LookSpec(_Strict):
     clutter: bool | None = None
     decorrelation: Literal["aspect", "independent", "correlated"] | None = None
     attitude_jitter_deg: float | None = Field(None, ge=0, le=90)
+    frequency_bins: int | None = Field(None, ge=1, le=10_000_000)
+    bearing_cells: int | None = Field(None, ge=1, le=100_000)
+    range_gate_m: float | None = Field(None, gt=0, le=10_000)
+    beam_positions: int | None = Field(None, ge=1, le=100_000_000)
 
     @field_validator("land_cover")
     @classmethod

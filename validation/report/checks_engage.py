@@ -1,7 +1,9 @@
 """Engagements (``csuas engage``, render/engagement) against closed forms and hand-computed values.
 
 * False alarms with no target: a radar's noise false alarms per look, Monte Carlo, against Pfa x its
-  resolution cells (range x beam cells of its reach; Richards 2014 Section 6.2), within 3 standard errors.
+  resolution cells (range x beam cells of its reach; Richards 2014 Section 6.2), and an RF direction
+  finder's and an acoustic array's per hour against Pfa x cells x 3600 / T (frequency bins x bearing
+  cells), within 3 standard errors.
 * First track of one sensor: the tracker's (Stone Soup, M of N) first-track probability by each look
   against the exact dynamic program over the last N looks (:mod:`csuas.core.m_of_n`), itself against
   enumeration of every hit/miss pattern.
@@ -27,6 +29,8 @@ FALSE_ALARM_LOOKS, TRACKER_RUNS = {"quick": 200, "full": 2000}, {"quick": 200, "
 CELL_M = 25.0
 #: The radar's SNR on the 0.01 m^2 drone: 10 dB at its 445.3 m range (Section 4.9.3), as R^-4 (no losses).
 RADAR_RANGE_M, RADAR_SNR_DB = 445.30460703828703, 10.0
+#: Per-cell Pfa of the RF and acoustic false-alarm checks (high enough for a count of hundreds in the quick report).
+RECEIVER_PFA = {"rf": 1e-4, "acoustic": 2e-2}
 
 
 def _radar(dem, settings, gamma_db=None):
@@ -73,7 +77,46 @@ def false_alarms(quality="quick") -> Section:
             details={"per_hour_expected_at_1_s": expected * 3600},
         )
     )
+    for name, pfa in RECEIVER_PFA.items():
+        s.outcomes.append(_receiver_per_hour(name, pfa, looks, rng))
     return s
+
+
+def _receiver_per_hour(name: str, pfa: float, looks: int, rng) -> Check:
+    """An RF or acoustic sensor of the paper's defaults, no target: noise false alarms per hour at 1 s looks."""
+    from csuas.core.coverage import SitedSensor
+    from csuas.core.scenario import parse_scenario
+    from csuas.render.engagement.sensors import LookSettings, SensorModel, Terrain
+
+    scenario = parse_scenario(
+        {
+            "name": "engage_check",
+            "convention": "paper",
+            "target": {"preset": "dji_mini_4_pro"},
+            "environment": {"preset": "clear_day"},
+            "sensors": {name: {"modality": name}},
+        }
+    )
+    dem = np.zeros((80, 80))
+    terrain = Terrain(dem, CELL_M, 0.0, dem.shape[0] * CELL_M)
+    settings = LookSettings(pfa=pfa, instrumented_range_m=500.0)
+    sensor = SensorModel(scenario, SitedSensor(name, 40.0, 40.0, 10.0), terrain, settings)
+    counts, elapsed = timed(lambda: np.array([len(sensor.false_alarm_xy(rng)) for _ in range(looks)]))
+    per_hour = 3600.0 / settings.revisit_s
+    stderr = float(np.sqrt(sensor.cells * pfa * (1 - pfa) / looks)) * per_hour
+    rule = "1024 bins x 360 / theta(g_rx_db)" if name == "rf" else "1 band x 360 / theta(g_array_db)"
+    return Check(
+        f"engage.false_alarms.{name}_per_hour",
+        pfa * sensor.cells * per_hour,
+        float(counts.mean()) * per_hour,
+        3 * stderr,
+        "per hour",
+        error_estimate=stderr,
+        time_s=elapsed,
+        source=f"Pfa x cells x 3600 / T = {pfa:g} x {sensor.cells:.0f} x 3600 ({rule})",
+        method=f"{looks} looks, 1 s apart, of the default {name} sensor with no target, Pfa {pfa:g} per cell",
+        tolerance_source="3 Monte Carlo standard errors of the binomial count",
+    )
 
 
 def enumerated_first_confirmation(pd, m, n):
@@ -365,7 +408,8 @@ SPECS = [
         "engage.false_alarms",
         "False alarms with no target vs Pfa x resolution cells",
         GROUP,
-        "noise false alarms per look of a radar (Monte Carlo) vs Pfa x range bins x beams",
+        "noise false alarms per look of a radar, and per hour of an RF and an acoustic sensor (Monte Carlo), "
+        "vs Pfa x range bins x beams and Pfa x frequency bins x bearing cells x looks per hour",
         "3 Monte Carlo standard errors",
         false_alarms,
         "looks",
