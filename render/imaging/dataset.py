@@ -33,7 +33,7 @@ import json
 import math
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +42,7 @@ from csuas.base.errors import InputErrors, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 from csuas.base.schema import validate
+from csuas.defaults import load_birds
 from csuas.render.imaging.dataset_schema import TAGS, DatasetSchema
 
 #: Axes a spec may draw or list.
@@ -52,6 +53,8 @@ SPEC_KEYS = tuple(DatasetSchema.model_fields)
 THERMAL_STAGES = ("rolling_shutter", "psf", "defocus", "motion", "netd", "agc", "quantise")
 #: Threads writing frames' files while the next frame renders (at most this many frames held in memory).
 WRITERS = 2
+#: Bird classes (defaults/birds.toml): their confuser annotations carry the wingbeat phase.
+_BIRDS = tuple(load_birds())
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -76,6 +79,7 @@ class DatasetSpec:
     previews: bool = True
     sequence: object = None
     normal_shot_noise_above_e: float = math.inf
+    confusers: object = None
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -113,6 +117,7 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         spec.previews,
         sequence,
         float(spec.normal_shot_noise_above_e),
+        spec.confusers,
     )
 
 
@@ -144,6 +149,12 @@ def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
             if spec.position == "random":
                 offset = (float(rng.uniform(-width / 2, width / 2)), float(rng.uniform(-height / 2, height / 2)))
             item.update(index=index, target_offset_px=offset, name=f"{index:06d}_{item['drone']}")
+            if spec.confusers is not None:  # a stream of its own: the drone's draws stay those of a spec without
+                from csuas.render.imaging.confusers import draw_confusers
+
+                item["confusers"] = draw_confusers(
+                    spec.confusers, np.random.default_rng([spec.seed, index, 5]), frame_size
+                )
             out.append(item)
     return out
 
@@ -189,6 +200,10 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
         from csuas.render.imaging.sequence import sequence_items
 
         items = sequence_items(spec.sequence, spec.axes["drones"], spec.count, spec.seed, sensor.params)
+        if spec.confusers is not None:
+            from csuas.render.imaging.confusers import sequence_confusers
+
+            sequence_confusers(items, spec.confusers, spec.seed, sensor.params)
     else:
         items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered, redone = time.perf_counter(), 0, []
@@ -285,6 +300,9 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         _write_signal_exr(inside(out, "images", f"{item['name']}.exr"), frame["chain"]["signal"], item, unit)
     class_index = class_names(spec).index(item["drone"])
     yolo = yolo_line(lab["bbox"], width, height, class_index) + "\n" if lab["bbox"] else ""
+    confusers = _confuser_annotations(spec, item, frame.get("layers"))
+    for annotation in confusers:
+        yolo += yolo_line(annotation["bbox"], width, height, annotation["category_id"] - 1) + "\n"
     write_text_atomic(inside(out, "labels", f"{item['name']}.txt"), yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
@@ -292,6 +310,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     entry = {
         "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
         "annotation": None,
+        **({"confusers": confusers} if "confusers" in item else {}),
     }
     if lab["in_frame"]:
         entry["annotation"] = {
@@ -349,17 +368,26 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
             "sun_azimuth_deg"
         ),  # a sequence's sun is fixed in the world; a still's behind the camera
     )
+    confusers = "confusers" in item
+    target = sequence_target(item)
     frame = eo_frame(
-        sequence_target(item),
+        target,
         view,
         EoSensor.from_params(p),
         light,
         camera_from_params(p),
-        chain,
+        replace(chain, stages=()) if confusers else chain,  # with confusers, the chain runs once they are in
         seed=seed,
         quality=spec.quality,
         cloud_cover=spec.cloud_cover,
     )
+    if confusers:
+        from csuas.render.imaging.confusers import eo_render_settings, with_eo_confusers
+
+        ambient_k = scenario.environment["temperature_k"]
+        render = eo_render_settings(EoSensor.from_params(p), light, spec.quality, seed, p, ambient_k)
+        render.update(target=target, view=view, full_well_e=p["full_well_e"])
+        frame = with_eo_confusers(frame, item["confusers"], render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
 
@@ -383,16 +411,24 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
+    confusers, target = "confusers" in item, sequence_target(item)
     frame = tir_frame(
-        sequence_target(item),
+        target,
         view,
         ThermalSensor.from_params(p),
         scene,
-        chain,
+        replace(chain, stages=()) if confusers else chain,  # with confusers, the chain runs once they are in
         seed=seed,
         quality=spec.quality,
         sky_temperature_k=spec.sky_temperature_k,
     )
+    if confusers:
+        from csuas.render.imaging.confusers import with_tir_confusers
+
+        render = {"sensor": ThermalSensor.from_params(p), "scene": scene, "quality": spec.quality, "seed": seed}
+        render.update(f_number=p["f_number"], pitch_um=p["pitch_um"], ambient_k=env["temperature_k"])
+        render.update(target=target, view=view)
+        frame = with_tir_confusers(frame, item["confusers"], render, chain, seed)
     excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))
@@ -425,10 +461,13 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         images.append(
             {"id": image_id, **entry["image"], "csuas": {"hfov_deg": p["hfov_deg"], "vfov_deg": p["vfov_deg"]}}
         )
-        if entry["annotation"] is not None:
-            annotations.append({"id": len(annotations) + 1, "image_id": image_id, **entry["annotation"]})
+        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+            if annotation is not None:
+                annotations.append({"id": len(annotations) + 1, "image_id": image_id, **annotation})
+    from csuas.render.imaging.confusers import SUPERCATEGORY
     from csuas.render.imaging.dataset_files import PNG_BITS, dn_scale
 
+    drones = list(dict.fromkeys(spec.axes["drones"]))
     info = {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario, "bits": spec.bits}
     info.update(png_bits=8 if spec.bits == 8 else PNG_BITS, dn_scale=dn_scale(spec.bits))
     coco = {
@@ -436,7 +475,8 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         "images": images,
         "annotations": annotations,
         "categories": [
-            {"id": index, "name": name, "supercategory": "drone"} for index, name in enumerate(class_names(spec), 1)
+            {"id": index, "name": name, "supercategory": "drone" if index <= len(drones) else SUPERCATEGORY}
+            for index, name in enumerate(class_names(spec), 1)
         ],
     }
     if spec.sequence is not None:
@@ -451,8 +491,40 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
 
 
 def class_names(spec: DatasetSpec) -> list:
-    """The dataset's classes, one per drone model in the spec's order (COCO id = index + 1, YOLO class = index)."""
-    return list(dict.fromkeys(spec.axes["drones"]))
+    """The dataset's classes, one per drone model in the spec's order, then the confuser classes
+    (:func:`csuas.render.imaging.confusers.confuser_classes`); COCO id = index + 1, YOLO class = index."""
+    from csuas.render.imaging.confusers import confuser_classes
+
+    drones = list(dict.fromkeys(spec.axes["drones"]))
+    return drones + [name for name in confuser_classes(spec.confusers) if name not in drones]
+
+
+def _confuser_annotations(spec: DatasetSpec, item: dict, labels) -> list:
+    """COCO annotations (without ids) of a frame's confusers in the frame: box, mask, class and their draw."""
+    names = class_names(spec)
+    out = []
+    for draw, lab in zip(item.get("confusers", []), labels or []):
+        if lab is None or not lab["in_frame"]:
+            continue
+        block = {key: draw[key] for key in ("class", "range_m", "azimuth_deg", "elevation_deg") if key in draw}
+        block.update(confuser_id=draw["confuser_id"], clipped=lab["clipped"], visibility=lab["visibility"])
+        block.update(pixels_on_target=lab["pixels_on_target"], subpixel=lab["subpixel"])
+        if draw["class"] in _BIRDS:
+            block["wingbeat_phase"] = draw["wingbeat_phase"]
+        if "blur_px" in lab:
+            block.update(length_m=draw["length_m"], blur_px=lab["blur_px"])
+        annotation = {
+            "category_id": names.index(draw["class"]) + 1,
+            "bbox": lab["bbox"],
+            "area": lab["area"],
+            "segmentation": lab["segmentation"],
+            "iscrowd": 0,
+            "csuas": block,
+        }
+        if "track_id" in draw:
+            annotation.update(track_id=draw["track_id"], instance_id=draw["track_id"])
+        out.append(annotation)
+    return out
 
 
 def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
@@ -470,7 +542,7 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
     for item in items[:SHEET_FRAMES]:
         entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
         dn = read_dn_png(out / entry["image"]["file_name"])
-        boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
+        boxes = [a["bbox"] for a in [entry["annotation"], *entry.get("confusers", [])] if a is not None]
         sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
     write_contact_sheet(inside(out, "contact_sheet.png"), sheet)
 
@@ -519,13 +591,12 @@ def _write_mot(sensor, items: list, out: Path) -> None:
         lines = []
         for item in (i for i in items if i["video_id"] == video["id"]):
             entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
-            annotation = entry["annotation"]
-            if annotation is not None:
-                block = annotation["csuas"]
-                class_id = annotation["category_id"]
-                lines.append(
-                    mot_line(item["frame_id"] + 1, item["track_id"], annotation["bbox"], class_id, block["visibility"])
-                )
+            for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+                if annotation is not None:
+                    block, class_id, track = annotation["csuas"], annotation["category_id"], annotation["track_id"]
+                    lines.append(
+                        mot_line(item["frame_id"] + 1, track, annotation["bbox"], class_id, block["visibility"])
+                    )
         folder = sub_folder(sub_folder(out, "mot"), video["name"])
         write_text_atomic(inside(sub_folder(folder, "gt"), "gt.txt"), "".join(line + "\n" for line in lines))
         info = seqinfo(video["name"], video["frame_rate_hz"], video["frames"], int(p["n_h"]), int(p["n_v"]))
