@@ -125,6 +125,10 @@ def test_a_dataset_labels_confusers_as_their_own_classes_in_coco_yolo_and_mot(tm
     assert "1: pigeon" in (tmp_path / "c" / "data.yaml").read_text()
     yolo = (tmp_path / "c" / "labels" / "000000_dji_mini_4_pro.txt").read_text().splitlines()
     assert sorted(line.split()[0] for line in yolo) == ["0", "1"]
+    rows = (tmp_path / "c" / "difficulty.csv").read_text().splitlines()
+    assert rows[0].startswith("file_name,category,track_id,x,y,w,h,background_class,local_contrast")
+    assert sorted(row.split(",")[1] for row in rows[1:]) == ["dji_mini_4_pro", "dji_mini_4_pro", "pigeon", "pigeon"]
+    assert all(a["csuas"]["background_class"] == "sky" for a in coco["annotations"])  # the render's uniform sky
 
 
 def test_a_layer_beyond_the_drone_changes_only_the_background_its_uncovered_share_shows():

@@ -233,6 +233,7 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
             writing.popleft().result()
     annotations = _coco(spec, sensor, items, out)
     _write_dataset_files(spec, sensor, items, out)
+    _write_difficulty(spec, items, out)
     if spec.sequence is not None:
         _write_mot(sensor, items, out)
     return {
@@ -279,8 +280,40 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
     from csuas.render.imaging.records import View
 
     view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], tuple(item["target_offset_px"]))
-    seed = spec.seed * 1_000_003 + item["index"]
+    seed = _frame_seed(spec, item)
     return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
+
+
+def _frame_seed(spec: DatasetSpec, item: dict) -> int:
+    """The render, noise and cloud seed of an image."""
+    return spec.seed * 1_000_003 + item["index"]
+
+
+def _horizon(spec: DatasetSpec, sensor, item: dict, frame: dict) -> dict | None:
+    """What :func:`csuas.render.imaging.difficulty.background_class` needs of a frame's background."""
+    from csuas.render.imaging.background import cloud_opacity
+
+    thermal = sensor.modality == "tir"
+    if (thermal and spec.sky_temperature_k is None) or (not thermal and not isinstance(spec.background, str)):
+        return None
+    if not thermal and spec.background == "sky":
+        return {"kind": "sky"}
+    width, height = int(sensor.params["n_h"]), int(sensor.params["n_v"])
+    clouds = None
+    if not thermal and spec.cloud_cover > 0:  # the clear sky's own clouds (same seed)
+        clouds = cloud_opacity(height, width, spec.cloud_cover, _frame_seed(spec, item))
+    view = {key: item[key] for key in ("azimuth_deg", "elevation_deg", "target_offset_px")}
+    return {"kind": "horizon", "frame": (width, height), "ifov_rad": frame["result"].ifov_rad, "clouds": clouds, **view}
+
+
+def _with_difficulty(annotations: list, dn: np.ndarray, horizon: dict | None) -> None:
+    """Add the background class and local contrast (:mod:`csuas.render.imaging.difficulty`) to annotations' blocks."""
+    from csuas.render.imaging.difficulty import annotation_difficulty
+    from csuas.render.imaging.labels import decode_run_length
+
+    for annotation in annotations:
+        mask = decode_run_length(annotation["segmentation"])
+        annotation["csuas"].update(annotation_difficulty(dn, mask, annotation["bbox"], horizon))
 
 
 def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) -> None:
@@ -340,6 +373,8 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         }
         if "track_id" in item:
             entry["annotation"].update(track_id=item["track_id"], instance_id=item["track_id"])
+    objects = [a for a in [entry["annotation"], *confusers] if a is not None]
+    _with_difficulty(objects, dn, _horizon(spec, sensor, item, frame) if objects else None)
     write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
 
 
@@ -545,6 +580,38 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
         boxes = [a["bbox"] for a in [entry["annotation"], *entry.get("confusers", [])] if a is not None]
         sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
     write_contact_sheet(inside(out, "contact_sheet.png"), sheet)
+
+
+#: Columns of ``difficulty.csv``: one row per labelled object.
+DIFFICULTY_COLUMNS = ("file_name", "category", "track_id", "x", "y", "w", "h", "background_class")
+DIFFICULTY_COLUMNS += ("local_contrast", "target_mean_dn", "ring_mean_dn", "ring_sigma_dn", "pixels_on_target")
+
+
+def _write_difficulty(spec: DatasetSpec, items: list, out: Path) -> None:
+    """``difficulty.csv``: every labelled object's box, background class and local contrast (binning by difficulty)."""
+    import csv
+    import io
+
+    names = class_names(spec)
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(DIFFICULTY_COLUMNS)
+    for item in items:
+        entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+            if annotation is None:
+                continue
+            block = annotation["csuas"]
+            contrast = block.get("local_contrast")
+            writer.writerow(
+                [entry["image"]["file_name"], names[annotation["category_id"] - 1], annotation.get("track_id", "")]
+                + list(annotation["bbox"])
+                + [block.get("background_class", "")]
+                + ["" if contrast is None else f"{contrast:.6g}"]
+                + [f"{block.get(k, float('nan')):.6g}" for k in ("target_mean_dn", "ring_mean_dn", "ring_sigma_dn")]
+                + [f"{block['pixels_on_target']:.6g}"]
+            )
+    write_text_atomic(inside(out, "difficulty.csv"), text.getvalue())
 
 
 def _video_chain(item: dict) -> dict:
