@@ -46,3 +46,45 @@ def test_the_background_class_follows_the_horizon_of_a_level_view():
     clouds[490:545, 890:950] = 1.0
     assert background_class([900, 500, 40, 40], {**horizon, "clouds": clouds}) == "cloud"
     assert background_class([900, 500, 40, 40], {"kind": "sky"}) == "sky"
+
+
+def _level_rays(n_h: int = 200, n_v: int = 400, ifov: float = 1e-3, elevation_deg: float = 0.0):
+    from csuas.render.imaging.clutter import frame_rays
+
+    item = {"azimuth_deg": 0.0, "elevation_deg": elevation_deg, "target_offset_px": (0.0, 0.0)}
+    return frame_rays(n_h, n_v, ifov, item), ifov
+
+
+def test_a_power_line_covers_each_column_by_its_angular_width_at_its_catenarys_height():
+    from csuas.render.imaging.clutter import CONDUCTOR_DIAMETER_M, SURFACES, _power_line
+
+    rays, ifov = _level_rays(elevation_deg=-3.0)  # the view 3 deg up: the wires are in the frame
+    context = {"band": "eo", "illuminance_lx": 1e4, "ambient_k": 290.0, "ifov_rad": ifov, "camera_height_m": 10.0}
+    forward = np.array([rays[200, 100, 0], rays[200, 100, 1]]) / np.hypot(*rays[200, 100, :2])
+    coverage, light = _power_line(rays, forward, 100.0, 150.0, context)  # mid-span at the frame's centre column
+    assert light == pytest.approx(SURFACES["power_line"][0] * 1e4 / np.pi)
+    column = rays[:, 100]
+    along = 100.0 / float(column[0] @ [forward[0], forward[1], 0.0])  # slant distance factor of the centre column
+    ground = along * float(np.hypot(column[0, 0], column[0, 1]))
+    # mid-span the wire hangs a (cosh(150 / a) - 1) = 11.3 m below the 25 m towers: 25 - 10 - 11.27 m above the camera
+    sag = 1000.0 * (np.cosh(0.15) - 1.0)
+    height = 15.0 - sag
+    assert coverage[:, 100].sum() == pytest.approx(CONDUCTOR_DIAMETER_M / np.hypot(ground, height) / ifov, rel=1e-3)
+    row = float(np.sum(np.arange(400) * coverage[:, 100]) / coverage[:, 100].sum())
+    elevation = np.degrees(np.arcsin(rays[:, 100, 2]))
+    assert np.interp(row, np.arange(400), elevation) == pytest.approx(np.degrees(np.arctan2(height, ground)), abs=0.06)
+
+
+def test_clutter_builds_only_the_layers_a_spec_declares_and_maps_their_classes():
+    from csuas.render.imaging.clutter import CLASSES, clutter_layers
+    from csuas.render.imaging.dataset_schema import ClutterSchema
+
+    rays, ifov = _level_rays()
+    context = {"band": "eo", "illuminance_lx": 1e4, "ambient_k": 290.0, "ifov_rad": ifov}
+    layers, codes = clutter_layers(rays, ClutterSchema(), context, 1)
+    assert layers == [] and set(np.unique(codes)) == {CLASSES.index("sky"), CLASSES.index("terrain")}
+    layers, codes = clutter_layers(rays, ClutterSchema(terrain=True), context, 1)
+    assert len(layers) == 1
+    below = rays[..., 2] < -1e-6
+    assert set(np.unique(codes[below])) <= {CLASSES.index(n) for n in ("grass", "forest", "road", "buildings")}
+    assert (codes[rays[..., 2] > 0] == CLASSES.index("sky")).all() and (layers[0][0] == below).all()

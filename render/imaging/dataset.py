@@ -80,6 +80,7 @@ class DatasetSpec:
     sequence: object = None
     normal_shot_noise_above_e: float = math.inf
     confusers: object = None
+    clutter: object = None
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -118,6 +119,7 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         sequence,
         float(spec.normal_shot_noise_above_e),
         spec.confusers,
+        spec.clutter,
     )
 
 
@@ -289,10 +291,17 @@ def _frame_seed(spec: DatasetSpec, item: dict) -> int:
     return spec.seed * 1_000_003 + item["index"]
 
 
+def _clutter_seed(spec: DatasetSpec, item: dict) -> int:
+    """The seed of a frame's clutter: its own for a still, its video's in a sequence (the ground stays put)."""
+    return spec.seed * 1000 + item["video_id"] if "video_id" in item else _frame_seed(spec, item)
+
+
 def _horizon(spec: DatasetSpec, sensor, item: dict, frame: dict) -> dict | None:
     """What :func:`csuas.render.imaging.difficulty.background_class` needs of a frame's background."""
     from csuas.render.imaging.background import cloud_opacity
 
+    if frame.get("classes") is not None:
+        return {"kind": "classes", "codes": frame["classes"]}
     thermal = sensor.modality == "tir"
     if (thermal and spec.sky_temperature_k is None) or (not thermal and not isinstance(spec.background, str)):
         return None
@@ -403,7 +412,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
             "sun_azimuth_deg"
         ),  # a sequence's sun is fixed in the world; a still's behind the camera
     )
-    confusers = "confusers" in item
+    layered = "confusers" in item or spec.clutter is not None
     target = sequence_target(item)
     frame = eo_frame(
         target,
@@ -411,18 +420,21 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         EoSensor.from_params(p),
         light,
         camera_from_params(p),
-        replace(chain, stages=()) if confusers else chain,  # with confusers, the chain runs once they are in
+        replace(chain, stages=()) if layered else chain,  # with layers, the chain runs once they are in
         seed=seed,
         quality=spec.quality,
         cloud_cover=spec.cloud_cover,
     )
-    if confusers:
-        from csuas.render.imaging.confusers import eo_render_settings, with_eo_confusers
+    if layered:
+        from csuas.render.imaging.confusers import eo_render_settings
+        from csuas.render.imaging.layered import with_eo_layers
 
         ambient_k = scenario.environment["temperature_k"]
         render = eo_render_settings(EoSensor.from_params(p), light, spec.quality, seed, p, ambient_k)
-        render.update(target=target, view=view, full_well_e=p["full_well_e"])
-        frame = with_eo_confusers(frame, item["confusers"], render, chain, seed)
+        render.update(target=target, view=view, full_well_e=p["full_well_e"], item=item, clutter=spec.clutter)
+        render["max_exposure_s"] = p["max_exposure_ms"] / 1000.0
+        render["clutter_seed"] = _clutter_seed(spec, item)
+        frame = with_eo_layers(frame, render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
 
@@ -446,24 +458,24 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
-    confusers, target = "confusers" in item, sequence_target(item)
+    layered, target = "confusers" in item or spec.clutter is not None, sequence_target(item)
     frame = tir_frame(
         target,
         view,
         ThermalSensor.from_params(p),
         scene,
-        replace(chain, stages=()) if confusers else chain,  # with confusers, the chain runs once they are in
+        replace(chain, stages=()) if layered else chain,  # with layers, the chain runs once they are in
         seed=seed,
         quality=spec.quality,
         sky_temperature_k=spec.sky_temperature_k,
     )
-    if confusers:
-        from csuas.render.imaging.confusers import with_tir_confusers
+    if layered:
+        from csuas.render.imaging.layered import with_tir_layers
 
         render = {"sensor": ThermalSensor.from_params(p), "scene": scene, "quality": spec.quality, "seed": seed}
         render.update(f_number=p["f_number"], pitch_um=p["pitch_um"], ambient_k=env["temperature_k"])
-        render.update(target=target, view=view)
-        frame = with_tir_confusers(frame, item["confusers"], render, chain, seed)
+        render.update(target=target, view=view, item=item, clutter=spec.clutter, clutter_seed=_clutter_seed(spec, item))
+        frame = with_tir_layers(frame, render, chain, seed)
     excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))

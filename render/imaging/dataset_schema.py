@@ -111,6 +111,16 @@ class ConfusersSchema(Schema):
     )
 
 
+class ClutterSchema(Schema):
+    """The ``[clutter]`` table: ground and skyline clutter, soft clouds (render/imaging/clutter.py)."""
+
+    terrain: bool = key(False, "land cover (grass, forest, roads, buildings) below the horizon", "true or false")
+    camera_height_m: number(0.5, 500.0, "m") = key(10.0, "the camera's height above the flat ground [m]")
+    skyline: bool = key(False, "hills, trees and buildings along the skyline", "true or false")
+    power_lines: whole(0, 5) = key(0, "power lines across the view (catenaries, 50-300 m away)")
+    clouds: number(0.0, 1.0) = key(0.0, "share of the sky under soft clouds (thermal too)")
+
+
 class DatasetSchema(Schema):
     """The keys of a dataset spec."""
 
@@ -155,6 +165,7 @@ class DatasetSchema(Schema):
         shown_default="inf (exact Poisson everywhere)",
     )
     confusers: ConfusersSchema | None = key(None, None)
+    clutter: ClutterSchema | None = key(None, None)
 
     @field_validator("chain")
     @classmethod

@@ -82,6 +82,8 @@ def background_class(bbox, horizon: dict | None) -> str:
         return "uniform"
     if horizon["kind"] == "sky":
         return "sky"
+    if horizon["kind"] == "classes":
+        return _class_of_box(horizon["codes"], bbox)
     from csuas.render.imaging.background import view_rays
 
     x, y, w, h = (int(v) for v in bbox)
@@ -97,6 +99,25 @@ def background_class(bbox, horizon: dict | None) -> str:
             return "cloud"
         return "sky"
     return "terrain" if not above.any() else "skyline"
+
+
+#: Share of a box's pixels a class needs to count in it (a box with sky and ground classes both counting is
+#: ``skyline``).
+COUNTING_SHARE = 0.1
+
+
+def _class_of_box(codes: np.ndarray, bbox) -> str:
+    """The class under a box from a clutter class map (:data:`csuas.render.imaging.clutter.CLASSES`): ``skyline``
+    where sky or cloud and a ground class each cover ``COUNTING_SHARE`` of it, else the commonest class."""
+    from csuas.render.imaging.clutter import CLASSES
+
+    x, y, w, h = (int(v) for v in bbox)
+    counts = np.bincount(codes[y : y + h, x : x + w].ravel(), minlength=len(CLASSES))[: len(CLASSES)]
+    shares = counts / max(counts.sum(), 1)
+    airborne = shares[CLASSES.index("sky")] + shares[CLASSES.index("cloud")]
+    if airborne >= COUNTING_SHARE and 1.0 - airborne >= COUNTING_SHARE:
+        return "skyline"
+    return CLASSES[int(np.argmax(counts))]
 
 
 def annotation_difficulty(dn: np.ndarray, mask: np.ndarray, bbox, horizon: dict | None) -> dict:

@@ -1,0 +1,262 @@
+"""Ground and skyline clutter of a ``csuas dataset`` frame (docs/datasets.md, spec table ``[clutter]``): land-cover
+terrain below the horizon, hills, trees and buildings along the skyline, power lines and soft clouds, in both
+bands. Built only for the keys a spec declares.
+
+Every layer is computed per pixel from the frame's viewing rays (``z`` up; the drone's body frame of a still,
+east-north-up in a sequence, so that clutter stays put in the world while the camera pans) and added to the
+background under the drone (:func:`csuas.render.imaging.compose.blend`), farthest first:
+
+* ``clouds`` (share of the sky): the clear sky's fractal cloud field (:func:`csuas.render.imaging.background.
+  cloud_field`) through a smoothstep over twice the field's spread (soft, graded edges instead of a mask),
+  lit as a white Lambertian sheet under the illuminance, darker by up to 30 % where the field is thin
+  (EO); at the ambient temperature less ``CLOUD_BELOW_AMBIENT_K`` (thermal, opaque where thick);
+* ``terrain``: flat ground ``camera_height_m`` below the camera; the ray of a pixel below the horizon meets it
+  at distance h / (-z); land cover there from two seeded value-noise fields over the ground (metres), with
+  the shares of ``LAND_COVER_SHARES``; octaves finer than twice a pixel's ground footprint
+  (t IFOV / -z) are left out, so the far ground does not alias;
+* ``skyline``: a band of hills (a seeded fractal ridge, forest), tree crowns and buildings standing at
+  ``SKYLINE_DISTANCE_M`` on the flat ground, heights from seeded 1-D noise along the azimuth; a column's top
+  lies at elevation atan((H - h) / D);
+* ``power_lines``: conductors strung across the view at a drawn distance (50-300 m), catenaries
+  z(x) = z_0 + a (cosh(x / a) - 1) between towers 300 m apart (a = 1000 m: a sag of 11 m), each a cylinder
+  of ``CONDUCTOR_DIAMETER_M`` whose coverage of a pixel column is its angular width over the IFOV (anti-aliased).
+
+Surfaces (Lambertian, lit by the horizontal illuminance E_v: L = rho E_v / pi; thermal: eps B(T) + (1 - eps)
+B(T_air)) take the figures of ``SURFACES``: visible reflectance and LWIR emissivity from the ECOSTRESS /
+ASTER spectral library (Meerdink et al., Remote Sens. Environ. 230, 2019; Baldridge et al. 2009) rounded,
+daytime surface temperature above the air from Oke, Boundary Layer Climates, 2nd ed., 1987 (typical
+midday values: vegetation near the air temperature, asphalt and roofs well above it), assumptions within
+those ranges. No atmosphere is applied to the clutter (its aerial perspective is left out).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Surfaces: visible reflectance, LWIR emissivity, daytime temperature above the air [K] (module docstring).
+SURFACES = {
+    "grass": (0.10, 0.98, 2.0),
+    "forest": (0.05, 0.98, 1.0),
+    "road": (0.08, 0.95, 15.0),
+    "buildings": (0.30, 0.92, 8.0),
+    "power_line": (0.20, 0.80, 3.0),  # weathered conductor: absorptivity and emissivity 0.8 (IEEE Std 738-2012)
+}
+#: Shares of the land cover of the terrain (assumption: a mixed rural-suburban site).
+LAND_COVER_SHARES = {"grass": 0.5, "forest": 0.3, "road": 0.05, "buildings": 0.15}
+#: Codes of the per-pixel background class map (difficulty annotations).
+CLASSES = (
+    "sky",
+    "cloud",
+    "terrain",
+    "grass",
+    "forest",
+    "road",
+    "buildings",
+    "skyline_trees",
+    "skyline_buildings",
+    "power_line",
+)
+#: Distance of the skyline's trees and buildings, and of the hills [m].
+SKYLINE_DISTANCE_M, HILLS_DISTANCE_M = 800.0, 4000.0
+#: Diameter of a power-line conductor [m] (a 26 mm ACSR conductor, IEEE Std 738 examples).
+CONDUCTOR_DIAMETER_M = 0.026
+#: Catenary parameter [m] and tower spacing [m] of the power lines (assumption: a distribution line).
+CATENARY_M, TOWER_SPACING_M, TOWER_HEIGHT_M = 1000.0, 300.0, 25.0
+#: A cloud's temperature below the ambient air [K] (assumption: a low cloud base).
+CLOUD_BELOW_AMBIENT_K = 12.0
+
+
+def frame_rays(n_h: int, n_v: int, ifov_rad: float, item: dict) -> np.ndarray:
+    """Unit rays (n_v, n_h, 3) of a frame, ``z`` up: the drone's body frame of a still, east-north-up in a
+    sequence (the body frame turned by the drone's heading, sun_world - sun_azimuth)."""
+    from csuas.render.imaging.background import view_rays
+
+    rays = view_rays(n_h, n_v, ifov_rad, item["azimuth_deg"], item["elevation_deg"], item["target_offset_px"])
+    if "sun_world_deg" not in item:
+        return rays
+    heading = math.radians(item["sun_world_deg"] - item["sun_azimuth_deg"])
+    c, s = math.cos(heading), math.sin(heading)
+    return np.stack([c * rays[..., 0] - s * rays[..., 1], s * rays[..., 0] + c * rays[..., 1], rays[..., 2]], -1)
+
+
+def value_noise(x: np.ndarray, y: np.ndarray, seed: int, cell_m: float, octaves: int, footprint=None) -> np.ndarray:
+    """Seeded fractal value noise (about -1..1) at ground points [m]: octaves of bilinear lattice noise, each of
+    half the cell and half the weight of the last; an octave whose cell is under twice ``footprint`` is left out."""
+    table = np.random.default_rng([int(seed), 9]).uniform(-1.0, 1.0, (256, 256))
+    total, weight, norm = np.zeros(np.shape(x)), 1.0, 0.0
+    for octave in range(octaves):
+        cell = cell_m / 2**octave
+        u, v = np.asarray(x) / cell + 17.3 * octave, np.asarray(y) / cell + 5.1 * octave
+        i, j = np.floor(u).astype(np.int64), np.floor(v).astype(np.int64)
+        fu, fv = u - i, v - j
+        i0, j0, i1, j1 = i % 256, j % 256, (i + 1) % 256, (j + 1) % 256
+        sample = (1 - fu) * ((1 - fv) * table[i0, j0] + fv * table[i0, j1]) + fu * (
+            (1 - fv) * table[i1, j0] + fv * table[i1, j1]
+        )
+        keep = 1.0 if footprint is None else np.clip(cell / (2.0 * footprint) - 1.0, 0.0, 1.0)
+        total += weight * keep * sample
+        norm += weight
+        weight /= 2.0
+    return total / norm
+
+
+def _surface_light(name: str, context: dict) -> float:
+    """EO luminance [cd/m^2] or thermal band radiance of a surface class (module docstring)."""
+    reflectance, emissivity, above_k = SURFACES[name]
+    if context["band"] == "eo":
+        return reflectance * context["illuminance_lx"] / math.pi
+    from csuas.core.radiometry import band_radiance
+
+    air = context["ambient_k"]
+    return float(
+        emissivity * band_radiance(air + above_k, context["band"])
+        + (1 - emissivity) * band_radiance(air, context["band"])
+    )
+
+
+def _terrain(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
+    """Land cover below the horizon: (alpha, light, class codes)."""
+    z = rays[..., 2]
+    below = z < -1e-6
+    t = np.where(below, clutter.camera_height_m / np.maximum(-z, 1e-6), 0.0)
+    x, y = t * rays[..., 0], t * rays[..., 1]
+    footprint = np.maximum(t * context["ifov_rad"] / np.maximum(-z, 1e-3), 1e-3)
+    urban = value_noise(x, y, seed, 400.0, 5, footprint)
+    green = value_noise(x, y, seed + 1, 250.0, 5, footprint)
+    texture = value_noise(x, y, seed + 2, 8.0, 4, footprint)
+    codes = np.full(z.shape, CLASSES.index("grass"), np.uint8)
+    building_edge, road_edge = (
+        np.quantile(urban[below], [1 - LAND_COVER_SHARES["buildings"], 0.5]) if below.any() else (1, 1)
+    )
+    forest_edge = np.quantile(green[below], 1 - LAND_COVER_SHARES["forest"]) if below.any() else 1
+    road = np.abs(urban - road_edge) < 0.02  # thin bands along a level line of the field: roads
+    codes[green > forest_edge] = CLASSES.index("forest")
+    codes[urban > building_edge] = CLASSES.index("buildings")
+    codes[road] = CLASSES.index("road")
+    light = np.zeros(z.shape)
+    for name in LAND_COVER_SHARES:
+        light[codes == CLASSES.index(name)] = _surface_light(name, context)
+    if context["band"] == "eo":
+        light *= 1.0 + 0.25 * texture  # within-class texture, +-25 % of the reflectance
+    return below.astype(float), light, np.where(below, codes, 255)
+
+
+def _skyline(rays: np.ndarray, clutter, context: dict, seed: int) -> list:
+    """Hills, then trees and buildings at the skyline: [(alpha, light, code, distance)] farthest first."""
+    azimuth = np.arctan2(rays[..., 1], rays[..., 0])
+    elevation = np.arcsin(np.clip(rays[..., 2], -1.0, 1.0))
+    h = clutter.camera_height_m
+    ring = lambda d: (d * np.cos(azimuth), d * np.sin(azimuth))
+    out = []
+    hills = 60.0 + 80.0 * value_noise(*ring(HILLS_DISTANCE_M), seed + 3, 1500.0, 4)
+    standing = lambda height, distance: (
+        (elevation < np.arctan2(height - h, distance))
+        & (
+            elevation > math.atan2(-h, distance)  # below: the ground nearer than the object
+        )
+    )
+    out.append(
+        (
+            standing(hills, HILLS_DISTANCE_M),
+            _surface_light("forest", context),
+            CLASSES.index("skyline_trees"),
+            HILLS_DISTANCE_M,
+        )
+    )
+    crowns = 14.0 + 6.0 * value_noise(*ring(SKYLINE_DISTANCE_M), seed + 4, 12.0, 3)
+    kind = value_noise(*ring(SKYLINE_DISTANCE_M), seed + 5, 150.0, 2)
+    buildings = np.where(
+        kind > 0.25, 10.0 + 20.0 * (value_noise(*ring(SKYLINE_DISTANCE_M), seed + 6, 60.0, 1) > 0), 0.0
+    )
+    trees = np.where((kind < 0.1) & (kind > -0.6), crowns, 0.0)
+    for height, name, code in ((trees, "forest", "skyline_trees"), (buildings, "buildings", "skyline_buildings")):
+        covered = standing(height, SKYLINE_DISTANCE_M) & (height > 0)
+        out.append((covered, _surface_light(name, context), CLASSES.index(code), SKYLINE_DISTANCE_M))
+    return out
+
+
+def _power_line(rays: np.ndarray, forward, distance_m: float, phase_m: float, context: dict) -> tuple:
+    """One conductor across the view at ``distance_m`` ahead along ``forward`` (horizontal unit): (coverage, light)."""
+    lateral = np.array([-forward[1], forward[0]])
+    depth = rays[..., 0] * forward[0] + rays[..., 1] * forward[1]
+    t = distance_m / np.maximum(depth, 1e-6)
+    along = t * (rays[..., 0] * lateral[0] + rays[..., 1] * lateral[1])
+    span = (along + phase_m) % TOWER_SPACING_M - TOWER_SPACING_M / 2.0
+    sag = CATENARY_M * (math.cosh(TOWER_SPACING_M / 2.0 / CATENARY_M) - np.cosh(span / CATENARY_M))
+    wire_z = TOWER_HEIGHT_M - context["camera_height_m"] - sag
+    # the wire's elevation along this column and the pixel's; its angular width d / r over the IFOV
+    ground = t * np.hypot(rays[..., 0], rays[..., 1])
+    r = np.hypot(ground, wire_z)
+    wire_elevation = np.arctan2(wire_z, ground)
+    elevation = np.arcsin(np.clip(rays[..., 2], -1.0, 1.0))
+    half_px, half_wire = context["ifov_rad"] / 2.0, CONDUCTOR_DIAMETER_M / r / 2.0
+    overlap = np.minimum(elevation + half_px, wire_elevation + half_wire) - np.maximum(
+        elevation - half_px, wire_elevation - half_wire
+    )
+    coverage = np.where(depth > 0, np.clip(overlap / context["ifov_rad"], 0.0, 1.0), 0.0)
+    return coverage, _surface_light("power_line", context)
+
+
+def _soft_clouds(rays: np.ndarray, cover: float, context: dict, seed: int) -> tuple:
+    """Soft clouds over the sky's pixels (module docstring): (alpha, light)."""
+    from csuas.render.imaging.background import cloud_field
+
+    n_v, n_h = rays.shape[:2]
+    field = cloud_field(n_v, n_h, seed)
+    edge, width = np.quantile(field, 1.0 - cover), 2.0 * float(np.std(field))
+    ramp = np.clip((field - edge) / width + 0.5, 0.0, 1.0)
+    opacity = ramp * ramp * (3.0 - 2.0 * ramp) * (rays[..., 2] > 0)  # smoothstep
+    if context["band"] == "eo":
+        return opacity, opacity * context["illuminance_lx"] / math.pi * (0.7 + 0.3 * opacity)
+    from csuas.core.radiometry import band_radiance
+
+    cloud = float(band_radiance(context["ambient_k"] - CLOUD_BELOW_AMBIENT_K, context["band"]))
+    return opacity, opacity * cloud
+
+
+def clutter_layers(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
+    """Every declared clutter layer of a frame, farthest first, and the frame's background class map.
+
+    Parameters
+    ----------
+    rays : ndarray (n_v, n_h, 3)
+        The frame's rays (:func:`frame_rays`).
+    clutter : ClutterSchema
+        The spec's ``[clutter]`` table.
+    context : dict
+        ``band`` ("eo", "lwir" or "mwir"), ``illuminance_lx``, ``ambient_k``, ``ifov_rad``, ``camera_height_m``.
+    seed : int
+        The frame's seed (a sequence: the video's, so that the ground stays the same).
+
+    Returns
+    -------
+    (list, ndarray)
+        [(alpha, light, distance_m)] with alpha and light (alpha L) frames, and the uint8 class codes
+        (:data:`CLASSES`: sky or terrain by the horizon where no layer covers a pixel more than half).
+    """
+    context = {**context, "camera_height_m": clutter.camera_height_m}
+    codes = np.where(rays[..., 2] > 0, CLASSES.index("sky"), CLASSES.index("terrain")).astype(np.uint8)
+    layers = []
+    if clutter.clouds > 0:
+        alpha, light = _soft_clouds(rays, clutter.clouds, context, seed)
+        layers.append((alpha, light, math.inf))
+        codes[alpha > 0.5] = CLASSES.index("cloud")
+    if clutter.terrain:
+        alpha, light, terrain_codes = _terrain(rays, clutter, context, seed)
+        layers.append((alpha, alpha * light, 1e4))
+        codes = np.where(alpha > 0.5, terrain_codes, codes).astype(np.uint8)
+    if clutter.skyline:
+        for covered, light, code, distance in _skyline(rays, clutter, context, seed):
+            layers.append((covered.astype(float), covered * light, distance))
+            codes[covered] = code
+    if clutter.power_lines:
+        rng = np.random.default_rng([int(seed), 13])
+        centre = rays[rays.shape[0] // 2, rays.shape[1] // 2]
+        forward = np.array([centre[0], centre[1]]) / max(math.hypot(centre[0], centre[1]), 1e-9)
+        for distance in sorted(rng.uniform(50.0, 300.0, clutter.power_lines), reverse=True):
+            coverage, light = _power_line(rays, forward, float(distance), float(rng.uniform(0, 300)), context)
+            layers.append((coverage, coverage * light, float(distance)))
+            codes[coverage > 0.5] = CLASSES.index("power_line")
+    return layers, codes
