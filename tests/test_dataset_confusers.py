@@ -149,3 +149,18 @@ def test_a_layer_beyond_the_drone_changes_only_the_background_its_uncovered_shar
     over = frame.copy()
     blend(over, (0, 0), alpha, light, None)
     assert over == pytest.approx(0.6 * frame + 0.4 * 11.0, rel=1e-12)
+
+
+def test_the_cost_estimate_adds_a_window_render_per_mesh_confuser_and_clutter_per_pixel(tmp_path):
+    from csuas.render.imaging import dataset_cost as cost
+
+    plain = parse_dataset_spec({"count": 10})
+    layered = parse_dataset_spec(
+        {"count": 10, "confusers": {"birds": {"min": 1, "max": 3}, "aircraft": 1, "insects": 2}, "clutter": {}}
+    )
+    pixels = 1920 * 1080
+    a, b = (cost.dataset_estimate(s, (1920, 1080), tmp_path / "none") for s in (plain, layered))
+    # a mean of 2 birds and 1 aircraft rendered in their windows, 2 insects blurred, the clutter over every pixel
+    extra = 3 * cost.WINDOW_SECONDS["draft"] + 2 * cost.INSECT_SECONDS + cost.CLUTTER_PIXEL_SECONDS * pixels
+    assert b.seconds - a.seconds == pytest.approx(10 * extra, rel=1e-12)
+    assert b.bytes - a.bytes == pytest.approx(cost.CLUTTER_PIXEL_BYTES * pixels, rel=1e-12)

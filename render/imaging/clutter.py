@@ -14,9 +14,9 @@ background under the drone (:func:`csuas.render.imaging.compose.blend`), farthes
   at distance h / (-z); land cover there from two seeded value-noise fields over the ground (metres), with
   the shares of ``LAND_COVER_SHARES``; octaves finer than twice a pixel's ground footprint
   (t IFOV / -z) are left out, so the far ground does not alias;
-* ``skyline``: a band of hills (a seeded fractal ridge, forest), tree crowns and buildings standing at
-  ``SKYLINE_DISTANCE_M`` on the flat ground, heights from seeded 1-D noise along the azimuth; a column's top
-  lies at elevation atan((H - h) / D);
+* ``skyline``: a band of hills (a seeded fractal ridge, forest, at ``HILLS_DISTANCE_M``), tree crowns and
+  buildings standing at ``SKYLINE_DISTANCE_M`` on the flat ground, heights from seeded 1-D noise along the
+  azimuth; an object covers the elevations from its foot, atan(-h / D), to its top, atan((H - h) / D);
 * ``power_lines``: conductors strung across the view at a drawn distance (50-300 m), catenaries
   z(x) = z_0 + a (cosh(x / a) - 1) between towers 300 m apart (a = 1000 m: a sag of 11 m), each a cylinder
   of ``CONDUCTOR_DIAMETER_M`` whose coverage of a pixel column is its angular width over the IFOV (anti-aliased).
@@ -88,6 +88,11 @@ def value_noise(x: np.ndarray, y: np.ndarray, seed: int, cell_m: float, octaves:
     total, weight, norm = np.zeros(np.shape(x)), 1.0, 0.0
     for octave in range(octaves):
         cell = cell_m / 2**octave
+        keep = 1.0 if footprint is None else np.clip(cell / (2.0 * footprint) - 1.0, 0.0, 1.0)
+        norm += weight
+        if not np.any(keep):  # finer than every pixel's footprint
+            weight /= 2.0
+            continue
         u, v = np.asarray(x) / cell + 17.3 * octave, np.asarray(y) / cell + 5.1 * octave
         i, j = np.floor(u).astype(np.int64), np.floor(v).astype(np.int64)
         fu, fv = u - i, v - j
@@ -95,9 +100,7 @@ def value_noise(x: np.ndarray, y: np.ndarray, seed: int, cell_m: float, octaves:
         sample = (1 - fu) * ((1 - fv) * table[i0, j0] + fv * table[i0, j1]) + fu * (
             (1 - fv) * table[i1, j0] + fv * table[i1, j1]
         )
-        keep = 1.0 if footprint is None else np.clip(cell / (2.0 * footprint) - 1.0, 0.0, 1.0)
         total += weight * keep * sample
-        norm += weight
         weight /= 2.0
     return total / norm
 
@@ -117,63 +120,72 @@ def _surface_light(name: str, context: dict) -> float:
 
 
 def _terrain(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
-    """Land cover below the horizon: (alpha, light, class codes)."""
+    """Land cover below the horizon: (alpha, light, class codes); the noise is evaluated on those pixels only."""
     z = rays[..., 2]
     below = z < -1e-6
-    t = np.where(below, clutter.camera_height_m / np.maximum(-z, 1e-6), 0.0)
-    x, y = t * rays[..., 0], t * rays[..., 1]
-    footprint = np.maximum(t * context["ifov_rad"] / np.maximum(-z, 1e-3), 1e-3)
+    codes = np.full(z.shape, 255, np.uint8)
+    light = np.zeros(z.shape)
+    if not below.any():
+        return below.astype(float), light, codes
+    down = -z[below]
+    t = clutter.camera_height_m / down
+    x, y = t * rays[..., 0][below], t * rays[..., 1][below]
+    footprint = np.maximum(t * context["ifov_rad"] / np.maximum(down, 1e-3), 1e-3)
     urban = value_noise(x, y, seed, 400.0, 5, footprint)
     green = value_noise(x, y, seed + 1, 250.0, 5, footprint)
-    texture = value_noise(x, y, seed + 2, 8.0, 4, footprint)
-    codes = np.full(z.shape, CLASSES.index("grass"), np.uint8)
-    building_edge, road_edge = (
-        np.quantile(urban[below], [1 - LAND_COVER_SHARES["buildings"], 0.5]) if below.any() else (1, 1)
-    )
-    forest_edge = np.quantile(green[below], 1 - LAND_COVER_SHARES["forest"]) if below.any() else 1
-    road = np.abs(urban - road_edge) < 0.02  # thin bands along a level line of the field: roads
-    codes[green > forest_edge] = CLASSES.index("forest")
-    codes[urban > building_edge] = CLASSES.index("buildings")
-    codes[road] = CLASSES.index("road")
-    light = np.zeros(z.shape)
+    building_edge, road_edge = np.quantile(urban, [1 - LAND_COVER_SHARES["buildings"], 0.5])
+    forest_edge = np.quantile(green, 1 - LAND_COVER_SHARES["forest"])
+    kind = np.full(t.shape, CLASSES.index("grass"), np.uint8)
+    kind[green > forest_edge] = CLASSES.index("forest")
+    kind[urban > building_edge] = CLASSES.index("buildings")
+    kind[np.abs(urban - road_edge) < 0.02] = CLASSES.index("road")  # thin bands along a level line: roads
+    values = np.zeros(t.shape)
     for name in LAND_COVER_SHARES:
-        light[codes == CLASSES.index(name)] = _surface_light(name, context)
+        values[kind == CLASSES.index(name)] = _surface_light(name, context)
     if context["band"] == "eo":
-        light *= 1.0 + 0.25 * texture  # within-class texture, +-25 % of the reflectance
-    return below.astype(float), light, np.where(below, codes, 255)
+        values *= 1.0 + 0.25 * value_noise(x, y, seed + 2, 8.0, 4, footprint)  # texture: +-25 % of the reflectance
+    codes[below], light[below] = kind, values
+    return below.astype(float), light, codes
+
+
+def _along_azimuth(rays: np.ndarray, distance_m: float, seed: int, cell_m: float, octaves: int) -> np.ndarray:
+    """Value noise on the ground circle of ``distance_m`` at each pixel's azimuth, evaluated once per column of
+    the middle row and interpolated in azimuth (the azimuth varies along a row, next to nothing down a column
+    of a view near level)."""
+    azimuth = np.arctan2(rays[..., 1], rays[..., 0])
+    row = np.unwrap(azimuth[azimuth.shape[0] // 2])
+    order = np.argsort(row)
+    samples = value_noise(distance_m * np.cos(row), distance_m * np.sin(row), seed, cell_m, octaves)
+    centre = row[row.size // 2]
+    wrapped = (azimuth - centre + np.pi) % (2 * np.pi) - np.pi + centre  # onto the middle row's branch
+    return np.interp(wrapped, row[order], samples[order])
 
 
 def _skyline(rays: np.ndarray, clutter, context: dict, seed: int) -> list:
     """Hills, then trees and buildings at the skyline: [(alpha, light, code, distance)] farthest first."""
-    azimuth = np.arctan2(rays[..., 1], rays[..., 0])
     elevation = np.arcsin(np.clip(rays[..., 2], -1.0, 1.0))
     h = clutter.camera_height_m
-    ring = lambda d: (d * np.cos(azimuth), d * np.sin(azimuth))
-    out = []
-    hills = 60.0 + 80.0 * value_noise(*ring(HILLS_DISTANCE_M), seed + 3, 1500.0, 4)
-    standing = lambda height, distance: (
-        (elevation < np.arctan2(height - h, distance))
-        & (
-            elevation > math.atan2(-h, distance)  # below: the ground nearer than the object
-        )
-    )
+
+    def standing(height, distance):  # between the ground at that distance and the object's top
+        return (elevation < np.arctan2(height - h, distance)) & (elevation > math.atan2(-h, distance)) & (height > 0)
+
+    hills = 60.0 + 80.0 * _along_azimuth(rays, HILLS_DISTANCE_M, seed + 3, 1500.0, 4)
+    forest, buildings_light = _surface_light("forest", context), _surface_light("buildings", context)
+    out = [(standing(hills, HILLS_DISTANCE_M), forest, CLASSES.index("skyline_trees"), HILLS_DISTANCE_M)]
+    crowns = 14.0 + 6.0 * _along_azimuth(rays, SKYLINE_DISTANCE_M, seed + 4, 12.0, 3)
+    kind = _along_azimuth(rays, SKYLINE_DISTANCE_M, seed + 5, 150.0, 2)
+    storeys = _along_azimuth(rays, SKYLINE_DISTANCE_M, seed + 6, 20.0, 1) > 0
+    buildings = np.where(kind > 0.25, 10.0 + 20.0 * storeys, 0.0)
+    trees = np.where((kind < 0.1) & (kind > -0.6), crowns, 0.0)
+    out.append((standing(trees, SKYLINE_DISTANCE_M), forest, CLASSES.index("skyline_trees"), SKYLINE_DISTANCE_M))
     out.append(
         (
-            standing(hills, HILLS_DISTANCE_M),
-            _surface_light("forest", context),
-            CLASSES.index("skyline_trees"),
-            HILLS_DISTANCE_M,
+            standing(buildings, SKYLINE_DISTANCE_M),
+            buildings_light,
+            CLASSES.index("skyline_buildings"),
+            SKYLINE_DISTANCE_M,
         )
     )
-    crowns = 14.0 + 6.0 * value_noise(*ring(SKYLINE_DISTANCE_M), seed + 4, 12.0, 3)
-    kind = value_noise(*ring(SKYLINE_DISTANCE_M), seed + 5, 150.0, 2)
-    buildings = np.where(
-        kind > 0.25, 10.0 + 20.0 * (value_noise(*ring(SKYLINE_DISTANCE_M), seed + 6, 60.0, 1) > 0), 0.0
-    )
-    trees = np.where((kind < 0.1) & (kind > -0.6), crowns, 0.0)
-    for height, name, code in ((trees, "forest", "skyline_trees"), (buildings, "buildings", "skyline_buildings")):
-        covered = standing(height, SKYLINE_DISTANCE_M) & (height > 0)
-        out.append((covered, _surface_light(name, context), CLASSES.index(code), SKYLINE_DISTANCE_M))
     return out
 
 
