@@ -164,3 +164,28 @@ def test_the_cost_estimate_adds_a_window_render_per_mesh_confuser_and_clutter_pe
     extra = 3 * cost.WINDOW_SECONDS["draft"] + 2 * cost.INSECT_SECONDS + cost.CLUTTER_PIXEL_SECONDS * pixels
     assert b.seconds - a.seconds == pytest.approx(10 * extra, rel=1e-12)
     assert b.bytes - a.bytes == pytest.approx(cost.CLUTTER_PIXEL_BYTES * pixels, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_thermal_clutter_puts_clouds_between_the_cold_sky_and_the_air_and_warm_land_below_the_horizon(tmp_path):
+    import OpenEXR
+
+    from csuas.core.scenario import load_scenario
+
+    air = load_scenario("default").environment["temperature_k"]
+    spec = tmp_path / "t.toml"
+    spec.write_text(
+        'sensor = "tir"\nsky_temperature_k = 230.0\ndrones = ["dji_mini_4_pro"]\nrange_m = [150.0]\n'
+        'elevation_deg = [-1.0]\nposition = "centre"\nchain = ["quantise"]\nexr = true\n'
+        "[clutter]\nterrain = true\nclouds = 0.5\n"
+    )
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "t")]) == 0
+    with OpenEXR.File(str(tmp_path / "t" / "images" / "000000_dji_mini_4_pro.exr")) as exr:
+        kelvin = exr.channels()["Y"].pixels
+    sky, ground = kelvin[:100], kelvin[-100:]
+    # clear sky at 230 K, clouds up to 12 K below the air (opaque where thick), nothing warmer than the clouds
+    assert sky.min() == pytest.approx(230.0, abs=0.01) and sky.max() == pytest.approx(air - 12.0, abs=0.05)
+    # land cover: emissivity 0.92-0.98 at 1-15 K above the air, the rest the air's reflection
+    assert air + 0.9 < ground.min() and ground.max() < air + 15.0
+    coco = json.loads((tmp_path / "t" / "annotations.json").read_text())
+    assert coco["annotations"][0]["csuas"]["background_class"] in ("sky", "cloud", "skyline")
