@@ -88,3 +88,30 @@ def test_clutter_builds_only_the_layers_a_spec_declares_and_maps_their_classes()
     below = rays[..., 2] < -1e-6
     assert set(np.unique(codes[below])) <= {CLASSES.index(n) for n in ("grass", "forest", "road", "buildings")}
     assert (codes[rays[..., 2] > 0] == CLASSES.index("sky")).all() and (layers[0][0] == below).all()
+
+
+def test_the_suns_ghosts_lie_on_the_line_through_the_frames_centre_and_the_sun_is_where_the_spec_puts_it():
+    from csuas.drone_models.geometry import direction_vector
+    from csuas.render.imaging.background import view_rays
+    from csuas.render.imaging.clutter import GHOSTS, ghost_centres, sun_direction, sun_pixel
+
+    size, ifov = (1920, 1080), np.radians(10.0) / 1920
+    sun = sun_pixel(size, ifov, (2.5, 1.0))
+    assert sun == pytest.approx((960 + np.tan(np.radians(2.5)) / ifov, 540 - np.tan(np.radians(1.0)) / ifov))
+    for (g, _), (x, y) in zip(GHOSTS, ghost_centres(sun, size)):
+        # on the line: (x - cx, y - cy) = g (sx - cx, sy - cy)
+        assert (x - 960, y - 540) == pytest.approx((g * (sun[0] - 960), g * (sun[1] - 540)), abs=1e-9)
+    item = {"azimuth_deg": 40.0, "elevation_deg": -12.0, "target_offset_px": (30.0, -20.0)}
+    azimuth, elevation = sun_direction(size, ifov, item, (2.5, 1.0))
+    rays = view_rays(*size, ifov, 40.0, -12.0, (30.0, -20.0))
+    col, row = int(sun[0]), int(sun[1])  # the pixel holding the sun's image; its centre within half a pixel
+    assert np.degrees(np.arccos(rays[row, col] @ direction_vector(azimuth, elevation))) < np.degrees(ifov)
+
+
+def test_a_lens_flare_needs_a_sun():
+    from csuas.base.errors import InputErrors
+    from csuas.render.imaging.dataset import parse_dataset_spec
+
+    with pytest.raises(InputErrors) as caught:
+        parse_dataset_spec({"clutter": {"lens_flare": True}})
+    assert "clutter.lens_flare" in str(caught.value)

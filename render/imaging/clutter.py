@@ -49,6 +49,7 @@ LAND_COVER_SHARES = {"grass": 0.5, "forest": 0.3, "road": 0.05, "buildings": 0.1
 CLASSES = (
     "sky",
     "cloud",
+    "sun",
     "terrain",
     "grass",
     "forest",
@@ -272,3 +273,67 @@ def clutter_layers(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple
             layers.append((coverage, coverage * light, float(distance)))
             codes[coverage > 0.5] = CLASSES.index("power_line")
     return layers, codes
+
+
+#: Angular radius of the sun [rad] (0.2666 deg, its mean apparent diameter of 0.533 deg).
+SUN_RADIUS_RAD = math.radians(0.2666)
+#: Ghost images of the sun: their place along the line from the sun's image through the frame's centre (the
+#: sun at 1, the centre at 0, mirrored beyond it at -1) and their radius [px of a 1920 px frame] (stated model).
+GHOSTS = ((-0.4, 60.0), (-0.8, 120.0), (-1.2, 180.0), (0.5, 40.0))
+#: Reflectance of one lens surface with a multi-layer coating; a ghost is light reflected twice, rho^2 of the
+#: sun's flux (Smith, Modern Optical Engineering, 4th ed., 2008: 0.2-1 % a coated surface; 0.3 % assumed).
+SURFACE_REFLECTANCE = 0.003
+
+
+def sun_pixel(sensor_size: tuple, ifov_rad: float, sun_offset_deg) -> tuple:
+    """Film position (x, y) [px] of the sun ``sun_offset_deg`` (right, up) [deg] from the frame's centre (pinhole)."""
+    n_h, n_v = sensor_size
+    x_deg, y_deg = sun_offset_deg
+    return (n_h / 2.0 + math.tan(math.radians(x_deg)) / ifov_rad, n_v / 2.0 - math.tan(math.radians(y_deg)) / ifov_rad)
+
+
+def sun_direction(sensor_size: tuple, ifov_rad: float, item: dict, sun_offset_deg) -> tuple:
+    """Azimuth and elevation [deg] of the sun, the frame's ray at :func:`sun_pixel`, in the drone's body frame."""
+    from csuas.render.imaging.background import view_rays
+
+    n_h, n_v = sensor_size
+    px, py = sun_pixel(sensor_size, ifov_rad, sun_offset_deg)
+    ox, oy = item["target_offset_px"]
+    # a one-pixel frame whose pixel is the sun's place in the full frame (view_rays's centre convention)
+    offset = (n_h // 2 + ox - (px - 0.5), n_v // 2 + oy - (py - 0.5))
+    ray = view_rays(1, 1, ifov_rad, item["azimuth_deg"], item["elevation_deg"], offset)[0, 0]
+    return math.degrees(math.atan2(ray[1], ray[0])), math.degrees(math.asin(float(np.clip(ray[2], -1.0, 1.0))))
+
+
+def ghost_centres(sun_px: tuple, sensor_size: tuple) -> list:
+    """Centres [px] of the ghosts: c + g (s - c) for each g of :data:`GHOSTS` (c the frame's centre, s the sun)."""
+    cx, cy = sensor_size[0] / 2.0, sensor_size[1] / 2.0
+    return [(cx + g * (sun_px[0] - cx), cy + g * (sun_px[1] - cy)) for g, _ in GHOSTS]
+
+
+def _disk(shape: tuple, centre: tuple, radius_px: float) -> np.ndarray:
+    """Coverage of a disk (anti-aliased over one pixel at its edge)."""
+    y, x = np.indices(shape, dtype=float)
+    distance = np.hypot(x + 0.5 - centre[0], y + 0.5 - centre[1])
+    return np.clip(radius_px + 0.5 - distance, 0.0, 1.0)
+
+
+def sun_and_flare(shape: tuple, ifov_rad: float, sun_px: tuple, sun_irradiance_lx: float, flare: bool) -> list:
+    """The sun's disk (luminance E_sun / Omega_sun, beyond everything) and, with ``flare``, its ghosts (in the
+    lens, over everything): [(alpha, light, distance)].
+
+    A ghost spreads rho^2 of the sun's flux over its disk of solid angle Omega_g = pi (r IFOV)^2, so its added
+    luminance is rho^2 E_sun / Omega_g (alpha 0: it adds light, hides nothing).
+    """
+    n_v, n_h = shape
+    sun_luminance = sun_irradiance_lx / (math.pi * SUN_RADIUS_RAD**2)
+    disk = _disk(shape, sun_px, SUN_RADIUS_RAD / ifov_rad)
+    out = [(disk, disk * sun_luminance, math.inf)]
+    if flare:
+        scale = n_h / 1920.0
+        for (_, radius), centre in zip(GHOSTS, ghost_centres(sun_px, (n_h, n_v))):
+            r = radius * scale
+            ghost = _disk(shape, centre, r)
+            luminance = SURFACE_REFLECTANCE**2 * sun_irradiance_lx / (math.pi * (r * ifov_rad) ** 2)
+            out.append((np.zeros(shape), ghost * luminance, 0.0))  # in the lens: over everything
+    return out

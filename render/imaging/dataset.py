@@ -181,6 +181,9 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     sensor = imaging_sensor(scenario, spec.sensor)
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
+    sun = spec.clutter.sun_offset_deg if spec.clutter is not None else None
+    if sun is not None and (sensor.modality == "tir" or spec.sequence is not None):
+        raise ParameterError("clutter.sun_offset_deg", sun, "left out of thermal and sequence datasets (EO stills)")
     if spec.sequence is not None and sensor.modality == "tir" and "motion" in spec.chain:
         # a microbolometer smears a moving drone over its thermal time constant (an exponential), not an exposure
         raise ParameterError("chain", "motion", "left out of a thermal sequence (its smear is not modelled yet)")
@@ -412,6 +415,8 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
             "sun_azimuth_deg"
         ),  # a sequence's sun is fixed in the world; a still's behind the camera
     )
+    if spec.clutter is not None and spec.clutter.sun_offset_deg is not None:  # a still's sun where the spec puts it
+        light = _sun_in_view(light, spec.clutter.sun_offset_deg, p, item)
     layered = "confusers" in item or spec.clutter is not None
     target = sequence_target(item)
     frame = eo_frame(
@@ -437,6 +442,18 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         frame = with_eo_layers(frame, render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
+
+
+def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):
+    """The daylight with its sun at ``clutter.sun_offset_deg`` from the frame's centre (above the horizon)."""
+    from csuas.render.imaging.clutter import sun_direction
+
+    size = (int(p["n_h"]), int(p["n_v"]))
+    azimuth, elevation = sun_direction(size, math.radians(p["hfov_deg"]) / size[0], item, sun_offset_deg)
+    if elevation <= 0.5:
+        valid = f"a sun above the horizon in every frame (image {item['name']} puts it at {elevation:.1f} deg)"
+        raise ParameterError("clutter.sun_offset_deg", sun_offset_deg, valid)
+    return replace(light, sun_azimuth_deg=azimuth, sun_elevation_deg=elevation)
 
 
 def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:

@@ -119,6 +119,19 @@ class ClutterSchema(Schema):
     skyline: bool = key(False, "hills, trees and buildings along the skyline", "true or false")
     power_lines: whole(0, 5) = key(0, "power lines across the view (catenaries, 50-300 m away)")
     clouds: number(0.0, 1.0) = key(0.0, "share of the sky under soft clouds (thermal too)")
+    sun_offset_deg: Annotated[list[number(-90.0, 90.0, "deg")], Field(min_length=2, max_length=2)] | None = key(
+        None,
+        "EO stills: the sun at [right, up] deg from the frame's centre (lights the drone and the sky)",
+        "[x, y], each -90 to 90 deg",
+    )
+    lens_flare: bool = key(False, "ghost images of the sun along the line through the frame's centre", "true or false")
+
+    @field_validator("lens_flare")
+    @classmethod
+    def _flare_needs_a_sun(cls, value, info: ValidationInfo):
+        if value and info.data.get("sun_offset_deg") is None:
+            raise ValueError("true only with sun_offset_deg")
+        return value
 
 
 class DatasetSchema(Schema):

@@ -20,24 +20,49 @@ HIGHLIGHT_FILL = 0.9
 
 
 def _add_layers(signal: np.ndarray, drone: DroneWindow, render: dict, band: str) -> dict:
-    """Clutter then confusers on the frame's light (luminance or band radiance) in place; their labels and classes."""
-    from csuas.render.imaging.clutter import clutter_layers, frame_rays
+    """The sun, clutter and confusers on the frame's light (luminance or band radiance) in place: what lies beyond
+    the drone under it, then the confusers, then what is nearer (a power line, the sun's ghosts in the lens) over
+    everything; the confusers' labels (``layers``) and the class map (``classes``)."""
+    from csuas.render.imaging.clutter import CLASSES, clutter_layers, frame_rays
     from csuas.render.imaging.confusers import eo_confusers, tir_confusers
 
     out: dict = {"layers": None}
-    item, sensor, ifov = render["item"], render["sensor"], drone_ifov(render)
-    if render.get("clutter") is not None:
+    item, sensor, ifov, clutter = render["item"], render["sensor"], drone_ifov(render), render.get("clutter")
+    beyond, near = [], []
+    if clutter is not None:
+        sun = _sun_layers(signal.shape, ifov, render)
         rays = frame_rays(sensor.n_h, sensor.n_v, ifov, item)
         context = {"band": band, "ambient_k": render["ambient_k"], "ifov_rad": ifov}
         context["illuminance_lx"] = getattr(render.get("light"), "illuminance_lx", 0.0)
-        layers, codes = clutter_layers(rays, render["clutter"], context, render["clutter_seed"])
-        for alpha, light, distance in layers:
-            blend(signal, (0, 0), alpha, light, drone if distance > drone.range_m else None)
+        layers, codes = clutter_layers(rays, clutter, context, render["clutter_seed"])
+        for layer in sun[:1] + layers:
+            (beyond if layer[2] > drone.range_m else near).append(layer)
+        near += sun[1:]
+        if sun:
+            codes[sun[0][0] > 0.5] = CLASSES.index("sun")
         out["classes"] = codes
+    for alpha, light, _ in beyond:
+        blend(signal, (0, 0), alpha, light, drone)
     if "confusers" in item:
         add = eo_confusers if band == "eo" else tir_confusers
         out["layers"] = add(signal, item["confusers"], ifov, render, drone)
+    for alpha, light, _ in near:
+        blend(signal, (0, 0), alpha, light, None)
     return out
+
+
+def _sun_layers(shape: tuple, ifov: float, render: dict) -> list:
+    """The sun's disk and its ghosts (:func:`csuas.render.imaging.clutter.sun_and_flare`) where the spec puts
+    the sun, as bright as the drone's render's direct sunlight; none without ``sun_offset_deg``."""
+    from csuas.render.imaging.clutter import sun_and_flare, sun_pixel
+    from csuas.render.imaging.eo import sun_and_sky
+
+    clutter, light = render["clutter"], render.get("light")
+    if clutter.sun_offset_deg is None or light is None:
+        return []
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    sun_px = sun_pixel((shape[1], shape[0]), ifov, clutter.sun_offset_deg)
+    return sun_and_flare(shape, ifov, sun_px, sky["sun_irradiance_lx"], clutter.lens_flare)
 
 
 def drone_ifov(render: dict) -> float:
