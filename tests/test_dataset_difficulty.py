@@ -115,3 +115,19 @@ def test_a_lens_flare_needs_a_sun():
     with pytest.raises(InputErrors) as caught:
         parse_dataset_spec({"clutter": {"lens_flare": True}})
     assert "clutter.lens_flare" in str(caught.value)
+
+
+def test_a_relief_terrains_rays_end_on_the_fractal_dem():
+    from csuas.render.imaging.clutter import RELIEF_CELL_M, _relief_hits, frame_rays, value_noise
+    from csuas.render.imaging.dataset_schema import ClutterSchema
+
+    ifov = np.radians(10.0) / 640
+    rays = frame_rays(640, 360, ifov, {"azimuth_deg": 30.0, "elevation_deg": 1.0, "target_offset_px": (0.0, 0.0)})
+    ground, x, y, distance = _relief_hits(rays, ClutterSchema(terrain=True, relief_m=60.0), ifov, 7)
+    assert 0.5 < ground.mean() < 0.9  # looking 1 deg down from 10 m: ground below, sky above the skyline
+    # the DEM 60 m x noise (seed + 7) relative to the ground under the camera; the ray from 10 m above it
+    origin = value_noise(np.zeros(1), np.zeros(1), 14, RELIEF_CELL_M, 5)[0]
+    dem = 60.0 * (value_noise(x, y, 14, RELIEF_CELL_M, 5, distance * ifov) - origin)
+    ray = 10.0 + distance * np.tan(np.arcsin(rays[..., 2][ground]))
+    # profile samples 2.4 % of the distance apart, interpolated: within centimetres but at ridges' occlusion edges
+    assert np.median(np.abs(ray - dem)) < 0.01 and np.percentile(np.abs(ray - dem), 99) < 0.05

@@ -10,8 +10,9 @@ background under the drone (:func:`csuas.render.imaging.compose.blend`), farthes
   cloud_field`) through a smoothstep over twice the field's spread (soft, graded edges instead of a mask),
   lit as a white Lambertian sheet under the illuminance, darker by up to 30 % where the field is thin
   (EO); at the ambient temperature less ``CLOUD_BELOW_AMBIENT_K`` (thermal, opaque where thick);
-* ``terrain``: flat ground ``camera_height_m`` below the camera; the ray of a pixel below the horizon meets it
-  at distance h / (-z); land cover there from two seeded value-noise fields over the ground (metres), with
+* ``terrain``: flat ground ``camera_height_m`` below the camera (the ray of a pixel below the horizon meets it
+  at distance h / (-z)), or with ``relief_m`` a seeded fractal DEM cast column by column (:func:`_relief_hits`);
+  land cover there from two seeded value-noise fields over the ground (metres), with
   the shares of ``LAND_COVER_SHARES``; octaves finer than twice a pixel's ground footprint
   (t IFOV / -z) are left out, so the far ground does not alias;
 * ``skyline``: a band of hills (a seeded fractal ridge, forest, at ``HILLS_DISTANCE_M``), tree crowns and
@@ -120,33 +121,84 @@ def _surface_light(name: str, context: dict) -> float:
     )
 
 
-def _terrain(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
-    """Land cover below the horizon: (alpha, light, class codes); the noise is evaluated on those pixels only."""
-    z = rays[..., 2]
-    below = z < -1e-6
-    codes = np.full(z.shape, 255, np.uint8)
-    light = np.zeros(z.shape)
-    if not below.any():
-        return below.astype(float), light, codes
-    down = -z[below]
-    t = clutter.camera_height_m / down
-    x, y = t * rays[..., 0][below], t * rays[..., 1][below]
-    footprint = np.maximum(t * context["ifov_rad"] / np.maximum(down, 1e-3), 1e-3)
+def _land_cover(x: np.ndarray, y: np.ndarray, footprint: np.ndarray, context: dict, seed: int) -> tuple:
+    """Land-cover class codes and light at ground points [m] (module docstring, ``terrain``)."""
     urban = value_noise(x, y, seed, 400.0, 5, footprint)
     green = value_noise(x, y, seed + 1, 250.0, 5, footprint)
     building_edge, road_edge = np.quantile(urban, [1 - LAND_COVER_SHARES["buildings"], 0.5])
     forest_edge = np.quantile(green, 1 - LAND_COVER_SHARES["forest"])
-    kind = np.full(t.shape, CLASSES.index("grass"), np.uint8)
+    kind = np.full(x.shape, CLASSES.index("grass"), np.uint8)
     kind[green > forest_edge] = CLASSES.index("forest")
     kind[urban > building_edge] = CLASSES.index("buildings")
     kind[np.abs(urban - road_edge) < 0.02] = CLASSES.index("road")  # thin bands along a level line: roads
-    values = np.zeros(t.shape)
+    values = np.zeros(x.shape)
     for name in LAND_COVER_SHARES:
         values[kind == CLASSES.index(name)] = _surface_light(name, context)
     if context["band"] == "eo":
         values *= 1.0 + 0.25 * value_noise(x, y, seed + 2, 8.0, 4, footprint)  # texture: +-25 % of the reflectance
-    codes[below], light[below] = kind, values
-    return below.astype(float), light, codes
+    return kind, values
+
+
+def _terrain(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
+    """Land cover below the horizon: (alpha, light, class codes); flat ground, or with ``relief_m`` the seeded
+    fractal DEM (:func:`_relief_hits`). The noise is evaluated on the ground's pixels only."""
+    z = rays[..., 2]
+    codes = np.full(z.shape, 255, np.uint8)
+    light = np.zeros(z.shape)
+    if clutter.relief_m > 0:
+        ground, x, y, distance = _relief_hits(rays, clutter, context["ifov_rad"], seed)
+        grazing = np.maximum(np.abs(z[ground]), 0.02)
+    else:
+        ground = z < -1e-6
+        distance = clutter.camera_height_m / np.maximum(-z[ground], 1e-9)
+        x, y, grazing = distance * rays[..., 0][ground], distance * rays[..., 1][ground], -z[ground]
+    if not ground.any():
+        return ground.astype(float), light, codes
+    footprint = np.maximum(distance * context["ifov_rad"] / np.maximum(grazing, 1e-3), 1e-3)
+    codes[ground], light[ground] = _land_cover(x, y, footprint, context, seed)
+    return ground.astype(float), light, codes
+
+
+#: Horizontal scale of the fractal DEM's largest features [m] and its samples along each column's azimuth.
+RELIEF_CELL_M, RELIEF_SAMPLES = 2000.0, 384
+#: Nearest and farthest ground distance a column's profile samples [m].
+RELIEF_NEAR_M, RELIEF_FAR_M = 2.0, 20000.0
+
+
+def _relief_hits(rays: np.ndarray, clutter, ifov_rad: float, seed: int) -> tuple:
+    """Where each pixel's ray meets a seeded fractal DEM (heights ``relief_m`` x value noise, the camera
+    ``camera_height_m`` above the ground below it): a height-profile ("voxel space") cast per column.
+
+    Each column's azimuth (its middle row's, as :func:`_along_azimuth`) gives a profile of the ground's
+    elevation angle atan((H(d) - H(0) - h) / d) at ``RELIEF_SAMPLES`` distances d, geometric from 2 m to 20 km;
+    its running maximum is what the camera sees up to d, so a pixel at elevation e sees the ground at the
+    nearest d whose running maximum reaches e (sky above the profile's maximum), interpolated linearly in
+    the angle from the sample before. Returns the mask of ground
+    pixels, their ground points x, y [m] and distances [m].
+    """
+    n_v, n_h = rays.shape[:2]
+    middle = rays[n_v // 2]
+    azimuth = np.unwrap(np.arctan2(middle[:, 1], middle[:, 0]))
+    distance = np.geomspace(RELIEF_NEAR_M, RELIEF_FAR_M, RELIEF_SAMPLES)
+    px, py = distance[None, :] * np.cos(azimuth)[:, None], distance[None, :] * np.sin(azimuth)[:, None]
+    footprint = np.broadcast_to(distance * ifov_rad, px.shape)
+    height = value_noise(px, py, seed + 7, RELIEF_CELL_M, 5, footprint)
+    origin = float(value_noise(np.zeros(1), np.zeros(1), seed + 7, RELIEF_CELL_M, 5)[0])
+    angle = np.arctan2(clutter.relief_m * (height - origin) - clutter.camera_height_m, distance[None, :])
+    seen = np.maximum.accumulate(angle, axis=1)  # (n_h, samples), non-decreasing along each column's profile
+    elevation = np.arcsin(np.clip(rays[..., 2], -1.0, 1.0))
+    index = np.empty((n_v, n_h), np.int64)
+    for column in range(n_h):
+        index[:, column] = np.searchsorted(seen[column], elevation[:, column])
+    ground = index < RELIEF_SAMPLES
+    columns = np.broadcast_to(np.arange(n_h), (n_v, n_h))[ground]
+    after = index[ground]
+    before = np.maximum(after - 1, 0)
+    # between the last sample below the pixel's elevation and the first reaching it, linear in the angle
+    low, high = angle[columns, before], angle[columns, after]
+    share = np.clip((elevation[ground] - low) / np.where(high > low, high - low, 1.0), 0.0, 1.0)
+    hit = distance[before] + share * (distance[after] - distance[before])
+    return ground, hit * np.cos(azimuth[columns]), hit * np.sin(azimuth[columns]), hit
 
 
 def _along_azimuth(rays: np.ndarray, distance_m: float, seed: int, cell_m: float, octaves: int) -> np.ndarray:

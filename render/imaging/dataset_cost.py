@@ -40,12 +40,13 @@ IMAGE_BYTES = 1250.0
 #: Time to draw one image's drone, range, aspect and offset [s] (98 us measured for 10^5 draws).
 DRAW_SECONDS = 1e-4
 #: Clutter over the full frame, per pixel [s]: the frame's rays, the declared layers and their blends under the
-#: drone (render/imaging/clutter.py). Measured: example-cluttered 3.65 CPU-s a 2.07 Mpx frame against the
-#: example's 0.67 at the same load (about 9, 6 frames each); the difference less its confusers, scaled by the
-#: example's ratio of measured CPU-s to this model's seconds (0.67 / 0.14), is 0.56 s a frame.
-CLUTTER_PIXEL_SECONDS = 2.7e-7
+#: drone (render/imaging/clutter.py). Measured: example-cluttered 3.34 CPU-s a 2.07 Mpx frame against the
+#: example's 0.66 at the same load (about 4, 6 frames each); the difference less its confusers (about 0.45 CPU-s,
+#: 1.5 window renders), scaled by the example's ratio of measured CPU-s to this model's seconds (0.66 / 0.14),
+#: is 0.47 s a frame.
+CLUTTER_PIXEL_SECONDS = 2.3e-7
 #: Memory per frame pixel that clutter adds: the rays (3 floats), a layer's opacity and light, the class map and
-#: the blend's temporaries [B] (example-cluttered peaked at 0.92 GiB against the example's 0.47 GiB, 2.07 Mpx).
+#: the blend's temporaries [B] (example-cluttered peaked at 0.92 GiB against the example's 0.46 GiB, 2.07 Mpx).
 CLUTTER_PIXEL_BYTES = 235.0
 #: An insect's defocus blur (FFT convolution of its supersampled window) [s] (assumption: like a window render).
 INSECT_SECONDS = 0.05

@@ -115,7 +115,10 @@ class ClutterSchema(Schema):
     """The ``[clutter]`` table: ground and skyline clutter, soft clouds (render/imaging/clutter.py)."""
 
     terrain: bool = key(False, "land cover (grass, forest, roads, buildings) below the horizon", "true or false")
-    camera_height_m: number(0.5, 500.0, "m") = key(10.0, "the camera's height above the flat ground [m]")
+    camera_height_m: number(0.5, 500.0, "m") = key(10.0, "the camera's height above the ground [m]")
+    relief_m: number(0.0, 1000.0, "m") = key(
+        0.0, "terrain: heights of a seeded fractal DEM, this times noise (0: flat)"
+    )
     skyline: bool = key(False, "hills, trees and buildings along the skyline", "true or false")
     power_lines: whole(0, 5) = key(0, "power lines across the view (catenaries, 50-300 m away)")
     clouds: number(0.0, 1.0) = key(0.0, "share of the sky under soft clouds (thermal too)")
