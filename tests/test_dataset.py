@@ -121,6 +121,7 @@ def test_the_dataset_rate_bench_runs_both_embedded_specs_and_each_lever():
         ("example", "normal above 1000 e"),
         ("sequence", "poisson"),
         ("sequence", "normal above 1000 e"),
+        ("example-cluttered", "poisson"),
     ]
     assert all(r["frames"] == 1 and r["frames_per_s"] > 0 and r["cpu_s_per_frame"] > 0 for r in runs)
     assert [r["lever"] for r in rows if "lever" in r] == ["blur FFT", "shot noise", "16-bit PNG"]

@@ -33,7 +33,7 @@ import json
 import math
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +42,7 @@ from csuas.base.errors import InputErrors, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 from csuas.base.schema import validate
+from csuas.defaults import load_birds
 from csuas.render.imaging.dataset_schema import TAGS, DatasetSchema
 
 #: Axes a spec may draw or list.
@@ -52,6 +53,8 @@ SPEC_KEYS = tuple(DatasetSchema.model_fields)
 THERMAL_STAGES = ("rolling_shutter", "psf", "defocus", "motion", "netd", "agc", "quantise")
 #: Threads writing frames' files while the next frame renders (at most this many frames held in memory).
 WRITERS = 2
+#: Bird classes (defaults/birds.toml): their confuser annotations carry the wingbeat phase.
+_BIRDS = tuple(load_birds())
 #: Johnson tasks and their line pairs across d_crit (Table 20, standard column), most demanding first.
 DRI_LINE_PAIRS = (("identification", 8.0), ("recognition", 4.0), ("detection", 1.0))
 
@@ -76,6 +79,8 @@ class DatasetSpec:
     previews: bool = True
     sequence: object = None
     normal_shot_noise_above_e: float = math.inf
+    confusers: object = None
+    clutter: object = None
 
 
 def parse_dataset_spec(data: dict) -> DatasetSpec:
@@ -113,6 +118,8 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
         spec.previews,
         sequence,
         float(spec.normal_shot_noise_above_e),
+        spec.confusers,
+        spec.clutter,
     )
 
 
@@ -144,6 +151,12 @@ def draws(spec: DatasetSpec, frame_size: tuple[int, int]) -> list[dict]:
             if spec.position == "random":
                 offset = (float(rng.uniform(-width / 2, width / 2)), float(rng.uniform(-height / 2, height / 2)))
             item.update(index=index, target_offset_px=offset, name=f"{index:06d}_{item['drone']}")
+            if spec.confusers is not None:  # a stream of its own: the drone's draws stay those of a spec without
+                from csuas.render.imaging.confusers import draw_confusers
+
+                item["confusers"] = draw_confusers(
+                    spec.confusers, np.random.default_rng([spec.seed, index, 5]), frame_size
+                )
             out.append(item)
     return out
 
@@ -168,6 +181,9 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     sensor = imaging_sensor(scenario, spec.sensor)
     if spec.sky_temperature_k is not None and sensor.modality != "tir":
         raise ParameterError("sky_temperature_k", spec.sky_temperature_k, "only with a thermal sensor")
+    sun = spec.clutter.sun_offset_deg if spec.clutter is not None else None
+    if sun is not None and (sensor.modality == "tir" or spec.sequence is not None):
+        raise ParameterError("clutter.sun_offset_deg", sun, "left out of thermal and sequence datasets (EO stills)")
     if spec.sequence is not None and sensor.modality == "tir" and "motion" in spec.chain:
         # a microbolometer smears a moving drone over its thermal time constant (an exponential), not an exposure
         raise ParameterError("chain", "motion", "left out of a thermal sequence (its smear is not modelled yet)")
@@ -189,6 +205,10 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
         from csuas.render.imaging.sequence import sequence_items
 
         items = sequence_items(spec.sequence, spec.axes["drones"], spec.count, spec.seed, sensor.params)
+        if spec.confusers is not None:
+            from csuas.render.imaging.confusers import sequence_confusers
+
+            sequence_confusers(items, spec.confusers, spec.seed, sensor.params)
     else:
         items = draws(spec, (int(sensor.params["n_h"]), int(sensor.params["n_v"])))
     start, rendered, redone = time.perf_counter(), 0, []
@@ -218,6 +238,7 @@ def _generate_locked(spec: DatasetSpec, scenario, sensor, out: Path, progress) -
             writing.popleft().result()
     annotations = _coco(spec, sensor, items, out)
     _write_dataset_files(spec, sensor, items, out)
+    _write_difficulty(spec, items, out)
     if spec.sequence is not None:
         _write_mot(sensor, items, out)
     return {
@@ -264,8 +285,47 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
     from csuas.render.imaging.records import View
 
     view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], tuple(item["target_offset_px"]))
-    seed = spec.seed * 1_000_003 + item["index"]
+    seed = _frame_seed(spec, item)
     return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
+
+
+def _frame_seed(spec: DatasetSpec, item: dict) -> int:
+    """The render, noise and cloud seed of an image."""
+    return spec.seed * 1_000_003 + item["index"]
+
+
+def _clutter_seed(spec: DatasetSpec, item: dict) -> int:
+    """The seed of a frame's clutter: its own for a still, its video's in a sequence (the ground stays put)."""
+    return spec.seed * 1000 + item["video_id"] if "video_id" in item else _frame_seed(spec, item)
+
+
+def _horizon(spec: DatasetSpec, sensor, item: dict, frame: dict) -> dict | None:
+    """What :func:`csuas.render.imaging.difficulty.background_class` needs of a frame's background."""
+    from csuas.render.imaging.background import cloud_opacity
+
+    if frame.get("classes") is not None:
+        return {"kind": "classes", "codes": frame["classes"]}
+    thermal = sensor.modality == "tir"
+    if (thermal and spec.sky_temperature_k is None) or (not thermal and not isinstance(spec.background, str)):
+        return None
+    if not thermal and spec.background == "sky":
+        return {"kind": "sky"}
+    width, height = int(sensor.params["n_h"]), int(sensor.params["n_v"])
+    clouds = None
+    if not thermal and spec.cloud_cover > 0:  # the clear sky's own clouds (same seed)
+        clouds = cloud_opacity(height, width, spec.cloud_cover, _frame_seed(spec, item))
+    view = {key: item[key] for key in ("azimuth_deg", "elevation_deg", "target_offset_px")}
+    return {"kind": "horizon", "frame": (width, height), "ifov_rad": frame["result"].ifov_rad, "clouds": clouds, **view}
+
+
+def _with_difficulty(annotations: list, dn: np.ndarray, horizon: dict | None) -> None:
+    """Add the background class and local contrast (:mod:`csuas.render.imaging.difficulty`) to annotations' blocks."""
+    from csuas.render.imaging.difficulty import annotation_difficulty
+    from csuas.render.imaging.labels import decode_run_length
+
+    for annotation in annotations:
+        mask = decode_run_length(annotation["segmentation"])
+        annotation["csuas"].update(annotation_difficulty(dn, mask, annotation["bbox"], horizon))
 
 
 def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) -> None:
@@ -285,6 +345,9 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         _write_signal_exr(inside(out, "images", f"{item['name']}.exr"), frame["chain"]["signal"], item, unit)
     class_index = class_names(spec).index(item["drone"])
     yolo = yolo_line(lab["bbox"], width, height, class_index) + "\n" if lab["bbox"] else ""
+    confusers = _confuser_annotations(spec, item, frame.get("layers"))
+    for annotation in confusers:
+        yolo += yolo_line(annotation["bbox"], width, height, annotation["category_id"] - 1) + "\n"
     write_text_atomic(inside(out, "labels", f"{item['name']}.txt"), yolo)
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
@@ -292,6 +355,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     entry = {
         "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
         "annotation": None,
+        **({"confusers": confusers} if "confusers" in item else {}),
     }
     if lab["in_frame"]:
         entry["annotation"] = {
@@ -321,6 +385,8 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         }
         if "track_id" in item:
             entry["annotation"].update(track_id=item["track_id"], instance_id=item["track_id"])
+    objects = [a for a in [entry["annotation"], *confusers] if a is not None]
+    _with_difficulty(objects, dn, _horizon(spec, sensor, item, frame) if objects else None)
     write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
 
 
@@ -350,17 +416,43 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         ),  # a sequence's sun is fixed in the world; a still's behind the camera
         cloud_cover=spec.cloud_cover,
     )
+    if spec.clutter is not None and spec.clutter.sun_offset_deg is not None:  # a still's sun where the spec puts it
+        light = _sun_in_view(light, spec.clutter.sun_offset_deg, p, item)
+    layered = "confusers" in item or spec.clutter is not None
+    target = sequence_target(item)
     frame = eo_frame(
-        sequence_target(item),
+        target,
         view,
         EoSensor.from_params(p),
         light,
         camera_from_params(p),
-        chain,
+        replace(chain, stages=()) if layered else chain,  # with layers, the chain runs once they are in
         settings=RenderSettings(quality=spec.quality, seed=seed),
     )
+    if layered:
+        from csuas.render.imaging.confusers import eo_render_settings
+        from csuas.render.imaging.layered import with_eo_layers
+
+        ambient_k = scenario.environment["temperature_k"]
+        render = eo_render_settings(EoSensor.from_params(p), light, spec.quality, seed, p, ambient_k)
+        render.update(target=target, view=view, full_well_e=p["full_well_e"], item=item, clutter=spec.clutter)
+        render["max_exposure_s"] = p["max_exposure_ms"] / 1000.0
+        render["clutter_seed"] = _clutter_seed(spec, item)
+        frame = with_eo_layers(frame, render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     return frame
+
+
+def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):
+    """The daylight with its sun at ``clutter.sun_offset_deg`` from the frame's centre (above the horizon)."""
+    from csuas.render.imaging.clutter import sun_direction
+
+    size = (int(p["n_h"]), int(p["n_v"]))
+    azimuth, elevation = sun_direction(size, math.radians(p["hfov_deg"]) / size[0], item, sun_offset_deg)
+    if elevation <= 0.5:
+        valid = f"a sun above the horizon in every frame (image {item['name']} puts it at {elevation:.1f} deg)"
+        raise ParameterError("clutter.sun_offset_deg", sun_offset_deg, valid)
+    return replace(light, sun_azimuth_deg=azimuth, sun_elevation_deg=elevation)
 
 
 def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
@@ -382,15 +474,23 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
+    layered, target = "confusers" in item or spec.clutter is not None, sequence_target(item)
     frame = tir_frame(
-        sequence_target(item),
+        target,
         view,
         ThermalSensor.from_params(p),
         scene,
-        chain,
+        replace(chain, stages=()) if layered else chain,  # with layers, the chain runs once they are in
         settings=RenderSettings(quality=spec.quality, seed=seed),
         sky_temperature_k=spec.sky_temperature_k,
     )
+    if layered:
+        from csuas.render.imaging.layered import with_tir_layers
+
+        render = {"sensor": ThermalSensor.from_params(p), "scene": scene, "quality": spec.quality, "seed": seed}
+        render.update(f_number=p["f_number"], pitch_um=p["pitch_um"], ambient_k=env["temperature_k"])
+        render.update(target=target, view=view, item=item, clutter=spec.clutter, clutter_seed=_clutter_seed(spec, item))
+        frame = with_tir_layers(frame, render, chain, seed)
     excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))
@@ -423,10 +523,13 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         images.append(
             {"id": image_id, **entry["image"], "csuas": {"hfov_deg": p["hfov_deg"], "vfov_deg": p["vfov_deg"]}}
         )
-        if entry["annotation"] is not None:
-            annotations.append({"id": len(annotations) + 1, "image_id": image_id, **entry["annotation"]})
+        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+            if annotation is not None:
+                annotations.append({"id": len(annotations) + 1, "image_id": image_id, **annotation})
+    from csuas.render.imaging.confusers import SUPERCATEGORY
     from csuas.render.imaging.dataset_files import PNG_BITS, dn_scale
 
+    drones = list(dict.fromkeys(spec.axes["drones"]))
     info = {"description": "csuas dataset", "seed": spec.seed, "scenario": spec.scenario, "bits": spec.bits}
     info.update(png_bits=8 if spec.bits == 8 else PNG_BITS, dn_scale=dn_scale(spec.bits))
     coco = {
@@ -434,7 +537,8 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         "images": images,
         "annotations": annotations,
         "categories": [
-            {"id": index, "name": name, "supercategory": "drone"} for index, name in enumerate(class_names(spec), 1)
+            {"id": index, "name": name, "supercategory": "drone" if index <= len(drones) else SUPERCATEGORY}
+            for index, name in enumerate(class_names(spec), 1)
         ],
     }
     if spec.sequence is not None:
@@ -449,8 +553,40 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
 
 
 def class_names(spec: DatasetSpec) -> list:
-    """The dataset's classes, one per drone model in the spec's order (COCO id = index + 1, YOLO class = index)."""
-    return list(dict.fromkeys(spec.axes["drones"]))
+    """The dataset's classes, one per drone model in the spec's order, then the confuser classes
+    (:func:`csuas.render.imaging.confusers.confuser_classes`); COCO id = index + 1, YOLO class = index."""
+    from csuas.render.imaging.confusers import confuser_classes
+
+    drones = list(dict.fromkeys(spec.axes["drones"]))
+    return drones + [name for name in confuser_classes(spec.confusers) if name not in drones]
+
+
+def _confuser_annotations(spec: DatasetSpec, item: dict, labels) -> list:
+    """COCO annotations (without ids) of a frame's confusers in the frame: box, mask, class and their draw."""
+    names = class_names(spec)
+    out = []
+    for draw, lab in zip(item.get("confusers", []), labels or []):
+        if lab is None or not lab["in_frame"]:
+            continue
+        block = {key: draw[key] for key in ("class", "range_m", "azimuth_deg", "elevation_deg") if key in draw}
+        block.update(confuser_id=draw["confuser_id"], clipped=lab["clipped"], visibility=lab["visibility"])
+        block.update(pixels_on_target=lab["pixels_on_target"], subpixel=lab["subpixel"])
+        if draw["class"] in _BIRDS:
+            block["wingbeat_phase"] = draw["wingbeat_phase"]
+        if "blur_px" in lab:
+            block.update(length_m=draw["length_m"], blur_px=lab["blur_px"])
+        annotation = {
+            "category_id": names.index(draw["class"]) + 1,
+            "bbox": lab["bbox"],
+            "area": lab["area"],
+            "segmentation": lab["segmentation"],
+            "iscrowd": 0,
+            "csuas": block,
+        }
+        if "track_id" in draw:
+            annotation.update(track_id=draw["track_id"], instance_id=draw["track_id"])
+        out.append(annotation)
+    return out
 
 
 def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> None:
@@ -468,9 +604,41 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
     for item in items[:SHEET_FRAMES]:
         entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
         dn = read_dn_png(out / entry["image"]["file_name"])
-        boxes = [entry["annotation"]["bbox"]] if entry["annotation"] is not None else []
+        boxes = [a["bbox"] for a in [entry["annotation"], *entry.get("confusers", [])] if a is not None]
         sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
     write_contact_sheet(inside(out, "contact_sheet.png"), sheet)
+
+
+#: Columns of ``difficulty.csv``: one row per labelled object.
+DIFFICULTY_COLUMNS = ("file_name", "category", "track_id", "x", "y", "w", "h", "background_class")
+DIFFICULTY_COLUMNS += ("local_contrast", "target_mean_dn", "ring_mean_dn", "ring_sigma_dn", "pixels_on_target")
+
+
+def _write_difficulty(spec: DatasetSpec, items: list, out: Path) -> None:
+    """``difficulty.csv``: every labelled object's box, background class and local contrast (binning by difficulty)."""
+    import csv
+    import io
+
+    names = class_names(spec)
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(DIFFICULTY_COLUMNS)
+    for item in items:
+        entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
+        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+            if annotation is None:
+                continue
+            block = annotation["csuas"]
+            contrast = block.get("local_contrast")
+            writer.writerow(
+                [entry["image"]["file_name"], names[annotation["category_id"] - 1], annotation.get("track_id", "")]
+                + list(annotation["bbox"])
+                + [block.get("background_class", "")]
+                + ["" if contrast is None else f"{contrast:.6g}"]
+                + [f"{block.get(k, float('nan')):.6g}" for k in ("target_mean_dn", "ring_mean_dn", "ring_sigma_dn")]
+                + [f"{block['pixels_on_target']:.6g}"]
+            )
+    write_text_atomic(inside(out, "difficulty.csv"), text.getvalue())
 
 
 def _video_chain(item: dict) -> dict:
@@ -517,13 +685,12 @@ def _write_mot(sensor, items: list, out: Path) -> None:
         lines = []
         for item in (i for i in items if i["video_id"] == video["id"]):
             entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
-            annotation = entry["annotation"]
-            if annotation is not None:
-                block = annotation["csuas"]
-                class_id = annotation["category_id"]
-                lines.append(
-                    mot_line(item["frame_id"] + 1, item["track_id"], annotation["bbox"], class_id, block["visibility"])
-                )
+            for annotation in [entry["annotation"], *entry.get("confusers", [])]:
+                if annotation is not None:
+                    block, class_id, track = annotation["csuas"], annotation["category_id"], annotation["track_id"]
+                    lines.append(
+                        mot_line(item["frame_id"] + 1, track, annotation["bbox"], class_id, block["visibility"])
+                    )
         folder = sub_folder(sub_folder(out, "mot"), video["name"])
         write_text_atomic(inside(sub_folder(folder, "gt"), "gt.txt"), "".join(line + "\n" for line in lines))
         info = seqinfo(video["name"], video["frame_rate_hz"], video["frames"], int(p["n_h"]), int(p["n_v"]))

@@ -40,12 +40,43 @@ PIXEL_BYTES = 96.0
 IMAGE_BYTES = 1250.0
 #: Time to draw one image's drone, range, aspect and offset [s] (98 us measured for 10^5 draws).
 DRAW_SECONDS = 1e-4
+#: Clutter over the full frame, per pixel [s]: the frame's rays, the declared layers and their blends under the
+#: drone (render/imaging/clutter.py). Measured: example-cluttered 3.34 CPU-s a 2.07 Mpx frame against the
+#: example's 0.66 at the same load (about 4, 6 frames each); the difference less its confusers (about 0.45 CPU-s,
+#: 1.5 window renders), scaled by the example's ratio of measured CPU-s to this model's seconds (0.66 / 0.14),
+#: is 0.47 s a frame.
+CLUTTER_PIXEL_SECONDS = 2.3e-7
+#: Memory per frame pixel that clutter adds: the rays (3 floats), a layer's opacity and light, the class map and
+#: the blend's temporaries [B] (example-cluttered peaked at 0.92 GiB against the example's 0.46 GiB, 2.07 Mpx).
+CLUTTER_PIXEL_BYTES = 235.0
+#: An insect's defocus blur (FFT convolution of its supersampled window) [s] (assumption: like a window render).
+INSECT_SECONDS = 0.05
 
 
 def image_count(spec) -> int:
     """Images of a spec: the product of its list axes' lengths (``drones`` is drawn) times ``count``."""
     listed = [len(v) for name, v in spec.axes.items() if name != "drones" and not isinstance(v, dict)]
     return math.prod(listed) * spec.count
+
+
+def _mean_count(value) -> float:
+    """Mean of a confuser count: a whole number, or ``{min, max}`` drawn uniformly."""
+    if isinstance(value, int):
+        return float(value)
+    low, high = (value["min"], value["max"]) if isinstance(value, dict) else (value.min, value.max)
+    return (low + high) / 2.0
+
+
+def _layer_seconds(spec, pixels: float) -> float:
+    """Time a frame's confusers (one window render each; an insect's blur) and clutter (per pixel) add [s]."""
+    seconds = 0.0
+    confusers = getattr(spec, "confusers", None)
+    if confusers is not None:
+        meshes = _mean_count(confusers.birds) + _mean_count(confusers.aircraft)
+        seconds += meshes * WINDOW_SECONDS[spec.quality] + _mean_count(confusers.insects) * INSECT_SECONDS
+    if getattr(spec, "clutter", None) is not None:
+        seconds += CLUTTER_PIXEL_SECONDS * pixels
+    return seconds
 
 
 def dataset_estimate(spec, frame_px: tuple[int, int], out_dir) -> Estimate:
@@ -64,8 +95,9 @@ def dataset_estimate(spec, frame_px: tuple[int, int], out_dir) -> Estimate:
     done = sum(1 for _ in records.glob("*.json")) if records.is_dir() else 0
     todo = max(images - done, 0)
     pixels = float(frame_px[0]) * float(frame_px[1])
-    per_image = WINDOW_SECONDS[spec.quality] + PIXEL_SECONDS * pixels
+    per_image = WINDOW_SECONDS[spec.quality] + PIXEL_SECONDS * pixels + _layer_seconds(spec, pixels)
     seconds = START_SECONDS + images * DRAW_SECONDS + todo * per_image
-    peak = PROCESS_BYTES + PIXEL_BYTES * pixels + IMAGE_BYTES * images
+    clutter_bytes = CLUTTER_PIXEL_BYTES * pixels if getattr(spec, "clutter", None) is not None else 0.0
+    peak = PROCESS_BYTES + PIXEL_BYTES * pixels + clutter_bytes + IMAGE_BYTES * images
     what = f"a dataset of {images:,} images ({todo:,} to render) of {frame_px[0]} x {frame_px[1]} px at {spec.quality}"
     return Estimate(what, seconds, peak)

@@ -13,13 +13,14 @@ from pydantic import BaseModel, Discriminator, Field, Tag, ValidationInfo, creat
 
 from csuas.base.quality import RUNGS, RUNGS_TEXT
 from csuas.base.schema import Schema, key, number, one_of, text, whole
+from csuas.defaults import load_birds
 from csuas.drone_models.presets import list_presets
 from csuas.render.imaging.sensor_chain import STAGES
 
 #: Valid range of each numeric axis and its unit.
 AXIS_LIMITS = {"range_m": (1.0, 1e5, "m"), "azimuth_deg": (-360.0, 360.0, "deg"), "elevation_deg": (-90.0, 90.0, "deg")}
 #: Tags of the unions below, which pydantic names in its error locations but a spec does not hold.
-TAGS = ("list", "span", "name", "reflectance")
+TAGS = ("list", "span", "name", "reflectance", "number")
 
 
 def _max_not_below_min(cls, value, info: ValidationInfo):
@@ -58,6 +59,83 @@ Background = Annotated[
     Discriminator(_background_kind),
     Field(json_schema_extra={"allowed": "'sky', 'clear_sky' or a reflectance 0..1"}),
 ]
+
+
+def _span(name: str, low: float, high: float, unit: str) -> Any:
+    """``{min, max}`` of values within [low, high] (a draw uniform between them)."""
+    value = number(low, high, unit)
+    return create_model(
+        f"Span_{name}",
+        __base__=Schema,
+        __validators__={"max_not_below_min": field_validator("max")(_max_not_below_min)},
+        min=(value, key(description="lowest value")),
+        max=(value, key(description="highest value")),
+    )
+
+
+def _count(name: str, high: int) -> Any:
+    """A whole number of confusers a frame, or ``{min, max}`` (drawn uniformly, both included)."""
+    value = whole(0, high)
+    span = create_model(
+        f"Count_{name}",
+        __base__=Schema,
+        __validators__={"max_not_below_min": field_validator("max")(_max_not_below_min)},
+        min=(value, key(description="fewest")),
+        max=(value, key(description="most")),
+    )
+    kind = lambda v: "span" if isinstance(v, (dict, BaseModel)) else "number"
+    allowed = f"a whole number 0 to {high}, or {{min, max}}"
+    return Annotated[
+        Annotated[value, Tag("number")] | Annotated[span, Tag("span")],
+        Discriminator(kind, custom_error_type="csuas", custom_error_message=allowed),
+        Field(json_schema_extra={"allowed": allowed}),
+    ]
+
+
+class ConfusersSchema(Schema):
+    """The ``[confusers]`` table: birds, a light aircraft and insects as labelled classes (confusers.py)."""
+
+    birds: _count("birds", 20) = key(0, "birds a frame (a sequence: a video)")
+    bird_classes: Annotated[list[one_of(*load_birds())], Field(min_length=1)] = key(
+        list(load_birds()), "bird classes drawn from (defaults/birds.toml)", "classes: " + ", ".join(load_birds())
+    )
+    bird_range_m: _span("bird_range_m", 5.0, 5000.0, "m") = key(
+        {"min": 40.0, "max": 400.0}, "range of a bird [m]", "{min, max} of 5 to 5000 m"
+    )
+    aircraft: _count("aircraft", 3) = key(0, "light aircraft (Cessna 172-like) a frame")
+    aircraft_range_m: _span("aircraft_range_m", 200.0, 50000.0, "m") = key(
+        {"min": 1500.0, "max": 8000.0}, "range of an aircraft [m]", "{min, max} of 200 to 50000 m"
+    )
+    insects: _count("insects", 10) = key(0, "insects near the lens a frame (out of focus)")
+    insect_range_m: _span("insect_range_m", 0.05, 5.0, "m") = key(
+        {"min": 0.5, "max": 3.0}, "distance of an insect from the lens [m]", "{min, max} of 0.05 to 5 m"
+    )
+
+
+class ClutterSchema(Schema):
+    """The ``[clutter]`` table: ground and skyline clutter, soft clouds (render/imaging/clutter.py)."""
+
+    terrain: bool = key(False, "land cover (grass, forest, roads, buildings) below the horizon", "true or false")
+    camera_height_m: number(0.5, 500.0, "m") = key(10.0, "the camera's height above the ground [m]")
+    relief_m: number(0.0, 1000.0, "m") = key(
+        0.0, "terrain: heights of a seeded fractal DEM, this times noise (0: flat)"
+    )
+    skyline: bool = key(False, "hills, trees and buildings along the skyline", "true or false")
+    power_lines: whole(0, 5) = key(0, "power lines across the view (catenaries, 50-300 m away)")
+    clouds: number(0.0, 1.0) = key(0.0, "share of the sky under soft clouds (thermal too)")
+    sun_offset_deg: Annotated[list[number(-90.0, 90.0, "deg")], Field(min_length=2, max_length=2)] | None = key(
+        None,
+        "EO stills: the sun at [right, up] deg from the frame's centre (lights the drone and the sky)",
+        "[x, y], each -90 to 90 deg",
+    )
+    lens_flare: bool = key(False, "ghost images of the sun along the line through the frame's centre", "true or false")
+
+    @field_validator("lens_flare")
+    @classmethod
+    def _flare_needs_a_sun(cls, value, info: ValidationInfo):
+        if value and info.data.get("sun_offset_deg") is None:
+            raise ValueError("true only with sun_offset_deg")
+        return value
 
 
 class DatasetSchema(Schema):
@@ -101,6 +179,8 @@ class DatasetSchema(Schema):
         "shot noise drawn from the normal approximation above this mean (exact Poisson below)",
         shown_default="inf (exact Poisson everywhere)",
     )
+    confusers: ConfusersSchema | None = key(None, None)
+    clutter: ClutterSchema | None = key(None, None)
 
     @field_validator("chain")
     @classmethod

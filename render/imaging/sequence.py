@@ -196,7 +196,8 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
         ``frame_id`` (0-based), ``time_s``, ``range_m``, ``azimuth_deg``, ``elevation_deg``,
         ``target_offset_px``, ``velocity_px_s``, ``position_m`` (east, north, up) and ``sun_azimuth_deg`` (the
         sun's azimuth in the drone's body frame: the sun stays behind the camera's mean pointing in the world
-        while the drone turns under it).
+        while the drone turns under it), ``boresight_enu`` (the camera's unit pointing) and ``sun_world_deg``
+        (the sun's azimuth in the world, radians from east toward north, in degrees).
 
     Raises
     ------
@@ -240,6 +241,8 @@ def sequence_frames(spec: SequenceSpec, ifov_rad: float, frame_size: tuple, fram
                 "velocity_px_s": (float(velocity[0]), float(velocity[1])),
                 "position_m": [float(v) for v in position],
                 "sun_azimuth_deg": _wrapped_deg(sun_world - heading),
+                "boresight_enu": [float(v) for v in _from_pan_tilt(pan, tilt)],
+                "sun_world_deg": math.degrees(sun_world),
             }
         )
     return out

@@ -189,7 +189,8 @@ def _chain_levers() -> list:
 def bench_dataset_rates(n_frames: int = 10) -> list:
     """Frames per second of ``csuas dataset`` end to end: the embedded single-frame ``example`` and the
     ``sequence`` spec (rolling shutter and motion), each with the exact Poisson shot noise and with its
-    normal approximation above 1000 e (wall frames per second, CPU seconds per frame of this process, all
+    normal approximation above 1000 e, and the cluttered scene ``example-cluttered`` (terrain, skyline, a power
+    line, soft clouds, confusers; Poisson) (wall frames per second, CPU seconds per frame of this process, all
     its threads, and the machine's load average, since a shared machine slows the wall clock); then the
     chain's levers one by one (:func:`_chain_levers`). A first frame, which compiles the render kernels,
     runs before the timing."""
@@ -201,4 +202,5 @@ def bench_dataset_rates(n_frames: int = 10) -> list:
         for name in ("example", "sequence"):
             for normal_above_e in (math.inf, 1000.0):
                 rows.append(_dataset_rate(name, n_frames, normal_above_e, f"{tmp}/{name}_{normal_above_e:g}"))
+        rows.append(_dataset_rate("example-cluttered", n_frames, math.inf, f"{tmp}/cluttered"))
     return rows + _chain_levers()
