@@ -80,8 +80,8 @@ def evaluate(frames, detections, pfa: float, edges=PIXEL_EDGES) -> dict:
     -------
     dict
         ``all``, ``by_pixels_on_target`` (rows with ``pixels_min``, ``pixels_max``, None for the last),
-        ``by_background`` (rows with ``background``), ``score_threshold``, ``false_alarms_per_frame``, ``pfa``; per frame
-        ``frames`` (``pixels_on_target``, ``background``, ``found_score`` at IoU 0.5 or None, and the
+        ``by_background`` (rows with ``background``), ``score_threshold``, ``false_alarms_per_frame``, ``pfa``;
+        per frame ``frames`` (``pixels_on_target``, ``background``, ``found_score`` at IoU 0.5 or None, and the
         physics columns).
     """
     matches = [ap.match_frame(f.boxes, boxes, scores) for f, (boxes, scores) in zip(frames, detections)]
