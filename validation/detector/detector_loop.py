@@ -70,6 +70,9 @@ def train_and_evaluate(
     from csuas.validation.detector.sets import dataset_folders
     from csuas.validation.detector.training import detect, train
 
+    pfa = eo_pfa() if pfa is None else pfa
+    if not 0 < pfa < 1:  # refused before the training, not after
+        raise ParameterError("pfa", pfa, "a probability 0 < pfa < 1")
     folders = {"train_dir": dataset_folders(train_dir), "test_dir": dataset_folders(test_dir)}
     for name, found in folders.items():
         if not found:
@@ -80,7 +83,7 @@ def train_and_evaluate(
     train_frames, test_frames = load_frames(folders["train_dir"]), load_frames(folders["test_dir"])
     model, log = train(train_frames, device, training)
     detections, detect_s = detect(model, test_frames, device)
-    result = evaluate(test_frames, detections, eo_pfa() if pfa is None else pfa)
+    result = evaluate(test_frames, detections, pfa)
     result["conditions"] = {
         "train_frames": len(train_frames),
         "test_frames": len(test_frames),
@@ -173,14 +176,24 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=defaults.seed)
     parser.add_argument("--threads", type=int, default=defaults.threads, help="CPU threads of torch")
     parser.add_argument(
+        "--max-steps", type=int, default=None, help="stop after this many training steps (a smoke test)"
+    )
+    parser.add_argument(
         "--pfa", type=float, default=None, help="per-pixel Pfa of the physics threshold (default eo.pfa)"
     )
     args = parser.parse_args(argv)
-    if not torchvision_available():
-        print(MISSING, file=sys.stderr)
-        return 0
-    training = Training(args.epochs, args.batch, args.learning_rate, args.seed, args.threads)
-    result = train_and_evaluate(args.train, args.test, args.device, training, out=args.out, pfa=args.pfa)
+    from csuas.base.errors import CsuasError
+
+    try:  # bad input: exit 2, before torch is looked for
+        training = Training(args.epochs, args.batch, args.learning_rate, args.seed, args.threads, args.max_steps)
+        if not torchvision_available():
+            print(MISSING, file=sys.stderr)
+            return 0
+        result = train_and_evaluate(args.train, args.test, args.device, training, out=args.out, pfa=args.pfa)
+    except CsuasError as exc:  # a line per mistake, as the csuas command line
+        for line in str(exc).splitlines():
+            print(f"detector_loop: error: {line}", file=sys.stderr)
+        return 2
     for row in summary_rows(result):
         print(", ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in row.items()))
     print(json.dumps({"conditions": result["conditions"], "files": result["files"]}, indent=1))

@@ -74,6 +74,20 @@ class Training:
     threads: int = 1
     max_steps: int | None = None
 
+    def __post_init__(self):
+        from csuas.base.errors import ParameterError, raise_all
+
+        errors = [
+            ParameterError(name, getattr(self, name), "a whole number >= 1")
+            for name in ("epochs", "batch", "threads")
+            if not (isinstance(getattr(self, name), int) and getattr(self, name) >= 1)
+        ]
+        if not (isinstance(self.max_steps, int) and self.max_steps >= 1 or self.max_steps is None):
+            errors.append(ParameterError("max_steps", self.max_steps, "a whole number >= 1, or None"))
+        if not self.learning_rate > 0:
+            errors.append(ParameterError("learning_rate", self.learning_rate, "> 0"))
+        raise_all(errors)
+
 
 def torchvision_available() -> bool:
     """Whether torch and torchvision import."""
