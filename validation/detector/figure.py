@@ -9,12 +9,12 @@ import numpy as np
 
 from csuas.base.fileio import atomic_path
 
-#: Physics columns drawn, with their legend and colour.
+#: Physics columns drawn, with their legend, colour and line style (the product dotted over the TTPF it follows).
 PHYSICS_LINES = (
-    ("pd_ttpf_johnson", "physics: TTPF of the Johnson cycles (Johnson exponent)", "#4c72b0"),
-    ("pd_ttpf_ttp", "physics: TTPF, TTP exponent", "#8172b2"),
-    ("pd_camera_snr", "physics: camera blob SNR at the Pfa", "#55a868"),
-    ("pd_physical", "physics: TTPF x camera SNR (csuas pd, physical)", "#222222"),
+    ("pd_ttpf_johnson", "physics: TTPF of the Johnson cycles (Johnson exponent)", "#4c72b0", "-"),
+    ("pd_ttpf_ttp", "physics: TTPF, TTP exponent", "#8172b2", "-"),
+    ("pd_camera_snr", "physics: camera blob SNR at the Pfa", "#55a868", "-"),
+    ("pd_physical", "physics: TTPF x camera SNR (csuas pd, physical)", "#222222", ":"),
 )
 #: Where a frame with no pixel on target is drawn on the log axis.
 FLOOR_PX = 0.01
@@ -36,17 +36,10 @@ def loop_figure(path, result: dict, title: str) -> Path:
     px = np.array([_x(f["pixels_on_target"]) for f in frames])
     rows = [r for r in result["by_pixels_on_target"] if r["targets"]]
     centre = np.array([_x(r["pixels_on_target_mean"]) for r in rows])
-    for key, label, colour in PHYSICS_LINES:
+    for key, label, colour, style in PHYSICS_LINES:
         ax.scatter(px, [f[key] for f in frames], s=6, color=colour, alpha=0.25, linewidths=0)
-        ax.errorbar(
-            centre,
-            [r[key] for r in rows],
-            yerr=[r[f"{key}_stderr"] or 0.0 for r in rows],
-            color=colour,
-            lw=1.4,
-            capsize=2,
-            label=label,
-        )
+        errors = [r[f"{key}_stderr"] or 0.0 for r in rows]
+        ax.errorbar(centre, [r[key] for r in rows], yerr=errors, color=colour, ls=style, lw=1.6, capsize=2, label=label)
     learned = (
         ("ap50", "learned detector: AP50 (bootstrap s.e.)", "s", "#c44e52"),
         (
