@@ -8,8 +8,12 @@ in 320 x 256 frames, stated because they decide what it can find:
   stride 32, with 64 channels rather than 256 (the 256-channel heads cost ten times the trunk on a CPU);
 * anchors of 4-16 px at stride 8 up to 128-512 px (the stock ones start at 32 px, larger than most drones
   here);
-* the frame is not resized (``min_size`` and ``max_size`` are its own), and fewer proposals and box
-  samples per frame (a frame holds one drone).
+* the frame is not resized (``min_size`` and ``max_size`` are its own), and fewer proposals and anchor
+  and box samples per frame (a frame holds one drone: 64 anchors and 32 boxes keep positives in the loss);
+* group normalisation (8 groups) in the trunk instead of batch normalisation: from random weights with
+  batches of 4, batch normalisation's running statistics left the eval-mode network with no detection at
+  all (8 training frames of 159-2454 pixels on target, 24 steps: none; with groups: AP50 0.43 on them,
+  scores 0.88-0.99 on the drones; measured on 2 shared CPU cores).
 
 Weights start random (``weights=None``: nothing is downloaded); the grey frame is repeated over the
 three input channels and normalised around the auto-exposed background (mean 0.5, standard deviation
@@ -43,6 +47,8 @@ TRUNK_CHANNELS = [40, 112, 960]
 PYRAMID_CHANNELS = 64
 #: Anchor sizes [px] per pyramid level (strides 8, 16, 32 and the pooled level), three aspect ratios each.
 ANCHOR_SIZES = ((4, 8, 16), (16, 32, 64), (64, 128, 256), (128, 256, 512))
+#: Groups of the trunk's group normalisation (every MobileNetV3-Large width is a multiple of 8).
+GROUPS = 8
 #: Input normalisation: the auto-exposed background sits at half of full scale.
 IMAGE_MEAN, IMAGE_STD = 0.5, 0.25
 
@@ -101,12 +107,13 @@ def torchvision_available() -> bool:
 
 def build_model(frame_px: tuple[int, int]):
     """The detector (module docstring), random weights, two classes (background, drone)."""
+    from torch import nn
     from torchvision.models import mobilenet_v3_large
     from torchvision.models.detection import FasterRCNN
     from torchvision.models.detection.anchor_utils import AnchorGenerator
     from torchvision.models.detection.backbone_utils import BackboneWithFPN
 
-    trunk = mobilenet_v3_large(weights=None).features
+    trunk = mobilenet_v3_large(weights=None, norm_layer=lambda channels: nn.GroupNorm(GROUPS, channels)).features
     backbone = BackboneWithFPN(trunk, TRUNK_LAYERS, TRUNK_CHANNELS, PYRAMID_CHANNELS)
     anchors = AnchorGenerator(ANCHOR_SIZES, ((0.5, 1.0, 2.0),) * len(ANCHOR_SIZES))
     return FasterRCNN(
@@ -121,7 +128,8 @@ def build_model(frame_px: tuple[int, int]):
         rpn_post_nms_top_n_train=300,
         rpn_pre_nms_top_n_test=300,
         rpn_post_nms_top_n_test=100,
-        box_batch_size_per_image=64,
+        rpn_batch_size_per_image=64,
+        box_batch_size_per_image=32,
         representation_size=256,
         box_detections_per_img=100,
         box_score_thresh=0.001,
