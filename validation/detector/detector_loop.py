@@ -103,16 +103,21 @@ def train_and_evaluate(
     return result
 
 
-def _write(root: Path, result: dict, detections: list) -> dict:
-    from csuas.validation.detector.figure import loop_figure
-
+def figure_title(result: dict) -> str:
+    """The figure's title: what was trained on what, how long, and the overall AP50."""
     c = result["conditions"]
-    title = (
+    return (
         f"from-scratch Faster R-CNN MobileNetV3 on {c['train_frames']} csuas frames ({', '.join(c['train_sets'])}), "
         f"{c['training']['epochs']} epochs on {c['device']} in {c['train_s']:.0f} s;\n"
         f"held out: {c['test_frames']} frames ({', '.join(c['test_sets'])}), other seeds; "
         f"AP50 {result['all']['ap50']:.2f}, physics Pfa {result['pfa']:.0e} per pixel"
     )
+
+
+def _write(root: Path, result: dict, detections: list) -> dict:
+    from csuas.validation.detector.figure import loop_figure
+
+    title = figure_title(result)
     files = {
         "figure": str(loop_figure(inside(root, "detector_loop.png"), result, title)),
         "detections": str(write_text_atomic(inside(root, "detections.json"), json.dumps(detections))),

@@ -31,7 +31,7 @@ def loop_figure(path, result: dict, title: str) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8.0, 5.2), dpi=110)
+    fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=110)
     frames = [f for f in result["frames"] if f["pixels_on_target"] is not None]
     px = np.array([_x(f["pixels_on_target"]) for f in frames])
     rows = [r for r in result["by_pixels_on_target"] if r["targets"]]
@@ -70,9 +70,8 @@ def loop_figure(path, result: dict, title: str) -> Path:
     ax.set_ylabel("probability of detection / average precision")
     ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)  # below: clear of the curves
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png")
+        fig.savefig(tmp, format="png", bbox_inches="tight")
     plt.close(fig)
     return Path(path)
