@@ -63,9 +63,33 @@ def _undeclared(folders, requirements) -> dict[str, set[str]]:
     return missing
 
 
+#: Optional extras of the package and the modules that may import them (lazily, inside functions).
+OPTIONAL_EXTRAS = {"detector": ("validation/detector/training.py", "validation/detector/detector_loop.py")}
+
+
 def test_every_third_party_import_of_the_package_is_a_declared_dependency():
     folders = sorted(set(PYPROJECT["tool"]["setuptools"]["package-dir"].values()))
-    assert _undeclared(folders, PYPROJECT["project"]["dependencies"]) == {}
+    requirements = PYPROJECT["project"]["dependencies"]
+    for extra in OPTIONAL_EXTRAS:
+        requirements = requirements + PYPROJECT["project"]["optional-dependencies"][extra]
+    assert _undeclared(folders, requirements) == {}
+
+
+def test_an_optional_extra_is_imported_only_inside_functions_of_its_modules():
+    """``import csuas...`` works without the extra (CI does not install it): no module-level import of it, and
+    only the modules named in OPTIONAL_EXTRAS import it at all."""
+    folders = sorted(set(PYPROJECT["tool"]["setuptools"]["package-dir"].values()))
+    for extra, allowed in OPTIONAL_EXTRAS.items():
+        modules = _declared(PYPROJECT["project"]["optional-dependencies"][extra])
+        users = {f for m, files in _third_party_imports(folders).items() if _normalise(m) in modules for f in files}
+        assert users and users <= set(allowed), (extra, users)
+        for name in allowed:
+            tree = ast.parse((ROOT / name).read_text(encoding="utf-8"))
+            top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
+            named = {
+                (a.name if isinstance(n, ast.Import) else n.module or "").split(".")[0] for n in top for a in n.names
+            }
+            assert not {_normalise(m) for m in named} & modules, (name, named)
 
 
 def test_every_third_party_import_of_the_tests_is_declared():

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import inspect
 import sys
+from pathlib import Path
 
 from csuas.base.registry import resolve
 
@@ -26,6 +28,7 @@ SUITES = {
     "cost_models": "csuas.validation.cost.bench:bench_cost_models",
     "engage_runs": "csuas.commands.engage:bench_runs",
     "sweep_engage": "csuas.validation.sweep.bench:bench_engage_sweep",
+    "detector_loop": "csuas.validation.detector.detector_loop:bench_detector_loop",
 }
 
 
@@ -39,6 +42,14 @@ def add_arguments(parser):
         metavar="N",
         help="runs of the sweep_engage suite (default 16, minutes on 2 cores; issue 24's figure is 10000, hours)",
     )
+    parser.add_argument(
+        "--out",
+        default="csuas-bench",
+        help="folder of the suites that write files, one sub-folder each (default: ./csuas-bench)",
+    )
+    parser.add_argument(
+        "--device", default=None, help="torch device of detector_loop (default: cuda when present, else cpu)"
+    )
 
 
 def run(args) -> dict:
@@ -51,7 +62,15 @@ def run(args) -> dict:
     out = {}
     for name in args.only or SUITES:
         print(f"bench: {name} ...", file=sys.stderr, flush=True)
-        out[name] = resolve(SUITES[name])(**sizes.get(name, {}))
+        suite = resolve(SUITES[name])
+        # a suite that writes files takes out_dir (its own sub-folder of --out), one that trains takes device
+        options = {
+            "out_dir": str(Path(getattr(args, "out", "csuas-bench")) / name),
+            "device": getattr(args, "device", None),
+            **sizes.get(name, {}),
+        }
+        accepted = inspect.signature(suite).parameters
+        out[name] = suite(**{k: v for k, v in options.items() if k in accepted})
     return {"benchmarks": out}
 
 
