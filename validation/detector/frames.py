@@ -52,9 +52,11 @@ def load_frames(datasets: dict) -> list[Frame]:
         coco = json.loads((Path(folder) / "annotations.json").read_text(encoding="utf-8"))
         info = coco.get("info", {})
         full_scale = (2.0 ** int(info.get("bits", 16)) - 1.0) * float(info.get("dn_scale", 1))
+        drone_ids = {c["id"] for c in coco["categories"] if c.get("supercategory", "drone") == "drone"}
         by_image: dict = {}
-        for ann in coco["annotations"]:
-            by_image.setdefault(ann["image_id"], []).append(ann)
+        for ann in coco["annotations"]:  # confusers (super-category "confuser") stay in the frame, unlabelled
+            if ann["category_id"] in drone_ids:
+                by_image.setdefault(ann["image_id"], []).append(ann)
         for image in coco["images"]:
             anns = by_image.get(image["id"], [])
             blocks = [a.get("csuas", {}) for a in anns]

@@ -41,8 +41,26 @@ TRAIN_BACKGROUNDS = {
     "sky": {"background": "sky"},
     "clear_sky_clouds": {"background": "clear_sky", "cloud_cover": 0.3},
 }
-#: Held-out backgrounds: the training ones with other seeds, and a uniform ground of reflectance 0.2 never seen.
-TEST_BACKGROUNDS = {**TRAIN_BACKGROUNDS, "ground_0.2": {"background": 0.2}}
+#: Clutter and confusers the training never saw (docs/datasets.md, ``[clutter]`` and ``[confusers]``): land cover
+#: over a fractal DEM, the skyline, a power line and soft clouds, with birds and out-of-focus insects.
+CLUTTERED = {
+    "clutter": {
+        "terrain": True,
+        "camera_height_m": 10.0,
+        "relief_m": 40.0,
+        "skyline": True,
+        "power_lines": 1,
+        "clouds": 0.35,
+    },
+    "confusers": {
+        "birds": {"min": 0, "max": 2},
+        "bird_range_m": {"min": 40.0, "max": 300.0},
+        "insects": {"min": 0, "max": 1},
+    },
+}
+#: Held-out backgrounds: the training ones with other seeds, a uniform ground of reflectance 0.2 never seen, and
+#: clutter with confusers never seen.
+TEST_BACKGROUNDS = {**TRAIN_BACKGROUNDS, "ground_0.2": {"background": 0.2}, "cluttered": CLUTTERED}
 #: Default frames of each split (CPU-sized; docs/datasets.md, "A detector in the loop").
 DEFAULT_SIZES = (192, 108)
 #: Default seeds of the two splits: set i of a split draws from seed * 100 + i.
