@@ -205,9 +205,9 @@ def test_the_sets_share_frames_evenly_draw_other_seeds_and_crop_the_default_came
         assert focal_crop == pytest.approx((full[n] / 2) / math.tan(math.radians(full[fov]) / 2), rel=1e-12)
     train = sets.set_specs(scenario, 11, 192, sets.TRAIN_BACKGROUNDS)
     test = sets.set_specs(scenario, 23, 108, sets.TEST_BACKGROUNDS)
-    assert [s["count"] for s in train.values()] == [16, 16] and [s["count"] for s in test.values()] == [6, 6, 6]
+    assert [s["count"] for s in train.values()] == [16, 16] and [s["count"] for s in test.values()] == [5, 5, 5, 5]
     assert not {s["seed"] for s in train.values()} & {s["seed"] for s in test.values()}
-    assert set(test) - set(train) == {"ground_0.2"}
+    assert set(test) - set(train) == {"ground_0.2", "cluttered"}
     for spec in (*train.values(), *test.values()):
         parse_dataset_spec(spec)  # every set is a valid dataset spec
     with pytest.raises(ParameterError, match="seeds"):
