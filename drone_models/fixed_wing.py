@@ -12,8 +12,9 @@ horizontal stabiliser between them and a fin on each boom. Every part is a close
 * ``boom_left``, ``boom_right``: tubes from the wing's mid-chord to the tail's trailing edge;
 * ``stabiliser``: a rectangular slab between the booms, its trailing edge at x = -length;
 * ``fin_left``, ``fin_right``: tapered slabs standing on the booms, their tips at the stated height;
-* ``motor``: a cylinder behind the fuselage; ``propeller``: the pusher's swept disc (axis x), its blades,
-  or nothing (``propellers``); the disc's lowest point is the bottom of the model (z = 0).
+* ``motor``: a cylinder behind the fuselage's tail (5 mm inside it);
+* ``propeller``: the pusher's swept disc (axis x), its blades (turning in the y-z plane, the phase from +y
+  toward +z), or nothing (``propellers``); the disc's lowest point is the bottom of the model (z = 0).
 
 References
 ----------
@@ -46,6 +47,10 @@ DEFAULT_FIXED_WING_MATERIALS = {
     "pusher_propeller": "dark_plastic",
     "gimbal": "dark_plastic",
 }
+
+
+#: How far the motor's front reaches into the fuselage's tail [m] (its mount).
+MOTOR_INSET_M = 0.005
 
 
 @dataclass
@@ -180,7 +185,7 @@ def pusher_propeller(centre: np.ndarray, params: FixedWingParams, style: str) ->
         params.blade_tip_chord_m,
         params.propeller_thickness_m / 2.0,
         params.hub_diameter_m,
-        params.blade_phase_deg - 90.0,
+        params.blade_phase_deg,
     )
     # x-y plane -> y-z plane: x -> y, y -> z, z -> x (a cyclic permutation, a proper rotation)
     to_yz = np.eye(4)
@@ -256,7 +261,7 @@ def build_fixed_wing(
         params.stabiliser_thickness_m,
     )
     parts.append(Part("stabiliser", "tail", stabiliser, mat["tail"]))
-    motor_front = -params.fuselage_length_m + 0.1 * params.fuselage_length_m  # set into the fuselage's tail cone
+    motor_front = -params.fuselage_length_m + MOTOR_INSET_M  # mounted on the fuselage's tail
     motor_rear = motor_front - params.motor_length_m
     motor = P.cylinder_between((motor_front, 0.0, axis_z), (motor_rear, 0.0, axis_z), params.motor_diameter_m / 2.0, 24)
     parts.append(Part("motor", "motor", motor, mat["motor"]))

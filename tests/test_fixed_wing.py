@@ -1,0 +1,112 @@
+"""The fixed-wing preset against its stated dimensions, closed-form plan areas and its target preset."""
+
+import numpy as np
+import pytest
+
+from csuas.base.errors import ParameterError
+from csuas.drone_models import build_drone
+from csuas.drone_models.fixed_wing import MOTOR_INSET_M
+from csuas.drone_models.materials import MATERIALS, T_SUAS_K
+from csuas.drone_models.presets import FIXED_WING_MOTOR_EXCESS_K, preset_parameters
+from csuas.drone_models.silhouette import projected_metrics
+from tests.test_drone_presets import spec_values
+
+PRESET = "euclid_class_fixed_wing"
+
+
+@pytest.fixture(scope="module")
+def layout():
+    """(params, spec) of the preset."""
+    _, params, spec = preset_parameters(PRESET)
+    return params, spec
+
+
+@pytest.mark.parametrize("style", ["disc", "blades", "none"])
+def test_parts_are_closed_and_named_uniquely(style):
+    drone = build_drone(PRESET, style)
+    names = [p.name for p in drone.parts]
+    assert len(set(names)) == len(names)
+    for part in drone.parts:
+        assert part.mesh.is_watertight and part.mesh.is_winding_consistent and part.mesh.volume > 0, part.name
+        assert part.material.name in MATERIALS
+    assert (style == "none") == ("propeller" not in names)
+
+
+def test_span_is_the_published_2_m_and_length_height_the_stated_ones_exactly(layout):
+    params, spec = layout
+    (published_span,) = spec_values(PRESET, "width_y")  # tests/reference/drone_specs.csv
+    extents = build_drone(PRESET).extents()
+    assert extents[1] == pytest.approx(published_span, abs=1e-12)
+    assert extents[0] == pytest.approx(spec["length_m"], abs=1e-12)
+    assert extents[2] == pytest.approx(spec["height_m"], abs=1e-12)  # the pusher disc's bottom to the fin tips
+    # without the propeller the span and length stay; the bottom rises to the camera pod's, which hangs a
+    # quarter of its height below the fuselage (height_m is measured from the disc's bottom, the axis - D/2)
+    bare = build_drone(PRESET, "none").extents()
+    assert bare[:2] == pytest.approx(extents[:2], abs=1e-12)
+    pod_bottom = params.propeller_diameter_m / 2.0 - params.fuselage_diameter_m / 2.0 - params.camera_extents_m[2] / 4.0
+    assert bare[2] == pytest.approx(spec["height_m"] - pod_bottom, abs=1e-12)  # icosphere poles sit on the axes
+
+
+def test_blades_turn_in_the_plane_of_the_disc():
+    disc, blades = build_drone(PRESET, "disc"), build_drone(PRESET, "blades", blade_phase_deg=0.0)
+    d, b = disc.part("propeller").mesh.bounds, blades.part("propeller").mesh.bounds
+    assert b[1, 0] - b[0, 0] <= d[1, 0] - d[0, 0] + 1e-12  # no thicker along x than the disc
+    upright = build_drone(PRESET, "blades", blade_phase_deg=90.0).part("propeller").mesh.bounds
+    radius = preset_parameters(PRESET)[1].propeller_diameter_m / 2.0
+    assert upright[1, 2] - upright[0, 2] == pytest.approx(2.0 * radius, abs=1e-9)  # phase 90: blades vertical
+    assert b[1, 1] - b[0, 1] == pytest.approx(2.0 * radius, abs=1e-9)  # phase 0: blades along y
+
+
+def test_plan_view_area_lies_between_the_closed_form_sum_and_that_sum_less_the_overlaps(layout):
+    params, _ = layout
+    area = projected_metrics(build_drone(PRESET), 0.0, 90.0)["projected_area_m2"]
+    boom_length = params.wing_leading_edge_x_m - params.root_chord_m / 2.0 + params.length_m
+    plan = {
+        "wing (two trapezoids)": (params.root_chord_m + params.tip_chord_m) / 2.0 * params.span_m,
+        "stabiliser": params.stabiliser_chord_m * 2.0 * params.boom_y_m,
+        "fins": 2.0 * params.fin_root_chord_m * params.fin_thickness_m,
+        "booms": 2.0 * params.boom_diameter_m * boom_length,
+        "fuselage (ellipse)": np.pi / 4.0 * params.fuselage_length_m * params.fuselage_diameter_m,
+        "motor": params.motor_diameter_m * params.motor_length_m,
+        "propeller disc edge-on": params.propeller_thickness_m * params.propeller_diameter_m,
+    }
+    overlaps = {  # upper bounds of each pair's common plan area
+        "wing root over fuselage": params.fuselage_diameter_m * params.root_chord_m,
+        "wing over booms": 2.0 * params.boom_diameter_m * params.root_chord_m,
+        "stabiliser over booms": 2.0 * params.boom_diameter_m * params.stabiliser_chord_m,
+        "stabiliser over fins": 2.0 * params.fin_thickness_m * params.stabiliser_chord_m,
+        "fins over booms": 2.0 * params.fin_thickness_m * params.fin_root_chord_m,
+        "motor inside the fuselage": params.motor_diameter_m * MOTOR_INSET_M,
+    }
+    total, overlap = sum(plan.values()), sum(overlaps.values())
+    assert total - overlap <= area <= total
+    assert overlap < 0.11 * total  # the bracket is tight: 0.577 m^2 within [0.563, 0.626]
+
+
+def test_target_preset_carries_the_mesh_side_view_and_the_computed_rcs():
+    from csuas.defaults import load_presets
+
+    target = load_presets()["target"][PRESET]
+    side = projected_metrics(build_drone(PRESET), 90.0, 0.0)
+    assert target["d_crit_m"] == pytest.approx(side["d_crit_min_m"], rel=1e-3)  # Eq. 1 on the side view
+    assert target["projected_area_m2"] == pytest.approx(side["projected_area_m2"], rel=1e-3)
+    assert target["sigma_lidar_m2"] == pytest.approx(0.1 * target["projected_area_m2"], rel=1e-3)  # Eq. 9, k = 0.1
+    assert target["mass_g"] == pytest.approx(1000.0 * preset_parameters(PRESET)[2]["mass_kg"])
+
+
+def test_motor_is_the_hot_part():
+    drone = build_drone(PRESET)
+    assert drone.part("motor").material.temperature_k == pytest.approx(T_SUAS_K + FIXED_WING_MOTOR_EXCESS_K)
+    others = {p.material.temperature_k for p in drone.parts if p.name != "motor"}
+    assert others == {T_SUAS_K}
+
+
+def test_layouts_that_cannot_meet_the_box_are_refused():
+    with pytest.raises(ParameterError, match="boom_y_m"):
+        build_drone(PRESET, boom_y_m=0.1)  # inside the 14-inch disc
+    with pytest.raises(ParameterError, match="height_m"):
+        build_drone(PRESET, height_m=0.3)  # below the disc's top
+    with pytest.raises(ParameterError, match="length_m"):
+        build_drone(PRESET, length_m=0.7)
+    with pytest.raises(ParameterError, match="propellers"):
+        build_drone(PRESET, "spinning")
