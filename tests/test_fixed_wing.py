@@ -1,5 +1,8 @@
 """The fixed-wing preset against its stated dimensions, closed-form plan areas and its target preset."""
 
+import json
+import math
+
 import numpy as np
 import pytest
 
@@ -110,3 +113,67 @@ def test_layouts_that_cannot_meet_the_box_are_refused():
         build_drone(PRESET, length_m=0.7)
     with pytest.raises(ParameterError, match="propellers"):
         build_drone(PRESET, "spinning")
+
+
+def _cli_json(capsys, argv):
+    from csuas.cli import main
+
+    assert main([*argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_range_against_the_mini_follows_the_papers_scaling_laws(capsys):
+    """Every sensor's range of `fixed_wing` over `default` (Mini 4 Pro), same sensors and day, by the closed
+    forms: Eqs. 18/23 linear in d_crit; Eq. 44 (spherical spreading) 10^(dSL/20); Friis (Eq. 57) sqrt of the
+    EIRP ratio; radar (Eq. 80) and lidar (Eq. 99, an unresolved target) sigma^(1/4)."""
+    fixed = _cli_json(capsys, ["range", "fixed_wing"])["sensors"]
+    mini = _cli_json(capsys, ["range", "default"])["sensors"]
+    fw, mn = _target("euclid_class_fixed_wing"), _target("dji_mini_4_pro")
+    expected = {
+        "eo": fw["d_crit_m"] / mn["d_crit_m"],
+        "tir": fw["d_crit_m"] / mn["d_crit_m"],
+        "acoustic": 10.0 ** ((fw["sl_db"] - mn["sl_db"]) / 20.0),
+        "rf": math.sqrt(fw["rf_power_w"] * 10.0 ** (fw["rf_gain_dbi"] / 10.0))
+        / math.sqrt(mn["rf_power_w"] * 10.0 ** (mn["rf_gain_dbi"] / 10.0)),
+        "radar": (fw["sigma_radar_m2"] / mn["sigma_radar_m2"]) ** 0.25,
+    }
+    for sensor, ratio in expected.items():
+        assert fixed[sensor]["range_m"] / mini[sensor]["range_m"] == pytest.approx(ratio, rel=1e-9), sensor
+    lidar_ratio = (
+        fixed["lidar"]["terms"]["range_no_loss_m"]["value"] / mini["lidar"]["terms"]["range_no_loss_m"]["value"]
+    )
+    assert lidar_ratio == pytest.approx((fw["sigma_lidar_m2"] / mn["sigma_lidar_m2"]) ** 0.25, rel=1e-9)
+
+
+def _target(name):
+    """The target's values: parameters.toml defaults overlaid with the named preset."""
+    from csuas.defaults import default_values, load_presets
+
+    preset = {k: v for k, v in load_presets()["target"].get(name, {}).items() if k not in ("description", "source")}
+    return {**default_values("target"), **preset}
+
+
+def test_pd_reaches_one_half_at_the_deterministic_range(capsys):
+    result = _cli_json(capsys, ["pd", "fixed_wing", "--range-m", "100", "1000"])
+    for sensor, entry in result["sensors"].items():
+        if entry.get("deterministic_range_m") is not None and entry.get("pd_at_deterministic_range") == 0.5:
+            assert entry["range_at_pd"]["0.5"] == pytest.approx(entry["deterministic_range_m"], rel=1e-6), sensor
+    assert result["sensors"]["eo"]["deterministic_range_m"] == pytest.approx(
+        _cli_json(capsys, ["range", "fixed_wing"])["sensors"]["eo"]["range_m"], rel=1e-12
+    )
+
+
+def test_rcs_of_the_preset_uses_its_part_materials(capsys):
+    result = _cli_json(capsys, ["rcs", PRESET, "--frequency-ghz", "10", "--quality", "draft"])
+    assert set(result["materials"]) == {p.material.name for p in build_drone(PRESET).parts}
+    half = build_drone(PRESET).extents() / 2.0  # farthest vertex: beyond the wing tip, inside the box's corner
+    assert half[1] <= result["mesh"]["bounding_radius_m"] <= np.linalg.norm(half)
+    assert np.isfinite(result["rcs_dbsm"]) and result["error_db"] > 0.0
+
+
+def test_every_band_of_the_rcs_table_covers_the_fixed_wing():
+    from csuas.defaults import load_drone_rcs_statistics
+
+    rows = [r for r in load_drone_rcs_statistics() if r["preset"] == PRESET]
+    at_24 = next(r for r in rows if r["frequency_ghz"] == 24.0 and r["polarisation"] == "VV")
+    assert _target(PRESET)["sigma_radar_m2"] == pytest.approx(10.0 ** (at_24["mean_dbsm"] / 10.0), rel=5e-3)
