@@ -37,13 +37,13 @@ from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
 from csuas.drone_models.multirotor import PROPELLER_STYLES
 
-#: Default material per part kind of a fixed-wing (painted glass/carbon composite airframe, aluminium motor).
+#: Default material per part kind of a fixed-wing (painted glass/carbon composite airframe, anodised motor bell).
 DEFAULT_FIXED_WING_MATERIALS = {
     "body": "paint",
     "wing": "paint",
     "tail_boom": "carbon_fibre",
     "tail": "paint",
-    "motor": "aluminium",
+    "motor": "anodised_aluminium",
     "pusher_propeller": "dark_plastic",
     "gimbal": "dark_plastic",
 }

@@ -23,8 +23,8 @@ motors, legs) are plausible estimates from photographs, marked as such.
   of Kapoulas et al., Drones 7(1):39, 2023 (the abstract's 2 m wingspan is the one published figure
   used). Assumed, in the class of 2 m twin-boom pusher UAVs: length 1.20 m, height 0.40 m (pusher
   disc bottom to fin tips), take-off mass 5 kg, 14-inch (355.6 mm) pusher propeller, wing chords
-  0.28 / 0.16 m (aspect ratio 9.1), dihedral 3 deg; motor case 30 K above T_sUAS in flight
-  (brushless outrunner at cruise power, assumption). Built by
+  0.28 / 0.16 m (aspect ratio 9.1), dihedral 3 deg; black-anodised motor bell 30 K above T_sUAS in
+  flight (brushless outrunner at cruise power, assumption). Built by
   :func:`csuas.drone_models.fixed_wing.build_fixed_wing`.
 """
 

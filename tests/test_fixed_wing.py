@@ -177,3 +177,77 @@ def test_every_band_of_the_rcs_table_covers_the_fixed_wing():
     rows = [r for r in load_drone_rcs_statistics() if r["preset"] == PRESET]
     at_24 = next(r for r in rows if r["frequency_ghz"] == 24.0 and r["polarisation"] == "VV")
     assert _target(PRESET)["sigma_radar_m2"] == pytest.approx(10.0 ** (at_24["mean_dbsm"] / 10.0), rel=5e-3)
+
+
+@pytest.mark.slow
+def test_eo_render_nose_on_shows_the_span_and_the_frontal_silhouette(tmp_path, capsys):
+    """Draft EO render at 500 m, nose-on: the span across pixels and the pixel count against the exact silhouette."""
+    result = _cli_json(
+        capsys, ["render", "eo", "fixed_wing", "--range-m", "500", "--quality", "draft", "--out", str(tmp_path)]
+    )["results"][0]
+    pixel_m = 500.0 * result["ifov_rad"]  # small angle: the footprint of one pixel at the target [m]
+    front = projected_metrics(build_drone(PRESET), 0.0, 0.0)
+    assert result["pixels_across_x"] * pixel_m == pytest.approx(front["d_x_proj_m"], rel=1e-3)  # the 2 m span
+    area = result["pixels_on_target"] * pixel_m**2
+    assert area == pytest.approx(
+        front["projected_area_m2"], abs=4.0 * result["stderr"]["pixels_on_target"] * pixel_m**2
+    )
+
+
+@pytest.mark.slow
+def test_tir_render_side_on_sees_the_height_and_the_hot_motor_by_its_closed_form(tmp_path, capsys):
+    from csuas.core.radiometry import band_radiance
+    from csuas.render.imaging.records import RenderSettings, View
+    from csuas.render.imaging.tir import render_tir
+
+    argv = ["render", "tir", "fixed_wing", "--range-m", "100", "--azimuth-deg", "90", "--quality", "draft"]
+    result = _cli_json(capsys, [*argv, "--out", str(tmp_path)])["results"][0]
+    assert result["d_crit_rendered_m"] == pytest.approx(0.4, rel=0.01)  # the 0.4 m height (Eq. 1, side view)
+    view, settings = View(range_m=100.0, azimuth_deg=90.0), RenderSettings(quality="draft")
+    hot = render_tir(build_drone(PRESET), view, settings=settings)
+    cool = render_tir(build_drone(PRESET, motor_temperature_k=None), view, settings=settings)
+    rise = hot.values["target_radiance"] - cool.values["target_radiance"]
+    # closed form: the motor's share of the side silhouette times its emitted radiance gain (Kirchhoff graybody)
+    share, eps = _motor_share_of_the_side_view(), build_drone(PRESET).part("motor").material.emissivity_lwir
+    expected = (
+        share * eps * (band_radiance(T_SUAS_K + FIXED_WING_MOTOR_EXCESS_K, "lwir") - band_radiance(T_SUAS_K, "lwir"))
+    )
+    bound = 3.0 * np.hypot(hot.stderr["target_radiance"], cool.stderr["target_radiance"])
+    assert rise == pytest.approx(expected, abs=bound)  # 0.25 against 0.22 W m^-2 sr^-1, bound 0.17
+
+
+def _motor_share_of_the_side_view():
+    """Visible motor area over the whole side silhouette (exact polygon unions with and without it) [-]."""
+    drone = build_drone(PRESET)
+    whole = projected_metrics(drone, 90.0, 0.0)["projected_area_m2"]
+    without = projected_metrics([p.mesh for p in drone.parts if p.name != "motor"], 90.0, 0.0)["projected_area_m2"]
+    return (whole - without) / whole
+
+
+def test_target_temperature_carries_the_motor_heat_as_a_graybody_of_the_preset_emissivity():
+    from csuas.core.radiometry import band_radiance
+
+    target = _target(PRESET)
+    eps = build_drone(PRESET).part("motor").material.emissivity_lwir
+    gain = (
+        _motor_share_of_the_side_view()
+        * eps
+        * (band_radiance(T_SUAS_K + FIXED_WING_MOTOR_EXCESS_K, "lwir") - band_radiance(T_SUAS_K, "lwir"))
+    )
+    suas = target["emissivity_suas"] * band_radiance(target["t_suas_k"], "lwir")
+    assert suas - target["emissivity_suas"] * band_radiance(T_SUAS_K, "lwir") == pytest.approx(gain, rel=0.02)
+
+
+@pytest.mark.slow
+def test_dataset_of_the_fixed_wing_labels_a_box_as_wide_as_the_span(tmp_path, capsys):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        'seed = 2\ncount = 1\nscenario = "fixed_wing"\ndrones = ["euclid_class_fixed_wing"]\nrange_m = [500.0]\n'
+        'azimuth_deg = [0.0]\nelevation_deg = [0.0]\nposition = "centre"\n'
+    )
+    assert _cli_json(capsys, ["dataset", str(spec), "--out", str(tmp_path / "d")])["images"] == 1
+    coco = json.loads((tmp_path / "d" / "annotations.json").read_text())
+    assert [c["name"] for c in coco["categories"]] == [PRESET]
+    width_px = coco["annotations"][0]["bbox"][2]
+    ifov = _cli_json(capsys, ["range", "fixed_wing"])["sensors"]["eo"]["terms"]["ifov_rad"]["value"]
+    assert width_px == pytest.approx(2.0 / (500.0 * ifov), abs=3.0)  # 44 px; the PSF widens the box by a pixel or two
