@@ -251,3 +251,11 @@ def test_dataset_of_the_fixed_wing_labels_a_box_as_wide_as_the_span(tmp_path, ca
     width_px = coco["annotations"][0]["bbox"][2]
     ifov = _cli_json(capsys, ["range", "fixed_wing"])["sensors"]["eo"]["terms"]["ifov_rad"]["value"]
     assert width_px == pytest.approx(2.0 / (500.0 * ifov), abs=3.0)  # 44 px; the PSF widens the box by a pixel or two
+
+
+def test_micro_doppler_refuses_the_pusher_by_name():
+    """Micro-Doppler spins rotors about z (render/rcs/micro_doppler.py); the pusher turns about x and is refused."""
+    from csuas.render.rcs.micro_doppler import drone_rotors
+
+    with pytest.raises(ParameterError, match="preset"):
+        drone_rotors(PRESET)
