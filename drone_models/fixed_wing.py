@@ -195,14 +195,26 @@ def pusher_propeller(centre: np.ndarray, params: FixedWingParams, style: str) ->
     return blades
 
 
+def lowest_wing_z(params: FixedWingParams) -> float:
+    """Height of the wing root above the model's bottom (the disc's lowest point) [m]."""
+    return params.propeller_diameter_m / 2.0 + params.wing_z_above_axis_m
+
+
 def _check(params: FixedWingParams) -> None:
-    """Refuse layouts whose parts would not meet the stated box (booms inside the disc, fins upside down)."""
+    """Refuse layouts whose parts would leave the stated box (booms inside the disc, wing tips above the fins)."""
     prop_r = params.propeller_diameter_m / 2.0
     if params.boom_y_m <= prop_r:
         raise ParameterError("boom_y_m", params.boom_y_m, f"> {prop_r:.6g} m (outside the propeller disc)")
-    lowest = max(prop_r + params.wing_z_above_axis_m, params.propeller_diameter_m)
+    lowest = max(lowest_wing_z(params), params.propeller_diameter_m)
     if params.height_m <= lowest:
         raise ParameterError("height_m", params.height_m, f"> {lowest:.6g} m (fins above the wing and the disc)")
+    tip_top = (
+        lowest_wing_z(params)
+        + params.span_m / 2.0 * np.tan(np.radians(params.dihedral_deg))
+        + params.wing_thickness_ratio * params.tip_chord_m / 2.0
+    )
+    if not 0.0 <= params.dihedral_deg < 90.0 or tip_top >= params.height_m:
+        raise ParameterError("dihedral_deg", params.dihedral_deg, "0 <= x < 90 with the wing tips below the fin tips")
     if params.fuselage_length_m + params.motor_length_m + params.propeller_thickness_m >= params.length_m:
         raise ParameterError("length_m", params.length_m, "longer than fuselage, motor and propeller together")
 
@@ -237,7 +249,7 @@ def build_fixed_wing(
     if params.motor_temperature_k is not None:
         mat["motor"] = mat["motor"].with_temperature(params.motor_temperature_k)
     axis_z = params.propeller_diameter_m / 2.0  # the disc's lowest point at z = 0
-    wing_z = axis_z + params.wing_z_above_axis_m
+    wing_z = lowest_wing_z(params)
     fus_c = np.array([-params.fuselage_length_m / 2.0, 0.0, axis_z])
     fus_d = params.fuselage_diameter_m
     parts = [Part("fuselage", "body", P.ellipsoid(fus_c, (params.fuselage_length_m, fus_d, fus_d)), mat["body"])]

@@ -111,6 +111,8 @@ def test_layouts_that_cannot_meet_the_box_are_refused():
         build_drone(PRESET, height_m=0.3)  # below the disc's top
     with pytest.raises(ParameterError, match="length_m"):
         build_drone(PRESET, length_m=0.7)
+    with pytest.raises(ParameterError, match="dihedral_deg"):
+        build_drone(PRESET, dihedral_deg=12.0)  # tips 0.21 m above the root: over the 0.40 m fin tips
     with pytest.raises(ParameterError, match="propellers"):
         build_drone(PRESET, "spinning")
 
