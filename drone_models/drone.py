@@ -21,7 +21,8 @@ class Part:
         Unique name within the drone, e.g. ``"arm_front_left"``.
     kind : str
         Component class: body, arm, motor, propeller, gimbal, landing_gear,
-        battery, tail_boom, tail_rotor, mast.
+        battery, tail_boom, tail_rotor, mast; a fixed-wing adds wing, tail,
+        pusher_propeller.
     mesh : trimesh.Trimesh
         Closed surface in the body frame [m].
     material : Material
@@ -94,11 +95,11 @@ class Drone:
             areas[p.material.name] = areas.get(p.material.name, 0.0) + float(p.mesh.area)
         return areas
 
-    def emissivity(self, band: str = "lwir", exclude_kinds=("propeller",)) -> dict:
+    def emissivity(self, band: str = "lwir", exclude_kinds=("propeller", "pusher_propeller")) -> dict:
         """Mean thermal emissivity of the drone [-], two ways.
 
         ``area_weighted``: sum of emissivity x shell area over the parts
-        (propellers excluded by default: a spinning rotor's swept disc is
+        (propellers, lifting and pusher, excluded by default: a spinning rotor's swept disc is
         mostly background). ``component_mean``: the paper's rule of
         Section 4.4.3, the unweighted mean over the distinct materials present.
         ``paper_component_mean`` is that rule applied to the paper's own list (0.68).

@@ -19,6 +19,13 @@ motors, legs) are plausible estimates from photographs, marked as such.
   33 g, main rotor 123 mm, about 168 mm long. Its overall height is not in
   the paper; 25 mm (fuselage plus rotor head) is assumed, the value that
   Table 52's d_crit = 0.025 m implies for the minimum method.
+* ``euclid_class_fixed_wing``: a 2 m-span electric pusher fixed-wing in the class of the Euclid UAV
+  of Kapoulas et al., Drones 7(1):39, 2023 (the abstract's 2 m wingspan is the one published figure
+  used). Assumed, in the class of 2 m twin-boom pusher UAVs: length 1.20 m, height 0.40 m (pusher
+  disc bottom to fin tips), take-off mass 5 kg, 14-inch (355.6 mm) pusher propeller, wing chords
+  0.28 / 0.16 m (aspect ratio 9.1), dihedral 3 deg; black-anodised motor bell 30 K above T_sUAS in
+  flight (brushless outrunner at cruise power, assumption). Built by
+  :func:`csuas.drone_models.fixed_wing.build_fixed_wing`.
 """
 
 from __future__ import annotations
@@ -28,7 +35,9 @@ from typing import TYPE_CHECKING
 
 from csuas.base.errors import ParameterError
 from csuas.drone_models.birds import build_bird, list_birds
+from csuas.drone_models.fixed_wing import FixedWingParams, build_fixed_wing
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
+from csuas.drone_models.materials import T_SUAS_K
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
 
 if TYPE_CHECKING:
@@ -168,10 +177,43 @@ def _black_hornet_3():
     return build_helicopter, params, spec
 
 
+#: Motor case temperature above T_sUAS of the fixed-wing preset in flight [K] (assumption, module docstring).
+FIXED_WING_MOTOR_EXCESS_K = 30.0
+
+
+def _euclid_class_fixed_wing():
+    spec = {
+        "span_m": 2.0,
+        "length_m": 1.20,
+        "height_m": 0.40,
+        "mass_kg": 5.0,
+        "propeller_diameter_m": 14.0 * INCH_M,
+        "motor_excess_k": FIXED_WING_MOTOR_EXCESS_K,
+        "source": "span 2 m: Kapoulas et al., Drones 7(1):39, 2023 (Euclid UAV); length, height, mass, "
+        "propeller and motor heat assumed for a 2 m electric pusher (drone_models/presets.py)",
+    }
+    params = FixedWingParams(
+        span_m=spec["span_m"],
+        length_m=spec["length_m"],
+        height_m=spec["height_m"],
+        fuselage_length_m=0.70,
+        fuselage_diameter_m=0.14,
+        root_chord_m=0.28,
+        tip_chord_m=0.16,
+        propeller_diameter_m=spec["propeller_diameter_m"],
+        motor_temperature_k=T_SUAS_K + FIXED_WING_MOTOR_EXCESS_K,
+    )
+    return build_fixed_wing, params, spec
+
+
 _PRESETS = {
     "dji_mini_4_pro": (_mini_4_pro, "DJI Mini 4 Pro, 249 g class-1 quadcopter (paper default, Table 8)"),
     "dji_mavic_3": (_mavic_3, "DJI Mavic 3, 895 g class-1 quadcopter"),
     "black_hornet_3": (_black_hornet_3, "Teledyne FLIR Black Hornet 3, 33 g nano helicopter (Table 52)"),
+    "euclid_class_fixed_wing": (
+        _euclid_class_fixed_wing,
+        "2 m-span electric pusher fixed-wing, 5 kg, in the class of the Euclid UAV (Drones 7(1):39, 2023)",
+    ),
 }
 
 
@@ -201,8 +243,9 @@ def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
         Propellers as swept discs (default; the specification's envelope),
         as blades, or left out.
     **overrides
-        Fields of the preset's :class:`~csuas.drone_models.multirotor.MultirotorParams`
-        or :class:`~csuas.drone_models.helicopter.HelicopterParams`, e.g.
+        Fields of the preset's :class:`~csuas.drone_models.multirotor.MultirotorParams`,
+        :class:`~csuas.drone_models.helicopter.HelicopterParams` or
+        :class:`~csuas.drone_models.fixed_wing.FixedWingParams`, e.g.
         ``blade_phase_deg=30`` or ``materials={"body": "plastic"}`` (merged
         with the preset's materials); for a bird ``wingbeat_phase`` and ``ambient_k``.
 

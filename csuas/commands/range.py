@@ -58,7 +58,7 @@ RADAR_BUDGET_KEYS = {
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument(
-        "scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet)"
+        "scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet, fixed_wing)"
     )
     parser.add_argument(
         "--convention",
