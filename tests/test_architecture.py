@@ -59,7 +59,7 @@ KNOWN_DEBTS = {
     ("core/radar.py", "radar_range", "lines"): 139,  # +7 lines: the gas term and registry bounds, 2026-11-27
     ("render/imaging/eo.py", "render_eo", "lines"): 135,
     ("render/imaging/frame.py", "eo_frame", "lines"): 106,
-    ("render/imaging/medium.py", "medium_vs_analytic_airlight", "lines"): 101,
+    ("validation/imaging/medium.py", "medium_vs_analytic_airlight", "lines"): 101,
     ("render/imaging/tir.py", "render_tir", "lines"): 164,
     ("render/imaging/trace.py", "trace_window", "lines"): 141,
     ("render/lidar/path.py", "path_traced_lcs", "lines"): 101,
@@ -94,7 +94,7 @@ KNOWN_DEBTS = {
     ("render/imaging/common.py", "prepare", "parameters"): 9,
     ("render/imaging/frame.py", "eo_frame", "parameters"): 10,
     ("render/imaging/frame.py", "tir_frame", "parameters"): 9,
-    ("render/imaging/medium.py", "medium_vs_analytic_airlight", "parameters"): 13,
+    ("validation/imaging/medium.py", "medium_vs_analytic_airlight", "parameters"): 13,
     ("render/imaging/modes.py", "eo_scenario", "parameters"): 11,
     ("render/imaging/modes.py", "tir_scenario", "parameters"): 10,
     ("render/imaging/trace.py", "trace_window", "parameters"): 16,

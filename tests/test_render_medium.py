@@ -7,8 +7,8 @@ import math
 import pytest
 
 from csuas.render.imaging import Quality
-from csuas.render.imaging.medium import medium_vs_analytic_airlight
 from csuas.render.imaging.targets import plate
+from csuas.validation.imaging.medium import medium_vs_analytic_airlight
 
 pytestmark = pytest.mark.slow
 

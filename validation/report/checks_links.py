@@ -4,7 +4,7 @@ Knob: Sionna's sample budget (rays per source, maximum depth,
 :mod:`csuas.render.links.budget`). In free space the line of sight is
 tested directly and a link is exact to float precision whatever the budget;
 over a flat ground 3 rays already find every reflection, so the presets are
-exact there too. The accuracy-vs-time curves (:func:`csuas.render.links.accuracy.accuracy_vs_time`)
+exact there too. The accuracy-vs-time curves (:func:`csuas.validation.links.accuracy.accuracy_vs_time`)
 show this: error against wall time over the budgets, Sionna's own default
 (10^6 rays, depth 3) included in the full report.
 
@@ -52,8 +52,8 @@ def _budgets(names):
 def rf_links(budget: str) -> Section:
     """RF path gain drone -> sensor, 2.4 GHz, free space (Friis) and over medium dry ground (two-ray)."""
     from csuas.core.dielectric import complex_permittivity
-    from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.rf import rf_path_gain
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     d = np.array(DISTANCES_M)
@@ -115,8 +115,8 @@ def rf_links(budget: str) -> Section:
 def radar_links(budget: str) -> Section:
     """Monostatic radar link to a 0.01 m^2 drone: 24 GHz free space (Eq. 68), 10 GHz over ground (four paths)."""
     from csuas.core.dielectric import complex_permittivity
-    from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.radar import radar_link_gain
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     d = np.array(DISTANCES_M)
@@ -185,10 +185,10 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     elevation 0; at table nodes the interpolated cross-section is the SBR
     value itself and Eq. 68 with that sigma is the closed form.
     """
-    from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.radar import radar_link_gain
     from csuas.render.links.rcs_table import RCSTable
     from csuas.render.rcs.sweep import rcs_table
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     f = 23.98
@@ -250,8 +250,8 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
 
 def link_accuracy(budgets) -> Section:
     """Accuracy against time of the RF link over ground and the radar link in free space."""
-    from csuas.render.links.accuracy import accuracy_vs_time
     from csuas.render.links.budget import PRESETS
+    from csuas.validation.links.accuracy import accuracy_vs_time
 
     s = Section()
     chosen = _budgets(budgets)
