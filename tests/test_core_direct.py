@@ -85,6 +85,21 @@ def test_radar_wavelength_uses_the_papers_c_or_the_exact_one():
     assert radar.radar_wavelength_m({"frequency_ghz": None, "wavelength_m": 0.0125}, "paper") == 0.0125
 
 
+def test_radar_frequency_is_the_given_one_or_exact_c_over_the_wavelength():
+    # A given frequency is returned as given in both conventions (not c_exact / (3e8 / f)).
+    assert radar.radar_frequency_ghz({"frequency_ghz": 24.0, "wavelength_m": None}) == 24.0
+    assert radar.radar_frequency_ghz({"frequency_ghz": None, "wavelength_m": 0.0125}) == pytest.approx(
+        C / 0.0125 / 1e9, rel=1e-12
+    )
+
+
+def test_rf_frequency_is_the_sensors_own_or_the_drones_link():
+    target = {"rf_frequency_ghz": 2.4}  # Table 33's control link
+    assert ranges.rf_frequency_ghz({"frequency_ghz": 5.8}, target) == 5.8
+    assert ranges.rf_frequency_ghz({"frequency_ghz": None}, target) == 2.4
+    assert ranges.rf_frequency_ghz({}, target) == 2.4
+
+
 def test_band_limits_and_planck_spectral_radiance():
     assert radiometry.band_limits_um("lwir") == (8.0, 12.0)
     assert radiometry.band_limits_um("mwir") == (3.0, 5.0)

@@ -33,7 +33,6 @@ from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_rea
 from csuas.core.pd_curves import margin_db, sensor_pd
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
-from csuas.core.units import C_LIGHT
 
 #: Modalities an engagement simulates (a detection needs a bearing and a range estimate).
 ENGAGED_MODALITIES = ("radar", "eo", "tir")
@@ -280,7 +279,7 @@ class SensorModel:
             return pd
         slant = geometry.slant_m[gate]
         if self.modality == "radar":
-            frequency = C_LIGHT / self.wavelength_m() / 1e9
+            frequency = radar.radar_frequency_ghz(self.spec.params)
             rcs = bird_model.bird_rcs_m2(
                 np.asarray(aspect_rad)[gate], bird["body_length_m"], bird["body_diameter_m"], frequency
             )
