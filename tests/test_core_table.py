@@ -262,6 +262,13 @@ ROWS = [
         5.0 - 1j * 0.01 / (2 * math.pi * 1e9 * 8.8541878128e-12),
         "frequency_ghz",
     ),
+    (
+        "dielectric.ground_permittivity",
+        dielectric.ground_permittivity,
+        {"ground": {"relative_permittivity": 15.0, "conductivity_s_m": 0.035}, "frequency_ghz": 2.4},
+        15.0 - 1j * 0.035 / (2 * math.pi * 2.4e9 * 8.8541878128e-12),
+        "frequency_ghz",
+    ),
     # a bearing clockwise from grid north on a north-up grid (rows run south): north-east is 45 degrees
     ("terrain.bearing_deg", terrain.bearing_deg, {"d_row": -1.0, "d_col": 1.0}, 45.0, "d_col"),
     (

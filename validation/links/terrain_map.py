@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.dielectric import complex_permittivity
+from csuas.core.dielectric import ground_permittivity
 from csuas.core.terrain import viewshed
 from csuas.render.links.terrain_map import (
     DEFAULT_GROUND,
@@ -169,9 +169,7 @@ def flat_ground_comparison(samples, replicas=REPLICAS, seed=1, scene=None) -> di
         k_factor=None,
         polarization=p["polarization"],
     )
-    eta = complex_permittivity(
-        result.extra["relative_permittivity"], result.extra["conductivity_s_m"], p["frequency_ghz"]
-    )
+    eta = ground_permittivity(result.extra, p["frequency_ghz"])
     geometry = (p["frequency_ghz"], shape, cell, p["tx_row"], p["tx_col"], p["mast_m"], p["altitude_m"], eta)
     options = {"step": p["step"], "polarization": p["polarization"]}
     power_db = 10.0 * np.log10(block_average_two_ray(*geometry, **options))

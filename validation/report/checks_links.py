@@ -51,7 +51,7 @@ def _budgets(names):
 
 def rf_links(budget: str) -> Section:
     """RF path gain drone -> sensor, 2.4 GHz, free space (Friis) and over medium dry ground (two-ray)."""
-    from csuas.core.dielectric import complex_permittivity
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.rf import rf_path_gain
     from csuas.validation.links.accuracy import closed_form_db
 
@@ -61,7 +61,7 @@ def rf_links(budget: str) -> Section:
     free, t_free = timed(rf_path_gain, f, d, 30.0, 2.0, budget=budget)
     ground, t_ground = timed(rf_path_gain, f, d, 30.0, 2.0, ground=GROUND, budget=budget)
     friis = closed_form_db("rf", f, d, 30.0, 2.0)
-    eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], f)
+    eta = ground_permittivity(ground.extra, f)
     two_ray = closed_form_db("rf", f, d, 30.0, 2.0, eta)
     err_free = float(np.max(np.abs(free.path_gain_db - friis)))
     err_ground = float(np.max(np.abs(ground.path_gain_db - two_ray)))
@@ -114,7 +114,7 @@ def rf_links(budget: str) -> Section:
 
 def radar_links(budget: str) -> Section:
     """Monostatic radar link to a 0.01 m^2 drone: 24 GHz free space (Eq. 68), 10 GHz over ground (four paths)."""
-    from csuas.core.dielectric import complex_permittivity
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.radar import radar_link_gain
     from csuas.validation.links.accuracy import closed_form_db
 
@@ -123,7 +123,7 @@ def radar_links(budget: str) -> Section:
     free, t_free = timed(radar_link_gain, 23.98, d, 5.0, 5.0, budget=budget)
     eq68 = closed_form_db("radar", 23.98, d, 5.0, 5.0)
     ground, t_ground = timed(radar_link_gain, 10.0, d, 5.0, 10.0, ground=GROUND, budget=budget)
-    eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], 10.0)
+    eta = ground_permittivity(ground.extra, 10.0)
     four = closed_form_db("radar", 10.0, d, 5.0, 10.0, eta)
     s.outcomes.append(
         Check(
@@ -300,7 +300,7 @@ TERRAIN_MAP_SAMPLES = {"quick": 2**18, "full": 2**22}
 
 def terrain_radio_maps(samples: int) -> Section:
     """Sionna radio maps over a flat DEM (two-ray model, power sum) and over a ridge (viewshed), with their cost."""
-    from csuas.core.dielectric import complex_permittivity
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.terrain_map import BOUND_LEVEL, STATED_COVERAGE
     from csuas.render.links.two_ray import two_ray_path_gain_db
     from csuas.validation.links.terrain_map import (
@@ -403,7 +403,7 @@ def terrain_radio_maps(samples: int) -> Section:
     d = flat["distance_m"][row]
     fine = np.linspace(50.0, d[-1], 8000)  # 4 points or more per lobe of the coherent sum beyond 50 m
     f = FLAT["frequency_ghz"]
-    eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], f)
+    eta = ground_permittivity(result.extra, f)
     points = two_ray_path_gain_db(f, fine, FLAT["mast_m"], FLAT["altitude_m"], eta, FLAT["polarization"])
     s.figures.append(
         curves(
