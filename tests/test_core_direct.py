@@ -50,6 +50,16 @@ def test_water_permittivity_gives_itu_rpy_specific_attenuation_coefficient(frequ
     assert k_l == pytest.approx(float(reference), rel=1e-6)
 
 
+def test_parametric_mrtd_from_a_datasheet_takes_the_band_centre():
+    curve = mrtd.ParametricMrtd.from_datasheet(netd_mk=40.0, ifov_rad=6e-4, f_number=1.2, pitch_um=12.0, band="mwir")
+    expected = mrtd.ParametricMrtd(netd_k=0.04, ifov_rad=6e-4, f_number=1.2, pitch_m=12e-6, wavelength_m=4e-6)
+    assert dataclasses.astuple(curve) == pytest.approx(dataclasses.astuple(expected), rel=1e-12)
+    # the scenario's sensor builds the same curve, IFOV = pitch / focal (Eq. 22)
+    params = {"netd_mk": 40.0, "pitch_um": 12.0, "focal_mm": 20.0, "f_number": 1.2, "band": "mwir", "mrtd_k": None}
+    expected = mrtd.ParametricMrtd(netd_k=0.04, ifov_rad=12e-6 / 20e-3, f_number=1.2, pitch_m=12e-6, wavelength_m=4e-6)
+    assert dataclasses.astuple(mrtd.sensor_mrtd(params)) == pytest.approx(dataclasses.astuple(expected), rel=1e-12)
+
+
 def test_sensor_mrtd_reaches_netd_scaled_shape_and_takes_a_user_table():
     params = {"netd_mk": 50.0, "pitch_um": 10.0, "focal_mm": 20.0, "f_number": 1.0, "band": "lwir", "mrtd_k": None}
     curve = mrtd.sensor_mrtd(params)
