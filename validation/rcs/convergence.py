@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import wavelength_m
+from csuas.core.units import wavelength_m, wavenumber_rad_m
 from csuas.render.rcs import canonical
 from csuas.render.rcs.convergence import ERROR_COEFFICIENT_DB
 from csuas.render.rcs.engine import Jobs, SbrEngine
@@ -99,7 +99,7 @@ def convergence_curve(
 def canonical_cases(frequency_ghz: float = 10.0) -> list[tuple]:
     """(name, mesh, azimuth_deg, elevation_deg, exact_m2) of the canonical oracles (docs/validation.md)."""
     lam = float(wavelength_m(frequency_ghz))
-    k = 2 * math.pi / lam
+    k = float(wavenumber_rad_m(frequency_ghz))
     axis_el = math.degrees(math.asin(1 / math.sqrt(3)))
     ka = 50.0
     radius = ka / k
