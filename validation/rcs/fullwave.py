@@ -351,7 +351,7 @@ def monostatic_rcs_efie(
 
     from csuas.render.rcs.geometry import polarisation_basis
 
-    k = 2.0 * math.pi / lam
+    k = float(units.wavenumber_rad_m(freq))
     t0 = time.perf_counter()
     grid = bempp.Grid(np.ascontiguousarray(v.T), np.ascontiguousarray(f.T))
     rwg = bempp.function_space(grid, "RWG", 0)
