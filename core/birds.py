@@ -10,8 +10,8 @@ physical-optics RCS of an ellipsoid with semi-axes a (along the body) and b (acr
 theta the angle between the body's axis and the line of sight (pi b^4 / a^2 nose-on, pi a^2
 broadside; Knott, Shaeffer & Tuley, *Radar Cross Section*, 2nd ed., 2004, Table 6.1), times the
 power reflectivity |Gamma|^2 = |(1 - sqrt(eps)) / (1 + sqrt(eps))|^2 of water at normal incidence,
-with the single-Debye permittivity of pure water (Ulaby, Moore & Fung, *Microwave Remote Sensing*
-vol. III, 1986, Eqs. E.15-E.17; Stogryn 1971). Over random aspects this spread of about 20 dB is
+with the double-Debye permittivity of liquid water of ITU-R P.840
+(:func:`csuas.core.itu.water_permittivity`, Liebe et al. 1991). Over random aspects this spread of about 20 dB is
 summarised by a log-normal fit (:func:`csuas.core.rcs_statistics.fit_lognormal`), the form Vaughn
 reports for birds. Wingbeat modulation and the wings' own return are left out (a few dB; Vaughn
 1985, Section V).
@@ -20,6 +20,8 @@ References
 ----------
 C. R. Vaughn, "Birds and insects as radar targets: a review", Proc. IEEE 73(2):205-227, 1985.
 F. Pollon, "Distributions of radar angels", IEEE Trans. AES-8(6):721-727, 1972.
+H. J. Liebe, G. A. Hufford and T. Manabe, "A model for the complex permittivity of water at
+frequencies below 1 THz", Int. J. Infrared Millim. Waves 12(7):659-675, 1991 (ITU-R P.840's model).
 M. M. Rahman and D. A. Robertson, "Radar micro-Doppler signatures of drones and birds at K-band
 and W-band", Scientific Reports 8:17396, 2018; "In-flight RCS measurements of drones and birds at
 K-band and W-band", IET Radar, Sonar & Navigation 13(2):300-309, 2019 (birds and small drones
@@ -31,32 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.core.checks import require, require_all
-
-#: High-frequency permittivity of water [-] (Ulaby et al. 1986, Eq. E.15).
-WATER_EPS_INF = 4.9
-
-
-def water_permittivity(frequency_ghz, temperature_c=40.0):
-    """Complex permittivity of pure water, single Debye (Ulaby et al. 1986, Eqs. E.15-E.17) [-].
-
-    Parameters
-    ----------
-    frequency_ghz : array_like
-        Frequency [GHz], > 0.
-    temperature_c : array_like
-        Water temperature [deg C], 0..50 (a bird's body: about 40).
-
-    Returns
-    -------
-    ndarray of complex
-        eps' - j eps'' (time convention exp(+j omega t)).
-    """
-    f, t = require_all(
-        ("frequency_ghz", frequency_ghz, {"gt": 0}), ("temperature_c", temperature_c, {"ge": 0, "le": 50})
-    )
-    eps_static = 88.045 - 0.4147 * t + 6.295e-4 * t**2 + 1.075e-5 * t**3
-    two_pi_tau = 1.1109e-10 - 3.824e-12 * t + 6.938e-14 * t**2 - 5.096e-16 * t**3  # [s]
-    return WATER_EPS_INF + (eps_static - WATER_EPS_INF) / (1.0 + 1j * f * 1e9 * two_pi_tau)
+from csuas.core.itu import water_permittivity
 
 
 def normal_reflectivity(permittivity):
@@ -93,10 +70,12 @@ def bird_rcs_m2(theta_rad, body_length_m, body_diameter_m, frequency_ghz, temper
     frequency_ghz : float
         Radar frequency [GHz].
     temperature_c : float
-        Body temperature [deg C].
+        Body temperature [deg C], 0..50 (a bird's body: about 40).
     """
+    t_k = require("temperature_c", temperature_c, ge=0, le=50) + 273.15
+    eps_real, eps_imag = water_permittivity(frequency_ghz, t_k)
     return spheroid_rcs_m2(theta_rad, body_length_m / 2.0, body_diameter_m / 2.0) * normal_reflectivity(
-        water_permittivity(frequency_ghz, temperature_c)
+        eps_real - 1j * eps_imag
     )
 
 

@@ -33,12 +33,10 @@ import numpy as np
 
 from csuas.core.checks import require
 from csuas.core.detection import blob_snr, target_pixels
+from csuas.core.radiometry import spectral_radiance
 from csuas.core.solve import bracketed_root
-from csuas.core.units import C_LIGHT
+from csuas.core.units import C_LIGHT, H_PLANCK
 
-#: Planck's constant [J s] and Boltzmann's constant [J/K] (CODATA 2018, exact).
-H_PLANCK = 6.62607015e-34
-K_BOLTZMANN = 1.380649e-23
 #: Luminous efficacy of 555 nm (540 THz) radiation [lm/W] (SI definition of the candela).
 K_M = 683.0
 #: Correlated colour temperature of daylight used for the photon conversion [K] (sunlight at sea level).
@@ -67,8 +65,8 @@ def photons_per_lumen(colour_temperature_k=DAYLIGHT_K, band_nm=(400.0, 700.0), s
     """
     t = float(require("colour_temperature_k", colour_temperature_k, gt=0))
 
-    def planck(lam):
-        return 2 * H_PLANCK * C_LIGHT**2 / lam**5 / np.expm1(H_PLANCK * C_LIGHT / (lam * K_BOLTZMANN * t))
+    def planck(lam):  # per um: the factor cancels in the ratio
+        return spectral_radiance(lam * 1e6, t)
 
     visible = np.linspace(360e-9, 830e-9, int(samples))
     band = np.linspace(band_nm[0] * 1e-9, band_nm[1] * 1e-9, int(samples))

@@ -29,13 +29,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core import units
 from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.modality import RECORDS
 from csuas.core.pd_curves import sensor_pd
-from csuas.core.radar import radar_wavelength_m
-from csuas.core.ranges import evaluate
+from csuas.core.radar import radar_frequency_ghz
+from csuas.core.ranges import evaluate, rf_frequency_ghz
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import RayLimits, bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
@@ -238,12 +237,9 @@ def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:
     """Carrier frequency [GHz] of an RF sensor (its own, or the drone's link, Table 33) or a radar (c / lambda)."""
     spec = scenario.sensors[sensor_name]
     if spec.modality == "rf":
-        return float(spec.params.get("frequency_ghz") or scenario.target["rf_frequency_ghz"])
+        return rf_frequency_ghz(spec.params, scenario.target)
     if spec.modality == "radar":
-        given = spec.params.get("frequency_ghz")
-        return float(
-            given if given is not None else units.frequency_ghz(radar_wavelength_m(spec.params, scenario.convention))
-        )
+        return radar_frequency_ghz(spec.params)
     raise ParameterError(f"sensors.{sensor_name}", spec.modality, "an RF or radar sensor")
 
 

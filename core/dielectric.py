@@ -46,3 +46,20 @@ def complex_permittivity(relative_permittivity, conductivity_s_m, frequency_ghz)
     out = np.empty(real.shape, dtype=complex)
     out.real, out.imag = real, imag  # assembled part by part: 1j * -inf would turn the real part into NaN
     return out
+
+
+def ground_permittivity(ground, frequency_ghz):
+    """Complex relative permittivity [-] of a ground given by its constants, as the links report them.
+
+    :func:`complex_permittivity` of ``ground["relative_permittivity"]`` and
+    ``ground["conductivity_s_m"]`` (the ``extra`` of a Sionna link result, the JSON of
+    ``csuas pathloss``, an ITU-R P.2040-3 Table 3 material at that frequency).
+
+    Parameters
+    ----------
+    ground : mapping
+        ``relative_permittivity`` [-] and ``conductivity_s_m`` [S/m] of the ground.
+    frequency_ghz : array_like
+        Frequency [GHz], > 0.
+    """
+    return complex_permittivity(ground["relative_permittivity"], ground["conductivity_s_m"], frequency_ghz)

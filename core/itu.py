@@ -11,19 +11,11 @@ path: elevation 0).
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require
-
-
-@functools.lru_cache(maxsize=1)
-def _coefficients():
-    from csuas.defaults import _load
-
-    return _load("itu.toml")
+from csuas.defaults import load_itu
 
 
 def _gaussian_sum(log_f, coef):
@@ -48,7 +40,7 @@ def rain_coefficients(frequency_ghz, elevation_deg=0.0, tau_deg=90.0):
     -------
     k, alpha : ndarray
     """
-    co = _coefficients()["p838_3"]
+    co = load_itu()["p838_3"]
     lo, hi = co["frequency_range_ghz"]
     f = require(
         "frequency_ghz",
@@ -82,7 +74,7 @@ def water_permittivity(frequency_ghz, temperature_k):
     -------
     eps_real, eps_imag : ndarray
     """
-    co = _coefficients()["p840"]
+    co = load_itu()["p840"]
     f = require("frequency_ghz", frequency_ghz, gt=0)
     t = require("temperature_k", temperature_k, gt=0)
     theta = 300.0 / t
@@ -98,7 +90,7 @@ def water_permittivity(frequency_ghz, temperature_k):
 
 def fog_coefficient_kl(frequency_ghz, temperature_k=293.15):
     """Cloud/fog specific attenuation coefficient K_l [(dB/km)/(g/m^3)] (ITU-R P.840, Eq. 60)."""
-    co = _coefficients()["p840"]
+    co = load_itu()["p840"]
     lo, hi = co["frequency_range_ghz"]
     f = require(
         "frequency_ghz",
@@ -131,13 +123,13 @@ def standard_atmosphere() -> dict:
         ``temperature_k`` (288.15), ``pressure_hpa`` (1013.25, total) and
         ``water_vapour_density_g_m3`` (7.5).
     """
-    co = _coefficients()["p835"]
+    co = load_itu()["p835"]
     return {key: co[key] for key in ("temperature_k", "pressure_hpa", "water_vapour_density_g_m3")}
 
 
 def saturation_vapour_pressure_hpa(temperature_k, pressure_hpa):
     """Saturation vapour pressure over water [hPa] (ITU-R P.453-14, Eq. 9 with its enhancement factor EF)."""
-    co = _coefficients()["p453"]
+    co = load_itu()["p453"]
     t_c = require("temperature_k", temperature_k, gt=0) - 273.15
     p = require("pressure_hpa", pressure_hpa, gt=0)
     ef = 1.0 + 1e-4 * (co["ef"][0] + p * (co["ef"][1] + co["ef"][2] * t_c**2))
@@ -148,16 +140,16 @@ def water_vapour_density_g_m3(relative_humidity_pct, temperature_k, pressure_hpa
     """Water vapour density rho [g/m^3] at a relative humidity (ITU-R P.453-14, Eqs. 8 and 10: rho = 216.7 e / T)."""
     h = require("relative_humidity_pct", relative_humidity_pct, ge=0, le=100)
     e = h / 100.0 * saturation_vapour_pressure_hpa(temperature_k, pressure_hpa)
-    return _coefficients()["p453"]["vapour_constant"] * e / np.asarray(temperature_k, float)
+    return load_itu()["p453"]["vapour_constant"] * e / np.asarray(temperature_k, float)
 
 
 def water_vapour_pressure_hpa(water_vapour_density_g_m3, temperature_k):
     """Water vapour partial pressure e = rho T / 216.7 [hPa] (ITU-R P.676-12, Annex 1, Eq. 4)."""
-    return np.asarray(water_vapour_density_g_m3, float) * temperature_k / _coefficients()["p453"]["vapour_constant"]
+    return np.asarray(water_vapour_density_g_m3, float) * temperature_k / load_itu()["p453"]["vapour_constant"]
 
 
 def _lines(name: str) -> np.ndarray:
-    return np.asarray(_coefficients()["p676"][name], dtype=float).T
+    return np.asarray(load_itu()["p676"][name], dtype=float).T
 
 
 def _line_shape(f, f_line, width, correction):

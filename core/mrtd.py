@@ -26,6 +26,8 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require
+from csuas.core.johnson import ifov_from_pitch_rad
+from csuas.core.radiometry import BANDS_UM
 from csuas.core.solve import bracketed_root
 
 #: Lloyd's 4-bar constant pi^2 / (4 sqrt(14)).
@@ -66,6 +68,32 @@ class ParametricMrtd:
     def nyquist_cy_rad(self):
         """Detector Nyquist frequency f_N = 1/(2 IFOV) [cy/rad]."""
         return 0.5 / self.ifov_rad
+
+    @classmethod
+    def from_datasheet(cls, netd_mk: float, ifov_rad: float, f_number: float, pitch_um: float, band: str):
+        """The parametric MRTD of a camera's datasheet values, at the centre wavelength of its band.
+
+        Parameters
+        ----------
+        netd_mk : float
+            NETD [mK].
+        ifov_rad : float
+            Pixel IFOV [rad] (Eq. 22: pitch / focal length).
+        f_number : float
+            Optics f-number.
+        pitch_um : float
+            Detector pitch [um].
+        band : {"lwir", "mwir"}
+            Thermal band (:data:`csuas.core.radiometry.BANDS_UM`); its centre sets the diffraction MTF.
+        """
+        low, high = BANDS_UM[band]
+        return cls(
+            netd_k=netd_mk / 1000.0,
+            ifov_rad=float(ifov_rad),
+            f_number=f_number,
+            pitch_m=pitch_um * 1e-6,
+            wavelength_m=0.5 * (low + high) * 1e-6,
+        )
 
     def shape(self, u):
         """MRTD / NETD at u = f / f_N (dimensionless), +inf beyond Nyquist."""
@@ -135,16 +163,12 @@ def sensor_mrtd(params: dict):
     default of :class:`ParametricMrtd` from ``netd_mk``, ``pitch_um``, ``focal_mm``, ``f_number``
     and the centre wavelength of ``band`` (docs/scenarios.md names the parameters).
     """
-    from csuas.core.johnson import ifov_from_pitch_rad
-    from csuas.core.radiometry import BANDS_UM
-
     if params.get("mrtd_k") is not None:
         return TabulatedMrtd(tuple(params["mrtd_frequency_cy_mrad"]), tuple(params["mrtd_k"]))
-    low, high = BANDS_UM[params["band"]]
-    return ParametricMrtd(
-        netd_k=params["netd_mk"] / 1000.0,
-        ifov_rad=float(ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"])),
+    return ParametricMrtd.from_datasheet(
+        netd_mk=params["netd_mk"],
+        ifov_rad=ifov_from_pitch_rad(params["pitch_um"], params["focal_mm"]),
         f_number=params["f_number"],
-        pitch_m=params["pitch_um"] * 1e-6,
-        wavelength_m=0.5 * (low + high) * 1e-6,
+        pitch_um=params["pitch_um"],
+        band=params["band"],
     )

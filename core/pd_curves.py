@@ -40,7 +40,6 @@ from csuas.core.ranges import (
 from csuas.core.result import check_convention
 from csuas.core.scenario import Scenario, SensorSpec
 from csuas.core.solve import bracketed_root
-from csuas.core.units import C_LIGHT
 
 #: Threshold shifts over which a model is evaluated to read its margin [dB]; beyond them Pd is saturated.
 MARGIN_GRID_DB = np.linspace(-150.0, 150.0, 2401)
@@ -244,7 +243,7 @@ def _radar_pd(scenario, sensor, convention, r, result):
         notes.insert(1, f"square-law detector, Swerling {swerling} ({_source(sensor, 'swerling')})")
         return radar_detection.pd_exact(snr1_db + m, pfa, n, swerling, mode), notes
     polarisation = fluctuation.removeprefix("aspect_").upper()
-    frequency_ghz = C_LIGHT / radar.radar_wavelength_m(p, convention) / 1e9
+    frequency_ghz = radar.radar_frequency_ghz(p)
     dof, band = rcs_statistics.aspect_chi_square_dof(scenario.target_preset, frequency_ghz, polarisation)
     notes.insert(
         1,

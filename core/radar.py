@@ -158,6 +158,17 @@ class RadarWeather:
     gas_db_km: Any = 0.0
 
 
+def radar_frequency_ghz(params: dict) -> float:
+    """Carrier frequency [GHz] of a radar's canonical parameters: ``frequency_ghz``, or c/``wavelength_m``.
+
+    A wavelength converts with the exact speed of light in both conventions (the paper gives Table 39's
+    radar by its wavelength and converts only a frequency, Section 4.9.3).
+    """
+    if params.get("frequency_ghz") is not None:
+        return float(params["frequency_ghz"])
+    return float(frequency_ghz(params["wavelength_m"]))
+
+
 #: Arguments of :func:`radar_range` -> their defaults/parameters.toml entries (upper bounds checked).
 RADAR_REGISTRY = {
     "p_tx_w": "radar.p_tx_w",

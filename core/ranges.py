@@ -187,9 +187,23 @@ def _acoustic_bands(sc: Scenario, s: SensorSpec, gain) -> RangeResult:
     )
 
 
+def rf_frequency_ghz(sensor_params: dict, target: dict) -> float:
+    """Carrier frequency [GHz] an RF sensor listens on: its own ``frequency_ghz``, else the drone's link (Table 33).
+
+    Parameters
+    ----------
+    sensor_params : dict
+        The RF sensor's canonical parameters (``frequency_ghz`` may be absent or None).
+    target : dict
+        The scenario's target parameters (``rf_frequency_ghz``, the drone's control/video link).
+    """
+    given = sensor_params.get("frequency_ghz")
+    return float(given if given is not None else target["rf_frequency_ghz"])
+
+
 def _rf(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
     p, t, env = s.params, sc.target, sc.environment
-    frequency = p.get("frequency_ghz") or t["rf_frequency_ghz"]
+    frequency = rf_frequency_ghz(p, t)
     return rf.rf_range(
         p_tx_w=t["rf_power_w"],
         g_tx_dbi=t["rf_gain_dbi"],

@@ -86,6 +86,12 @@ def load_presets() -> dict:
 
 
 @functools.cache
+def load_itu() -> dict:
+    """ITU-R coefficient tables (itu.toml): P.838-3, P.840, P.676-12, P.835-6, P.453-14, by recommendation."""
+    return _load("itu.toml")
+
+
+@functools.cache
 def load_sensitivity() -> dict:
     """One-at-a-time analyses of Section 4.9 (Tables 48-51) and the platform table (Table 52)."""
     return _load("sensitivity.toml")

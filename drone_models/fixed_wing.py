@@ -35,7 +35,7 @@ from csuas.base.errors import ParameterError
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.materials import get_material
-from csuas.drone_models.multirotor import PROPELLER_STYLES
+from csuas.drone_models.rotorcraft import PROPELLER_STYLES
 
 #: Default material per part kind of a fixed-wing (painted glass/carbon composite airframe, anodised motor bell).
 DEFAULT_FIXED_WING_MATERIALS = {

@@ -7,11 +7,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
-from csuas.base.errors import ParameterError
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
-from csuas.drone_models.materials import get_material
-from csuas.drone_models.multirotor import PROPELLER_STYLES
+from csuas.drone_models.materials import Material
+from csuas.drone_models.rotorcraft import BladePlan, build_rotorcraft, rotor_mesh
 
 #: Default material per part kind of a nano helicopter.
 DEFAULT_HELICOPTER_MATERIALS = {
@@ -100,9 +99,14 @@ def build_helicopter(
     Drone
         Centred on its bounding box.
     """
-    if propellers not in PROPELLER_STYLES:
-        raise ParameterError("propellers", propellers, ", ".join(PROPELLER_STYLES))
-    mat = {kind: get_material(m) for kind, m in {**DEFAULT_HELICOPTER_MATERIALS, **params.materials}.items()}
+    materials = {**DEFAULT_HELICOPTER_MATERIALS, **params.materials}
+    return build_rotorcraft(
+        name, mass_kg, materials, lambda mat: _airframe(params, mat, propellers), spec=spec, propellers=propellers
+    )
+
+
+def _airframe(params: HelicopterParams, mat: dict[str, Material], propellers: str) -> list[Part]:
+    """Fuselage, mast, tail boom, both rotors and the camera pod of a helicopter, uncentred."""
     f_c = np.asarray(params.fuselage_center_m, dtype=float)
     f_ext = np.asarray(params.fuselage_extents_m, dtype=float)
     hub = np.asarray(params.main_rotor_center_m, dtype=float)
@@ -122,39 +126,28 @@ def build_helicopter(
         )
     )
     if propellers != "none":
-        if propellers == "disc":
-            rotor = P.vertical_disc(hub, params.main_rotor_diameter_m, params.main_rotor_thickness_m, params.sections)
-            half = np.array([0.0, params.tail_rotor_thickness_m / 2.0, 0.0])
-            tail = P.cylinder_between(
-                tail_end - half, tail_end + half, params.tail_rotor_diameter_m / 2.0, params.sections
-            )
-        else:
-            rotor = P.propeller_blades(
-                hub,
-                params.main_rotor_diameter_m,
-                params.n_blades,
-                params.blade_root_chord_m,
-                params.blade_tip_chord_m,
-                params.main_rotor_thickness_m / 2.0,
-                params.hub_diameter_m,
-                params.blade_phase_deg,
-            )
-            tail = P.propeller_blades(
-                [0.0, 0.0, 0.0],
-                params.tail_rotor_diameter_m,
-                2,
-                params.tail_rotor_diameter_m / 6.0,
-                params.tail_rotor_diameter_m / 8.0,
-                params.tail_rotor_thickness_m / 2.0,
-                params.tail_rotor_diameter_m / 5.0,
-                0.0,
-            )
-            tail.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2.0, [1.0, 0.0, 0.0]))
-            tail.apply_translation(tail_end)
+        plan = BladePlan.of(params)
+        rotor = rotor_mesh(
+            hub, params.main_rotor_diameter_m, params.main_rotor_thickness_m, propellers, plan, params.sections
+        )
+        tail = _tail_rotor(params, tail_end, propellers)
         parts.append(Part("main_rotor", "propeller", rotor, mat["propeller"]))
         parts.append(Part("tail_rotor", "tail_rotor", tail, mat["tail_rotor"]))
     if params.camera_extents_m is not None:
         parts.append(
             Part("camera", "gimbal", P.ellipsoid(params.camera_center_m, params.camera_extents_m, 2), mat["gimbal"])
         )
-    return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()
+    return parts
+
+
+def _tail_rotor(params: HelicopterParams, tail_end, style: str):
+    """The tail rotor, axis along y at the boom's end: a swept disc, or two blades of fixed proportions."""
+    d = params.tail_rotor_diameter_m
+    if style == "disc":
+        half = np.array([0.0, params.tail_rotor_thickness_m / 2.0, 0.0])
+        return P.cylinder_between(tail_end - half, tail_end + half, d / 2.0, params.sections)
+    plan = BladePlan(2, d / 6.0, d / 8.0, d / 5.0, 0.0)
+    tail = rotor_mesh([0.0, 0.0, 0.0], d, params.tail_rotor_thickness_m, "blades", plan, params.sections)
+    tail.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2.0, [1.0, 0.0, 0.0]))
+    tail.apply_translation(tail_end)
+    return tail

@@ -10,10 +10,8 @@ import trimesh
 from csuas.base.errors import ParameterError
 from csuas.drone_models import parts as P
 from csuas.drone_models.drone import Drone, Part
-from csuas.drone_models.materials import get_material
-
-#: Accepted propeller representations.
-PROPELLER_STYLES = ("disc", "blades", "none")
+from csuas.drone_models.materials import Material
+from csuas.drone_models.rotorcraft import BladePlan, build_rotorcraft, rotor_mesh
 
 #: Default material per part kind (the paper's component list, Section 4.4.3:
 #: plastic frame, carbon-fibre arms, aluminium supports, paint finish).
@@ -120,18 +118,8 @@ def _rotor_label(i: int, x: float, y: float, n: int) -> str:
 
 def propeller_mesh(center, params: MultirotorParams, style: str):
     """Propeller of ``params`` at hub ``center`` as a swept disc or as blades."""
-    if style == "disc":
-        return P.vertical_disc(center, params.propeller_diameter_m, params.propeller_thickness_m, params.sections)
-    return P.propeller_blades(
-        center,
-        params.propeller_diameter_m,
-        params.n_blades,
-        params.blade_root_chord_m,
-        params.blade_tip_chord_m,
-        params.propeller_thickness_m / 2.0,
-        params.hub_diameter_m,
-        params.blade_phase_deg,
-    )
+    plan = BladePlan.of(params)
+    return rotor_mesh(center, params.propeller_diameter_m, params.propeller_thickness_m, style, plan, params.sections)
 
 
 def build_multirotor(
@@ -157,13 +145,18 @@ def build_multirotor(
     Drone
         Centred on its bounding box.
     """
-    if propellers not in PROPELLER_STYLES:
-        raise ParameterError("propellers", propellers, ", ".join(PROPELLER_STYLES))
     if params.arm_profile not in ("bar", "tube"):
         raise ParameterError("arm_profile", params.arm_profile, "bar, tube")
     if not params.rotor_positions_m:
         raise ParameterError("rotor_positions_m", params.rotor_positions_m, "at least one rotor")
-    mat = {kind: get_material(m) for kind, m in {**DEFAULT_MULTIROTOR_MATERIALS, **params.materials}.items()}
+    materials = {**DEFAULT_MULTIROTOR_MATERIALS, **params.materials}
+    return build_rotorcraft(
+        name, mass_kg, materials, lambda mat: _airframe(params, mat, propellers), spec=spec, propellers=propellers
+    )
+
+
+def _airframe(params: MultirotorParams, mat: dict[str, Material], propellers: str) -> list[Part]:
+    """Body, arms, motors, propellers, gimbal, legs and battery of a multirotor, uncentred."""
     body_c = np.asarray(params.body_center_m, dtype=float)
     body_ext = np.asarray(params.body_extents_m, dtype=float)
     parts = [Part("body", "body", P.rounded_box(body_c, body_ext, params.body_corner_radius_m), mat["body"])]
@@ -215,4 +208,4 @@ def build_multirotor(
         parts.append(
             Part("battery", "battery", P.box(params.battery_center_m, params.battery_extents_m), mat["battery"])
         )
-    return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()
+    return parts

@@ -9,7 +9,7 @@ from :data:`LADDERS`. This module imports nothing but ``csuas.base``, so ``csuas
 
 The measured accuracy and time of each rung: docstrings of :mod:`csuas.render.imaging.quality` (EO, TIR),
 :data:`csuas.render.rcs.convergence.PRESET_MEASURED_ERROR_DB` (SBR-PO),
-:func:`csuas.render.links.accuracy.accuracy_vs_time` (links), docs/validation.md.
+:func:`csuas.validation.links.accuracy.accuracy_vs_time` (links), docs/validation.md.
 """
 
 from __future__ import annotations

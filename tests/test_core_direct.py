@@ -50,6 +50,16 @@ def test_water_permittivity_gives_itu_rpy_specific_attenuation_coefficient(frequ
     assert k_l == pytest.approx(float(reference), rel=1e-6)
 
 
+def test_parametric_mrtd_from_a_datasheet_takes_the_band_centre():
+    curve = mrtd.ParametricMrtd.from_datasheet(netd_mk=40.0, ifov_rad=6e-4, f_number=1.2, pitch_um=12.0, band="mwir")
+    expected = mrtd.ParametricMrtd(netd_k=0.04, ifov_rad=6e-4, f_number=1.2, pitch_m=12e-6, wavelength_m=4e-6)
+    assert dataclasses.astuple(curve) == pytest.approx(dataclasses.astuple(expected), rel=1e-12)
+    # the scenario's sensor builds the same curve, IFOV = pitch / focal (Eq. 22)
+    params = {"netd_mk": 40.0, "pitch_um": 12.0, "focal_mm": 20.0, "f_number": 1.2, "band": "mwir", "mrtd_k": None}
+    expected = mrtd.ParametricMrtd(netd_k=0.04, ifov_rad=12e-6 / 20e-3, f_number=1.2, pitch_m=12e-6, wavelength_m=4e-6)
+    assert dataclasses.astuple(mrtd.sensor_mrtd(params)) == pytest.approx(dataclasses.astuple(expected), rel=1e-12)
+
+
 def test_sensor_mrtd_reaches_netd_scaled_shape_and_takes_a_user_table():
     params = {"netd_mk": 50.0, "pitch_um": 10.0, "focal_mm": 20.0, "f_number": 1.0, "band": "lwir", "mrtd_k": None}
     curve = mrtd.sensor_mrtd(params)
@@ -83,6 +93,21 @@ def test_radar_wavelength_uses_the_papers_c_or_the_exact_one():
         C / 24e9, rel=1e-12
     )
     assert radar.radar_wavelength_m({"frequency_ghz": None, "wavelength_m": 0.0125}, "paper") == 0.0125
+
+
+def test_radar_frequency_is_the_given_one_or_exact_c_over_the_wavelength():
+    # A given frequency is returned as given in both conventions (not c_exact / (3e8 / f)).
+    assert radar.radar_frequency_ghz({"frequency_ghz": 24.0, "wavelength_m": None}) == 24.0
+    assert radar.radar_frequency_ghz({"frequency_ghz": None, "wavelength_m": 0.0125}) == pytest.approx(
+        C / 0.0125 / 1e9, rel=1e-12
+    )
+
+
+def test_rf_frequency_is_the_sensors_own_or_the_drones_link():
+    target = {"rf_frequency_ghz": 2.4}  # Table 33's control link
+    assert ranges.rf_frequency_ghz({"frequency_ghz": 5.8}, target) == 5.8
+    assert ranges.rf_frequency_ghz({"frequency_ghz": None}, target) == 2.4
+    assert ranges.rf_frequency_ghz({}, target) == 2.4
 
 
 def test_band_limits_and_planck_spectral_radiance():

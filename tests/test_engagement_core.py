@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from scipy import stats
 
 from csuas.base.errors import ParameterError
-from csuas.core import birds, clutter, false_alarms, m_of_n
+from csuas.core import birds, clutter, false_alarms, itu, m_of_n
 from csuas.defaults import load_birds, load_clutter, load_drone_rcs_statistics
 from csuas.validation.report.checks_engage import enumerated_first_confirmation
 
@@ -47,11 +49,16 @@ def test_m_of_n_closed_forms():
         m_of_n.first_confirmation([0.5], 4, 3)
 
 
-def test_water_permittivity_and_reflectivity():
+def test_bird_water_permittivity_and_reflectivity():
     # static permittivity of pure water at 20 C: 80.1 (CRC Handbook); lossless eps = 4: |(1-2)/(1+2)|^2 = 1/9
-    water_eps = birds.water_permittivity(1e-3, 20.0)
-    assert water_eps.real == pytest.approx(80.1, abs=0.1)
+    eps_real, eps_imag = itu.water_permittivity(1e-3, 293.15)  # the model the bird's body uses (P.840)
+    assert eps_real == pytest.approx(80.1, abs=0.1) and eps_imag == pytest.approx(0.0, abs=0.01)
     assert birds.normal_reflectivity(4.0) == pytest.approx(1 / 9)
+    # broadside, near-static water: pi a^2 |(1 - sqrt(80.1)) / (1 + sqrt(80.1))|^2
+    gamma2 = ((math.sqrt(80.1) - 1) / (math.sqrt(80.1) + 1)) ** 2
+    assert birds.bird_rcs_m2(np.pi / 2, 0.3, 0.06, 1e-3, 20.0) == pytest.approx(np.pi * 0.15**2 * gamma2, rel=1e-3)
+    with pytest.raises(ParameterError, match="temperature_c"):
+        birds.bird_rcs_m2(np.pi / 2, 0.3, 0.06, 24.0, 60.0)
 
 
 def test_spheroid_rcs_limits():

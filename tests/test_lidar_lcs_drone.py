@@ -18,8 +18,8 @@ from csuas.drone_models.silhouette import projected_metrics
 from csuas.render.lidar import LidarTarget, lidar_cross_section
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
-from csuas.render.lidar.sphere_average import drone_lcs_versus_rule
 from csuas.render.request import RenderRequest
+from csuas.validation.lidar.checks import drone_lcs_versus_rule
 
 pytestmark = pytest.mark.slow
 

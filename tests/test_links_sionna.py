@@ -198,7 +198,8 @@ def test_radar_bad_input(links):
 
 
 def test_accuracy_vs_time_rows(links):
-    from csuas.render.links.accuracy import accuracy_vs_time
+    from csuas.render.links.budget import LinkBudget
+    from csuas.validation.links.accuracy import accuracy_vs_time
 
     budgets = (LinkBudget("one_ray", 1, 1), LinkBudget("draft", 16, 1))
     rows = accuracy_vs_time("rf", 2.4, (100.0, 1000.0), 30.0, 2.0, "medium_dry_ground", budgets, repeats=1)

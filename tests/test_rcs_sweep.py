@@ -11,14 +11,9 @@ import trimesh
 from csuas.base.checks import Check
 from csuas.base.errors import InputErrors, ParameterError
 from csuas.render.rcs import canonical
-from csuas.render.rcs.convergence import (
-    ERROR_COEFFICIENT_DB,
-    convergence_curve,
-    density_for_accuracy,
-    preset_errors,
-    silhouette_perimeter_area,
-)
+from csuas.render.rcs.convergence import ERROR_COEFFICIENT_DB, density_for_accuracy, silhouette_perimeter_area
 from csuas.render.rcs.sweep import aspect_sweep, band_sweep, plot_polar, sphere_average
+from csuas.validation.rcs.convergence import convergence_curve, preset_errors
 
 C = 299_792_458.0
 

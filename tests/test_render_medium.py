@@ -7,9 +7,9 @@ import math
 import pytest
 
 from csuas.render.imaging import Quality
-from csuas.render.imaging.medium import medium_vs_analytic_airlight
 from csuas.render.imaging.records import RenderSettings, View
 from csuas.render.imaging.targets import plate
+from csuas.validation.imaging.medium import medium_vs_analytic_airlight
 
 pytestmark = pytest.mark.slow
 

@@ -11,8 +11,9 @@ import pytest
 from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone
 from csuas.drone_models.silhouette import projected_metrics
-from csuas.render.imaging import QUALITY_PRESETS, Quality, accuracy_sweep, render_eo, resolve_quality
+from csuas.render.imaging import QUALITY_PRESETS, Quality, render_eo, resolve_quality
 from csuas.render.imaging.records import RenderSettings, View
+from csuas.validation.imaging.accuracy import accuracy_sweep
 from csuas.validation.imaging.bench import bench_window_vs_full_frame
 
 pytestmark = pytest.mark.slow

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import csv
 import math
+from dataclasses import astuple
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.core.mrtd import ParametricMrtd
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import tir_mrtd_range
 from csuas.render.imaging import Quality, render_tir
@@ -99,6 +101,12 @@ def test_path_transmittance_and_radiance():
     assert res.values["delta_t_inherent_k"] == pytest.approx(-15.33, abs=0.006)
     assert [t["name"] for t in res.terms] == ["extinction_db_km", "transmittance", "path_radiance"]
     assert res.terms[1]["value"] == pytest.approx(tau, rel=1e-12)
+
+
+def test_default_mrtd_is_the_datasheet_curve_of_table_25_defaults():
+    # 50 mK, f/1, 10 um pitch (defaults/parameters.toml [tir]), LWIR centre 10 um
+    expected = ParametricMrtd(netd_k=0.05, ifov_rad=IFOV, f_number=1.0, pitch_m=10e-6, wavelength_m=10e-6)
+    assert astuple(default_mrtd(IFOV, "lwir")) == pytest.approx(astuple(expected), rel=1e-12)
 
 
 def test_mrtd_range_matches_core_with_oracle_delta_t():

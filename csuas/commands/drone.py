@@ -12,8 +12,8 @@ from csuas.base.paths import output_file
 from csuas.drone_models.birds import MID_STROKE_PHASE, build_bird, list_birds
 from csuas.drone_models.export import EXPORT_FORMATS, export_drone, export_format
 from csuas.drone_models.mesh_input import load_mesh_drone
-from csuas.drone_models.multirotor import PROPELLER_STYLES
 from csuas.drone_models.presets import build_drone, list_presets
+from csuas.drone_models.rotorcraft import PROPELLER_STYLES
 from csuas.drone_models.signature import K_LCS_DEFAULT, lcs_estimate
 from csuas.drone_models.silhouette import (
     NonWatertightWarning,

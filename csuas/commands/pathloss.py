@@ -41,7 +41,7 @@ def _listed(values: np.ndarray):
 
 def run(args) -> dict:
     """Solve the links; return path_gain_db, friis_db, time_s (and two_ray_db over ground)."""
-    from csuas.core.dielectric import complex_permittivity
+    from csuas.core.dielectric import ground_permittivity
     from csuas.core.rf import free_space_path_loss_db
     from csuas.render.links.budget import resolve_budget
     from csuas.render.links.rf import rf_path_gain
@@ -77,9 +77,7 @@ def run(args) -> dict:
         "variant": result.variant,
     }
     if ground is not None:
-        eta = complex_permittivity(
-            result.extra["relative_permittivity"], result.extra["conductivity_s_m"], args.frequency_ghz
-        )
+        eta = ground_permittivity(result.extra, args.frequency_ghz)
         out["two_ray_db"] = _listed(
             two_ray_path_gain_db(args.frequency_ghz, d, args.tx_height_m, args.rx_height_m, eta)
         )

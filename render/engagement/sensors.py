@@ -41,7 +41,6 @@ from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_rea
 from csuas.core.pd_curves import margin_db, sensor_pd
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import RayLimits, bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
-from csuas.core.units import C_LIGHT
 
 #: Defaults of ``[looks.NAME]`` by modality (docs/engagements.md); the rest are LookSettings' own. RF and
 #: acoustic ranges come from the received level: a level known to +-4.3 dB (emitter power, fading,
@@ -345,7 +344,7 @@ class SensorModel:
             return pd
         slant = geometry.slant_m[gate]
         if self.modality == "radar":
-            frequency = C_LIGHT / self.wavelength_m() / 1e9
+            frequency = radar.radar_frequency_ghz(self.spec.params)
             rcs = bird_model.bird_rcs_m2(
                 np.asarray(aspect_rad)[gate], bird["body_length_m"], bird["body_diameter_m"], frequency
             )

@@ -12,7 +12,7 @@ Mitsuba; the renderers select a variant when called.
 """
 
 from csuas.render.imaging.eo import render_eo
-from csuas.render.imaging.quality import QUALITY_PRESETS, Quality, accuracy_sweep, resolve_quality
+from csuas.render.imaging.quality import QUALITY_PRESETS, Quality, resolve_quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.tir import render_tir
 
@@ -28,5 +28,4 @@ __all__ = [
     "Quality",
     "QUALITY_PRESETS",
     "resolve_quality",
-    "accuracy_sweep",
 ]

@@ -16,7 +16,7 @@ horizontal path of length R:
 Both are the solution of the radiative transfer equation along a
 homogeneous path whose source function is uniform: the horizon luminance
 (airlight, valid in radiative equilibrium, see
-:mod:`csuas.render.imaging.medium` for the participating-medium check) or the
+:mod:`csuas.validation.imaging.medium` for the participating-medium check) or the
 air's Planck radiance (thermal emission of the path). A disabled atmosphere
 (``None``) contributes exactly nothing: tau = 1 and no path radiance.
 """

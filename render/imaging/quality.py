@@ -1,9 +1,9 @@
-"""Sample-count presets and accuracy-against-time sweeps (docs/validation.md).
+"""Sample-count presets of the imaging renderers and their measured accuracy (docs/validation.md).
 
 A preset fixes the jittered strata per pixel side (``n_side``; n_side**2
 samples per pixel and batch) and the number of independent batches that give
 the jackknife standard error. Their errors are measured with
-:func:`accuracy_sweep` against exact silhouettes and band-Planck oracles
+:func:`csuas.validation.imaging.accuracy.accuracy_sweep` against exact silhouettes and band-Planck oracles
 (``tests/test_render_quality.py``), not assumed. Measured on 2 CPU cores
 (LLVM), DJI Mini 4 Pro at 500 m, azimuth 30 deg, elevation 20 deg, default EO
 sensor (13.30 px on target, 3.03 px across d_crit, 169-pixel window); thermal:
@@ -30,7 +30,6 @@ Memory: launches of at most 2**21 rays; the worst window
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 from csuas.base.errors import ParameterError
@@ -73,44 +72,3 @@ def resolve_quality(quality) -> Quality:
     if quality not in QUALITY_PRESETS:
         raise ParameterError("quality", quality, ", ".join(QUALITY_PRESETS))
     return QUALITY_PRESETS[quality]
-
-
-def accuracy_sweep(render, n_sides, reference: float, metric: str = "pixels_on_target", n_batches: int = 8) -> list:
-    """Error and wall time of a figure against samples per pixel.
-
-    Parameters
-    ----------
-    render : callable(Quality) -> ImagingResult
-        Renders the case at the given quality.
-    n_sides : iterable of int
-        Strata per pixel side to try (spp = n_side**2 * n_batches).
-    reference : float
-        Exact (or reference-quality) value of the figure.
-    metric : str
-        Name of the figure in ``result.values``.
-    n_batches : int
-
-    Returns
-    -------
-    list of dict
-        One row per sample count: ``spp``, ``value``, ``stderr``, ``error``
-        (value - reference), ``relative_error``, ``time_s``.
-    """
-    rows = []
-    for n in n_sides:
-        q = resolve_quality(Quality(f"sweep_{n}", int(n), int(n_batches)))
-        t0 = time.perf_counter()
-        result = render(q)
-        elapsed = time.perf_counter() - t0
-        value = result.values[metric]
-        rows.append(
-            {
-                "spp": q.spp,
-                "value": value,
-                "stderr": result.stderr[metric],
-                "error": value - reference,
-                "relative_error": (value - reference) / reference if reference else None,
-                "time_s": elapsed,
-            }
-        )
-    return rows

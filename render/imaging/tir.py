@@ -32,6 +32,7 @@ from csuas.base.errors import ParameterError
 from csuas.core.mrtd import ParametricMrtd
 from csuas.core.radiometry import BANDS_UM, band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear, tir_mrtd_range
+from csuas.defaults import load_parameters
 from csuas.render.imaging.common import prepare, progress_printer, window_notes
 from csuas.render.imaging.measure import measure_window
 from csuas.render.imaging.path import NO_PATH, tir_path
@@ -42,17 +43,19 @@ from csuas.render.imaging.scene import build_tir_scene, path_integrator, target_
 from csuas.render.imaging.trace import Sampling, trace_window
 
 
-def default_mrtd(
-    ifov_rad: float, band: str = "lwir", netd_mk: float = 50.0, f_number: float = 1.0, pitch_um: float = 10.0
-) -> ParametricMrtd:
-    """The documented parametric MRTD of :mod:`csuas.core.mrtd` for a sensor (band-centre wavelength)."""
-    low, high = BANDS_UM[band]
-    return ParametricMrtd(
-        netd_k=netd_mk / 1000.0,
+def default_mrtd(ifov_rad: float, band: str = "lwir") -> ParametricMrtd:
+    """The parametric MRTD of :mod:`csuas.core.mrtd` for a camera of this IFOV [rad] and band.
+
+    NETD, f-number and pitch are the ``[tir]`` defaults of ``defaults/parameters.toml``
+    (50 mK, f/1, 10 um: Table 25 and the default MRTD curve).
+    """
+    tir = load_parameters()["tir"]
+    return ParametricMrtd.from_datasheet(
+        netd_mk=tir["netd_mk"]["value"],
         ifov_rad=ifov_rad,
-        f_number=f_number,
-        pitch_m=pitch_um * 1e-6,
-        wavelength_m=0.5 * (low + high) * 1e-6,
+        f_number=tir["f_number"]["value"],
+        pitch_um=tir["pitch_um"]["value"],
+        band=band,
     )
 
 

@@ -7,9 +7,9 @@
 Modules: :mod:`~csuas.render.lidar.target` (meshes and albedos),
 :mod:`~csuas.render.lidar.cross_section` (single-bounce LCS, plane or
 spherical wave, beam footprint), :mod:`~csuas.render.lidar.sphere_average`
-(Eq. 7 and the rule of Eq. 9), :mod:`~csuas.render.lidar.path` (multi-bounce
+(Eq. 7 beside the projected area of Eq. 8), :mod:`~csuas.render.lidar.path` (multi-bounce
 path tracing), :mod:`~csuas.render.lidar.runner` (``csuas render lidar``). Its accuracy sweeps, oracles,
-checks and benchmark live in :mod:`csuas.validation.lidar`.
+checks (with the comparison against the rule of Eq. 9) and benchmark live in :mod:`csuas.validation.lidar`.
 Importing this package does not import Mitsuba; the first trace selects the
 ``ad_mono`` variant through :func:`csuas.render.backend.use_variant`.
 """
@@ -17,7 +17,7 @@ Importing this package does not import Mitsuba; the first trace selects the
 from csuas.render.lidar.cross_section import QUALITY_PRESETS, LcsResult, RayGrid, lidar_cross_section, trace_lcs
 from csuas.render.lidar.path import path_traced_lcs
 from csuas.render.lidar.runner import render_lidar
-from csuas.render.lidar.sphere_average import drone_lcs_versus_rule, mean_lidar_cross_section
+from csuas.render.lidar.sphere_average import mean_lidar_cross_section
 from csuas.render.lidar.target import LidarTarget, material_reflectance
 
 __all__ = [
@@ -25,7 +25,6 @@ __all__ = [
     "LcsResult",
     "QUALITY_PRESETS",
     "RayGrid",
-    "drone_lcs_versus_rule",
     "lidar_cross_section",
     "material_reflectance",
     "mean_lidar_cross_section",

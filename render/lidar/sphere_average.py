@@ -1,4 +1,4 @@
-"""Orientation-averaged lidar cross-section (Eq. 7) and the projected-area rule (Eqs. 8-9).
+"""Orientation-averaged lidar cross-section (Eq. 7) beside the exact projected area (Eq. 8).
 
 Eq. 7 averages the LCS over all directions with the ``cos(phi)`` Jacobian,
 i.e. uniformly over the sphere. The average is estimated by randomised
@@ -12,8 +12,9 @@ replicate means is the standard error, and it contains both the direction
 sampling and the ray sampling error.
 
 The comparison with the paper's rule of thumb ``sigma = k_LCS * A_p``
-(Eq. 9, ``k_LCS = 0.1``, Titterton) uses the exact projected area of the
-same directions (polygon union, :mod:`csuas.drone_models.silhouette`).
+(Eq. 9, ``k_LCS = 0.1``, Titterton; :func:`csuas.validation.lidar.checks.drone_lcs_versus_rule`)
+uses the exact projected area of the same directions (polygon union,
+:mod:`csuas.drone_models.silhouette`), which :func:`mean_lidar_cross_section` returns.
 For a Lambertian convex body ``<sigma> / <A_p>`` is ``4 rho <cos>`` weighted
 by projected area, ``(8/3) rho`` for a sphere, so ``k_LCS = 0.1`` stands for
 a sphere of albedo 0.0375.
@@ -145,66 +146,3 @@ def _summary(values: np.ndarray) -> dict:
         "min": float(values.min()),
         "max": float(values.max()),
     }
-
-
-def drone_lcs_versus_rule(
-    drone,
-    quality: str = "standard",
-    wavelength_nm: float = 1550.0,
-    k_lcs: float = K_LCS_PAPER,
-    seed: int = 0,
-    **overrides,
-) -> dict:
-    """Mean LCS of a drone (Eq. 7) beside the rule ``k_LCS * <A_p>`` (Eq. 9).
-
-    Parameters
-    ----------
-    drone : csuas.drone_models.Drone or str
-        A drone, or a preset name for :func:`csuas.drone_models.build_drone`.
-    quality : str
-        Preset of :data:`SPHERE_QUALITY_PRESETS`; ``overrides`` (replicates,
-        directions_per_replicate, grid) refine it.
-    wavelength_nm : float
-        Laser wavelength [nm] for the parts' albedos.
-    k_lcs : float
-        Rule-of-thumb ratio (Eq. 9), > 0.
-
-    Returns
-    -------
-    dict
-        The :func:`mean_lidar_cross_section` result plus ``drone``,
-        ``wavelength_nm``, ``k_lcs``, ``lcs_rule_m2`` (``k_lcs`` times the
-        mean exact projected area), ``ratio_to_rule`` (simulated / rule, with
-        ``ratio_to_rule_stderr``), ``area_weighted_reflectance`` (albedo
-        averaged over the parts' surface area), ``materials`` (per material:
-        ``reflectance`` and ``area_fraction`` of the surface) and ``reflectance_for_rule``
-        (the albedo for which a Lambertian sphere would satisfy the rule,
-        ``3 k_lcs / 8``).
-    """
-    from csuas.drone_models import build_drone
-
-    if isinstance(drone, str):
-        drone = build_drone(drone)
-    if not (isinstance(k_lcs, (int, float)) and math.isfinite(k_lcs) and k_lcs > 0.0):
-        raise ParameterError("k_lcs", k_lcs, "x > 0")
-    target = LidarTarget.from_drone(drone, wavelength_nm)
-    out = mean_lidar_cross_section(target, quality, seed=seed, exact_area_mesh=drone, **overrides)
-    rule = k_lcs * out["projected_area_m2"]["mean"]
-    areas = np.array([p.mesh.area for p in drone.parts])
-    albedo = np.array([p.reflectance for p in target.parts])
-    materials = {}
-    for part, part_area, rho in zip(drone.parts, areas, albedo):
-        entry = materials.setdefault(part.material.name, {"reflectance": float(rho), "area_fraction": 0.0})
-        entry["area_fraction"] += float(part_area / areas.sum())
-    out.update(
-        drone=drone.name,
-        wavelength_nm=float(wavelength_nm),
-        k_lcs=float(k_lcs),
-        lcs_rule_m2=rule,
-        ratio_to_rule=out["lcs_m2"]["mean"] / rule,
-        ratio_to_rule_stderr=out["k_lcs_measured"]["stderr"] / k_lcs,
-        area_weighted_reflectance=float(np.sum(areas * albedo) / np.sum(areas)),
-        materials=materials,
-        reflectance_for_rule=3.0 * k_lcs / 8.0,
-    )
-    return out

@@ -21,8 +21,9 @@ two_ray
 terrain_map
     :func:`terrain_radio_map` (RadioMapSolver on a mesh of a DEM, path gain at a flight level above
     it, with an error bound from rotated replicas) and :func:`radio_map_budget` (rays for a bound).
-accuracy, bench
-    Accuracy-against-time rows and the benchmark of the chosen budget against Sionna's defaults.
+
+The accuracy-against-time rows and the benchmark of the chosen budget against Sionna's defaults are
+validation: :mod:`csuas.validation.links.accuracy` and :mod:`csuas.validation.links.bench`.
 
 Importing this package imports neither Mitsuba nor Sionna; the functions do, lazily.
 """

@@ -13,7 +13,7 @@ bounce, so depth 1 is exact there, and in free space the presets run at
 depth 0 (line of sight only: there is nothing to hit). The presets keep a
 margin of samples for scenes with more than one surface.
 
-Measured accuracy and time of each preset: :func:`csuas.render.links.accuracy.accuracy_vs_time`.
+Measured accuracy and time of each preset: :func:`csuas.validation.links.accuracy.accuracy_vs_time`.
 """
 
 from __future__ import annotations

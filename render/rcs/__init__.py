@@ -12,15 +12,17 @@ when it first runs):
 * :func:`aspect_sweep`, :func:`rcs_table`, :func:`plot_polar`,
   :func:`band_sweep`, :func:`sphere_average` (Eq. 6) in
   :mod:`csuas.render.rcs.sweep`;
-* :func:`convergence_curve`, :func:`density_for_accuracy`,
-  :func:`preset_errors` in :mod:`csuas.render.rcs.convergence`;
+* :func:`density_for_accuracy` (the tube density for a requested error) in
+  :mod:`csuas.render.rcs.convergence`;
 
-Its checks (Table 8, 3GPP TR 38.901) and benchmarks live in :mod:`csuas.validation.rcs`.
+Its checks (Table 8, 3GPP TR 38.901), its measured accuracy against cost
+(:func:`csuas.validation.rcs.convergence.convergence_curve`, ``preset_errors``) and benchmarks
+live in :mod:`csuas.validation.rcs`.
 """
 
 from csuas.drone_models.geometry import direction_vector
 
-from .convergence import convergence_curve, density_for_accuracy, preset_errors
+from .convergence import density_for_accuracy
 from .geometry import TargetMesh, load_target, polarisation_basis, prepare_mesh
 from .materials import RadioMaterial, resolve_material
 from .solver import QUALITY_PRESETS, RcsAspects, RcsResult, RcsTracing, compute_rcs, rcs_of
@@ -46,7 +48,5 @@ __all__ = [
     "plot_polar",
     "rcs_table",
     "sphere_average",
-    "convergence_curve",
     "density_for_accuracy",
-    "preset_errors",
 ]

@@ -116,7 +116,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.units import wavelength_m
+from csuas.core.units import wavenumber_rad_m
 from csuas.drone_models.geometry import direction_vector, validate_angles
 
 from .geometry import TargetMesh, _is_dielectric, polarisation_basis
@@ -497,7 +497,7 @@ def edge_amplitude(
             ) from None
     if n_edges == 0:
         return out
-    k = 2 * np.pi / wavelength_m(f)  # (J,)
+    k = wavenumber_rad_m(f)  # (J,)
     d_i = direction_vector(az, el)  # (J, 3)
     th_i, ph_i = polarisation_basis(az, el)
     s = direction_vector(oaz, oel)  # (J, M, 3)

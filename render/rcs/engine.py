@@ -70,7 +70,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.base.interrupts import raise_if_interrupted
-from csuas.core.units import wavelength_m
+from csuas.core.units import wavelength_m, wavenumber_rad_m
 from csuas.drone_models.geometry import direction_vector
 
 from .geometry import TargetMesh, closed_faces, polarisation_basis
@@ -322,7 +322,7 @@ class SbrEngine:
                 eps[i] = [m.complex_permittivity(f) for f in jobs.frequency_ghz]
                 thick[i] = m.thickness_m or 0.0
         return dict(
-            k=2 * np.pi / wavelength,
+            k=wavenumber_rad_m(jobs.frequency_ghz),
             d=spacing,
             nu=nu,
             tubes=tubes,

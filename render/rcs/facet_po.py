@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.units import wavelength_m
+from csuas.core.units import wavelength_m, wavenumber_rad_m
 from csuas.drone_models.geometry import direction_vector
 
 #: Below this |x| the exponential quotients use their Taylor series [rad].
@@ -103,7 +103,7 @@ def facet_po_amplitude(vertices, faces, frequency_ghz: float, azimuth_deg, eleva
     """
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
-    k = 2 * np.pi / wavelength_m(frequency_ghz)
+    k = wavenumber_rad_m(frequency_ghz)
     r0, r1, r2 = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
     cross = np.cross(r1 - r0, r2 - r0)
     area2 = np.linalg.norm(cross, axis=1)  # twice the facet area

@@ -18,11 +18,11 @@ from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear
 from csuas.render.imaging.eo import render_eo
-from csuas.render.imaging.medium import medium_vs_analytic_airlight
 from csuas.render.imaging.quality import Quality, resolve_quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import render_tir
+from csuas.validation.imaging.medium import medium_vs_analytic_airlight
 
 #: Default drone of the checks.
 DEFAULT_PRESET = "dji_mini_4_pro"

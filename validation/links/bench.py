@@ -21,9 +21,9 @@ bounds the speed-up any budget resolving the same bounces can reach.
 
 from __future__ import annotations
 
-from csuas.render.links.accuracy import accuracy_vs_time
 from csuas.render.links.budget import PRESETS, SIONNA_DEFAULT, LinkBudget
 from csuas.render.links.sionna_backend import active_variant
+from csuas.validation.links.accuracy import accuracy_vs_time
 
 #: Scenes timed: (link, frequency [GHz], distances [m], height a [m], height b [m], ground).
 SCENES = {
@@ -55,7 +55,7 @@ def bench_links(repeats: int = 3, budget: str = "draft") -> dict:
     dict
         ``variant`` and, per scene, ``chosen``, ``sionna_default`` and
         ``sionna_floor`` (one ray, same depth as ``chosen``) rows of
-        :func:`csuas.render.links.accuracy.accuracy_vs_time` (warm
+        :func:`csuas.validation.links.accuracy.accuracy_vs_time` (warm
         ``time_s`` and ``cold_time_s`` each), ``speedup`` (default time /
         chosen time, warm), ``cold_speedup`` (the same for the cold calls),
         ``speedup_ceiling`` (default time / the cheapest call measured on the

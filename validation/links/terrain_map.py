@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.dielectric import complex_permittivity
+from csuas.core.dielectric import ground_permittivity
 from csuas.core.terrain import viewshed
 from csuas.render.links.terrain_map import (
     DEFAULT_GROUND,
@@ -162,9 +162,7 @@ def flat_ground_comparison(samples, replicas=REPLICAS, seed=1, scene=None) -> di
             polarization=p["polarization"],
         ),
     )
-    eta = complex_permittivity(
-        result.extra["relative_permittivity"], result.extra["conductivity_s_m"], p["frequency_ghz"]
-    )
+    eta = ground_permittivity(result.extra, p["frequency_ghz"])
     options = {"step": p["step"], "polarization": p["polarization"]}
     power_db = 10.0 * np.log10(block_average_two_ray(site, eta, **options))
     coherent_db = 10.0 * np.log10(block_average_two_ray(site, eta, coherent=True, **options))

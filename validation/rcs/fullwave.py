@@ -352,7 +352,7 @@ def monostatic_rcs_efie(
             f"{per_wavelength:.2f} mean edges per wavelength at {freq:g} GHz",
             f">= {float(settings.min_edges_per_wavelength):g} (mesh_size_m gives the edge length)",
         )
-    k = 2.0 * math.pi / lam
+    k = float(units.wavenumber_rad_m(freq))
     t0 = time.perf_counter()
     system = _EfieSystem.assemble(v, f, k, solver)
     assembly_s = time.perf_counter() - t0

@@ -27,6 +27,7 @@ import numpy as np
 from csuas.base.checks import Check
 from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
 from csuas.core.radiometry import graybody_apparent_temperature
+from csuas.core.ranges import rf_frequency_ghz
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import PlotAxes, curves
@@ -527,7 +528,7 @@ def rf_radar_adverse_links(budget: str) -> Section:
     paper, phys = _ranges("adverse", "paper"), _ranges("adverse", "physical")
     # RF: received power at the physical range from Sionna's free-space gain and the weather loss over R
     rf_p, tgt = sc.sensors["rf"].params, sc.target
-    f = rf_p.get("frequency_ghz") or tgt["rf_frequency_ghz"]
+    f = rf_frequency_ghz(rf_p, tgt)
     r_phys = float(phys["rf"].range_m)
     link, elapsed = timed(rf_path_gain, f, r_phys, 10.0, 10.0, budget=budget)
     weather = float(phys["rf"].term("weather_loss_db").value)

@@ -22,6 +22,7 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core.horizon import EARTH_RADIUS_M
+from csuas.core.units import C_LIGHT
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Monte Carlo sizes of the quick report: looks of the false-alarm count, tracker runs of the M-of-N check.
@@ -356,7 +357,7 @@ def clutter(_knob=None) -> Section:
     ground = np.hypot(sensor.clutter_xy[:, 0] - sensor.x, sensor.clutter_xy[:, 1] - sensor.y)
     drop = ground**2 / (2 * 4 / 3 * EARTH_RADIUS_M)  # the curvature drop of radio (k = 4/3)
     slant, psi = np.hypot(ground, sensor.eye_z), np.arctan2(sensor.eye_z + drop, ground)
-    dr, beam = 299792458.0 / (2 * 50e6), np.radians(beamwidth_deg(35.0))
+    dr, beam = C_LIGHT / (2 * 50e6), np.radians(beamwidth_deg(35.0))
     area = slant * beam * dr / np.cos(psi)
     cnr = 10 ** ((RADAR_SNR_DB + 40 * np.log10(RADAR_RANGE_M / slant)) / 10) * 10 ** (-1.5) * np.sin(psi) * area / 0.01
     rate = CELL_M**2 / area * (1e-6 ** (1 / (1 + cnr * 1e-5)) - 1e-6)

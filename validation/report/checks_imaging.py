@@ -143,7 +143,7 @@ def pixels_on_target(settings: dict) -> Section:
     """Rendered pixels on target vs exact projected area; accuracy against samples per pixel."""
     from csuas.drone_models import build_drone
     from csuas.drone_models.silhouette import projected_metrics
-    from csuas.render.imaging import accuracy_sweep
+    from csuas.validation.imaging.accuracy import accuracy_sweep
 
     s = Section()
     _, p, ifov = _sensor()

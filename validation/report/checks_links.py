@@ -4,7 +4,7 @@ Knob: Sionna's sample budget (rays per source, maximum depth,
 :mod:`csuas.render.links.budget`). In free space the line of sight is
 tested directly and a link is exact to float precision whatever the budget;
 over a flat ground 3 rays already find every reflection, so the presets are
-exact there too. The accuracy-vs-time curves (:func:`csuas.render.links.accuracy.accuracy_vs_time`)
+exact there too. The accuracy-vs-time curves (:func:`csuas.validation.links.accuracy.accuracy_vs_time`)
 show this: error against wall time over the budgets, Sionna's own default
 (10^6 rays, depth 3) included in the full report.
 
@@ -52,9 +52,9 @@ def _budgets(names):
 
 def rf_links(budget: str) -> Section:
     """RF path gain drone -> sensor, 2.4 GHz, free space (Friis) and over medium dry ground (two-ray)."""
-    from csuas.core.dielectric import complex_permittivity
-    from csuas.render.links.accuracy import closed_form_db
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.rf import rf_path_gain
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     d = np.array(DISTANCES_M)
@@ -62,7 +62,7 @@ def rf_links(budget: str) -> Section:
     free, t_free = timed(rf_path_gain, f, d, 30.0, 2.0, budget=budget)
     ground, t_ground = timed(rf_path_gain, f, d, 30.0, 2.0, ground=GROUND, budget=budget)
     friis = closed_form_db("rf", f, d, 30.0, 2.0)
-    eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], f)
+    eta = ground_permittivity(ground.extra, f)
     two_ray = closed_form_db("rf", f, d, 30.0, 2.0, eta)
     err_free = float(np.max(np.abs(free.path_gain_db - friis)))
     err_ground = float(np.max(np.abs(ground.path_gain_db - two_ray)))
@@ -113,16 +113,16 @@ def rf_links(budget: str) -> Section:
 
 def radar_links(budget: str) -> Section:
     """Monostatic radar link to a 0.01 m^2 drone: 24 GHz free space (Eq. 68), 10 GHz over ground (four paths)."""
-    from csuas.core.dielectric import complex_permittivity
-    from csuas.render.links.accuracy import closed_form_db
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.radar import radar_link_gain
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     d = np.array(DISTANCES_M)
     free, t_free = timed(radar_link_gain, 23.98, d, 5.0, 5.0, budget=budget)
     eq68 = closed_form_db("radar", 23.98, d, 5.0, 5.0)
     ground, t_ground = timed(radar_link_gain, 10.0, d, 5.0, 10.0, ground=GROUND, budget=budget)
-    eta = complex_permittivity(ground.extra["relative_permittivity"], ground.extra["conductivity_s_m"], 10.0)
+    eta = ground_permittivity(ground.extra, 10.0)
     four = closed_form_db("radar", 10.0, d, 5.0, 10.0, eta)
     s.outcomes.append(
         Check(
@@ -182,10 +182,10 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
     elevation 0; at table nodes the interpolated cross-section is the SBR
     value itself and Eq. 68 with that sigma is the closed form.
     """
-    from csuas.render.links.accuracy import closed_form_db
     from csuas.render.links.radar import RadarTarget, radar_link_gain
     from csuas.render.links.rcs_table import RCSTable
     from csuas.render.rcs.sweep import rcs_table
+    from csuas.validation.links.accuracy import closed_form_db
 
     s = Section()
     f = 23.98
@@ -245,8 +245,8 @@ def radar_sbr_link(rays_per_wavelength: float) -> Section:
 
 def link_accuracy(budgets) -> Section:
     """Accuracy against time of the RF link over ground and the radar link in free space."""
-    from csuas.render.links.accuracy import accuracy_vs_time
     from csuas.render.links.budget import PRESETS
+    from csuas.validation.links.accuracy import accuracy_vs_time
 
     s = Section()
     chosen = _budgets(budgets)
@@ -428,7 +428,7 @@ def _ridge_checks(ridge: dict, samples: int) -> list:
 def _flat_profile_figure(flat: dict):
     """The flat map along the transmitter's row against the two-ray model: coherent at points and per cell,
     power sum per cell, and every third cell of the map with its bound."""
-    from csuas.core.dielectric import complex_permittivity
+    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.terrain_map import BOUND_LEVEL
     from csuas.render.links.two_ray import two_ray_path_gain_db
     from csuas.validation.links.terrain_map import FLAT
@@ -438,7 +438,7 @@ def _flat_profile_figure(flat: dict):
     d = flat["distance_m"][row]
     fine = np.linspace(50.0, d[-1], 8000)  # 4 points or more per lobe of the coherent sum beyond 50 m
     f = FLAT["frequency_ghz"]
-    eta = complex_permittivity(result.extra["relative_permittivity"], result.extra["conductivity_s_m"], f)
+    eta = ground_permittivity(result.extra, f)
     points = two_ray_path_gain_db(f, fine, FLAT["mast_m"], FLAT["altitude_m"], eta, FLAT["polarization"])
     return curves(
         "links_terrain_map_flat_profile",

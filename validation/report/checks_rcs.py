@@ -3,7 +3,7 @@
 Oracles (docs/validation.md, closed forms): PEC plate 4 pi A^2/lambda^2, disk,
 dihedral 8 pi a^2 b^2/lambda^2, square trihedral 12 pi a^4/lambda^2,
 triangular trihedral, cylinder 2 pi r L^2/lambda, sphere ka = 50 (physical
-optics value), as listed by :func:`csuas.render.rcs.convergence.canonical_cases`;
+optics value), as listed by :func:`csuas.validation.rcs.convergence.canonical_cases`;
 the exact faceted physical optics of PEC spheres (ka 3-50) and the NASA almond
 (:mod:`csuas.render.rcs.facet_po`); the EFIE of bempp-cl for the sphere
 (against Mie), plates with and without edge diffraction, a cylinder and a drone
@@ -39,8 +39,9 @@ MARGIN = 1.5
 
 def canonical(quality: str) -> Section:
     """Each canonical target at its oracle aspect, 10 GHz, mean of VV and HH."""
-    from csuas.render.rcs.convergence import PRESET_MEASURED_ERROR_DB, canonical_cases
+    from csuas.render.rcs.convergence import PRESET_MEASURED_ERROR_DB
     from csuas.render.rcs.solver import compute_rcs, to_dbsm
+    from csuas.validation.rcs.convergence import canonical_cases
 
     s = Section()
     tolerance = MARGIN * PRESET_MEASURED_ERROR_DB[quality]["max"]
@@ -72,8 +73,9 @@ def canonical(quality: str) -> Section:
 
 def convergence(settings: dict) -> Section:
     """Error against rays per wavelength and time on the plate oracle (grid aligned: the worst case)."""
-    from csuas.render.rcs.convergence import ERROR_COEFFICIENT_DB, convergence_curve
+    from csuas.render.rcs.convergence import ERROR_COEFFICIENT_DB
     from csuas.render.rcs.solver import QUALITY_PRESETS
+    from csuas.validation.rcs.convergence import convergence_curve
 
     s = Section()
     rows, elapsed = timed(convergence_curve, settings["densities"], trials=settings["trials"])

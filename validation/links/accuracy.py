@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.dielectric import complex_permittivity
+from csuas.core.dielectric import ground_permittivity
 from csuas.core.radar import received_power_w
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.units import wavelength_m
@@ -93,9 +93,7 @@ def accuracy_vs_time(
             times.append(result.time_s)
         eta = None
         if ground is not None:
-            eta = complex_permittivity(
-                result.extra["relative_permittivity"], result.extra["conductivity_s_m"], frequency_ghz
-            )
+            eta = ground_permittivity(result.extra, frequency_ghz)
         expected = closed_form_db(link, frequency_ghz, distance_m, height_a_m, height_b_m, eta)
         rows.append(
             {
