@@ -309,3 +309,14 @@ def test_coverage_estimate_brackets_the_measured_demo_site_and_grows_with_the_de
     bigger = coverage_estimate((800, 800), 3, 2, True, radio_maps=1, radio_samples=1_000_000)
     assert bigger.seconds > demo.seconds and bigger.bytes > demo.bytes
     assert coverage_estimate((20_000, 20_000), 3, 2, False).bytes > 24 * 2**30
+
+
+def test_receiver_and_lidar_cells_count_by_hand():
+    """RF: 1024 bins x ceil(120 deg / 25 deg) = 5120 cells; lidar: ceil((2000 - 50) m / 1.5 m) x 10^4 beams."""
+    from csuas.core import false_alarms
+
+    assert false_alarms.receiver_cells(1024, 120.0, 25.0) == 1024 * 5
+    assert false_alarms.receiver_cells(24, 360.0, 20.0) == 24 * 18
+    assert false_alarms.lidar_cells(2000.0, 50.0, 1.5, 10_000) == 1300 * 10_000
+    with pytest.raises(ParameterError, match="reach_m"):
+        false_alarms.lidar_cells(40.0, 50.0, 1.5, 10)

@@ -327,6 +327,8 @@ COVERED_ELSEWHERE = {
     "false_alarms.imaging_cells": "tests/test_engagement_core.py (pixels x frames)",
     "false_alarms.per_hour": "tests/test_engagement_core.py, tests/test_engagement.py (Monte Carlo within 3 SE)",
     "false_alarms.radar_cells": "tests/test_engagement_core.py (range x Doppler x beam cells)",
+    "false_alarms.receiver_cells": "tests/test_core_direct.py (frequency bins x bearing cells, by hand)",
+    "false_alarms.lidar_cells": "tests/test_core_direct.py (range gates x beam positions, by hand)",
     "false_alarms.range_resolution_m": "tests/test_engagement_core.py (c / 2B)",
     "m_of_n.first_confirmation": "tests/test_engagement_core.py (brute-force enumeration)",
     "modality.check_declared": "tests/test_modality.py (a section without a record, a record declared twice)",
