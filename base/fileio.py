@@ -16,6 +16,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.base.interrupts import raise_if_interrupted
 from csuas.base.paths import checked_path, refuse_special
+from csuas.base.schema import read_toml
 
 
 def _umask() -> int:
@@ -213,7 +214,6 @@ def read_spec(source, embedded, what: str) -> dict:
     ParameterError
         No such file or embedded spec, or not valid UTF-8 TOML.
     """
-    from csuas.base.schema import read_toml
 
     path = Path(source)
     if not path.exists() and not str(source).endswith(".toml"):

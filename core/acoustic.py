@@ -17,13 +17,13 @@ from csuas.core.checks import require, require_registry_bounds
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.solve import solve_log_linear
 from csuas.core.units import linear_to_db, power_sum_db
+from csuas.defaults import load_tables
 
 #: Wind below this speed [m/s] produces no wind-noise term (Table 31 starts at 1 m/s).
 WIND_NOISE_MIN_M_S = 1.0
 
 
 def _wind_table():
-    from csuas.defaults import load_tables
 
     table = load_tables()["acoustic"]["wind_noise"]
     return np.asarray(table["wind_speed_m_s"], dtype=float), np.asarray(table["noise_db"], dtype=float)

@@ -27,6 +27,7 @@ from csuas.core.acoustic import iso9613_absorption_db_km, iso9613_cmet_db, iso96
 from csuas.core.checks import require
 from csuas.core.result import RangeResult, Term
 from csuas.core.solve import bracketed_root, solve_log_linear
+from csuas.defaults import load_tables
 
 #: Band numbers k of the one-third-octave bands 50 Hz (k = -13) to 10 kHz (k = 10), IEC 61260-1.
 BAND_NUMBERS = np.arange(-13, 11)
@@ -55,7 +56,6 @@ def a_weighting_db(frequency_hz):
 
 @functools.lru_cache(maxsize=1)
 def _rotor_shape() -> dict:
-    from csuas.defaults import load_tables
 
     return load_tables()["acoustic"]["rotor_spectrum"]
 

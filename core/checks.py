@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
+from csuas.defaults import load_parameters
 
 
 def require(name: str, value, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False, why: str = ""):
@@ -108,7 +109,6 @@ def require_registry_bounds(arguments: dict, keys: dict, lower: tuple = ()) -> N
     ParameterError or InputErrors
         Every NaN or too-large argument at once, naming the argument and its registry entry.
     """
-    from csuas.defaults import load_parameters
 
     registry = load_parameters()
     errors = []

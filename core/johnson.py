@@ -9,10 +9,10 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core.checks import require
+from csuas.defaults import load_tables
 
 
 def _tables():
-    from csuas.defaults import load_tables
 
     return load_tables()
 

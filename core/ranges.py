@@ -21,6 +21,7 @@ from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
 from csuas.core.scenario import Scenario, SensorSpec, check_value, johnson_derived
+from csuas.core.sensitivity import TornadoBar
 from csuas.core.units import frequency_ghz
 from csuas.defaults import load_parameters
 
@@ -530,7 +531,6 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
     bars : list of csuas.core.sensitivity.TornadoBar
         Sorted by decreasing span.
     """
-    from csuas.core.sensitivity import TornadoBar
 
     if sensor_name not in scenario.sensors:
         raise ParameterError("sensor", sensor_name, ", ".join(scenario.sensors))

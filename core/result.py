@@ -6,13 +6,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
+
 #: The two conventions of docs/conventions.md.
 CONVENTIONS = ("paper", "physical")
 
 
 def check_convention(convention: str) -> str:
     """Return ``convention`` if it is one of :data:`CONVENTIONS`, else raise."""
-    from csuas.base.errors import ParameterError
 
     if convention not in CONVENTIONS:
         raise ParameterError("convention", convention, " or ".join(CONVENTIONS))

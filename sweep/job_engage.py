@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from csuas.base.cost import Estimate
+from csuas.base.fileio import read_spec
+from csuas.defaults import engagement_path
 
 if TYPE_CHECKING:
     from .spec import SweepSpec
@@ -45,8 +47,6 @@ ALARM_KINDS = ("noise", "clutter")
 def prepare(spec: SweepSpec) -> SweepSpec:
     """The spec with the engagement built (its ``context``), its runs as the points and the engagement spec in
     the digest (a resumed sweep of an edited engagement spec is another sweep)."""
-    from csuas.base.fileio import read_spec
-    from csuas.defaults import engagement_path
     from csuas.render.engagement.build import load_engagement
 
     source = spec.options["engagement"]

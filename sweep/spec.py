@@ -32,9 +32,10 @@ from typing import Any
 import numpy as np
 
 from csuas.base.errors import CsuasError, ParameterError, ScenarioError, raise_all
+from csuas.base.fileio import read_spec
 from csuas.base.schema import validate
 from csuas.core.scenario import Scenario, load_scenario
-from csuas.defaults import load_parameters
+from csuas.defaults import load_parameters, sweep_path
 from csuas.defaults.scenario_schema import checked_values
 from csuas.sweep.kinds import JOB_KINDS, JobKind, kind_of
 from csuas.sweep.schema import MAX_POINTS, TAGS
@@ -205,8 +206,6 @@ def _digest(data: dict, scenario_source: str) -> str:
 
 def load_spec(source) -> SweepSpec:
     """Load and validate a sweep spec from a TOML file or an embedded spec name (``defaults/sweeps``)."""
-    from csuas.base.fileio import read_spec
-    from csuas.defaults import sweep_path
 
     data = read_spec(source, sweep_path, "sweep spec")
     return parse_spec(data)

@@ -8,6 +8,10 @@ a dependency), relative imports (resolved against the module's package), ``impor
 that :func:`csuas.base.registry.resolve` imports when used. A self-test plants each kind of upward import
 in a copy of the package and sees the checker fail.
 
+Imports of the cheap layers (base, defaults, core) sit at module level: a function-level one defers nothing
+worth deferring, and ``LAZY_CHEAP_IMPORTS`` lists the few that must stay, each with its reason (it may
+only shrink); a self-test plants one and sees the check fail.
+
 ``KNOWN_DEBTS`` records the functions longer than 100 lines or with more than 8 parameters (the
 limits of CONTRIBUTING.md): the list may only shrink. A new debt fails, and so does a listed debt that
 grew or was paid off (remove its line).
@@ -225,3 +229,66 @@ def test_known_debts_only_shrink():
     assert new == {}, f"new functions over {MAX_LINES} lines or {MAX_PARAMETERS} parameters"
     assert grown == {}, "known debts that grew (recorded, now)"
     assert paid == [], "paid debts: remove them from KNOWN_DEBTS"
+
+
+#: The cheap layers: a function-level import of them defers nothing worth deferring (they import no
+#: renderer; the core's numba and SciPy load with the core's own modules anyway).
+CHEAP_LAYERS = ("csuas.base", "csuas.defaults", "csuas.core")
+
+#: (file, module) -> why that function-level import of a cheap layer stays inside its function.
+#: May only shrink: a new lazy import of base, defaults or core fails, and so does a listed one that is gone.
+LAZY_CHEAP_IMPORTS = {
+    ("csuas/cli.py", "csuas.base.fileio"): "NumPy is imported only after the interrupt handlers are in place",
+}
+
+
+def _statement_modules(node: ast.Import | ast.ImportFrom, package: list[str]) -> list[str]:
+    """The modules one import statement names, relative ones resolved against ``package``."""
+    if isinstance(node, ast.Import):
+        return [alias.name for alias in node.names]
+    if node.level > 0:
+        return _relative(node, package)
+    return [f"csuas.{alias.name}" for alias in node.names] if node.module == "csuas" else [node.module or ""]
+
+
+def _lazy_cheap_imports(root: Path = ROOT) -> set[tuple[str, str]]:
+    """``{(file, module)}`` of every import of a cheap layer inside a function."""
+    found = set()
+    for folder in FOLDERS:
+        for path in sorted((root / folder).rglob("*.py")):
+            rel, package = str(path.relative_to(root)), _package_of(path, root)
+            for function in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    continue
+                for node in ast.walk(function):
+                    if isinstance(node, (ast.Import, ast.ImportFrom)):
+                        for module in _statement_modules(node, package):
+                            if any(module == layer or module.startswith(f"{layer}.") for layer in CHEAP_LAYERS):
+                                found.add((rel, module))
+    return found
+
+
+def test_cheap_layers_are_imported_at_module_level():
+    found = _lazy_cheap_imports()
+    assert found - set(LAZY_CHEAP_IMPORTS) == set(), "function-level imports of base, defaults or core"
+    assert set(LAZY_CHEAP_IMPORTS) - found == set(), "gone: remove them from LAZY_CHEAP_IMPORTS"
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "def f():\n    from csuas.core import units\n",
+        "def f():\n    import csuas.defaults\n",
+        "class C:\n    def m(self):\n        from ...base.errors import ParameterError\n",
+    ],
+)
+def test_a_planted_lazy_import_of_a_cheap_layer_fails_the_check(package_copy, text):
+    planted = package_copy / "render" / "rcs" / "planted.py"
+    planted.write_text(text, encoding="utf-8")
+    try:
+        assert {rel for rel, _ in _lazy_cheap_imports(package_copy) - set(LAZY_CHEAP_IMPORTS)} == {
+            "render/rcs/planted.py"
+        }
+    finally:
+        planted.unlink()
+    assert _lazy_cheap_imports(package_copy) - set(LAZY_CHEAP_IMPORTS) == set()

@@ -6,6 +6,7 @@ import inspect
 import sys
 from pathlib import Path
 
+from csuas.base.errors import ParameterError
 from csuas.base.registry import resolve
 
 #: Benchmark suites: name -> "module:function" (csuas.base.registry); each returns a list of row dicts or a dict.
@@ -54,7 +55,6 @@ def add_arguments(parser):
 
 def run(args) -> dict:
     """``{suite: figures}`` for every suite run."""
-    from csuas.base.errors import ParameterError
 
     if args.engage_runs is not None and args.engage_runs < 1:
         raise ParameterError("--engage-runs", args.engage_runs, "a whole number >= 1")

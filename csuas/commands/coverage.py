@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from csuas.base.cost import add_limit_arguments
+from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import checked_path, inside
@@ -33,7 +33,10 @@ from csuas.commands.coverage_files import (
     write_map_png,
 )
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
-from csuas.core.coverage import POINTING
+from csuas.core.coverage import POINTING, SitedSensor, fused_layers, sensor_layers
+from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.scenario import load_scenario
+from csuas.defaults import site_path
 from csuas.render.site import DEMO, dem_path, load_dem, validated_site
 
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
@@ -98,8 +101,6 @@ def _dem_cells(dem: str | None, site_path) -> tuple[int, int]:
 
 def _check_cost(site, site_path, radio, args) -> None:
     """Estimate the run from the DEM's header, the sensors and the levels; refuse it above the limits."""
-    from csuas.base.cost import check_limits
-    from csuas.core.coverage_cost import coverage_estimate
 
     maps = 0 if radio is None else len(radio["sensors"])
     samples = 0 if radio is None else int(radio["samples"])
@@ -113,7 +114,6 @@ def _check_cost(site, site_path, radio, args) -> None:
 def _checked_site(site: dict):
     """The validated site (:class:`~csuas.render.site_schema.SiteSchema`) and its scenario; every mistake
     of the file, of its sensors and of its radio map against the scenario at once."""
-    from csuas.core.scenario import load_scenario
 
     name = site.get("scenario", "default")
     scenario = load_scenario(name) if isinstance(name, str) else None
@@ -123,8 +123,6 @@ def _checked_site(site: dict):
 
 def run(args) -> dict:
     """Compute and write every layer of the site."""
-    from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
-    from csuas.defaults import site_path
 
     source = Path(args.site)
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))

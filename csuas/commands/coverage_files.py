@@ -21,6 +21,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from csuas.base.fileio import atomic_path, write_text_atomic
+from csuas.base.plots import _pyplot
 
 #: GeoTIFF creation options (GDAL's GTiff driver).
 GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockxsize": 256, "blockysize": 256}
@@ -139,8 +140,6 @@ def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend:
     """
     from matplotlib.patches import Patch
     from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
-
-    from csuas.base.plots import _pyplot
 
     plt = _pyplot()
     transform, rows, cols = where["transform"], grid.shape[0], grid.shape[1]

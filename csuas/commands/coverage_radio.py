@@ -24,6 +24,8 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.core.coverage import link_frequency_ghz, multipath_detection
+from csuas.core.terrain import cells_around
 from csuas.render.site_schema import RadioMapTable
 
 #: Keys of a ground given by its constants (instead of an ITU material's name).
@@ -56,7 +58,6 @@ def _radio_sensors(sited, scenario) -> list:
 
 def _ground_errors(ground, names: list, scenario) -> list:
     """The ground against the mapped sensors' carriers (an ITU material) or its constants' domain."""
-    from csuas.core.coverage import link_frequency_ghz
     from csuas.render.links.scene import ground_properties, itu_materials
 
     errors = []
@@ -146,8 +147,6 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         reliable, the median bound over them, the unknown cells, and the comparison with the
         line-of-sight layer over the judged cells).
     """
-    from csuas.core.coverage import link_frequency_ghz, multipath_detection
-    from csuas.core.terrain import cells_around
     from csuas.render.links.terrain_map import RadioMapOptions, RadioMapSite, radio_map_budget, terrain_radio_map
 
     layers = {}

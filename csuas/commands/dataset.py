@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import sys
 
-from csuas.base.cost import add_limit_arguments
+from csuas.base.cost import add_limit_arguments, check_limits
+from csuas.base.paths import checked_path
+from csuas.core.scenario import load_scenario
 
 
 def add_arguments(parser):
@@ -21,9 +23,6 @@ def add_arguments(parser):
 
 def run(args) -> dict:
     """Render what is not yet on disk, and write the labels."""
-    from csuas.base.cost import check_limits
-    from csuas.base.paths import checked_path
-    from csuas.core.scenario import load_scenario
     from csuas.render.imaging.dataset import generate, imaging_sensor, load_dataset_spec
     from csuas.render.imaging.dataset_cost import dataset_estimate
 

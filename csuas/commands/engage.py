@@ -17,6 +17,9 @@ import sys
 import time
 
 from csuas.base.errors import ParameterError
+from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
+from csuas.base.paths import inside
+from csuas.defaults import engagement_path
 from csuas.render.engagement.build import build, load_engagement
 
 #: Looks of each sensor in the pilot run that measures the cost per look (:func:`estimate_seconds`), and
@@ -39,7 +42,6 @@ def add_arguments(parser):
 
 
 def _spec_source(name: str):
-    from csuas.defaults import engagement_path
 
     return engagement_path(name)
 
@@ -92,8 +94,6 @@ def run_all(engagement, runs: int, workers: int) -> list:
 
 def run(args) -> dict:
     """Validate, estimate, run every Monte Carlo run, and write engage.json and the plots."""
-    from csuas.base.fileio import exclusive_lock, prepare_output_dir
-    from csuas.base.paths import inside
 
     if args.print_example:
         return {"example": _spec_source("example").read_text(encoding="utf-8")}
@@ -126,7 +126,6 @@ LOCK_NAME = ".csuas-engage.lock"
 
 def _run_locked(args, spec, engagement, estimate: float, files: tuple) -> dict:
     """The runs, engage.json and the plots, holding the output folder's lock."""
-    from csuas.base.fileio import write_text_atomic
     from csuas.commands.engage_plots import curve_plot, map_plot
     from csuas.render.engagement.metrics import curves, looks_table, summarise
 
@@ -196,7 +195,6 @@ def bench_runs(runs: int = 4) -> list[dict]:
     Lives beside the command because it times the command's own process pool (:func:`run_all`). Each
     figure times only the runs (the engagement is built before the timer).
     """
-    from csuas.base.fileio import read_spec
     from csuas.render.engagement.spec import parse_spec
 
     data = read_spec("example", _spec_source, "engagement spec")

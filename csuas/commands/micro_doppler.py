@@ -15,6 +15,8 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
+from csuas.base.paths import inside
 
 #: Default radar: X band, 20 kHz PRF (above twice the Mini 4 Pro's tip Doppler at 10 GHz, 6.3 kHz).
 DEFAULT_FREQUENCY_GHZ = 10.0
@@ -57,8 +59,6 @@ def _plot(path, result, preset: str, frequency_ghz: float) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from csuas.base.fileio import atomic_path
-
     fig, (ax_s, ax_g) = plt.subplots(2, 1, figsize=(8, 7))
     level = 10 * np.log10(np.maximum(result.spectrum_m2, 1e-20))
     ax_s.plot(result.frequency_hz, level, lw=0.7, color="0.3", label=f"spectrum ({result.window} window)")
@@ -98,8 +98,6 @@ def _plot(path, result, preset: str, frequency_ghz: float) -> None:
 
 def run(args) -> dict:
     """Simulate, write the JSON and the plot; returns the ``--json`` object."""
-    from csuas.base.fileio import prepare_output_dir, write_text_atomic
-    from csuas.base.paths import inside
     from csuas.render.rcs.micro_doppler import MODEL_LIMITS, micro_doppler
     from csuas.render.rcs.solver import to_dbsm
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.core.dielectric import ground_permittivity
+from csuas.core.rf import free_space_path_loss_db
 from csuas.render.quality import LINKS
 
 
@@ -41,8 +43,6 @@ def _listed(values: np.ndarray):
 
 def run(args) -> dict:
     """Solve the links; return path_gain_db, friis_db, time_s (and two_ray_db over ground)."""
-    from csuas.core.dielectric import ground_permittivity
-    from csuas.core.rf import free_space_path_loss_db
     from csuas.render.links.budget import resolve_budget
     from csuas.render.links.rf import rf_path_gain
     from csuas.render.links.two_ray import two_ray_path_gain_db

@@ -23,6 +23,7 @@ import numpy as np
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
+from csuas.base.plots import pd_plot
 from csuas.core.pd_curves import (
     FALSE_ALARM_NOTE,
     GRID_BEYOND,
@@ -117,7 +118,6 @@ def _approaches(scenario, args, grid, out) -> None:
 
 
 def _plot(args, scenario, grid, curves, out) -> str:
-    from csuas.base.plots import pd_plot
 
     cumulative, false_alarms = None, None
     if "approach_speed_m_s" in out:

@@ -14,8 +14,10 @@ import time
 
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import prepare_output_dir
+from csuas.base.paths import file_name_part, inside
 from csuas.base.quality import RUNGS
 from csuas.base.registry import resolve
+from csuas.core.scenario import load_scenario
 from csuas.render.quality import IMAGING, LIDAR
 from csuas.render.request import RenderRequest
 
@@ -83,7 +85,6 @@ def resolve_mode(name: str):
 
 def run(args) -> dict:
     """Render each range; returns the ``--json`` object (``results[]`` with docs/command-line.md keys)."""
-    from csuas.core.scenario import load_scenario
 
     start = time.perf_counter()
     errors = [ParameterError("range_m", r, "finite and > 0 [m]") for r in args.range_m if not (0 < r < float("inf"))]
@@ -140,7 +141,6 @@ def _refuse_unsafe_targets(scenario, args, directions) -> None:
     ParameterError
         The names' mistakes all at once, naming the key; else the first file that cannot be written.
     """
-    from csuas.base.paths import file_name_part, inside
     from csuas.render.files import file_stem
 
     of_mode = [name for name, spec in scenario.sensors.items() if spec.modality == args.mode]

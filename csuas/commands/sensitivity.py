@@ -7,6 +7,9 @@ from pathlib import Path
 from csuas.base.errors import CsuasError, ParameterError, raise_all
 from csuas.base.fileio import prepare_output_dir
 from csuas.base.paths import file_name_part, inside
+from csuas.base.plots import tornado_plot
+from csuas.core.ranges import scenario_one_at_a_time
+from csuas.core.scenario import load_scenario
 from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
 from csuas.defaults import load_sensitivity
 
@@ -56,8 +59,6 @@ def _parse_variations(items) -> dict:
 
 
 def _scenario_analysis(args) -> dict:
-    from csuas.core.ranges import scenario_one_at_a_time
-    from csuas.core.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
     sensor = args.sensor
@@ -78,8 +79,6 @@ def _scenario_analysis(args) -> dict:
         "bars": [b.as_dict() for b in bars],
     }
     if plot is not None:
-        from csuas.base.plots import tornado_plot
-
         entry["plot"] = str(tornado_plot(plot, title, baseline, bars))
     return {"analyses": {f"{scenario.name}.{sensor}": entry}}
 
@@ -127,8 +126,6 @@ def run(args) -> dict:
             "paper_quoted": spec.get("paper", {}),
         }
         if args.out:
-            from csuas.base.plots import tornado_plot
-
             path = plots[name]
             tornado_plot(path, f"{spec['title']} ({spec['source']})", baseline, bars, log_scale=name != "radar")
             entry["plot"] = str(path)

@@ -10,7 +10,11 @@ from __future__ import annotations
 
 import sys
 
-from csuas.base.cost import add_limit_arguments
+from csuas.base.cost import add_limit_arguments, check_limits
+from csuas.base.errors import ParameterError
+from csuas.base.fileio import read_spec
+from csuas.core.scenario import load_scenario
+from csuas.defaults import sweep_path
 
 
 def add_arguments(parser):
@@ -39,11 +43,6 @@ def add_arguments(parser):
 
 def run(args) -> dict:
     """Validate the spec, run or resume the sweep, and return its provenance."""
-    from csuas.base.cost import check_limits
-    from csuas.base.errors import ParameterError
-    from csuas.base.fileio import read_spec
-    from csuas.core.scenario import load_scenario
-    from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec, read_results, run_sweep
     from csuas.sweep.cost import axis_lengths, sweep_estimate, workers_of
     from csuas.sweep.kinds import JOB_KINDS

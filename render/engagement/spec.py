@@ -14,7 +14,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import ParameterError, raise_all
 from csuas.core.m_of_n import MAX_WINDOW
 from csuas.defaults import load_birds, load_clutter
 
@@ -132,7 +132,6 @@ def parse_spec(data: dict) -> EngageSpec:
     ParameterError
         (several through :func:`csuas.base.errors.raise_all`) with key, value and what is allowed.
     """
-    from csuas.base.errors import raise_all
 
     try:
         return EngageSpec.model_validate(data)

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.drone_models.geometry import direction_vector, view_basis
 from csuas.render.imaging.camera import SensorGeometry
 from csuas.render.imaging.records import Daylight, View
@@ -139,8 +140,6 @@ def cloud_opacity(n_v: int, n_h: int, cover: float, seed: int, scale_px: float =
     a soft edge of a tenth of the field's spread.
     """
     if not 0.0 <= cover <= 1.0:
-        from csuas.base.errors import ParameterError
-
         raise ParameterError("cloud_cover", cover, "0 <= x <= 1")
     field = cloud_field(n_v, n_h, seed, scale_px)
     if cover <= 0.0:

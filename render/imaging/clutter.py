@@ -36,6 +36,8 @@ import math
 
 import numpy as np
 
+from csuas.core.radiometry import band_radiance
+
 #: Surfaces: visible reflectance, LWIR emissivity, daytime temperature above the air [K] (module docstring).
 SURFACES = {
     "grass": (0.10, 0.98, 2.0),
@@ -112,7 +114,6 @@ def _surface_light(name: str, context: dict) -> float:
     reflectance, emissivity, above_k = SURFACES[name]
     if context["band"] == "eo":
         return reflectance * context["illuminance_lx"] / math.pi
-    from csuas.core.radiometry import band_radiance
 
     air = context["ambient_k"]
     return float(
@@ -275,7 +276,6 @@ def _soft_clouds(rays: np.ndarray, cover: float, context: dict, seed: int) -> tu
     opacity = ramp * ramp * (3.0 - 2.0 * ramp) * (rays[..., 2] > 0)  # smoothstep
     if context["band"] == "eo":
         return opacity, opacity * context["illuminance_lx"] / math.pi * (0.7 + 0.3 * opacity)
-    from csuas.core.radiometry import band_radiance
 
     cloud = float(band_radiance(context["ambient_k"] - CLOUD_BELOW_AMBIENT_K, context["band"]))
     return opacity, opacity * cloud

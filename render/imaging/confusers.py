@@ -35,6 +35,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from csuas.core.radiometry import band_radiance
 from csuas.render.imaging.compose import blend
 from csuas.render.imaging.records import RenderSettings, View
 
@@ -227,7 +228,6 @@ def tir_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict,
     ``render``: ``sensor`` (ThermalSensor), ``scene`` (ThermalScene), ``quality``, ``seed``, ``f_number``,
     ``pitch_um``, ``ambient_k``.
     """
-    from csuas.core.radiometry import band_radiance
     from csuas.render.imaging.tir import render_tir
 
     sensor = render["sensor"]

@@ -39,10 +39,12 @@ from pathlib import Path
 import numpy as np
 
 from csuas.base.errors import InputErrors, ParameterError
-from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
+from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 from csuas.base.schema import validate
-from csuas.defaults import load_birds
+from csuas.core.detection import blob_snr
+from csuas.core.scenario import load_scenario
+from csuas.defaults import dataset_path, load_birds
 from csuas.render.imaging.dataset_schema import TAGS, DatasetSchema
 
 #: Axes a spec may draw or list.
@@ -125,8 +127,6 @@ def parse_dataset_spec(data: dict) -> DatasetSpec:
 
 def load_dataset_spec(source) -> DatasetSpec:
     """A spec from a TOML file or an embedded spec name (``defaults/datasets``, e.g. ``example``)."""
-    from csuas.base.fileio import read_spec
-    from csuas.defaults import dataset_path
 
     return parse_dataset_spec(read_spec(source, dataset_path, "dataset spec"))
 
@@ -175,7 +175,6 @@ def generate(spec: DatasetSpec, out_dir, progress=None) -> dict:
     dict
         ``images``, ``rendered``, ``resumed``, ``annotations`` (path), ``time_s``.
     """
-    from csuas.core.scenario import load_scenario
 
     scenario = load_scenario(spec.scenario)
     sensor = imaging_sensor(scenario, spec.sensor)
@@ -457,7 +456,6 @@ def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):
 
 def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
     """A thermal frame of the draw (the chain's thermal stages), with the target's blob SNR against the NETD."""
-    from csuas.core.detection import blob_snr
     from csuas.render.imaging.frame import tir_frame
     from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor
     from csuas.render.imaging.sensor_chain import ChainSettings

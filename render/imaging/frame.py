@@ -20,6 +20,9 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
 from csuas.core.checks import require
+from csuas.core.detection import blob_snr
+from csuas.core.radiometry import band_radiance, radiance_temperature
+from csuas.defaults import default_values
 from csuas.render.imaging.background import clear_sky_frame
 from csuas.render.imaging.camera import SensorGeometry
 from csuas.render.imaging.common import silhouette_box_px
@@ -41,7 +44,6 @@ CAMERA_KEYS = (
 
 def camera_from_params(params: dict | None = None) -> dict:
     """The ``camera`` argument of :func:`eo_frame` from a scenario's EO parameters (default: the defaults)."""
-    from csuas.defaults import default_values
 
     source = default_values("eo") if params is None else params
     return {key: source[key] for key in CAMERA_KEYS}
@@ -178,7 +180,6 @@ def _read_by_rows(coverage: np.ndarray, x0: int, y0: int, chain: ChainSettings, 
 def target_snr(frame: dict, read_noise_e: float) -> float:
     """Blob SNR of an :func:`eo_frame`'s target: its excess electrons over the pixels it covers (at least one)
     against the shot noise of the background behind it and the read noise (:func:`csuas.core.detection.blob_snr`)."""
-    from csuas.core.detection import blob_snr
 
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     noise = math.sqrt(frame["background_behind_e"] + read_noise_e**2)
@@ -215,7 +216,6 @@ def tir_frame(
         behind it, summed over its window [K px]) and ``delta_t_k`` (the render's silhouette-averaged
         Delta T, taken against what lies behind the silhouette).
     """
-    from csuas.core.radiometry import band_radiance, radiance_temperature
     from csuas.render.imaging.background import view_rays
     from csuas.render.imaging.tir import render_tir
 

@@ -13,6 +13,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from csuas.core.camera import auto_exposure_s
+from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.render.imaging.compose import DroneWindow, blend
 
 #: Share of the full well the 99th percentile of a layered frame may reach under its auto-exposure.
@@ -79,7 +81,6 @@ def with_eo_layers(frame: dict, render: dict, chain, seed: int) -> dict:
     ``render``: :func:`csuas.render.imaging.confusers.eo_render_settings`'s, with ``item``, ``target``,
     ``view`` (the drone's), ``full_well_e``, ``max_exposure_s``, ``clutter`` and ``clutter_seed``.
     """
-    from csuas.core.camera import auto_exposure_s
     from csuas.render.imaging.eo import LUMINANCE_WEIGHTS
     from csuas.render.imaging.frame import frame_label
     from csuas.render.imaging.sensor_chain import apply_chain
@@ -120,7 +121,6 @@ def with_tir_layers(frame: dict, render: dict, chain, seed: int) -> dict:
     ``render``: as :func:`csuas.render.imaging.confusers.tir_confusers`'s, with ``item``, ``target``, ``view``,
     ``clutter`` and ``clutter_seed``.
     """
-    from csuas.core.radiometry import band_radiance, radiance_temperature
     from csuas.render.imaging.frame import frame_label
     from csuas.render.imaging.sensor_chain import apply_chain
 

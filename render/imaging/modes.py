@@ -21,6 +21,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
+from csuas.core.atmosphere import rain_extinction_per_km
+from csuas.core.ranges import thermal_extinction_db_km
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.request import ATMOSPHERE_CHOICES, RenderRequest
 
@@ -50,7 +52,6 @@ def _atmosphere_on(scenario, atmosphere: str, spec) -> bool:
 
 def scenario_daylight(scenario) -> Daylight:
     """Light and air of a scenario's EO render: its illuminance, optical visibility and rain extinction."""
-    from csuas.core.atmosphere import rain_extinction_per_km
 
     return Daylight(
         illuminance_lx=scenario.environment["illuminance_lx"],
@@ -61,7 +62,6 @@ def scenario_daylight(scenario) -> Daylight:
 
 def scenario_thermal_scene(scenario, spec) -> ThermalScene:
     """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies (physical)."""
-    from csuas.core.ranges import thermal_extinction_db_km
 
     env = scenario.environment
     extinction, rain = thermal_extinction_db_km(scenario, spec, "physical")

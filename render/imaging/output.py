@@ -28,6 +28,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path
 from csuas.base.paths import inside
+from csuas.core.radiometry import radiance_temperature
 from csuas.render.files import METADATA_KEYS, write_colour_map
 
 #: Previews are enlarged by pixel replication to at least this many pixels across.
@@ -40,8 +41,6 @@ EXPOSURES = ("scene", "auto")
 def _channels(result) -> dict:
     channels = {name: np.ascontiguousarray(result.image[i], dtype=np.float32) for i, name in enumerate(result.channels)}
     if result.modality == "tir":
-        from csuas.core.radiometry import radiance_temperature
-
         channels["T"] = np.ascontiguousarray(radiance_temperature(result.image[0], result.band), dtype=np.float32)
     channels["A"] = np.ascontiguousarray(result.coverage, dtype=np.float32)
     return channels
@@ -128,8 +127,6 @@ def preview_rgb(result, exposure: str = "auto") -> np.ndarray:
         return preview_eo(result, exposure)
     from matplotlib import colormaps
 
-    from csuas.core.radiometry import radiance_temperature
-
     temp = radiance_temperature(result.image[0], result.band)
     lo, hi = float(temp.min()), float(temp.max())
     if hi - lo < 1e-6:
@@ -140,8 +137,6 @@ def preview_rgb(result, exposure: str = "auto") -> np.ndarray:
 def write_png(result, path, exposure: str = "scene") -> Path:
     """Write the preview PNG of ``result`` (EO image, or thermal map with a colour bar); return the path."""
     if result.modality == "tir":
-        from csuas.core.radiometry import radiance_temperature
-
         return write_colour_map(
             path,
             radiance_temperature(result.image[0], result.band),

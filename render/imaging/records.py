@@ -12,6 +12,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from csuas.core.mrtd import sensor_mrtd
+
 #: Share of the horizontal illuminance that comes from the sky in clear daylight (csuas.render.imaging.eo).
 DEFAULT_DIFFUSE_FRACTION = 0.15
 
@@ -95,7 +97,6 @@ class ThermalSensor:
     @classmethod
     def from_params(cls, params: dict) -> ThermalSensor:
         """The record of a scenario's resolved TIR sensor parameters, with its MRTD curve."""
-        from csuas.core.mrtd import sensor_mrtd
 
         names = [name for name in cls.__dataclass_fields__ if name != "mrtd"]
         return cls(**{name: params[name] for name in names}, mrtd=sensor_mrtd(params))

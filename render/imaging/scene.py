@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.core.radiometry import band_radiance
 from csuas.drone_models.geometry import direction_vector, view_basis
 
 
@@ -345,8 +346,6 @@ def build_tir_scene(target: NormalisedTarget, *, band: str, surroundings_radianc
         [W m^-2 sr^-1].
     """
     import mitsuba as mi
-
-    from csuas.core.radiometry import band_radiance
 
     def graybody(material):
         eps = float(getattr(material, f"emissivity_{band}"))

@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.defaults import default_values
 from csuas.render.files import file_stem
 from csuas.render.lidar.cross_section import lidar_cross_section
 from csuas.render.lidar.files import write_lcs_map
@@ -54,8 +55,6 @@ def lidar_parameters(scenario, sensor: str | None = None) -> dict:
     elif lidars:
         params = dict(next(iter(lidars.values())).params)
     else:
-        from csuas.defaults import default_values
-
         params = dict(default_values("lidar"))
     for key in ("wavelength_nm", "aperture_mm"):
         value = params.get(key)

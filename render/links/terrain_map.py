@@ -74,7 +74,7 @@ import numpy as np
 
 from csuas.base.errors import InputErrors, ParameterError, raise_all
 from csuas.core.horizon import K_RADIO
-from csuas.core.terrain import curvature_drop_m, height_at
+from csuas.core.terrain import curvature_drop_m, height_at, viewshed
 from csuas.render.links.budget import LinkBudget, resolve_budget
 from csuas.render.links.rf import check_height
 from csuas.render.links.scene import (
@@ -755,7 +755,6 @@ def radio_map_budget(
         The map of the last budget tried; ``extra["budget_steps"]`` lists each step's samples,
         met fraction and time [s], ``extra["budget_met"]`` whether the target was met.
     """
-    from csuas.core.terrain import viewshed
 
     k_factor = options.k_factor
     errors: list = []

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
+
 
 def _mesh(vertices, faces):
     import trimesh
@@ -56,8 +58,6 @@ def trihedral(a_m: float, kind: str = "square"):
         v = [[0, 0, 0], [a, 0, 0], [0, a, 0], [0, 0, a]]
         return _mesh(v, [[0, 1, 2], [0, 2, 3], [0, 3, 1]])
     if kind != "square":
-        from csuas.base.errors import ParameterError
-
         raise ParameterError("kind", kind, "'square' or 'triangular'")
     v = [
         [0, 0, 0],

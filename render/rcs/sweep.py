@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import InputErrors, ParameterError
 from csuas.base.fileio import atomic_path
 
 from .aspect_sampling import flash_proposal, uniform_weight
@@ -318,7 +318,6 @@ SPHERE_AVERAGE_KEYS = (
 
 def _check_sphere_budget(accuracy_db, replicates, aspects_per_replicate, max_aspects) -> None:
     """Refuse, all at once, an accuracy <= 0, fewer than 2 replicates or 4 aspects, or a budget under one batch."""
-    from csuas.base.errors import InputErrors
 
     problems = []
     if not (np.isfinite(accuracy_db) and accuracy_db > 0):

@@ -10,7 +10,9 @@ import time
 import numpy as np
 
 from csuas.core import acoustic, eo, johnson, lidar, radar, rf, tir
+from csuas.core.atmosphere import kruse_extinction_per_km
 from csuas.core.mrtd import sensor_mrtd
+from csuas.core.terrain import viewshed
 from csuas.defaults import default_values
 from csuas.validation.core.paper_procedures import eo_step_reduction, tir_step_reduction
 
@@ -118,7 +120,6 @@ def bench_iterative(n: int = 2000, seed: int = 1) -> list[dict]:
     c0 = rng.uniform(0.2, 1.0, n)
     ifov = johnson.ifov_rad(5.0, 1920)
     r_j = johnson.johnson_range_m(d, ifov)
-    from csuas.core.atmosphere import kruse_extinction_per_km
 
     sigma = kruse_extinction_per_km(550.0, vis)
     t_exact, exact = _timed(lambda: np.minimum(r_j, eo.contrast_limited_range_m(c0, 0.05, sigma, "paper")))
@@ -176,7 +177,6 @@ def bench_viewshed(size: int = 1000, sensors: int = 6, altitudes=(30.0, 60.0, 12
     stand on 10 m masts spread over it. Times only :func:`csuas.core.terrain.viewshed` (issue 15's
     target: 1000 x 1000 cells, 6 sensors, 5 altitudes in under a minute on 2 CPU cores).
     """
-    from csuas.core.terrain import viewshed
 
     rng = np.random.default_rng(3)
     dem = np.cumsum(np.cumsum(rng.normal(0.0, 1.0, (size, size)), 0), 1)

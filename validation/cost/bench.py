@@ -16,6 +16,10 @@ import tempfile
 from pathlib import Path
 
 from csuas.base.cost import Estimate, run_measured
+from csuas.base.fileio import read_spec
+from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.terrain import gaussian_hills
+from csuas.defaults import sweep_path
 
 CSUAS = [sys.executable, "-m", "csuas.cli"]
 #: A run longer than this is killed and reported [s].
@@ -53,8 +57,6 @@ def bench_sweeps(folder: Path) -> list[dict]:
     """The sweep model (:mod:`csuas.sweep.cost`), serial: range sweeps of 10^5 to 3x10^6 points, pd sweeps of 12
     to 96 points, rcs sweeps of 7 aspects at 35 GHz and 5, 10 and 20 rays per wavelength (2x10^6 to 3x10^7
     tubes)."""
-    from csuas.base.fileio import read_spec
-    from csuas.defaults import sweep_path
     from csuas.sweep import parse_spec
     from csuas.sweep.cost import axis_lengths, sweep_estimate
     from csuas.sweep.kinds import JOB_KINDS
@@ -104,9 +106,6 @@ def bench_coverage(folder: Path) -> list[dict]:
     import numpy as np
     import rasterio
     from rasterio.transform import from_origin
-
-    from csuas.core.coverage_cost import coverage_estimate
-    from csuas.core.terrain import gaussian_hills
 
     rows = []
     for cells in (200, 400, 800):

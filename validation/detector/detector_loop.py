@@ -23,6 +23,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
+from csuas.base.errors import CsuasError, ParameterError
 from csuas.base.fileio import prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside
 from csuas.validation.detector.training import MISSING, Training, torchvision_available
@@ -63,7 +64,6 @@ def train_and_evaluate(
         :func:`csuas.validation.detector.evaluation.evaluate`'s scores, and ``conditions`` (frames, device,
         training, its steps, first and last loss, ``train_s``, ``detect_s``), ``files``.
     """
-    from csuas.base.errors import ParameterError
     from csuas.validation.detector.evaluation import evaluate
     from csuas.validation.detector.frames import load_frames
     from csuas.validation.detector.physics import eo_pfa
@@ -187,7 +187,6 @@ def main(argv=None) -> int:
         "--pfa", type=float, default=None, help="per-pixel Pfa of the physics threshold (default eo.pfa)"
     )
     args = parser.parse_args(argv)
-    from csuas.base.errors import CsuasError
 
     try:  # bad input: exit 2, before torch is looked for
         training = Training(args.epochs, args.batch, args.learning_rate, args.seed, args.threads, args.max_steps)

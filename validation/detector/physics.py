@@ -24,6 +24,7 @@ import numpy as np
 
 from csuas.core.detection import gaussian_pd, ttpf_probability
 from csuas.core.johnson import line_pairs
+from csuas.defaults import load_parameters
 
 #: The physics columns, in the order they are reported.
 COLUMNS = ("pd_ttpf_johnson", "pd_ttpf_ttp", "pd_camera_snr", "pd_physical")
@@ -31,7 +32,6 @@ COLUMNS = ("pd_ttpf_johnson", "pd_ttpf_ttp", "pd_camera_snr", "pd_physical")
 
 def eo_pfa() -> float:
     """The EO sensor's default per-pixel false-alarm probability (``eo.pfa`` of defaults/parameters.toml)."""
-    from csuas.defaults import load_parameters
 
     return float(load_parameters()["eo"]["pfa"]["value"])
 

@@ -19,8 +19,10 @@ import json
 import math
 from pathlib import Path
 
+from csuas.base.errors import ParameterError
 from csuas.base.fileio import prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
+from csuas.core.scenario import load_scenario
 
 #: Frame of the crop [px], width and height.
 FRAME_PX = (320, 256)
@@ -69,7 +71,6 @@ DEFAULT_SEEDS = (11, 23)
 
 def crop_scenario_text(frame_px=FRAME_PX) -> str:
     """A scenario TOML: the default one with its EO camera cropped to ``frame_px`` (module docstring)."""
-    from csuas.core.scenario import load_scenario
 
     p = load_scenario("default").sensors["eo"].params
     width, height = frame_px
@@ -118,7 +119,6 @@ def make_sets(out, seeds=DEFAULT_SEEDS, sizes=DEFAULT_SIZES, backgrounds=(TRAIN_
         ``train`` and ``test`` folders, ``specs`` (split -> label -> spec), ``frames``, ``time_s``;
         also written as ``out/sets.json``.
     """
-    from csuas.base.errors import ParameterError
     from csuas.render.imaging.dataset import generate, parse_dataset_spec
 
     if seeds[0] == seeds[1]:

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csuas.base.errors import ParameterError, raise_all
 from csuas.validation.detector.frames import Frame, read_image
 
 #: Message when the detector extra is missing (the bench skips with it, exit 0).
@@ -81,7 +82,6 @@ class Training:
     max_steps: int | None = None
 
     def __post_init__(self):
-        from csuas.base.errors import ParameterError, raise_all
 
         errors = [
             ParameterError(name, getattr(self, name), "a whole number >= 1")

@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from csuas.core import camera, detection
+from csuas.defaults import default_values
 from csuas.render.imaging.sensor_chain import ChainSettings, apply_chain, chain_mtf
 
 
@@ -95,8 +97,6 @@ def rendered_snr_against_core(illuminances_lx=(70000.0, 3.0, 0.01), range_m: flo
     list of dict
         ``illuminance_lx``, ``snr_rendered``, ``snr_core``, ``background_e_rendered``, ``background_e_core``.
     """
-    from csuas.core import camera, detection
-    from csuas.defaults import default_values
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 
@@ -172,8 +172,6 @@ def rendered_light_limited_range(
         the core is given: their Monte Carlo errors of pixels on target and contrast combined),
         ``renders``.
     """
-    from csuas.core import camera, detection
-    from csuas.defaults import default_values
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
     from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 

@@ -26,8 +26,11 @@ import numpy as np
 
 from csuas.base.checks import Check
 from csuas.core import acoustic, atmosphere, eo, lidar, radar, tir
+from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
+from csuas.core.radar import radar_wavelength_m
 from csuas.core.radiometry import graybody_apparent_temperature
-from csuas.core.ranges import rf_frequency_ghz
+from csuas.core.ranges import evaluate, rf_frequency_ghz
+from csuas.core.scenario import load_scenario, parse_scenario
 from csuas.core.units import frequency_ghz, watt_to_dbm
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import PlotAxes, curves
@@ -47,13 +50,11 @@ N_SIGMA = 3.0
 @functools.lru_cache(maxsize=4)
 def scenario(name: str):
     """An embedded scenario (cached)."""
-    from csuas.core.scenario import load_scenario
 
     return load_scenario(name)
 
 
 def _ranges(name: str, convention: str) -> dict:
-    from csuas.core.ranges import evaluate
 
     return {k: v for k, v in evaluate(scenario(name), convention).items()}
 
@@ -573,7 +574,6 @@ def rf_radar_adverse_links(budget: str) -> Section:
     # radar: SNR at the physical range from Sionna's radar link
     rp = sc.sensors["radar"].params
     r_rad = float(phys["radar"].range_m)
-    from csuas.core.radar import radar_wavelength_m
 
     lam = radar_wavelength_m(rp, "physical")
     f_radar = float(frequency_ghz(lam))
@@ -622,8 +622,6 @@ def rf_radar_adverse_links(budget: str) -> Section:
 
 def radar_weather_loss_frequency(_knob=None) -> Section:
     """Radar weather losses at 12 GHz vs the radar's own frequency, 1 km vs actual path."""
-    from csuas.core.itu import fog_specific_attenuation_db_km, rain_specific_attenuation_db_km
-    from csuas.core.radar import radar_wavelength_m
 
     s = Section()
     sc = scenario("adverse")
@@ -676,8 +674,6 @@ EXPLAIN_6 = (
 
 def noncoherent_integration(_knob=None) -> Section:
     """Non-coherent integration gain and radar range, paper n^(1/n) vs physical sqrt(n)."""
-    from csuas.core.ranges import evaluate
-    from csuas.core.scenario import parse_scenario
 
     s = Section()
     sc = parse_scenario(

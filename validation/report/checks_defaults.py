@@ -18,7 +18,10 @@ Tolerances of the printed numbers: half a unit of the last printed digit.
 from __future__ import annotations
 
 from csuas.base.checks import Check
+from csuas.base.plots import tornado_plot
 from csuas.base.registry import resolve
+from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
+from csuas.defaults import load_sensitivity
 from csuas.render.quality import RCS
 from csuas.validation.core.checks import CORE_PROVIDERS, SIMULATION_PROVIDERS
 from csuas.validation.report.figures import from_writer
@@ -83,9 +86,6 @@ def _printed_tolerance(value: float) -> float:
 
 def section_4_9(_knob=None) -> Section:
     """Baselines, quoted tornado bounds (Tables 48-51) and Table 52, with the tornado plots."""
-    from csuas.base.plots import tornado_plot
-    from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
-    from csuas.defaults import load_sensitivity
 
     section = Section()
     for analysis in ANALYSES:

@@ -19,6 +19,9 @@ import math
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.detection import ttpf_cycles_ratio
+from csuas.core.radar_detection import albersheim_snr_db, pd_exact, required_snr_db
+from csuas.core.rcs_statistics import fit_chi_square, fit_lognormal, pd_over_rcs_samples, rcs_summary
 from csuas.validation.report.figures import PlotAxes, curves
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
@@ -35,8 +38,6 @@ TABLE_21 = ((0.95, 2.00), (0.80, 1.50), (0.50, 1.00), (0.30, 0.75), (0.10, 0.50)
 
 def published(_knob=None) -> Section:
     """Printed requirements and closed forms against the exact detectors; the TTPF against Table 21."""
-    from csuas.core.detection import ttpf_cycles_ratio
-    from csuas.core.radar_detection import albersheim_snr_db, pd_exact, required_snr_db
 
     s = Section()
     for name, swerling, printed, source in (
@@ -106,7 +107,6 @@ def published(_knob=None) -> Section:
 
 def monte_carlo(trials: int) -> Section:
     """Simulated detectors against the exact Pd: Swerling 0-4, noncoherent and coherent, N 1 and 8."""
-    from csuas.core.radar_detection import pd_exact
     from csuas.validation.detection.monte_carlo import simulate_detector
 
     s = Section()
@@ -145,8 +145,6 @@ def monte_carlo(trials: int) -> Section:
 
 def drone_fluctuation(settings: dict) -> Section:
     """The drone's RCS over random aspects per band: fits, nearest Swerling case, Pd against range."""
-    from csuas.core.radar_detection import pd_exact
-    from csuas.core.rcs_statistics import fit_chi_square, fit_lognormal, pd_over_rcs_samples, rcs_summary
     from csuas.validation.detection.fluctuation import drone_rcs_samples
     from csuas.validation.detection.monte_carlo import simulate_over_rcs_samples
 

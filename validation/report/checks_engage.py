@@ -21,8 +21,14 @@ import itertools
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.birds import bird_rcs_m2, random_aspects_rad
+from csuas.core.coverage import SitedSensor
+from csuas.core.false_alarms import beamwidth_deg
 from csuas.core.horizon import EARTH_RADIUS_M
+from csuas.core.m_of_n import first_confirmation
+from csuas.core.scenario import parse_scenario
 from csuas.core.units import C_LIGHT
+from csuas.defaults import load_birds, load_drone_rcs_statistics
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Monte Carlo sizes of the quick report: looks of the false-alarm count, tracker runs of the M-of-N check.
@@ -35,8 +41,6 @@ RECEIVER_PFA = {"rf": 1e-4, "acoustic": 2e-2}
 
 
 def _radar(dem, settings, gamma_db=None):
-    from csuas.core.coverage import SitedSensor
-    from csuas.core.scenario import parse_scenario
     from csuas.render.engagement.sensors import SensorModel, Terrain
 
     scenario = parse_scenario(
@@ -85,8 +89,6 @@ def false_alarms(quality="quick") -> Section:
 
 def _receiver_per_hour(name: str, pfa: float, looks: int, rng) -> Check:
     """An RF or acoustic sensor of the paper's defaults, no target: noise false alarms per hour at 1 s looks."""
-    from csuas.core.coverage import SitedSensor
-    from csuas.core.scenario import parse_scenario
     from csuas.render.engagement.sensors import LookSettings, SensorModel, Terrain
 
     scenario = parse_scenario(
@@ -135,8 +137,6 @@ def enumerated_first_confirmation(pd, m, n):
 
 def first_track(quality="quick") -> Section:
     """The tracker's first-track probability of one sensor against the exact M-of-N program."""
-    from csuas.core.m_of_n import first_confirmation
-    from csuas.defaults import load_birds
     from csuas.render.engagement.sensors import LookSettings
     from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement, run_once
 
@@ -316,8 +316,6 @@ def _siap_checks() -> list:
 
 def bird_rcs(_knob=None) -> Section:
     """Each bird class's RCS median at 24 GHz inside the drone's measured 10-90 % band."""
-    from csuas.core.birds import bird_rcs_m2, random_aspects_rad
-    from csuas.defaults import load_birds, load_drone_rcs_statistics
 
     s = Section()
     drone = next(
@@ -349,7 +347,6 @@ def bird_rcs(_knob=None) -> Section:
 
 def clutter(_knob=None) -> Section:
     """Constant-gamma clutter on flat ground against the closed form; none behind a ridge."""
-    from csuas.core.false_alarms import beamwidth_deg
     from csuas.render.engagement.sensors import LookSettings
 
     s = Section()

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.render.imaging.records import EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.validation.report.figures import AccuracyColumns, PlotAxes, curves, image
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
@@ -33,7 +34,6 @@ VIEW = {"azimuth_deg": 0.0, "elevation_deg": 0.0}
 
 
 def _sensor():
-    from csuas.core.johnson import ifov_rad
     from csuas.validation.report.checks_conventions import scenario
 
     sc = scenario("default")
@@ -61,7 +61,6 @@ def _render(r, p, quality, seed=0):
 
 def johnson(quality: str) -> Section:
     """Rendered pixels across d_crit vs exact geometry; rendered vs analytic Johnson range."""
-    from csuas.core.johnson import johnson_range_m
     from csuas.drone_models import build_drone
     from csuas.drone_models.silhouette import projected_metrics
     from csuas.render.imaging import resolve_quality

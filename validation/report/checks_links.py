@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.dielectric import ground_permittivity
 from csuas.render.quality import LINKS
 from csuas.validation.report.figures import AccuracyColumns, PlotAxes, curves
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
@@ -52,7 +53,6 @@ def _budgets(names):
 
 def rf_links(budget: str) -> Section:
     """RF path gain drone -> sensor, 2.4 GHz, free space (Friis) and over medium dry ground (two-ray)."""
-    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.rf import rf_path_gain
     from csuas.validation.links.accuracy import closed_form_db
 
@@ -113,7 +113,6 @@ def rf_links(budget: str) -> Section:
 
 def radar_links(budget: str) -> Section:
     """Monostatic radar link to a 0.01 m^2 drone: 24 GHz free space (Eq. 68), 10 GHz over ground (four paths)."""
-    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.radar import radar_link_gain
     from csuas.validation.links.accuracy import closed_form_db
 
@@ -428,7 +427,6 @@ def _ridge_checks(ridge: dict, samples: int) -> list:
 def _flat_profile_figure(flat: dict):
     """The flat map along the transmitter's row against the two-ray model: coherent at points and per cell,
     power sum per cell, and every third cell of the map with its bound."""
-    from csuas.core.dielectric import ground_permittivity
     from csuas.render.links.terrain_map import BOUND_LEVEL
     from csuas.render.links.two_ray import two_ray_path_gain_db
     from csuas.validation.links.terrain_map import FLAT

@@ -18,6 +18,9 @@ import time
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core import micro_doppler as md
+from csuas.core.micro_doppler import rotor_blade_signal
+from csuas.core.units import wavelength_m
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
 FREQUENCY_GHZ = 10.0
@@ -62,8 +65,6 @@ def _line_amplitudes(field) -> np.ndarray:
 
 def blade_cases(_knob=None) -> Section:
     """Flash period, line spacing and line levels of PO straight-blade rotors vs the closed form."""
-    from csuas.core import micro_doppler as md
-    from csuas.core.units import wavelength_m
     from csuas.render.rcs.micro_doppler import rotor_field
 
     s = Section()
@@ -154,7 +155,6 @@ def blade_cases(_knob=None) -> Section:
 
 def _time_mean_check(n: int, chord_m: float, po, elapsed: float) -> Check:
     """The PO rotor's time-mean RCS against :func:`time_mean_rcs_m2`."""
-    from csuas.core.units import wavelength_m
 
     time_mean = float(np.mean(np.abs(po) ** 2)) * 4.0 * np.pi / wavelength_m(FREQUENCY_GHZ) ** 2
     return Check(
@@ -172,9 +172,6 @@ def _time_mean_check(n: int, chord_m: float, po, elapsed: float) -> Check:
 def time_mean_rcs_m2(n_blades: int, chord_m: float) -> float:
     """Time-mean RCS [m^2] of the flat-blade rotor: quadrature of the closed form's power over one turn."""
     from scipy.integrate import quad
-
-    from csuas.core.micro_doppler import rotor_blade_signal
-    from csuas.core.units import wavelength_m
 
     scale = np.sin(np.radians(ELEVATION_DEG)) * chord_m
 

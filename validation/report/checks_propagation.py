@@ -15,6 +15,9 @@ import time
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core import acoustic, itu
+from csuas.core.ranges import evaluate
+from csuas.core.scenario import parse_scenario
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
 GAS_FREQUENCIES_GHZ = (10.0, 22.235, 24.0, 35.0, 60.0, 94.0)
@@ -38,7 +41,6 @@ FIELD_LIMITATION = (
 
 
 def _scenario(sensors: dict, environment: dict | None = None, target: dict | None = None, convention="physical"):
-    from csuas.core.scenario import parse_scenario
 
     data = {"convention": convention, "sensors": sensors, "environment": environment or {}, "target": target or {}}
     return parse_scenario(data)
@@ -57,8 +59,6 @@ def _itur_gamma(f_ghz: float, p_total_hpa: float, t_k: float, rho: float) -> flo
 
 def gases(_knob=None) -> Section:
     """P.676 against ITU-Rpy; the gas terms of the radar presets in the P.835 atmosphere."""
-    from csuas.core import itu
-    from csuas.core.ranges import evaluate
 
     s = Section()
     atm = itu.standard_atmosphere()
@@ -120,8 +120,6 @@ def sound_oracles(_knob=None) -> Section:
     """ISO 9613-2 Table 2 to its printed precision; absorption and ground against sound-propagation."""
     from sound_propagation import AtmosphericPropagation, GroundAttenuation
 
-    from csuas.core import acoustic
-
     s = Section()
     octaves = 1000.0 * 10.0 ** (np.arange(-12, 10, 3) / 10.0)
     alpha = acoustic.iso9613_absorption_db_km(octaves, 20.0, 70.0, 101.325)
@@ -168,7 +166,6 @@ def sound_oracles(_knob=None) -> Section:
 
 
 def _acoustic_range(target: str, environment: dict, sensor: dict, convention="physical") -> float:
-    from csuas.core.ranges import evaluate
 
     sensors = {"a": {"modality": "acoustic", **sensor}}
     sc = _scenario(sensors, environment, {"preset": target, "altitude_m": 20.0}, convention)

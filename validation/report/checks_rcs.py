@@ -19,7 +19,9 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.base.fileio import atomic_path
 from csuas.core.units import wavenumber_rad_m
+from csuas.defaults import load_drone_rcs_statistics
 from csuas.validation.report.figures import AccuracyColumns, from_writer
 from csuas.validation.report.figures import accuracy_vs_time as plot_accuracy
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
@@ -233,7 +235,6 @@ def fullwave(settings) -> Section:
 
 def drone_statistics(_knob=None) -> Section:
     """The shipped drone RCS statistics (csuas rcs-statistics) against 3GPP and published 24 GHz means."""
-    from csuas.defaults import load_drone_rcs_statistics
 
     rows = load_drone_rcs_statistics()
     s = Section(table=[dict(r) for r in rows])
@@ -354,8 +355,6 @@ def _plot_statistics(rows, path):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from csuas.base.fileio import atomic_path
 
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     for i, preset in enumerate(sorted({r["preset"] for r in rows})):

@@ -21,7 +21,10 @@ import math
 import numpy as np
 
 from csuas.base.checks import Check
+from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
 from csuas.core.horizon import EARTH_RADIUS_M, K_OPTICAL, K_RADIO
+from csuas.core.scenario import load_scenario
+from csuas.core.terrain import gaussian_hills, viewshed
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section, timed
 
 #: Grid cell of the smooth-Earth check [m] and the tolerance: the method judges cells within 1.5 cells of
@@ -39,7 +42,6 @@ def _farthest_visible_m(visible: np.ndarray, row: float, col: float, cell: float
 
 def terrain(_knob=None) -> Section:
     """The viewshed's horizons and shadows against their closed forms."""
-    from csuas.core.terrain import viewshed
 
     s = Section()
     flat = np.zeros((901, 901))
@@ -99,7 +101,6 @@ def _cell_count_error_km2(outer_m: float, inner_m: float, sector_deg: float, cel
 
 def coverage(_knob=None) -> Section:
     """Detected areas, a hill's shadow and k-of-n fusion of the coverage layers against closed forms."""
-    from csuas.core.scenario import load_scenario
 
     s = Section()
     scenario = load_scenario("default")
@@ -112,7 +113,6 @@ def coverage(_knob=None) -> Section:
 
 def _horizon_sector_checks(scenario) -> list:
     """The RF detector's detected area in a flat sector, limited by the radio horizon."""
-    from csuas.core.coverage import SitedSensor, sensor_layers
 
     out = []
     # (a) horizon-limited: the RF detector (range 125 km) on a 10 m mast, 30 m flight level, 120 degree sector
@@ -145,7 +145,6 @@ def _horizon_sector_checks(scenario) -> list:
 
 def _range_sector_checks(scenario) -> list:
     """The EO camera's detected area in a flat sector, limited by its range, and its cone of silence."""
-    from csuas.core.coverage import SitedSensor, sensor_layers
 
     out = []
     # (a) range-limited with the overhead cone of silence: the EO camera (range 555.5 m) on a 5 m mast,
@@ -195,7 +194,6 @@ def _range_sector_checks(scenario) -> list:
 
 def _hill_shadow_checks(scenario) -> list:
     """Where a cone-shaped hill's shadow starts at a flight level behind it."""
-    from csuas.core.coverage import SitedSensor, sensor_layers
 
     out = []
     # (b) a cone-shaped hill (60 m high, 300 m base radius) 1 km east of the RF detector on a 5 m mast, its apex
@@ -229,7 +227,6 @@ def _hill_shadow_checks(scenario) -> list:
 
 def _k_of_n_checks() -> list:
     """k-of-n fused Pd against the enumeration of subsets and the binomial tail."""
-    from csuas.core.coverage import fused_layers
 
     out = []
     # (c) k-of-n Pd: 5 independent sensors with random Pd, and 5 equal ones (the binomial)
@@ -280,7 +277,6 @@ GDAL_CASES = (("hills", 200, 200, 30.0), ("hills", 120, 300, 2.0), ("hills", 330
 
 def gdal_cross_check(_knob=None) -> Section:
     """The viewshed against GDAL's gdal_viewshed and the exact sight line (validation/terrain)."""
-    from csuas.core.terrain import gaussian_hills
     from csuas.validation.terrain.viewshed_oracles import ViewshedCase, compare_viewsheds, fractal_dem, gdal_available
 
     s = Section()
