@@ -304,6 +304,8 @@ COVERED_ELSEWHERE = {
     "coverage.link_frequency_ghz": "tests/test_coverage.py (Table 33's link, Table 39's wavelength)",
     "coverage.free_space_equivalent_range_m": "tests/test_coverage.py (round trip through Eq. 54)",
     "coverage.multipath_detection": "tests/test_coverage.py (free-space path gains at known distances)",
+    "terrain.fresnel_clearance": "tests/test_terrain.py (flat ground in closed form, a knife edge's crest)",
+    "horizon.first_fresnel_radius_m": "tests/test_terrain.py (closed form at 2.4 GHz)",
     "terrain.cells_around": "tests/test_terrain.py (exact index arithmetic)",
     "terrain.gaussian_hills": "tests/test_terrain_gdal.py (the terrain of the GDAL and sight-line cross-checks)",
     "terrain.lowest_visible_height_m": "tests/test_terrain.py (a wall's sight line, the viewshed at 4 levels)",
