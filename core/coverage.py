@@ -38,7 +38,15 @@ from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import RayLimits, bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
+from csuas.core.terrain import (
+    RayLimits,
+    bearing_deg,
+    curvature_drop_m,
+    fresnel_clearance,
+    height_at,
+    off_boresight_deg,
+    viewshed,
+)
 
 #: Effective Earth-radius factor of each modality's line of sight (its record's ``horizon``, csuas.core.modality).
 K_FACTOR = {m.name: m.line_of_sight.k for m in RECORDS}
@@ -52,6 +60,8 @@ POINTING = {
 }
 #: Pd below which a sensor's map ends (the mapped reach): farther cells are not traced and get Pd 0.
 PD_NEGLIGIBLE = 1e-3
+#: Share of the first Fresnel zone's radius a link keeps clear to count as free space (ITU-R P.530-18, 2.2.2).
+FRESNEL_CLEAR = 0.6
 #: Log-spaced slant distances on which the mapped reach is looked up.
 REACH_GRID_POINTS = 512
 
@@ -168,7 +178,8 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     dict
         ``visible`` and ``detected`` (bool), ``pd`` (float), each (A, rows, cols); ``min_altitude_m``
         (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
-        ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it and inside
+        ``reach_m`` (:func:`mapped_reach_m`), ``altitudes_m`` (the flight levels, (A,)) and ``traced``
+        (rows, cols: the cells within it and inside
         the azimuth sector, the only ones whose line of sight is traced; ``visible`` is False
         elsewhere); ``aimed`` (rows, cols: the cells inside the azimuth sector, at any range);
         ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation limits and
@@ -228,10 +239,50 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "min_altitude_m": min_altitude,
         "range_m": detection,
         "reach_m": reach,
+        "altitudes_m": np.asarray(altitudes_m, float),
         "traced": (ground <= reach) & aimed,
         "aimed": aimed,
         "regard": np.array(regards),
     }
+
+
+def fresnel_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: SitedSensor, layers: dict) -> dict:
+    """First Fresnel zone clearance of an RF or radar sensor's link to the drone over each cell, per flight level.
+
+    :func:`csuas.core.terrain.fresnel_clearance` at the sensor's carrier (:func:`link_frequency_ghz`) with
+    k = 4/3, over the cells its :func:`sensor_layers` traced (its mapped reach and sector); a radar's two
+    legs share the one path.
+
+    Parameters
+    ----------
+    dem_m, cell_m, scenario, sited
+        As :func:`sensor_layers`.
+    layers : dict
+        The sensor's :func:`sensor_layers` (its ``reach_m`` and ``visible`` grids; one per flight level).
+
+    Returns
+    -------
+    dict
+        ``clearance`` (A, rows, cols): the smallest clearance / r1 along each cell's path, NaN beyond the
+        reach, outside the sector and where the path holds no terrain sample (cells closer than one cell);
+        ``obstructed`` (A,): the share of the visible cells judged whose clearance is below
+        :data:`FRESNEL_CLEAR` (NaN where none is visible).
+    """
+    wavelength = float(units.wavelength_m(link_frequency_ghz(scenario, sited.name)))
+    k = K_FACTOR[scenario.sensors[sited.name].modality]
+    reach = layers["reach_m"]
+    limits = RayLimits(
+        None if np.isinf(reach) else reach,
+        None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
+    )
+    clearance, obstructed = [], []
+    for visible, altitude in zip(layers["visible"], layers["altitudes_m"]):
+        ratio = fresnel_clearance(dem_m, cell_m, (sited.row, sited.col, sited.mast_m), altitude, wavelength, k, limits)
+        ratio[np.isinf(ratio)] = np.nan
+        judged = visible & np.isfinite(ratio)
+        obstructed.append(float((ratio[judged] < FRESNEL_CLEAR).mean()) if judged.any() else float("nan"))
+        clearance.append(ratio)
+    return {"clearance": np.array(clearance), "obstructed": np.array(obstructed)}
 
 
 def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:

@@ -493,3 +493,41 @@ def test_gis_files_open_in_gdal_and_ogr_without_a_warning(tmp_path, capsys):
         assert listing.returncode == 0 and listing.stderr == "", (name, listing.stderr)
     tables = subprocess.run(["ogrinfo", "-ro", "-q", out / "coverage.gpkg"], capture_output=True, text=True).stdout
     assert {line.split(":")[1].split("(")[0].strip() for line in tables.splitlines() if ":" in line} == layers
+
+
+def test_fresnel_clearance_layer_is_the_knife_edges_ratio_and_its_obstructed_share(tmp_path, capsys):
+    """A 9 m wall across flat ground midway between the RF sensor (10 m mast) and a drone 4 km away at 10 m
+    (50 m cells, k = 4/3): at the crest the sight line stands 10 - L^2/(4 kR) + (L/2)^2/(2 kR) - 9 m above
+    the terrain, its clearance ratio that over r1 = sqrt(lambda L / 4) at the link's carrier; the layer's
+    obstructed_fraction is the share of the visible cells below 0.6, as read back from the two GeoTIFFs."""
+    import rasterio
+
+    from csuas.core.coverage import link_frequency_ghz
+    from csuas.core.scenario import load_scenario
+
+    dem = np.zeros((21, 81))
+    dem[:, 40] = 9.0
+    dem_path = tmp_path / "wall.tif"
+    _write_dem(dem_path, dem)
+    site = tmp_path / "site.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\naltitudes_agl_m = [10.0]\n[sensors.rf]\nx = 400025.0\ny = 5009475.0\nmast_m = 10.0\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "w"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (layer,) = [item for item in out["layers"] if item["kind"] == "fresnel_clearance"]
+    assert layer["path"] == "rf_fresnel_clearance_10m.tif" and (tmp_path / "w" / layer["png"]).is_file()
+    wavelength = 299_792_458.0 / (link_frequency_ghz(load_scenario("default"), "rf") * 1e9)
+    k_r = 4.0 / 3.0 * 6_371_000.0
+    gap = 10.0 - 4000.0**2 / (4 * k_r) + 2000.0**2 / (2 * k_r) - 9.0
+    with (
+        rasterio.open(tmp_path / "w" / layer["path"]) as fresnel,
+        rasterio.open(tmp_path / "w" / "rf_visible_10m.tif") as visible,
+    ):
+        ratio, seen = fresnel.read(1), visible.read(1)
+        assert fresnel.nodata is None or np.isnan(fresnel.nodata)
+    assert ratio[10, 80] == pytest.approx(gap / math.sqrt(wavelength * 1000.0), rel=1e-6)
+    assert np.isnan(ratio[10, 0])  # the sensor's own cell: no terrain between
+    judged = (seen > 0) & np.isfinite(ratio)
+    assert layer["obstructed_fraction"] == pytest.approx((ratio[judged] < 0.6).mean(), abs=1e-12)
+    assert 0.0 < layer["obstructed_fraction"] < 1.0

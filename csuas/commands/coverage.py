@@ -63,7 +63,7 @@ SENSOR_KINDS = ("visible", "detected", "pd")
 FUSED_QUANTITIES = ("count", "detected", "pd")
 FUSED_K_QUANTITIES = ("k_of_n", "pd_k_of_n")
 #: Layers whose every finite value is shown and counted as covered (the others: values above 0).
-VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error")
+VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error", "fresnel_clearance")
 #: Colour-bar labels of the layers with a scale.
 UNITS = {
     "pd": "Pd",
@@ -72,7 +72,10 @@ UNITS = {
     "path_gain": "path gain [dB]",
     "path_gain_error": "bound [dB]",
     "count": "sensors",
+    "fresnel_clearance": "clearance / r1",
 }
+#: Modalities whose links get a Fresnel clearance layer per flight level.
+FRESNEL_MODALITIES = ("rf", "radar")
 
 
 def add_arguments(parser):
@@ -123,7 +126,7 @@ def _checked_site(site: dict):
 
 def run(args) -> dict:
     """Compute and write every layer of the site."""
-    from csuas.core.coverage import SitedSensor, fused_layers, sensor_layers
+    from csuas.core.coverage import SitedSensor, fresnel_layers, fused_layers, sensor_layers
     from csuas.defaults import site_path
 
     source = Path(args.site)
@@ -145,13 +148,18 @@ def run(args) -> dict:
     altitudes = [float(a) for a in site.altitudes_agl_m]
     k = site.fusion_k
     out = prepare_output_dir(args.out)
-    for name in _layer_files(sited, altitudes, [] if radio is None else radio["sensors"], k):
+    radio_sensors = [] if radio is None else radio["sensors"]
+    for name in _layer_files(sited, altitudes, radio_sensors, k, _fresnel_sensors(sited, scenario)):
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work
     with exclusive_lock(out / LOCK_NAME, "--out"):
         layers, per_sensor = [], {}
         for name, placed in sited.items():
             print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
             per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
+        fresnel = {
+            name: fresnel_layers(dem, cell, scenario, sited[name], per_sensor[name])
+            for name in _fresnel_sensors(sited, scenario)
+        }
         fused = fused_layers(per_sensor, k)
         radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
         hillshade = _hillshade(dem, cell)
@@ -172,6 +180,13 @@ def run(args) -> dict:
                     layers.append(_layer(out, name, altitude, kind, grid, where))
             min_alt = grids["min_altitude_m"].astype(np.float32)
             layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
+        for name, grids in fresnel.items():
+            for i, altitude in enumerate(altitudes):
+                layer = _layer(
+                    out, name, altitude, "fresnel_clearance", grids["clearance"][i].astype(np.float32), where
+                )
+                share = float(grids["obstructed"][i])
+                layers.append({**layer, "obstructed_fraction": None if math.isnan(share) else share})
         for name, grids in radio_maps.items():
             for i, altitude in enumerate(altitudes):
                 for kind, key in RADIO_KINDS:
@@ -230,9 +245,15 @@ def _stem(sensor: str, altitude, kind: str) -> str:
     return f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
 
 
-def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
+def _fresnel_sensors(sited: dict, scenario) -> list[str]:
+    """The sited sensors whose links get a Fresnel clearance layer (RF and radar)."""
+    return [name for name in sited if scenario.sensors[name].modality in FRESNEL_MODALITIES]
+
+
+def _layer_files(sensors, altitudes, radio_sensors, k, fresnel_sensors=()) -> list[str]:
     """Every file name the layers of a site will have (checked before the work)."""
     layers = [(name, None, "min_altitude") for name in sensors]
+    layers += [(name, a, "fresnel_clearance") for name in fresnel_sensors for a in altitudes]
     layers += [(name, a, kind) for name in sensors for a in altitudes for kind in SENSOR_KINDS]
     layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
     fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
@@ -275,6 +296,8 @@ def _legend(kind: str, every_value: bool, unit: str) -> dict:
     """How a layer's map shows it: a colour scale with its unit, Pd from PD_SHOWN up, or a yes/no patch."""
     if kind.startswith("pd"):
         return {"scale": f"Pd (cells at {PD_SHOWN:g} or more)", "low": PD_SHOWN, "high": 1.0}
+    if kind == "fresnel_clearance":
+        return {"scale": "clearance / r1 (0.6 and up: free space)", "low": 0.0, "high": 1.0}
     if every_value or kind == "count":
         return {"scale": unit, "low": None, "high": None}
     return {"patch": BAND_UNITS.get(kind, "1 = yes").split("= ", 1)[-1]}
