@@ -99,7 +99,7 @@ def _dem_cells(dem: str | None, site_path) -> tuple[int, int]:
         raise ParameterError("dem", dem, f"a GeoTIFF file GDAL can read ({exc})") from None
 
 
-def _check_cost(site, site_path, radio, args) -> None:
+def _check_cost(site, site_path, radio, args, fresnel_links: int) -> None:
     """Estimate the run from the DEM's header, the sensors and the levels; refuse it above the limits."""
     from csuas.base.cost import check_limits
     from csuas.core.coverage_cost import coverage_estimate
@@ -108,7 +108,7 @@ def _check_cost(site, site_path, radio, args) -> None:
     samples = 0 if radio is None else int(radio["samples"])
     cells = _dem_cells(site.dem, site_path)
     estimate = coverage_estimate(
-        cells, len(site.sensors), len(site.altitudes_agl_m), site.fusion_k is not None, maps, samples
+        cells, len(site.sensors), len(site.altitudes_agl_m), site.fusion_k is not None, maps, samples, fresnel_links
     )
     check_limits(estimate, args, "coverage")
 
@@ -133,7 +133,8 @@ def run(args) -> dict:
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
     radio = radio_map_settings(site, scenario)
     checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
-    _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
+    links = len(_fresnel_sensors(site.sensors, scenario))
+    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
     dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
