@@ -49,8 +49,9 @@ CELL_BYTES = 950.0
 SENSOR_LEVEL_CELL_BYTES = 11.0
 FUSED_LEVEL_CELL_BYTES = 24.0
 #: Layers per sensor and level (visible, detected, Pd); per level of the fused grids (count, detected,
-#: Pd, and with a k-of-n rule two more); per radio map (path gain, its bound, detected, Pd).
-SENSOR_LAYERS, FUSED_LAYERS, FUSED_K_LAYERS, RADIO_LAYERS = 3, 3, 2, 4
+#: Pd, visible count, and with a k-of-n rule two more); per radio map (path gain, its bound, detected, Pd);
+#: fused over all levels (the lowest visible and detectable heights).
+SENSOR_LAYERS, FUSED_LAYERS, FUSED_K_LAYERS, RADIO_LAYERS, FUSED_HEIGHT_LAYERS = 3, 4, 2, 4, 2
 
 
 def coverage_estimate(
@@ -84,7 +85,7 @@ def coverage_estimate(
     """
     n = float(cells[0]) * float(cells[1])
     layers = sensors * (SENSOR_LAYERS * levels + 1) + (FUSED_LAYERS + (FUSED_K_LAYERS if k_of_n else 0)) * levels
-    layers += (RADIO_LAYERS * radio_maps + fresnel_links) * levels
+    layers += (RADIO_LAYERS * radio_maps + fresnel_links) * levels + FUSED_HEIGHT_LAYERS
     seconds = START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
     seconds += (
         layers * (LAYER_SECONDS + LAYER_CELL_SECONDS * n)

@@ -45,7 +45,16 @@ def test_the_demo_site_writes_every_layer_with_the_dems_crs(tmp_path, capsys):
     assert ("radar", "visible", 30.0) in kinds and ("eo", "min_altitude", None) in kinds
     assert ("fused", "fused", 120.0) in kinds and out["crs"] == "EPSG:32633"
     quantities = {layer.get("quantity") for layer in summary["layers"] if layer["kind"] == "fused"}
-    assert quantities == {"count", "detected", "pd", "k_of_n", "pd_k_of_n"}  # the demo asks for 2 of 3
+    assert quantities == {  # the demo asks for 2 of 3
+        "count",
+        "detected",
+        "pd",
+        "k_of_n",
+        "pd_k_of_n",
+        "visible_count",
+        "min_visible_height",
+        "min_detectable_height",
+    }
     assert {layer["geojson"] for layer in summary["layers"] if "geojson" in layer} >= {
         "eo_detected_30m.geojson",
         "fused_k_of_n_120m.geojson",
@@ -531,3 +540,54 @@ def test_fresnel_clearance_layer_is_the_knife_edges_ratio_and_its_obstructed_sha
     judged = (seen > 0) & np.isfinite(ratio)
     assert layer["obstructed_fraction"] == pytest.approx((ratio[judged] < 0.6).mean(), abs=1e-12)
     assert 0.0 < layer["obstructed_fraction"] < 1.0
+
+
+def test_the_lowest_detected_level_is_the_lowest_flight_level_reaching_the_pd():
+    """Levels given out of order (120, 30, 60 m): each cell's lowest level with Pd >= 0.5, NaN where none."""
+    from csuas.core.coverage import lowest_detected_level_m
+
+    pd = np.array([[[0.9, 0.9, 0.1, 0.5]], [[0.2, 0.7, 0.1, 0.49]], [[0.6, 0.5, 0.3, 0.0]]])
+    lowest = lowest_detected_level_m(pd, [120.0, 30.0, 60.0])
+    np.testing.assert_array_equal(lowest, [[60.0, 30.0, np.nan, 120.0]])
+
+
+def test_fused_visibility_behind_a_wall_is_the_nearer_sensors_sight_line():
+    """Flat ground, a 20 m wall across the grid at column 50 (10 m cells), the EO camera (5 m mast) at column
+    10 and the RF sensor (5 m mast) at column 30 of row 20: in front of the wall both see the ground (0);
+    behind it the lowest height either sees is the sight line over the crest, with the Earth's curvature
+    (each sensor's k), h(d) = (20 - c_w - 5) d / d_w + 5 + c(d), c(d) = d^2 / (2 k R) (d_w the wall's
+    distance), and the EO camera's, the farther from the wall, is the lower. Both see every cell at 30 m
+    in front of the wall; the fused Pd's lowest detected level is 30 m where either detects at 30 m."""
+    from csuas.core.coverage import (
+        K_FACTOR,
+        SitedSensor,
+        fresnel_layers,
+        fused_layers,
+        fused_visibility,
+        sensor_layers,
+    )
+    from csuas.core.scenario import load_scenario
+
+    dem = np.zeros((41, 121))
+    dem[:, 50] = 20.0
+    scenario = load_scenario("default")
+    sited = {"eo": SitedSensor("eo", 20.0, 10.0, 5.0), "rf": SitedSensor("rf", 20.0, 30.0, 5.0)}
+    per_sensor = {name: sensor_layers(dem, 10.0, scenario, placed, [30.0, 300.0]) for name, placed in sited.items()}
+    fused = fused_visibility(dem, 10.0, scenario, sited, per_sensor)
+
+    def sight_line(col, k):
+        drop = lambda d: d**2 / (2 * k * 6_371_000.0)
+        d, d_w = (np.arange(121) - col) * 10.0, (50 - col) * 10.0
+        return (20.0 - drop(d_w) - 5.0) * d / d_w + 5.0 + drop(d)
+
+    behind = np.arange(121) > 50
+    expected = np.minimum(sight_line(10, K_FACTOR["eo"]), sight_line(30, K_FACTOR["rf"]))
+    np.testing.assert_allclose(fused["min_visible_height_m"][20, behind], expected[behind], rtol=1e-9)
+    assert np.all(fused["min_visible_height_m"][20, 11:50] == 0.0)
+    assert np.all(fused["visible_count"][0][:, 11:50] == 2)
+    either = fused_layers(per_sensor)["pd"][0] >= 0.5
+    assert np.all(fused["min_detectable_height_m"][either] == 30.0)
+    # the RF link's Fresnel clearance on the sensor's row: below 0 exactly where the wall hides the drone
+    clearance = fresnel_layers(dem, 10.0, scenario, sited["rf"], per_sensor["rf"])["clearance"][0][20]
+    hidden = ~per_sensor["rf"]["visible"][0][20]
+    assert hidden[51:].any() and np.array_equal(clearance[32:] < 0, hidden[32:])

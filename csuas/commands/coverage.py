@@ -60,10 +60,19 @@ BAND_UNITS = {
 }
 #: Each sensor's layers at every flight level, and the fused layers' quantities (with fusion_k: and k of n).
 SENSOR_KINDS = ("visible", "detected", "pd")
-FUSED_QUANTITIES = ("count", "detected", "pd")
+FUSED_QUANTITIES = ("count", "detected", "pd", "visible_count")
+#: Fused layers over all flight levels: the lowest height any sensor sees, and the lowest level detected.
+FUSED_HEIGHTS = ("min_visible_height", "min_detectable_height")
 FUSED_K_QUANTITIES = ("k_of_n", "pd_k_of_n")
 #: Layers whose every finite value is shown and counted as covered (the others: values above 0).
-VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error", "fresnel_clearance")
+VALUE_KINDS = (
+    "min_altitude",
+    "path_gain",
+    "path_gain_error",
+    "fresnel_clearance",
+    "min_visible_height",
+    "min_detectable_height",
+)
 #: Colour-bar labels of the layers with a scale.
 UNITS = {
     "pd": "Pd",
@@ -72,6 +81,9 @@ UNITS = {
     "path_gain": "path gain [dB]",
     "path_gain_error": "bound [dB]",
     "count": "sensors",
+    "visible_count": "sensors",
+    "min_visible_height": "m above the terrain",
+    "min_detectable_height": "m above the terrain",
     "fresnel_clearance": "clearance / r1",
 }
 #: Modalities whose links get a Fresnel clearance layer per flight level.
@@ -126,7 +138,7 @@ def _checked_site(site: dict):
 
 def run(args) -> dict:
     """Compute and write every layer of the site."""
-    from csuas.core.coverage import SitedSensor, fresnel_layers, fused_layers, sensor_layers
+    from csuas.core.coverage import SitedSensor, fresnel_layers, fused_layers, fused_visibility, sensor_layers
     from csuas.defaults import site_path
 
     source = Path(args.site)
@@ -161,7 +173,7 @@ def run(args) -> dict:
             name: fresnel_layers(dem, cell, scenario, sited[name], per_sensor[name])
             for name in _fresnel_sensors(sited, scenario)
         }
-        fused = fused_layers(per_sensor, k)
+        fused = {**fused_layers(per_sensor, k), **fused_visibility(dem, cell, scenario, sited, per_sensor)}
         radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
         hillshade = _hillshade(dem, cell)
         where = {
@@ -192,13 +204,7 @@ def run(args) -> dict:
             for i, altitude in enumerate(altitudes):
                 for kind, key in RADIO_KINDS:
                     layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
-        quantities = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
-        for i, altitude in enumerate(altitudes):
-            for quantity in quantities:
-                grid = fused[quantity][i].astype(np.float32)
-                layer = _layer(out, "fused", altitude, quantity, grid, where)
-                extra = {"k": k, "n": len(sited)} if quantity.endswith("k_of_n") else {}
-                layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
+        layers += _fused_files(out, fused, altitudes, (k, len(sited)), where)
         summary = {
             "site": str(args.site),
             "crs": crs,
@@ -224,6 +230,22 @@ def run(args) -> dict:
         write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
         summary["out"] = str(out)
         return summary
+
+
+def _fused_files(out: Path, fused: dict, altitudes: list, k_of_n: tuple, where: dict) -> list[dict]:
+    """Write the fused layers (per flight level, then the lowest heights over all levels); describe them."""
+    k, n = k_of_n
+    layers = []
+    for i, altitude in enumerate(altitudes):
+        for quantity in FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES):
+            grid = fused[quantity][i].astype(np.float32)
+            layer = _layer(out, "fused", altitude, quantity, grid, where)
+            extra = {"k": k, "n": n} if quantity.endswith("k_of_n") else {}
+            layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
+    for quantity in FUSED_HEIGHTS:
+        layer = _layer(out, "fused", None, quantity, fused[f"{quantity}_m"].astype(np.float32), where)
+        layers.append({**layer, "kind": "fused", "quantity": quantity})
+    return layers
 
 
 def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
@@ -259,6 +281,7 @@ def _layer_files(sensors, altitudes, radio_sensors, k, fresnel_sensors=()) -> li
     layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
     fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
     layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
+    layers += [("fused", None, quantity) for quantity in FUSED_HEIGHTS]
     names = ["coverage.json", *VECTOR_FILES]
     for sensor, altitude, kind in layers:
         suffixes = (".tif", ".png") + ((".geojson",) if kind in GEOJSON_KINDS else ())
@@ -299,7 +322,7 @@ def _legend(kind: str, every_value: bool, unit: str) -> dict:
         return {"scale": f"Pd (cells at {PD_SHOWN:g} or more)", "low": PD_SHOWN, "high": 1.0}
     if kind == "fresnel_clearance":
         return {"scale": "clearance / r1 (0.6 and up: free space)", "low": 0.0, "high": 1.0}
-    if every_value or kind == "count":
+    if every_value or kind.endswith("count"):
         return {"scale": unit, "low": None, "high": None}
     return {"patch": BAND_UNITS.get(kind, "1 = yes").split("= ", 1)[-1]}
 
