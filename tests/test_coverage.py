@@ -591,3 +591,36 @@ def test_fused_visibility_behind_a_wall_is_the_nearer_sensors_sight_line():
     clearance = fresnel_layers(dem, 10.0, scenario, sited["rf"], per_sensor["rf"])["clearance"][0][20]
     hidden = ~per_sensor["rf"]["visible"][0][20]
     assert hidden[51:].any() and np.array_equal(clearance[32:] < 0, hidden[32:])
+
+
+def test_a_dem_in_longitude_and_latitude_is_reprojected_to_its_utm_zone(tmp_path, capsys):
+    """A synthetic SRTM-style DEM (EPSG:4326, 3 arc-second cells around 15.05 E, 45.05 N) is read in UTM zone
+    33N (zone floor((15.05 + 180) / 6) + 1 = 33), on square cells; a sensor given by lat/lon lands on the cell
+    its x/y (PROJ's transform to EPSG:32633) gives; a sensor with x and lat is refused, naming both."""
+    import rasterio
+    from pyproj import Transformer
+    from rasterio.transform import from_origin
+
+    n, step = 41, 1.0 / 1200.0
+    lon, lat = np.meshgrid(15.05 + (np.arange(n) - 20) * step, 45.05 - (np.arange(n) - 20) * step)
+    profile = {"driver": "GTiff", "height": n, "width": n, "count": 1, "dtype": "float32", "crs": "EPSG:4326"}
+    profile["transform"] = from_origin(15.05 - 20.5 * step, 45.05 + 20.5 * step, step, step)
+    with rasterio.open(tmp_path / "srtm.tif", "w", **profile) as dst:
+        dst.write((100.0 + 2000.0 * (lon - 15.0) + 1000.0 * (lat - 45.0)).astype(np.float32), 1)
+    x, y = Transformer.from_crs("EPSG:4326", "EPSG:32633", always_xy=True).transform(15.052, 45.049)
+    placed = {}
+    for pair, where in (("geographic", "lat = 45.049\nlon = 15.052\n"), ("projected", f"x = {x}\ny = {y}\n")):
+        site = tmp_path / f"{pair}.toml"
+        site.write_text(f'dem = "srtm.tif"\naltitudes_agl_m = [30.0]\n[sensors.eo]\n{where}mast_m = 5.0\n')
+        assert cli.main(["coverage", str(site), "--out", str(tmp_path / pair), "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)
+        placed[pair] = (out["sensors"]["eo"]["row"], out["sensors"]["eo"]["col"])
+        assert out["crs"] == "EPSG:32633"
+    assert placed["geographic"] == pytest.approx(placed["projected"], abs=1e-6)
+    with rasterio.open(tmp_path / "geographic" / "eo_visible_30m.tif") as layer:
+        assert layer.crs.to_epsg() == 32633 and abs(layer.transform.a) == pytest.approx(abs(layer.transform.e))
+    bad = tmp_path / "bad.toml"
+    bad.write_text('dem = "srtm.tif"\n[sensors.eo]\nx = 500000.0\nlat = 45.0\n')
+    assert cli.main(["coverage", str(bad), "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert "sensors.eo" in err and "x and y, or lat and lon (given: x, lat)" in err

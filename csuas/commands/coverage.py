@@ -34,7 +34,7 @@ from csuas.commands.coverage_files import (
 )
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
 from csuas.core.coverage import POINTING
-from csuas.render.site import DEMO, dem_path, load_dem, validated_site
+from csuas.render.site import DEMO, dem_path, load_dem, sensor_xy, validated_site
 
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
 LOCK_NAME = ".csuas-coverage.lock"
@@ -151,10 +151,11 @@ def run(args) -> dict:
     inverse = ~transform
     sited, outside = {}, []
     for name, table in site.sensors.items():
-        col, row = inverse @ (table.x, table.y)
+        col, row = inverse @ sensor_xy(table, crs)
         col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
         if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
-            outside.append(ParameterError(f"sensors.{name}", (table.x, table.y), "a position inside the DEM"))
+            given = (table.x, table.y) if table.x is not None else (table.lat, table.lon)
+            outside.append(ParameterError(f"sensors.{name}", given, "a position inside the DEM"))
         pointing = {key: float(getattr(table, key)) for key in POINTING}
         sited[name] = SitedSensor(name, row, col, float(table.mast_m), **pointing)
     raise_all(outside)
