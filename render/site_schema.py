@@ -136,7 +136,9 @@ class SiteSchema(Schema):
     """The keys of a coverage site."""
 
     dem: text("a GeoTIFF file") | None = key(
-        None, "terrain heights [m]: a GeoTIFF in a projected CRS (omitted: the demo terrain); relative to the site"
+        None,
+        "terrain heights [m]: a GeoTIFF in a projected CRS, or in lon/lat (reprojected to its UTM zone); "
+        "omitted: the demo terrain; relative to the site",
     )
     scenario: text("an embedded scenario name or a scenario file") = key(
         "default", "the sensors' models and the environment"
