@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
+from csuas.core import units
 from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.modality import RECORDS
@@ -37,7 +38,16 @@ from csuas.core.radar import radar_frequency_ghz
 from csuas.core.ranges import evaluate, rf_frequency_ghz
 from csuas.core.rf import free_space_path_loss_db
 from csuas.core.scenario import Scenario
-from csuas.core.terrain import RayLimits, bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
+from csuas.core.terrain import (
+    RayLimits,
+    bearing_deg,
+    curvature_drop_m,
+    fresnel_clearance,
+    height_at,
+    lowest_visible_height_m,
+    off_boresight_deg,
+    viewshed,
+)
 
 #: Effective Earth-radius factor of each modality's line of sight (its record's ``horizon``, csuas.core.modality).
 K_FACTOR = {m.name: m.line_of_sight.k for m in RECORDS}
@@ -51,6 +61,10 @@ POINTING = {
 }
 #: Pd below which a sensor's map ends (the mapped reach): farther cells are not traced and get Pd 0.
 PD_NEGLIGIBLE = 1e-3
+#: Share of the first Fresnel zone's radius a link keeps clear to count as free space (ITU-R P.530-18, 2.2.2).
+FRESNEL_CLEAR = 0.6
+#: Fused Pd from which a flight level counts as detected in the minimum detectable height.
+PD_DETECTABLE = 0.5
 #: Log-spaced slant distances on which the mapped reach is looked up.
 REACH_GRID_POINTS = 512
 
@@ -167,7 +181,8 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     dict
         ``visible`` and ``detected`` (bool), ``pd`` (float), each (A, rows, cols); ``min_altitude_m``
         (rows, cols; NaN where no flight level is detected); ``range_m`` (the sensor's predicted range);
-        ``reach_m`` (:func:`mapped_reach_m`) and ``traced`` (rows, cols: the cells within it and inside
+        ``reach_m`` (:func:`mapped_reach_m`), ``altitudes_m`` (the flight levels, (A,)) and ``traced``
+        (rows, cols: the cells within it and inside
         the azimuth sector, the only ones whose line of sight is traced; ``visible`` is False
         elsewhere); ``aimed`` (rows, cols: the cells inside the azimuth sector, at any range);
         ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation limits and
@@ -195,10 +210,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
             sited.mast_m,
             altitude,
             k,
-            RayLimits(
-                None if np.isinf(reach) else reach,
-                None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
-            ),
+            _sensor_limits(sited, reach),
         )
         rise = dem_m + altitude - eye
         slant = np.hypot(ground, rise)
@@ -227,10 +239,46 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "min_altitude_m": min_altitude,
         "range_m": detection,
         "reach_m": reach,
+        "altitudes_m": np.asarray(altitudes_m, float),
         "traced": (ground <= reach) & aimed,
         "aimed": aimed,
         "regard": np.array(regards),
     }
+
+
+def fresnel_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: SitedSensor, layers: dict) -> dict:
+    """First Fresnel zone clearance of an RF or radar sensor's link to the drone over each cell, per flight level.
+
+    :func:`csuas.core.terrain.fresnel_clearance` at the sensor's carrier (:func:`link_frequency_ghz`) with
+    k = 4/3, over the cells its :func:`sensor_layers` traced (its mapped reach and sector); a radar's two
+    legs share the one path.
+
+    Parameters
+    ----------
+    dem_m, cell_m, scenario, sited
+        As :func:`sensor_layers`.
+    layers : dict
+        The sensor's :func:`sensor_layers` (its ``reach_m`` and ``visible`` grids; one per flight level).
+
+    Returns
+    -------
+    dict
+        ``clearance`` (A, rows, cols): the smallest clearance / r1 along each cell's path, NaN beyond the
+        reach, outside the sector and where the path holds no terrain sample (cells closer than one cell);
+        ``obstructed`` (A,): the share of the visible cells judged whose clearance is below
+        :data:`FRESNEL_CLEAR` (NaN where none is visible).
+    """
+    wavelength = float(units.wavelength_m(link_frequency_ghz(scenario, sited.name)))
+    k = K_FACTOR[scenario.sensors[sited.name].modality]
+    limits = _sensor_limits(sited, layers["reach_m"])
+    clearance, obstructed = [], []
+    for visible, altitude in zip(layers["visible"], layers["altitudes_m"]):
+        ratio = fresnel_clearance(dem_m, cell_m, (sited.row, sited.col, sited.mast_m), altitude, wavelength, k, limits)
+        ratio[np.isinf(ratio)] = np.nan
+        judged = visible & np.isfinite(ratio)
+        obstructed.append(float((ratio[judged] < FRESNEL_CLEAR).mean()) if judged.any() else float("nan"))
+        clearance.append(ratio)
+    return {"clearance": np.array(clearance), "obstructed": np.array(obstructed)}
 
 
 def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:
@@ -304,3 +352,67 @@ def fused_layers(per_sensor: dict, k: int | None = None) -> dict:
         fused["pd_k_of_n"] = fuse_k_of_n(pd, k)
         fused["k_of_n"] = count >= k
     return fused
+
+
+def _sensor_limits(sited: SitedSensor, reach_m: float) -> RayLimits:
+    """The rays a sited sensor's layers trace: out to its mapped reach (inf: all) and over its sector."""
+    return RayLimits(
+        None if np.isinf(reach_m) else reach_m,
+        None if sited.sector_deg >= 360.0 else (sited.azimuth_deg, sited.sector_deg),
+    )
+
+
+def lowest_detected_level_m(pd, altitudes_m, threshold: float = PD_DETECTABLE) -> np.ndarray:
+    """The lowest flight level [m] at which each cell's Pd reaches ``threshold`` (NaN where none does).
+
+    Parameters
+    ----------
+    pd : ndarray (A, rows, cols)
+        Pd at each flight level.
+    altitudes_m : sequence of float
+        The A flight levels [m], in any order.
+    threshold : float
+        Pd that counts as detected.
+    """
+    reached = np.asarray(pd, dtype=float) >= threshold
+    lowest = np.where(reached, np.asarray(altitudes_m, dtype=float).reshape(-1, 1, 1), np.inf).min(axis=0)
+    return np.where(np.isinf(lowest), np.nan, lowest)
+
+
+def fused_visibility(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: dict, per_sensor: dict) -> dict:
+    """What all the sensors together see: per level how many see each cell, and the lowest heights seen and detected.
+
+    Parameters
+    ----------
+    dem_m, cell_m, scenario
+        As :func:`sensor_layers`.
+    sited : dict
+        Each sensor's :class:`SitedSensor`, by name.
+    per_sensor : dict
+        Each sensor's :func:`sensor_layers`, by name (the same flight levels).
+
+    Returns
+    -------
+    dict
+        ``visible_count`` (A, rows, cols): the sensors in whose line of sight the drone is (cumulative
+        visibility); ``min_visible_height_m`` (rows, cols): the lowest height above the terrain at which
+        any sensor has the drone in sight, the smallest of their
+        :func:`csuas.core.terrain.lowest_visible_height_m` over the cells each traces (NaN where none
+        does); ``min_detectable_height_m`` (rows, cols): the lowest of the site's flight levels at which
+        the fused Pd (the OR of the sensors' Pd) reaches :data:`PD_DETECTABLE` (NaN where none does: a
+        search over the declared levels only).
+    """
+    lowest = np.full(dem_m.shape, np.inf)
+    for name, placed in sited.items():
+        k = K_FACTOR[scenario.sensors[name].modality]
+        limits = _sensor_limits(placed, per_sensor[name]["reach_m"])
+        seen = lowest_visible_height_m(dem_m, cell_m, placed.row, placed.col, placed.mast_m, k, limits)
+        lowest = np.minimum(lowest, seen)
+    layers = list(per_sensor.values())
+    return {
+        "visible_count": np.sum([layer["visible"] for layer in layers], axis=0),
+        "min_visible_height_m": np.where(np.isinf(lowest), np.nan, lowest),
+        "min_detectable_height_m": lowest_detected_level_m(
+            fuse_or(np.array([layer["pd"] for layer in layers])), layers[0]["altitudes_m"]
+        ),
+    }

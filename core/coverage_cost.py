@@ -1,8 +1,10 @@
 """Cost of ``csuas coverage`` (time and peak memory), from the DEM's size, the sensors and the flight levels.
 
 Each sensor traces one viewshed per flight level (:func:`csuas.core.terrain.viewshed`, in
-proportion to the cells), every layer is written as a GeoTIFF and a PNG map (a fixed part and a
-part in proportion to the cells), and a radio map costs one Sionna RT run per sensor and level.
+proportion to the cells), each RF or radar sensor also one Fresnel clearance layer per level
+(:func:`csuas.core.terrain.fresnel_clearance`, each cell's own path: cells^1.5), every layer is
+written as a GeoTIFF and a PNG map (a fixed part and a part in proportion to the cells), and a radio
+map costs one Sionna RT run per sensor and level.
 The process holds the DEM, every sensor's grids per level, the fused grids and, at its peak,
 one viewshed's rays and one map's images.
 
@@ -31,6 +33,12 @@ LAYER_CELL_SECONDS = 0.15e-6
 #: ray counts in proportion (assumed: tracing dominates).
 RADIO_MAP_SECONDS = 4.8
 RADIO_MAP_SAMPLES = 2**20
+#: One Fresnel clearance layer of one RF or radar link and level, per cell and terrain sample of its own
+#: path (about sqrt(cells) samples a cell over a whole DEM) [s]: 1.7 s a level for the demo's RF sensor
+#: (400^2 cells all round) at a load average of 6 on 2 CPU cores, taken as half that idle.
+FRESNEL_CELL_SAMPLE_SECONDS = 1.3e-8
+#: Memory per cell and level of each Fresnel clearance grid kept (float64) [B].
+FRESNEL_LEVEL_CELL_BYTES = 8.0
 #: Resident memory before the grids (interpreter, rasterio, matplotlib) [B]; with a radio map, Sionna's [B].
 PROCESS_BYTES = 140e6
 RADIO_PROCESS_BYTES = 350e6
@@ -41,12 +49,19 @@ CELL_BYTES = 950.0
 SENSOR_LEVEL_CELL_BYTES = 11.0
 FUSED_LEVEL_CELL_BYTES = 24.0
 #: Layers per sensor and level (visible, detected, Pd); per level of the fused grids (count, detected,
-#: Pd, and with a k-of-n rule two more); per radio map (path gain, its bound, detected, Pd).
-SENSOR_LAYERS, FUSED_LAYERS, FUSED_K_LAYERS, RADIO_LAYERS = 3, 3, 2, 4
+#: Pd, visible count, and with a k-of-n rule two more); per radio map (path gain, its bound, detected, Pd);
+#: fused over all levels (the lowest visible and detectable heights).
+SENSOR_LAYERS, FUSED_LAYERS, FUSED_K_LAYERS, RADIO_LAYERS, FUSED_HEIGHT_LAYERS = 3, 4, 2, 4, 2
 
 
 def coverage_estimate(
-    cells: tuple[int, int], sensors: int, levels: int, k_of_n: bool, radio_maps: int = 0, radio_samples: int = 2**20
+    cells: tuple[int, int],
+    sensors: int,
+    levels: int,
+    k_of_n: bool,
+    radio_maps: int = 0,
+    radio_samples: int = 2**20,
+    fresnel_links: int = 0,
 ) -> Estimate:
     """Time and peak memory of a coverage run.
 
@@ -64,16 +79,24 @@ def coverage_estimate(
         Sensors with a radio map (each mapped at every level).
     radio_samples : int
         Rays per replica of each radio map.
+    fresnel_links : int
+        RF and radar sensors, each with a Fresnel clearance layer per level (traced over the whole DEM:
+        an upper bound where the sensor's reach is shorter).
     """
     n = float(cells[0]) * float(cells[1])
     layers = sensors * (SENSOR_LAYERS * levels + 1) + (FUSED_LAYERS + (FUSED_K_LAYERS if k_of_n else 0)) * levels
-    layers += RADIO_LAYERS * radio_maps * levels
+    layers += (RADIO_LAYERS * radio_maps + fresnel_links) * levels + FUSED_HEIGHT_LAYERS
     seconds = START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
     seconds += (
         layers * (LAYER_SECONDS + LAYER_CELL_SECONDS * n)
         + radio_maps * levels * RADIO_MAP_SECONDS * radio_samples / RADIO_MAP_SAMPLES
     )
-    kept = levels * (SENSOR_LEVEL_CELL_BYTES * (sensors + radio_maps) + FUSED_LEVEL_CELL_BYTES)
+    seconds += fresnel_links * levels * FRESNEL_CELL_SAMPLE_SECONDS * n * n**0.5
+    kept = levels * (
+        SENSOR_LEVEL_CELL_BYTES * (sensors + radio_maps)
+        + FUSED_LEVEL_CELL_BYTES
+        + FRESNEL_LEVEL_CELL_BYTES * fresnel_links
+    )
     peak = (RADIO_PROCESS_BYTES if radio_maps else PROCESS_BYTES) + n * (CELL_BYTES + kept)
     what = (
         f"coverage of {cells[0]:,} x {cells[1]:,} cells, {sensors} sensor(s), {levels} flight level(s)"

@@ -19,6 +19,7 @@ The models of the paper give a slant range without the Earth (Eq. 14); these hor
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from csuas.core.checks import require
@@ -62,3 +63,28 @@ def line_of_sight_limit_m(sensor_height_m, target_height_m, k=K_RADIO, earth_rad
     return horizon_distance_m(sensor_height_m, k, earth_radius_m) + horizon_distance_m(
         target_height_m, k, earth_radius_m
     )
+
+
+def first_fresnel_radius_m(wavelength_m, d1_m, d2_m):
+    """Radius of the first Fresnel zone at a point of a link [m]: r1 = sqrt(lambda d1 d2 / (d1 + d2)).
+
+    ITU-R P.530-18 (2021), Eq. 2 (and ITU-R P.526-15, Eq. 2, with n = 1); d1 and d2 the distances from
+    the point to the two ends (their sum the link's length), all much longer than the wavelength.
+
+    Parameters
+    ----------
+    wavelength_m : float or array_like
+        Wavelength [m], > 0.
+    d1_m, d2_m : float or array_like
+        Distances from the point to each end of the link [m], >= 0, not both 0.
+    """
+    lam = require("wavelength_m", wavelength_m, gt=0.0)
+    d1 = require("d1_m", d1_m, ge=0.0)
+    d2 = require("d2_m", d2_m, ge=0.0)
+    return fresnel_radius(lam, d1, d2)
+
+
+@numba.vectorize(["float64(float64, float64, float64)"], cache=True)
+def fresnel_radius(wavelength, d1, d2):
+    """:func:`first_fresnel_radius_m` unchecked, as a ufunc that compiled kernels call too [m]."""
+    return np.sqrt(wavelength * d1 * d2 / (d1 + d2))

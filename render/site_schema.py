@@ -12,7 +12,16 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import BaseModel, Discriminator, Field, Tag, ValidationInfo, create_model, field_validator
+from pydantic import (
+    BaseModel,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationInfo,
+    create_model,
+    field_validator,
+    model_validator,
+)
 
 from csuas.base.schema import Schema, key, number, text, whole
 from csuas.core.coverage import POINTING
@@ -37,6 +46,15 @@ def _pointing_field(name: str):
     return kind, key(default, POINTING_MEANING[name])
 
 
+def _one_position(self):
+    """Exactly one complete pair of x, y (the DEM's CRS) or lat, lon (WGS 84)."""
+    given = [name for name in ("x", "y", "lat", "lon") if getattr(self, name) is not None]
+    if given not in (["x", "y"], ["lat", "lon"]):
+        shown = ", ".join(given) or "none"
+        raise ValueError(f"exactly one position: x and y, or lat and lon (given: {shown})")
+    return self
+
+
 def _above_elevation_min(cls, value, info: ValidationInfo):
     low = info.data.get("elevation_min_deg")
     if low is not None and not low < value:
@@ -44,19 +62,33 @@ def _above_elevation_min(cls, value, info: ValidationInfo):
     return value
 
 
-COORDINATE = number(allowed="a coordinate in the DEM's CRS [m]")
 #: A scenario sensor placed on the site.
 SitedSensorTable = create_model(
     "SitedSensorTable",
     __base__=Schema,
-    __validators__={"above_elevation_min": field_validator("elevation_max_deg")(_above_elevation_min)},
+    __validators__={
+        "above_elevation_min": field_validator("elevation_max_deg")(_above_elevation_min),
+        "one_position": model_validator(mode="after")(_one_position),
+    },
     x=(
-        number(allowed="a coordinate in the DEM's CRS [m]"),
-        key(description="position in the DEM's CRS [m], inside it"),
+        number(allowed="a coordinate in the DEM's CRS [m]") | None,
+        key(
+            None, "position in the DEM's CRS [m], inside it (or lat and lon)", shown_default="a pair: x, y or lat, lon"
+        ),
     ),
     y=(
-        number(allowed="a coordinate in the DEM's CRS [m]"),
-        key(description="position in the DEM's CRS [m], inside it"),
+        number(allowed="a coordinate in the DEM's CRS [m]") | None,
+        key(
+            None, "position in the DEM's CRS [m], inside it (or lat and lon)", shown_default="a pair: x, y or lat, lon"
+        ),
+    ),
+    lat=(
+        number(-90.0, 90.0, "deg") | None,
+        key(None, "latitude on WGS 84 [deg] (instead of x and y), with lon", shown_default="a pair: x, y or lat, lon"),
+    ),
+    lon=(
+        number(-180.0, 180.0, "deg") | None,
+        key(None, "longitude on WGS 84 [deg] (instead of x and y), with lat", shown_default="a pair: x, y or lat, lon"),
     ),
     mast_m=(number(0.0, 1000.0, "m"), key(10.0, "eye height above the terrain under the sensor")),
     **{name: _pointing_field(name) for name in POINTING},
@@ -104,7 +136,9 @@ class SiteSchema(Schema):
     """The keys of a coverage site."""
 
     dem: text("a GeoTIFF file") | None = key(
-        None, "terrain heights [m]: a GeoTIFF in a projected CRS (omitted: the demo terrain); relative to the site"
+        None,
+        "terrain heights [m]: a GeoTIFF in a projected CRS, or in lon/lat (reprojected to its UTM zone); "
+        "omitted: the demo terrain; relative to the site",
     )
     scenario: text("an embedded scenario name or a scenario file") = key(
         "default", "the sensors' models and the environment"

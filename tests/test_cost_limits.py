@@ -142,7 +142,8 @@ def test_a_thousand_flight_levels_are_refused(tmp_path):
     site = SITE.format(levels=levels, x=505_000.0, y=5_005_000.0)
     site += "[sensors.rf]\nx = 502500.0\ny = 5007000.0\n[sensors.eo]\nx = 507000.0\ny = 5003000.0\n"
     err = _refused(["coverage", _write(tmp_path / "site.toml", site), "--out", str(tmp_path / "o")], tmp_path, "--max")
-    assert "1000 flight level(s)" in err and "12,003 layers" in err  # 3 a sensor and level + 3 fused, + min_altitude
+    # 3 a sensor and level + 4 fused + 2 Fresnel (rf, radar), + min_altitude each, + 2 fused lowest heights
+    assert "1000 flight level(s)" in err and "15,005 layers" in err
 
 
 def test_rcs_statistics_with_an_absurd_aspect_budget_is_refused(tmp_path):

@@ -45,7 +45,16 @@ def test_the_demo_site_writes_every_layer_with_the_dems_crs(tmp_path, capsys):
     assert ("radar", "visible", 30.0) in kinds and ("eo", "min_altitude", None) in kinds
     assert ("fused", "fused", 120.0) in kinds and out["crs"] == "EPSG:32633"
     quantities = {layer.get("quantity") for layer in summary["layers"] if layer["kind"] == "fused"}
-    assert quantities == {"count", "detected", "pd", "k_of_n", "pd_k_of_n"}  # the demo asks for 2 of 3
+    assert quantities == {  # the demo asks for 2 of 3
+        "count",
+        "detected",
+        "pd",
+        "k_of_n",
+        "pd_k_of_n",
+        "visible_count",
+        "min_visible_height",
+        "min_detectable_height",
+    }
     assert {layer["geojson"] for layer in summary["layers"] if "geojson" in layer} >= {
         "eo_detected_30m.geojson",
         "fused_k_of_n_120m.geojson",
@@ -493,3 +502,125 @@ def test_gis_files_open_in_gdal_and_ogr_without_a_warning(tmp_path, capsys):
         assert listing.returncode == 0 and listing.stderr == "", (name, listing.stderr)
     tables = subprocess.run(["ogrinfo", "-ro", "-q", out / "coverage.gpkg"], capture_output=True, text=True).stdout
     assert {line.split(":")[1].split("(")[0].strip() for line in tables.splitlines() if ":" in line} == layers
+
+
+def test_fresnel_clearance_layer_is_the_knife_edges_ratio_and_its_obstructed_share(tmp_path, capsys):
+    """A 9 m wall across flat ground midway between the RF sensor (10 m mast) and a drone 4 km away at 10 m
+    (50 m cells, k = 4/3): at the crest the sight line stands 10 - L^2/(4 kR) + (L/2)^2/(2 kR) - 9 m above
+    the terrain, its clearance ratio that over r1 = sqrt(lambda L / 4) at the link's carrier; the layer's
+    obstructed_fraction is the share of the visible cells below 0.6, as read back from the two GeoTIFFs."""
+    import rasterio
+
+    from csuas.core.coverage import link_frequency_ghz
+    from csuas.core.scenario import load_scenario
+
+    dem = np.zeros((21, 81))
+    dem[:, 40] = 9.0
+    dem_path = tmp_path / "wall.tif"
+    _write_dem(dem_path, dem)
+    site = tmp_path / "site.toml"
+    site.write_text(
+        f'dem = "{dem_path.name}"\naltitudes_agl_m = [10.0]\n[sensors.rf]\nx = 400025.0\ny = 5009475.0\nmast_m = 10.0\n'
+    )
+    assert cli.main(["coverage", str(site), "--out", str(tmp_path / "w"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (layer,) = [item for item in out["layers"] if item["kind"] == "fresnel_clearance"]
+    assert layer["path"] == "rf_fresnel_clearance_10m.tif" and (tmp_path / "w" / layer["png"]).is_file()
+    wavelength = 299_792_458.0 / (link_frequency_ghz(load_scenario("default"), "rf") * 1e9)
+    k_r = 4.0 / 3.0 * 6_371_000.0
+    gap = 10.0 - 4000.0**2 / (4 * k_r) + 2000.0**2 / (2 * k_r) - 9.0
+    with (
+        rasterio.open(tmp_path / "w" / layer["path"]) as fresnel,
+        rasterio.open(tmp_path / "w" / "rf_visible_10m.tif") as visible,
+    ):
+        ratio, seen = fresnel.read(1), visible.read(1)
+        assert fresnel.nodata is None or np.isnan(fresnel.nodata)
+    assert ratio[10, 80] == pytest.approx(gap / math.sqrt(wavelength * 1000.0), rel=1e-6)
+    assert np.isnan(ratio[10, 0])  # the sensor's own cell: no terrain between
+    judged = (seen > 0) & np.isfinite(ratio)
+    assert layer["obstructed_fraction"] == pytest.approx((ratio[judged] < 0.6).mean(), abs=1e-12)
+    assert 0.0 < layer["obstructed_fraction"] < 1.0
+
+
+def test_the_lowest_detected_level_is_the_lowest_flight_level_reaching_the_pd():
+    """Levels given out of order (120, 30, 60 m): each cell's lowest level with Pd >= 0.5, NaN where none."""
+    from csuas.core.coverage import lowest_detected_level_m
+
+    pd = np.array([[[0.9, 0.9, 0.1, 0.5]], [[0.2, 0.7, 0.1, 0.49]], [[0.6, 0.5, 0.3, 0.0]]])
+    lowest = lowest_detected_level_m(pd, [120.0, 30.0, 60.0])
+    np.testing.assert_array_equal(lowest, [[60.0, 30.0, np.nan, 120.0]])
+
+
+def test_fused_visibility_behind_a_wall_is_the_nearer_sensors_sight_line():
+    """Flat ground, a 20 m wall across the grid at column 50 (10 m cells), the EO camera (5 m mast) at column
+    10 and the RF sensor (5 m mast) at column 30 of row 20: in front of the wall both see the ground (0);
+    behind it the lowest height either sees is the sight line over the crest, with the Earth's curvature
+    (each sensor's k), h(d) = (20 - c_w - 5) d / d_w + 5 + c(d), c(d) = d^2 / (2 k R) (d_w the wall's
+    distance), and the EO camera's, the farther from the wall, is the lower. Both see every cell at 30 m
+    in front of the wall; the fused Pd's lowest detected level is 30 m where either detects at 30 m."""
+    from csuas.core.coverage import (
+        K_FACTOR,
+        SitedSensor,
+        fresnel_layers,
+        fused_layers,
+        fused_visibility,
+        sensor_layers,
+    )
+    from csuas.core.scenario import load_scenario
+
+    dem = np.zeros((41, 121))
+    dem[:, 50] = 20.0
+    scenario = load_scenario("default")
+    sited = {"eo": SitedSensor("eo", 20.0, 10.0, 5.0), "rf": SitedSensor("rf", 20.0, 30.0, 5.0)}
+    per_sensor = {name: sensor_layers(dem, 10.0, scenario, placed, [30.0, 300.0]) for name, placed in sited.items()}
+    fused = fused_visibility(dem, 10.0, scenario, sited, per_sensor)
+
+    def sight_line(col, k):
+        drop = lambda d: d**2 / (2 * k * 6_371_000.0)
+        d, d_w = (np.arange(121) - col) * 10.0, (50 - col) * 10.0
+        return (20.0 - drop(d_w) - 5.0) * d / d_w + 5.0 + drop(d)
+
+    behind = np.arange(121) > 50
+    expected = np.minimum(sight_line(10, K_FACTOR["eo"]), sight_line(30, K_FACTOR["rf"]))
+    np.testing.assert_allclose(fused["min_visible_height_m"][20, behind], expected[behind], rtol=1e-9)
+    assert np.all(fused["min_visible_height_m"][20, 11:50] == 0.0)
+    assert np.all(fused["visible_count"][0][:, 11:50] == 2)
+    either = fused_layers(per_sensor)["pd"][0] >= 0.5
+    assert np.all(fused["min_detectable_height_m"][either] == 30.0)
+    # the RF link's Fresnel clearance on the sensor's row: below 0 exactly where the wall hides the drone
+    clearance = fresnel_layers(dem, 10.0, scenario, sited["rf"], per_sensor["rf"])["clearance"][0][20]
+    hidden = ~per_sensor["rf"]["visible"][0][20]
+    assert hidden[51:].any() and np.array_equal(clearance[32:] < 0, hidden[32:])
+
+
+def test_a_dem_in_longitude_and_latitude_is_reprojected_to_its_utm_zone(tmp_path, capsys):
+    """A synthetic SRTM-style DEM (EPSG:4326, 3 arc-second cells around 15.05 E, 45.05 N) is read in UTM zone
+    33N (zone floor((15.05 + 180) / 6) + 1 = 33), on square cells; a sensor given by lat/lon lands on the cell
+    its x/y (PROJ's transform to EPSG:32633) gives; a sensor with x and lat is refused, naming both."""
+    import rasterio
+    from pyproj import Transformer
+    from rasterio.transform import from_origin
+
+    n, step = 41, 1.0 / 1200.0
+    lon, lat = np.meshgrid(15.05 + (np.arange(n) - 20) * step, 45.05 - (np.arange(n) - 20) * step)
+    profile = {"driver": "GTiff", "height": n, "width": n, "count": 1, "dtype": "float32", "crs": "EPSG:4326"}
+    profile["transform"] = from_origin(15.05 - 20.5 * step, 45.05 + 20.5 * step, step, step)
+    with rasterio.open(tmp_path / "srtm.tif", "w", **profile) as dst:
+        dst.write((100.0 + 2000.0 * (lon - 15.0) + 1000.0 * (lat - 45.0)).astype(np.float32), 1)
+    x, y = Transformer.from_crs("EPSG:4326", "EPSG:32633", always_xy=True).transform(15.052, 45.049)
+    placed = {}
+    for pair, where in (("geographic", "lat = 45.049\nlon = 15.052\n"), ("projected", f"x = {x}\ny = {y}\n")):
+        site = tmp_path / f"{pair}.toml"
+        site.write_text(f'dem = "srtm.tif"\naltitudes_agl_m = [30.0]\n[sensors.eo]\n{where}mast_m = 5.0\n')
+        assert cli.main(["coverage", str(site), "--out", str(tmp_path / pair), "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)
+        placed[pair] = (out["sensors"]["eo"]["row"], out["sensors"]["eo"]["col"])
+        assert out["crs"] == "EPSG:32633"
+    assert placed["geographic"] == pytest.approx(placed["projected"], abs=1e-6)
+    with rasterio.open(tmp_path / "geographic" / "eo_visible_30m.tif") as layer:
+        assert layer.crs.to_epsg() == 32633 and abs(layer.transform.a) == pytest.approx(abs(layer.transform.e))
+    bad = tmp_path / "bad.toml"
+    bad.write_text('dem = "srtm.tif"\n[sensors.eo]\nx = 500000.0\nlat = 45.0\n')
+    assert cli.main(["coverage", str(bad), "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err
+    assert "sensors.eo" in err and "x and y, or lat and lon (given: x, lat)" in err

@@ -8,7 +8,15 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.terrain import RayLimits, curvature_drop_m, height_at, lowest_visible_height_m, viewshed
+from csuas.core.horizon import first_fresnel_radius_m
+from csuas.core.terrain import (
+    RayLimits,
+    curvature_drop_m,
+    fresnel_clearance,
+    height_at,
+    lowest_visible_height_m,
+    viewshed,
+)
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -157,3 +165,62 @@ def test_lowest_visible_height_agrees_with_the_viewshed_at_every_flight_level():
     assert np.all(np.isinf(limited[ground > 500.0]))
     inside = np.isfinite(limited)
     assert np.array_equal(limited[inside], lowest[inside])
+
+
+def test_first_fresnel_radius_is_the_closed_form():
+    """r1 = sqrt(lambda d1 d2 / (d1 + d2)): 2.4 GHz (0.125 m) at the middle of a 4 km link, sqrt(125) m."""
+    assert first_fresnel_radius_m(0.125, 2000.0, 2000.0) == pytest.approx(math.sqrt(125.0), rel=1e-15)
+    assert first_fresnel_radius_m(0.03, [100.0, 900.0], [900.0, 100.0]) == pytest.approx([math.sqrt(2.7)] * 2)
+    with pytest.raises(ParameterError, match="wavelength_m"):
+        first_fresnel_radius_m(0.0, 1.0, 1.0)
+
+
+def test_fresnel_clearance_over_flat_ground_is_the_sight_lines_height_over_r1():
+    """Flat ground with the Earth's curvature (k = 4/3): at a sample d1 of the path to a cell at L, the
+    sight line from the 10 m eye to the 30 m target stands 10 + (20 - L^2/2kR) d1 / L + d1^2/2kR above
+    the ground; the cell's clearance is the smallest ratio to r1 over the samples every half cell from
+    half a cell out to half a cell short of the cell, here in closed form for every cell of the grid."""
+    cell, lam, k, r_e = 25.0, 0.125, 4.0 / 3.0, 6_371_000.0
+    dem = np.zeros((31, 161))
+    sensor = (15.0, 0.0, 10.0)
+    ratio = fresnel_clearance(dem, cell, sensor, 30.0, lam, k)
+    rows, cols = np.indices(dem.shape)
+    reach = np.hypot(rows - 15.0, cols).ravel()
+    steps = np.arange(1, 2 * int(reach.max()) + 2) * 0.5  # [cells]
+    d1, length = steps[None, :] * cell, reach[:, None] * cell
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gap = 10.0 + (20.0 - length**2 / (2 * k * r_e)) * d1 / length + d1**2 / (2 * k * r_e)
+        expected = np.where(
+            steps[None, :] <= reach[:, None] - 0.5, gap / np.sqrt(lam * d1 * (length - d1) / length), np.inf
+        )
+    expected = expected.min(axis=1).reshape(dem.shape)
+    assert ratio[15, 0] == np.inf and np.isfinite(ratio[15, 1])  # a cell away: one sample, half a cell out
+    assert np.allclose(ratio, expected, rtol=1e-12, atol=0)
+    # the far cell, 4 km: the line stands about 20 m up at mid-path where r1 = 11.2 m, clear of 60 %
+    assert 0.6 < ratio[15, 160] < 3.0
+
+
+@pytest.mark.parametrize("crest_m", [9.5, 12.0])
+def test_fresnel_clearance_over_a_knife_edge_is_the_crests_ratio(crest_m):
+    """A one-cell wall across flat ground midway along a 4 km path at 2.4 GHz (no curvature: k = 1e12), eye
+    and target 10 m up: the path's smallest ratio is at the crest, (10 - H) / sqrt(lambda 2000 2000 / 4000)
+    (elsewhere the line stands >= 5 m above ground, ratio > 0.4); a crest above the line hides the target
+    and its ratio is below 0, as the viewshed finds."""
+    dem = np.zeros((21, 161))
+    dem[:, 80] = crest_m
+    sensor = (10.0, 0.0, 10.0)
+    ratio = fresnel_clearance(dem, 25.0, sensor, 10.0, 0.125, k_factor=1e12)
+    assert ratio[10, 160] == pytest.approx((10.0 - crest_m) / math.sqrt(125.0), rel=1e-12)
+    seen = viewshed(dem, 25.0, 10.0, 0.0, 10.0, 10.0, k_factor=1e12)
+    assert seen[10, 160] == (crest_m < 10.0)
+
+
+def test_fresnel_clearance_is_nodata_beyond_the_limits_and_names_bad_input():
+    from csuas.core.terrain import gaussian_hills
+
+    dem = gaussian_hills(60, 25.0)
+    ratio = fresnel_clearance(dem, 25.0, (30.0, 30.0, 10.0), 30.0, 0.125, limits=RayLimits(max_distance_m=400.0))
+    ground = np.hypot(*np.indices(dem.shape) - 30.0) * 25.0
+    assert np.isnan(ratio[ground > 400.0]).all() and not np.isnan(ratio[ground <= 400.0]).any()
+    with pytest.raises(ParameterError, match="wavelength_m"):
+        fresnel_clearance(dem, 25.0, (30.0, 30.0, 10.0), 30.0, -1.0)

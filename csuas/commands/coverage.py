@@ -33,11 +33,18 @@ from csuas.commands.coverage_files import (
     write_map_png,
 )
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
-from csuas.core.coverage import POINTING, SitedSensor, fused_layers, sensor_layers
+from csuas.core.coverage import (
+    POINTING,
+    SitedSensor,
+    fresnel_layers,
+    fused_layers,
+    fused_visibility,
+    sensor_layers,
+)
 from csuas.core.coverage_cost import coverage_estimate
 from csuas.core.scenario import load_scenario
 from csuas.defaults import site_path
-from csuas.render.site import DEMO, dem_path, load_dem, validated_site
+from csuas.render.site import DEMO, dem_path, load_dem, sensor_xy, validated_site
 
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
 LOCK_NAME = ".csuas-coverage.lock"
@@ -63,10 +70,19 @@ BAND_UNITS = {
 }
 #: Each sensor's layers at every flight level, and the fused layers' quantities (with fusion_k: and k of n).
 SENSOR_KINDS = ("visible", "detected", "pd")
-FUSED_QUANTITIES = ("count", "detected", "pd")
+FUSED_QUANTITIES = ("count", "detected", "pd", "visible_count")
+#: Fused layers over all flight levels: the lowest height any sensor sees, and the lowest level detected.
+FUSED_HEIGHTS = ("min_visible_height", "min_detectable_height")
 FUSED_K_QUANTITIES = ("k_of_n", "pd_k_of_n")
 #: Layers whose every finite value is shown and counted as covered (the others: values above 0).
-VALUE_KINDS = ("min_altitude", "path_gain", "path_gain_error")
+VALUE_KINDS = (
+    "min_altitude",
+    "path_gain",
+    "path_gain_error",
+    "fresnel_clearance",
+    "min_visible_height",
+    "min_detectable_height",
+)
 #: Colour-bar labels of the layers with a scale.
 UNITS = {
     "pd": "Pd",
@@ -75,7 +91,13 @@ UNITS = {
     "path_gain": "path gain [dB]",
     "path_gain_error": "bound [dB]",
     "count": "sensors",
+    "visible_count": "sensors",
+    "min_visible_height": "m above the terrain",
+    "min_detectable_height": "m above the terrain",
+    "fresnel_clearance": "clearance / r1",
 }
+#: Modalities whose links get a Fresnel clearance layer per flight level.
+FRESNEL_MODALITIES = ("rf", "radar")
 
 
 def add_arguments(parser):
@@ -99,14 +121,14 @@ def _dem_cells(dem: str | None, site_path) -> tuple[int, int]:
         raise ParameterError("dem", dem, f"a GeoTIFF file GDAL can read ({exc})") from None
 
 
-def _check_cost(site, site_path, radio, args) -> None:
+def _check_cost(site, site_path, radio, args, fresnel_links: int) -> None:
     """Estimate the run from the DEM's header, the sensors and the levels; refuse it above the limits."""
 
     maps = 0 if radio is None else len(radio["sensors"])
     samples = 0 if radio is None else int(radio["samples"])
     cells = _dem_cells(site.dem, site_path)
     estimate = coverage_estimate(
-        cells, len(site.sensors), len(site.altitudes_agl_m), site.fusion_k is not None, maps, samples
+        cells, len(site.sensors), len(site.altitudes_agl_m), site.fusion_k is not None, maps, samples, fresnel_links
     )
     check_limits(estimate, args, "coverage")
 
@@ -128,29 +150,36 @@ def run(args) -> dict:
     site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
     radio = radio_map_settings(site, scenario)
     checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
-    _check_cost(site, source if source.is_file() else None, radio, args)  # before the DEM is read
+    links = len(_fresnel_sensors(site.sensors, scenario))
+    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
     dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
     inverse = ~transform
     sited, outside = {}, []
     for name, table in site.sensors.items():
-        col, row = inverse @ (table.x, table.y)
+        col, row = inverse @ sensor_xy(table, crs)
         col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
         if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
-            outside.append(ParameterError(f"sensors.{name}", (table.x, table.y), "a position inside the DEM"))
+            given = (table.x, table.y) if table.x is not None else (table.lat, table.lon)
+            outside.append(ParameterError(f"sensors.{name}", given, "a position inside the DEM"))
         pointing = {key: float(getattr(table, key)) for key in POINTING}
         sited[name] = SitedSensor(name, row, col, float(table.mast_m), **pointing)
     raise_all(outside)
     altitudes = [float(a) for a in site.altitudes_agl_m]
     k = site.fusion_k
     out = prepare_output_dir(args.out)
-    for name in _layer_files(sited, altitudes, [] if radio is None else radio["sensors"], k):
+    radio_sensors = [] if radio is None else radio["sensors"]
+    for name in _layer_files(sited, altitudes, radio_sensors, k, _fresnel_sensors(sited, scenario)):
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work
     with exclusive_lock(out / LOCK_NAME, "--out"):
         layers, per_sensor = [], {}
         for name, placed in sited.items():
             print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
             per_sensor[name] = sensor_layers(dem, cell, scenario, placed, altitudes)
-        fused = fused_layers(per_sensor, k)
+        fresnel = {
+            name: fresnel_layers(dem, cell, scenario, sited[name], per_sensor[name])
+            for name in _fresnel_sensors(sited, scenario)
+        }
+        fused = {**fused_layers(per_sensor, k), **fused_visibility(dem, cell, scenario, sited, per_sensor)}
         radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
         hillshade = _hillshade(dem, cell)
         where = {
@@ -170,17 +199,18 @@ def run(args) -> dict:
                     layers.append(_layer(out, name, altitude, kind, grid, where))
             min_alt = grids["min_altitude_m"].astype(np.float32)
             layers.append(_layer(out, name, None, "min_altitude", min_alt, where))
+        for name, grids in fresnel.items():
+            for i, altitude in enumerate(altitudes):
+                layer = _layer(
+                    out, name, altitude, "fresnel_clearance", grids["clearance"][i].astype(np.float32), where
+                )
+                share = float(grids["obstructed"][i])
+                layers.append({**layer, "obstructed_fraction": None if math.isnan(share) else share})
         for name, grids in radio_maps.items():
             for i, altitude in enumerate(altitudes):
                 for kind, key in RADIO_KINDS:
                     layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
-        quantities = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
-        for i, altitude in enumerate(altitudes):
-            for quantity in quantities:
-                grid = fused[quantity][i].astype(np.float32)
-                layer = _layer(out, "fused", altitude, quantity, grid, where)
-                extra = {"k": k, "n": len(sited)} if quantity.endswith("k_of_n") else {}
-                layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
+        layers += _fused_files(out, fused, altitudes, (k, len(sited)), where)
         summary = {
             "site": str(args.site),
             "crs": crs,
@@ -208,6 +238,22 @@ def run(args) -> dict:
         return summary
 
 
+def _fused_files(out: Path, fused: dict, altitudes: list, k_of_n: tuple, where: dict) -> list[dict]:
+    """Write the fused layers (per flight level, then the lowest heights over all levels); describe them."""
+    k, n = k_of_n
+    layers = []
+    for i, altitude in enumerate(altitudes):
+        for quantity in FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES):
+            grid = fused[quantity][i].astype(np.float32)
+            layer = _layer(out, "fused", altitude, quantity, grid, where)
+            extra = {"k": k, "n": n} if quantity.endswith("k_of_n") else {}
+            layers.append({**layer, "kind": "fused", "quantity": quantity, **extra})
+    for quantity in FUSED_HEIGHTS:
+        layer = _layer(out, "fused", None, quantity, fused[f"{quantity}_m"].astype(np.float32), where)
+        layers.append({**layer, "kind": "fused", "quantity": quantity})
+    return layers
+
+
 def _hillshade(dem: np.ndarray, cell: float) -> np.ndarray:
     """Lambertian hillshade (sun from the north-west, 45 degrees up), 0..1."""
     gy, gx = np.gradient(dem, cell)
@@ -228,13 +274,20 @@ def _stem(sensor: str, altitude, kind: str) -> str:
     return f"{sensor}_{kind}" + ("" if altitude is None else f"_{altitude:g}m")
 
 
-def _layer_files(sensors, altitudes, radio_sensors, k) -> list[str]:
+def _fresnel_sensors(sited: dict, scenario) -> list[str]:
+    """The sited sensors whose links get a Fresnel clearance layer (RF and radar)."""
+    return [name for name in sited if scenario.sensors[name].modality in FRESNEL_MODALITIES]
+
+
+def _layer_files(sensors, altitudes, radio_sensors, k, fresnel_sensors=()) -> list[str]:
     """Every file name the layers of a site will have (checked before the work)."""
     layers = [(name, None, "min_altitude") for name in sensors]
+    layers += [(name, a, "fresnel_clearance") for name in fresnel_sensors for a in altitudes]
     layers += [(name, a, kind) for name in sensors for a in altitudes for kind in SENSOR_KINDS]
     layers += [(name, a, kind) for name in radio_sensors for a in altitudes for kind, _ in RADIO_KINDS]
     fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
     layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
+    layers += [("fused", None, quantity) for quantity in FUSED_HEIGHTS]
     names = ["coverage.json", *VECTOR_FILES]
     for sensor, altitude, kind in layers:
         suffixes = (".tif", ".png") + ((".geojson",) if kind in GEOJSON_KINDS else ())
@@ -273,7 +326,9 @@ def _legend(kind: str, every_value: bool, unit: str) -> dict:
     """How a layer's map shows it: a colour scale with its unit, Pd from PD_SHOWN up, or a yes/no patch."""
     if kind.startswith("pd"):
         return {"scale": f"Pd (cells at {PD_SHOWN:g} or more)", "low": PD_SHOWN, "high": 1.0}
-    if every_value or kind == "count":
+    if kind == "fresnel_clearance":
+        return {"scale": "clearance / r1 (0.6 and up: free space)", "low": 0.0, "high": 1.0}
+    if every_value or kind.endswith("count"):
         return {"scale": unit, "low": None, "high": None}
     return {"patch": BAND_UNITS.get(kind, "1 = yes").split("= ", 1)[-1]}
 

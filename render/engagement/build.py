@@ -21,7 +21,7 @@ from csuas.defaults import engagement_path, load_birds, load_clutter, scenario_p
 from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LOOK_DEFAULTS, LookSettings, SensorModel, Terrain
 from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement
 from csuas.render.engagement.spec import EngageSpec, parse_spec
-from csuas.render.site import load_dem, validated_site
+from csuas.render.site import load_dem, sensor_xy, validated_site
 
 
 def _scenario(spec, site: dict, base: Path | None):
@@ -76,7 +76,7 @@ def build(spec, spec_dir: Path | None):
     ]
     raise_all(errors)
     site_file = Path(site_source)
-    dem, transform, _, cell = load_dem(checked.dem, site_file if site_file.is_file() else None)
+    dem, transform, crs, cell = load_dem(checked.dem, site_file if site_file.is_file() else None)
     terrain = Terrain(dem, cell, float(transform.c), float(transform.f))
     waypoints = np.array(spec.drone.waypoints, float)
     rows, cols = terrain.rowcol(waypoints[:, 0], waypoints[:, 1])
@@ -91,7 +91,7 @@ def build(spec, spec_dir: Path | None):
     sensors = {}
     for name in chosen:
         table = checked.sensors[name]
-        row, col = terrain.rowcol(float(table.x), float(table.y))
+        row, col = terrain.rowcol(*sensor_xy(table, crs))
         pointing = {key: float(getattr(table, key)) for key in POINTING}
         sited = SitedSensor(name, float(row), float(col), float(table.mast_m), **pointing)
         modality = scenario.sensors[name].modality

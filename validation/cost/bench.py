@@ -120,7 +120,7 @@ def bench_coverage(folder: Path) -> list[dict]:
             f"[sensors.{name}]\nx = {x}\ny = {y}\n" for name, (x, y) in sensors.items()
         )
         site = _toml(folder / f"site{cells}.toml", text)
-        estimate = coverage_estimate((cells, cells), len(sensors), 2, False)
+        estimate = coverage_estimate((cells, cells), len(sensors), 2, False, fresnel_links=2)  # rf and radar
         argv = ["coverage", site, "--out", str(folder / f"coverage{cells}")]
         rows.append(_row("coverage", f"{cells}^2 cells", estimate, argv, folder))
     return rows
