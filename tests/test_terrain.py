@@ -8,7 +8,15 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.terrain import RayLimits, curvature_drop_m, height_at, lowest_visible_height_m, viewshed
+from csuas.core.terrain import (
+    RayLimits,
+    curvature_drop_m,
+    diffraction_path_difference_m,
+    height_at,
+    line_of_sight,
+    lowest_visible_height_m,
+    viewshed,
+)
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -157,3 +165,23 @@ def test_lowest_visible_height_agrees_with_the_viewshed_at_every_flight_level():
     assert np.all(np.isinf(limited[ground > 500.0]))
     inside = np.isfinite(limited)
     assert np.array_equal(limited[inside], lowest[inside])
+
+
+def _knife_edge_dem():
+    """Flat ground at 0 m with a 20 m ridge along column 50 (cells of 10 m): a knife edge 500 m from column 0."""
+    dem = np.zeros((5, 101))
+    dem[:, 50] = 20.0
+    return dem
+
+
+def test_diffraction_path_difference_over_a_knife_edge_is_exact_geometry():
+    """Eye 1.5 m at x = 0, target 30 m at 1000 m, edge 20 m at 500 m: z = d_ss + d_sr - d (ISO 9613-2 Eq. 16)."""
+    dem, k = _knife_edge_dem(), 1e9  # k -> infinity: no curvature drop (sub-nanometre at 1 km)
+    targets = np.array([[2.0, 100.0, 30.0], [2.0, 100.0, 60.0]])
+    z, d_ss, d_sr = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), targets, k)
+    near, far = math.hypot(500.0, 20.0 - 1.5), math.hypot(500.0, 30.0 - 20.0)
+    assert z[0] == pytest.approx(near + far - math.hypot(1000.0, 28.5), abs=1e-9)  # 0.2383 m
+    assert d_sr[0] == pytest.approx(near, abs=1e-9) and d_ss[0] == pytest.approx(far, abs=1e-9)
+    # the 60 m target clears the edge (the line passes 30.75 m over it): no path difference
+    assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0
+    assert line_of_sight(dem, 10.0, (2.0, 0.0, 1.5), targets, k).tolist() == [False, True]
