@@ -180,7 +180,7 @@ def test_diffraction_path_difference_over_a_knife_edge_is_exact_geometry():
     targets = np.array([[2.0, 100.0, 30.0], [2.0, 100.0, 60.0]])
     z, d_ss, d_sr = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), targets, k)
     near, far = math.hypot(500.0, 20.0 - 1.5), math.hypot(500.0, 30.0 - 20.0)
-    assert z[0] == pytest.approx(near + far - math.hypot(1000.0, 28.5), abs=1e-9)  # 0.2383 m
+    assert z[0] == pytest.approx(near + far - math.hypot(1000.0, 28.5), abs=1e-9)  # 0.03608 m
     assert d_sr[0] == pytest.approx(near, abs=1e-9) and d_ss[0] == pytest.approx(far, abs=1e-9)
     # the 60 m target clears the edge (the line passes 30.75 m over it): no path difference
     assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0
