@@ -434,6 +434,7 @@ COVERED_ELSEWHERE = {
     "acoustic.iso9613_absorption_db_km": "tests/test_core_acoustic_spectrum.py (ISO 9613-2 Table 2, sound-propagation)",
     "acoustic.iso9613_ground_db": "tests/test_core_acoustic_spectrum.py (sound-propagation)",
     "acoustic.iso9613_cmet_db": "tests/test_core_acoustic_spectrum.py (ISO 9613-2 Eqs. 21-22)",
+    "atmosphere.fog_path_fraction": "tests/test_core_atmosphere.py (closed form vs the path's exact geometry)",
     "acoustic.iso9613_barrier_db": "tests/test_core_acoustic.py (ISO 9613-2 Eq. 14 by hand, the 20 dB cap)",
     "acoustic.iso9613_barrier_met_factor": "tests/test_core_acoustic.py (ISO 9613-2 Eq. 18 by hand)",
     "terrain.diffraction_path_difference_m": "tests/test_terrain.py (knife edge, exact geometry)",
