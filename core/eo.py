@@ -73,6 +73,21 @@ EO_REGISTRY = {
 }
 
 
+#: Appended to the extinction term's source when a fog layer averages it along the path.
+LAYERED = ", path average over the fog layer"
+
+
+def _layered_extinction(sigma_fog, wavelength_nm, fog_layer, convention):
+    """Extinction [1/km] averaged along a slant path that crosses a fog layer, and its term (:func:`eo_range`)."""
+    if fog_layer is None:
+        return sigma_fog, []
+    if convention == "paper":
+        raise ParameterError("fog_layer", fog_layer, "None in the paper convention (its fog fills the path)")
+    fraction = require("fog_path_fraction", fog_layer[0], ge=0, le=1)
+    clear = extinction_per_km(wavelength_nm, fog_layer[1], convention)
+    return fraction * sigma_fog + (1.0 - fraction) * clear, [Term("fog_path_fraction", fraction, "-", FOG_LAYER_SOURCE)]
+
+
 def eo_range(
     *,
     d_crit_m,
@@ -133,14 +148,7 @@ def eo_range(
     rain = require("rain_extinction_per_km", rain_extinction_per_km, ge=0)
     if np.any(rain > 0) and convention == "paper":
         raise ParameterError("rain_extinction_per_km", float(np.max(rain)), "0 in the paper convention (no rain term)")
-    layer_terms = []
-    if fog_layer is not None:
-        if convention == "paper":
-            raise ParameterError("fog_layer", fog_layer, "None in the paper convention (its fog fills the path)")
-        fraction = require("fog_path_fraction", fog_layer[0], ge=0, le=1)
-        clear = extinction_per_km(wavelength_nm, fog_layer[1], convention)
-        sigma = fraction * sigma + (1.0 - fraction) * clear
-        layer_terms = [Term("fog_path_fraction", fraction, "-", FOG_LAYER_SOURCE)]
+    sigma, layer_terms = _layered_extinction(sigma, wavelength_nm, fog_layer, convention)
     sigma_aerosol, sigma = sigma, sigma + rain
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
@@ -153,12 +161,7 @@ def eo_range(
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),
         Term("johnson_range_m", r_johnson, "m", "Eq. 18"),
-        Term(
-            "kruse_extinction",
-            sigma_aerosol,
-            unit,
-            EXTINCTION_SOURCE[convention] + (", path average over the fog layer" if layer_terms else ""),
-        ),
+        Term("kruse_extinction", sigma_aerosol, unit, EXTINCTION_SOURCE[convention] + (LAYERED if layer_terms else "")),
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
     if np.any(rain > 0):
