@@ -437,6 +437,8 @@ COVERED_ELSEWHERE = {
     "atmosphere.fog_path_fraction": "tests/test_core_atmosphere.py (closed form vs the path's exact geometry)",
     "acoustic.iso9613_barrier_db": "tests/test_core_acoustic.py (ISO 9613-2 Eq. 14 by hand, the 20 dB cap)",
     "acoustic.iso9613_barrier_met_factor": "tests/test_core_acoustic.py (ISO 9613-2 Eq. 18 by hand)",
+    "barrier.barrier_frequency_hz": "tests/test_terrain.py (physical acoustic only)",
+    "barrier.terrain_barrier_db": "tests/test_terrain.py (ISO 9613-2 Eqs. 14, 18 over a knife edge by hand)",
     "terrain.diffraction_path_difference_m": "tests/test_terrain.py (knife edge, exact geometry)",
     "pd_curves.acoustic_pd_with_loss": "tests/test_pd_curves.py (R^-2 law: a loss L is the range times 10^(L/20))",
     "acoustic.octave_band_index": "tests/test_core_direct.py",

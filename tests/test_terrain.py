@@ -8,6 +8,9 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
+from csuas.core.modality import BY_NAME
+from csuas.core.scenario import parse_scenario
 from csuas.core.terrain import (
     RayLimits,
     curvature_drop_m,
@@ -185,3 +188,27 @@ def test_diffraction_path_difference_over_a_knife_edge_is_exact_geometry():
     # the 60 m target clears the edge (the line passes 30.75 m over it): no path difference
     assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0
     assert line_of_sight(dem, 10.0, (2.0, 0.0, 1.5), targets, k).tolist() == [False, True]
+
+
+def test_terrain_barrier_of_an_acoustic_sensor_is_iso9613_over_the_knife_edge():
+    """Physical acoustic sensor behind the 20 m edge: A_bar = 10 lg(3 + 20 f z K_met / 340) by hand (Eqs. 14, 18)."""
+    scenario = parse_scenario(
+        {"convention": "physical", "sensors": {"a": {"modality": "acoustic", "detector": "broadband"}}}
+    )
+    f = scenario.sensors["a"].params["frequency_hz"]
+    targets = np.array([[2.0, 100.0, 30.0]])
+    k = BY_NAME["acoustic"].line_of_sight.k
+    drop = lambda d: d**2 / (2 * k * 6_371_000.0)  # curvature drop d^2 / (2 k R_E)
+    near = math.hypot(500.0, 20.0 - drop(500.0) - 1.5)
+    far = math.hypot(500.0, 30.0 - drop(1000.0) - (20.0 - drop(500.0)))
+    z = near + far - math.hypot(1000.0, 30.0 - drop(1000.0) - 1.5)
+    slant = math.hypot(1000.0, 28.5)
+    k_met = math.exp(-math.sqrt(near * far * slant / (2 * z)) / 2000.0)
+    expected = min(10 * math.log10(3 + 20 * f / 340.0 * z * k_met), 20.0)
+    a_bar = terrain_barrier_db(scenario, "a", _knife_edge_dem(), 10.0, (2.0, 0.0, 1.5), targets, [slant])
+    assert a_bar[0] == pytest.approx(expected, abs=1e-9)
+    assert barrier_frequency_hz(scenario, "a") == f
+    paper = parse_scenario({"sensors": {"a": {"modality": "acoustic"}}})
+    assert barrier_frequency_hz(paper, "a") is None
+    with pytest.raises(ParameterError, match="sensors.a"):
+        terrain_barrier_db(paper, "a", _knife_edge_dem(), 10.0, (2.0, 0.0, 1.5), targets, [slant])

@@ -13,11 +13,12 @@ projected area scaled by the bird's d_crit^2 over the drone's (the same seam, th
 RF and acoustic sensors see no bird (a bird emits no radio signal, and its wingbeat is quiet in the
 drone's rotor bands: Pd 0). Where the terrain hides the drone the Pd is 0, except for an acoustic
 array of the physical convention, which hears it over the terrain's top edge less the ISO 9613-2
-barrier attenuation (:meth:`SensorModel._barrier_db`). A detection reports the ground bearing and ground range from the
-sensor with Gaussian noise: a radar and a lidar their measured range; a camera its bearing and a range
-from the target's apparent size, with a relative error (passive ranging); an RF direction finder and an
-acoustic array their bearing and a coarse range from the received level (the level's spread of a few dB
-inverted through spherical spreading, a relative error of 50 %).
+barrier attenuation (:func:`csuas.core.barrier.terrain_barrier_db`). A detection reports the ground
+bearing and ground range from the sensor with Gaussian noise: a radar and a lidar their measured
+range; a camera its bearing and a range from the target's apparent size, with a relative error
+(passive ranging); an RF direction finder and an acoustic array their bearing and a coarse range
+from the received level (the level's spread of a few dB inverted through spherical spreading, a
+relative error of 50 %).
 
 False alarms per look are binomial with the sensor's cells and Pfa (:mod:`csuas.core.false_alarms`;
 the cells by modality in :meth:`SensorModel.cells_per_look`), placed uniformly over the ground area of
@@ -38,16 +39,14 @@ import numpy as np
 from csuas.base.errors import ParameterError
 from csuas.core import birds as bird_model
 from csuas.core import clutter, false_alarms, radar, radar_detection
-from csuas.core.acoustic import iso9613_barrier_db, iso9613_barrier_met_factor, iso9613_ground_db
 from csuas.core.acoustic_spectrum import BAND_NUMBERS
+from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
 from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_reach_m
 from csuas.core.pd_curves import acoustic_pd_with_loss, margin_db, sensor_pd
-from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import (
     RayLimits,
     bearing_deg,
-    diffraction_path_difference_m,
     height_at,
     line_of_sight,
     off_boresight_deg,
@@ -201,7 +200,7 @@ class SensorModel:
         self.cells = self._cells()
         self.false_alarms_per_look = float(false_alarms.false_alarms_per_look(self.pfa, self.cells))
         self.clutter_xy, self.clutter_rate = np.empty((0, 2)), np.empty(0)
-        self.barrier_hz = self._barrier_frequency_hz()
+        self.barrier_hz = barrier_frequency_hz(scenario, sited.name)
         if self.modality == "radar" and settings.clutter and clutter_gamma_db is not None:
             self.clutter_xy, self.clutter_rate = self._clutter_map(float(clutter_gamma_db))
 
@@ -346,53 +345,23 @@ class SensorModel:
             barrier = np.zeros(x.shape)
             hidden = regard & ~visible
             if hidden.any():
-                barrier[hidden] = self._barrier_db(x[hidden], y[hidden], z[hidden], slant[hidden])
+                rows, cols = self.terrain.rowcol(x[hidden], y[hidden])
+                barrier[hidden] = terrain_barrier_db(
+                    self.scenario,
+                    self.name,
+                    self.terrain.dem_m,
+                    self.terrain.cell_m,
+                    (s.row, s.col, self.eye_z),
+                    np.stack([rows, cols, z[hidden]], axis=1),
+                    slant[hidden],
+                )
         return Geometry(ground, slant, np.arctan2(dy, dx), regard, visible, barrier)
-
-    # --- acoustic diffraction over the terrain ------------------------------------------------
-    def _barrier_frequency_hz(self) -> float | None:
-        """Frequency of an acoustic sensor's barrier attenuation [Hz]; None where no barrier is simulated.
-
-        The physical convention only (docs/conventions.md, Point 7): the band detector's band of highest SNR
-        in free field (its ``detector_band_hz`` term), the broadband detector's ``frequency_hz``.
-        """
-        if self.modality != "acoustic" or self.scenario.convention != "physical":
-            return None
-        if self.spec.params["detector"] == "bands":
-            return float(np.asarray(evaluate(self.scenario)[self.name].term("detector_band_hz").value))
-        return float(self.spec.params["frequency_hz"])
-
-    def _barrier_db(self, x, y, z, slant) -> np.ndarray:
-        """ISO 9613-2 A_bar = D_z - A_gr [dB] of points the terrain hides from the array (one top edge).
-
-        z from the terrain profile (:func:`csuas.core.terrain.diffraction_path_difference_m`), K_met from
-        its edge distances (Eq. 18); A_gr the ground attenuation the free-field model holds at that range
-        (its band detector with the sensor's ``height_m``, Point 7), else 0.
-        """
-        rows, cols = self.terrain.rowcol(x, y)
-        s = self.sited
-        path, d_ss, d_sr = diffraction_path_difference_m(
-            self.terrain.dem_m,
-            self.terrain.cell_m,
-            (s.row, s.col, self.eye_z),
-            np.stack([rows, cols, z], axis=1),
-            self.k_factor,
-        )
-        k_met = iso9613_barrier_met_factor(path, d_ss, d_sr, slant)
-        a_gr = 0.0
-        p = self.spec.params
-        if p["detector"] == "bands" and p.get("height_m") is not None:
-            altitude, g = self.scenario.target["altitude_m"], self.scenario.environment["ground_factor"]
-            dp = np.sqrt(np.maximum(slant**2 - altitude**2, 1e-4))
-            hr = p["height_m"]
-            a_gr = iso9613_ground_db(self.barrier_hz, dp, max(hr + altitude, 0.0), hr, g, g, g)
-        return iso9613_barrier_db(self.barrier_hz, path, k_met, a_gr)
 
     def drone_pd(self, geometry: Geometry) -> np.ndarray:
         """The drone's Pd at each point: the sensor's Pd at the slant range where seen, else 0.
 
         An acoustic array of the physical convention hears a drone the terrain hides, through the barrier
-        attenuation of the terrain's top edge (ISO 9613-2, Section 7.4; :meth:`_barrier_db`).
+        attenuation of the terrain's top edge (ISO 9613-2, Section 7.4; :mod:`csuas.core.barrier`).
         """
         gate = geometry.in_regard & geometry.visible
         pd = np.zeros(geometry.slant_m.shape)
