@@ -202,7 +202,7 @@ def test_sensitivity_of_a_scenario_with_several_sensors_needs_the_sensor_named(c
 
 def test_fog_top_is_a_term_with_its_source_in_physical_and_ignored_in_paper(capsys, tmp_path):
     text = (
-        '[target]\naltitude_m = 100.0\n[environment]\nfog_visibility_m = 200.0\nfog_top_m = 50.0\n'
+        "[target]\naltitude_m = 100.0\n[environment]\nfog_visibility_m = 200.0\nfog_top_m = 50.0\n"
         '[sensors.e]\nmodality = "eo"\nheight_m = 2.0\n'
     )
     physical = _range(capsys, tmp_path, 'convention = "physical"\n' + text)
