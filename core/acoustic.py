@@ -6,7 +6,8 @@ least 1 m/s, the wind noise received from a source at ``wind_distance_m``,
 RL_wind = N_wind(v) - 20 log10(r) (Eq. 46, Table 31).
 
 The physical convention adds atmospheric sound absorption (ISO 9613-1),
-solved exactly with :func:`csuas.core.solve.solve_log_linear`.
+solved exactly with :func:`csuas.core.solve.solve_log_linear`, and, behind terrain, the barrier
+attenuation of one diffracting edge (ISO 9613-2:1996, Section 7.4, Eqs. 12-18).
 """
 
 from __future__ import annotations
@@ -247,6 +248,69 @@ def iso9613_cmet_db(distance_m, source_height_m, receiver_height_m, c0_db):
     )
     c0 = require("c0_db", c0_db, ge=0)
     return np.where(dp <= reach, 0.0, c0 * (1.0 - reach / np.maximum(dp, reach)))
+
+
+#: ISO 9613-2 Eq. 14 constants of single diffraction: C2 (ground reflections included) and C3.
+BARRIER_C2, BARRIER_C3_SINGLE = 20.0, 1.0
+#: Upper bound of D_z for single diffraction [dB] (ISO 9613-2, Section 7.4).
+BARRIER_CAP_SINGLE_DB = 20.0
+#: Speed of sound of the barrier's wavelength lambda = c / f [m/s] (air at 15 C, ISO 9613-2 uses the nominal value).
+SPEED_OF_SOUND_M_S = 340.0
+
+
+def iso9613_barrier_met_factor(path_difference_m, source_edge_m, edge_receiver_m, distance_m):
+    """Meteorological correction factor K_met of top-edge diffraction (ISO 9613-2:1996, Eq. 18).
+
+    K_met = exp(-(1/2000) sqrt(d_ss d_sr d / (2 z))) for z > 0, and 1 for z <= 0.
+
+    Parameters
+    ----------
+    path_difference_m : array_like
+        Path-length difference z [m] (Eq. 16).
+    source_edge_m, edge_receiver_m, distance_m : array_like
+        Source to edge d_ss, edge to receiver d_sr and source to receiver d distances [m].
+    """
+    z = require("path_difference_m", path_difference_m)
+    product = (
+        require("source_edge_m", source_edge_m, ge=0)
+        * require("edge_receiver_m", edge_receiver_m, ge=0)
+        * require("distance_m", distance_m, ge=0)
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = np.exp(-np.sqrt(product / (2.0 * z)) / 2000.0)
+    return np.where(z > 0, factor, 1.0)
+
+
+def iso9613_barrier_db(frequency_hz, path_difference_m, met_factor=1.0, ground_db=0.0):
+    """Barrier attenuation A_bar = D_z - A_gr of single top-edge diffraction [dB] (ISO 9613-2:1996, Eqs. 12, 14).
+
+    D_z = 10 lg(3 + (C2 / lambda) C3 z K_met), C2 = 20, C3 = 1 (one diffracting edge), lambda = c / f with
+    c = 340 m/s, capped at 20 dB (Section 7.4); A_bar = D_z - A_gr, not below 0 (Eq. 12: the barrier
+    replaces the ground effect of the blocked path).
+
+    Parameters
+    ----------
+    frequency_hz : array_like
+        Frequency [Hz] (the band's mid-band frequency).
+    path_difference_m : array_like
+        Path-length difference z [m] between the diffracted and the direct path (Eq. 16), >= 0
+        (:func:`csuas.core.terrain.diffraction_path_difference_m` from a terrain profile).
+    met_factor : array_like
+        K_met (Eq. 18, :func:`iso9613_barrier_met_factor`); 1 for short paths.
+    ground_db : array_like
+        A_gr of the unblocked path [dB] (:func:`iso9613_ground_db`); 0 where the model has no ground term.
+
+    Returns
+    -------
+    ndarray
+        A_bar [dB].
+    """
+    f = require("frequency_hz", frequency_hz, gt=0)
+    z = require("path_difference_m", path_difference_m, ge=0)
+    k_met = require("met_factor", met_factor, gt=0, le=1)
+    wavelength = SPEED_OF_SOUND_M_S / f
+    d_z = 10.0 * np.log10(3.0 + BARRIER_C2 / wavelength * BARRIER_C3_SINGLE * z * k_met)
+    return np.maximum(np.minimum(d_z, BARRIER_CAP_SINGLE_DB) - require("ground_db", ground_db), 0.0)
 
 
 def acoustic_range(

@@ -213,3 +213,36 @@ def rain_extinction_per_km(rain_rate_mm_h):
         slope = MARSHALL_PALMER_SLOPE * np.where(r > 0, r, 1.0) ** MARSHALL_PALMER_EXPONENT  # [1/mm]
     per_m = RAIN_EXTINCTION_EFFICIENCY * np.pi * MARSHALL_PALMER_N0 / (2.0 * slope**3) * 1e-6  # mm^2 -> m^2
     return np.where(r > 0, per_m * 1000.0, 0.0)
+
+
+#: The source of :func:`fog_path_fraction`, for the terms of range.
+FOG_LAYER_SOURCE = "layered fog: L_fog / R = (h_top - h_low) / (h_high - h_low), clipped to [0, 1] (straight path)"
+
+
+def fog_path_fraction(sensor_height_m, target_height_m, fog_top_m):
+    """Fraction of a straight slant path that lies inside a fog layer from the ground to ``fog_top_m``.
+
+    A straight path rises linearly, so the length below h_top is L_fog = R (h_top - h_low) / (h_high - h_low),
+    clipped to [0, R]; a level path (h_low = h_high) is all in fog below the top and all clear above it.
+    The fog's share of the transmittance is then exp(-beta L_fog) (Beer-Lambert over the fog's length).
+
+    Parameters
+    ----------
+    sensor_height_m, target_height_m : array_like
+        Heights of the path's ends above the ground [m].
+    fog_top_m : array_like
+        Height of the fog's top above the same ground [m], >= 0.
+
+    Returns
+    -------
+    ndarray
+        L_fog / R in [0, 1]: 1 fully inside, 0 fully above, between when the path crosses the top.
+    """
+    h_s = require("sensor_height_m", sensor_height_m)
+    h_t = require("target_height_m", target_height_m)
+    top = require("fog_top_m", fog_top_m, ge=0)
+    low, high = np.minimum(h_s, h_t), np.maximum(h_s, h_t)
+    rise = high - low
+    with np.errstate(divide="ignore", invalid="ignore"):
+        crossing = np.clip((top - low) / np.where(rise > 0, rise, 1.0), 0.0, 1.0)
+    return np.where(rise > 0, crossing, (low < top).astype(float))

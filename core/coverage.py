@@ -13,6 +13,9 @@ For a sensor on a mast at a DEM cell and a drone at ``altitude`` above the terra
   (:mod:`csuas.core.ranges`) at the slant distance from its eye to the drone;
 * *Pd*: the sensor's probability of detection at that slant distance (:mod:`csuas.core.pd_curves`),
   0 where hidden or outside the field of regard;
+* except for an acoustic sensor of the physical convention, which hears a drone the terrain hides over
+  the terrain's top edge (:mod:`csuas.core.barrier`, ISO 9613-2): hidden cells it reaches are detected
+  where the budget margin covers the barrier attenuation, with the Pd at that margin (still not visible);
 * per sensor, the *minimum detectable altitude* of each cell (the lowest flight level detected);
 * fused: the number of sensors detecting each cell, their OR, the OR of their Pd and, given k, the
   cells detected by at least k sensors and the probability that at least k of the n independent
@@ -30,10 +33,11 @@ import numpy as np
 
 from csuas.base.errors import ParameterError
 from csuas.core import units
+from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
 from csuas.core.checks import require_all
 from csuas.core.fusion import fuse_k_of_n, fuse_or
 from csuas.core.modality import RECORDS
-from csuas.core.pd_curves import sensor_pd
+from csuas.core.pd_curves import acoustic_pd_with_loss, margin_db, sensor_pd
 from csuas.core.radar import radar_frequency_ghz
 from csuas.core.ranges import evaluate, rf_frequency_ghz
 from csuas.core.rf import free_space_path_loss_db
@@ -200,6 +204,8 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
     aimed = (np.abs(off_boresight_deg(bearing_deg(d_row, d_col), sited.azimuth_deg)) <= sited.sector_deg / 2) | (
         ground == 0.0
     )
+    traced = (ground <= reach) & aimed
+    barrier = barrier_frequency_hz(scenario, sited.name) is not None
     visible, detected, pd, regards = [], [], [], []
     for altitude in altitudes_m:
         seen = viewshed(
@@ -224,8 +230,11 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         gate = seen & regard
         prob = np.zeros(dem_m.shape)
         prob[gate] = sensor_pd(scenario, sited.name, slant[gate]).pd
+        heard = gate & (slant <= detection)
+        if barrier:
+            _hear_behind_terrain(scenario, sited, (dem_m, cell_m, eye), altitude, regard & ~seen & traced, prob, heard)
         visible.append(seen)
-        detected.append(gate & (slant <= detection))
+        detected.append(heard)
         pd.append(prob)
         regards.append(regard)
     detected_arr = np.array(detected)
@@ -240,7 +249,7 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         "range_m": detection,
         "reach_m": reach,
         "altitudes_m": np.asarray(altitudes_m, float),
-        "traced": (ground <= reach) & aimed,
+        "traced": traced,
         "aimed": aimed,
         "regard": np.array(regards),
     }
@@ -279,6 +288,21 @@ def fresnel_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: 
         obstructed.append(float((ratio[judged] < FRESNEL_CLEAR).mean()) if judged.any() else float("nan"))
         clearance.append(ratio)
     return {"clearance": np.array(clearance), "obstructed": np.array(obstructed)}
+
+
+def _hear_behind_terrain(scenario: Scenario, sited: SitedSensor, site: tuple, altitude: float, hidden, prob, heard):
+    """Pd and detection, in place, of the ``hidden`` cells an acoustic sensor hears over the terrain (ISO 9613-2)."""
+    if not hidden.any():
+        return
+    dem_m, cell_m, eye = site
+    rows, cols = np.nonzero(hidden)
+    z = dem_m[rows, cols] + altitude
+    slant = np.hypot(np.hypot(rows - sited.row, cols - sited.col) * cell_m, z - eye)
+    targets = np.stack([rows.astype(float), cols.astype(float), z], axis=1)
+    a_bar = terrain_barrier_db(scenario, sited.name, dem_m, cell_m, (sited.row, sited.col, eye), targets, slant)
+    prob[rows, cols] = acoustic_pd_with_loss(scenario, sited.name, slant, a_bar)
+    spec = scenario.sensors[sited.name]
+    heard[rows, cols] = margin_db(scenario, spec, scenario.convention, slant) >= a_bar
 
 
 def link_frequency_ghz(scenario: Scenario, sensor_name: str) -> float:

@@ -14,7 +14,13 @@ from __future__ import annotations
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, extinction_per_km, range_for_transmittance, transmittance
+from csuas.core.atmosphere import (
+    FOG_LAYER_SOURCE,
+    RAIN_EXTINCTION_SOURCE,
+    extinction_per_km,
+    range_for_transmittance,
+    transmittance,
+)
 from csuas.core.camera import light_limited_range_m
 from csuas.core.checks import require, require_registry_bounds
 from csuas.core.johnson import ifov_rad, johnson_range_m
@@ -67,6 +73,21 @@ EO_REGISTRY = {
 }
 
 
+#: Appended to the extinction term's source when a fog layer averages it along the path.
+LAYERED = ", path average over the fog layer"
+
+
+def _layered_extinction(sigma_fog, wavelength_nm, fog_layer, convention):
+    """Extinction [1/km] averaged along a slant path that crosses a fog layer, and its term (:func:`eo_range`)."""
+    if fog_layer is None:
+        return sigma_fog, []
+    if convention == "paper":
+        raise ParameterError("fog_layer", fog_layer, "None in the paper convention (its fog fills the path)")
+    fraction = require("fog_path_fraction", fog_layer[0], ge=0, le=1)
+    clear = extinction_per_km(wavelength_nm, fog_layer[1], convention)
+    return fraction * sigma_fog + (1.0 - fraction) * clear, [Term("fog_path_fraction", fraction, "-", FOG_LAYER_SOURCE)]
+
+
 def eo_range(
     *,
     d_crit_m,
@@ -81,6 +102,7 @@ def eo_range(
     convention="paper",
     camera=None,
     rain_extinction_per_km=0.0,
+    fog_layer=None,
 ) -> RangeResult:
     """EO detection range: min(Johnson/TTPF, contrast limit) (Eqs. 15-21).
 
@@ -107,6 +129,10 @@ def eo_range(
     rain_extinction_per_km : array_like
         Physical convention only: extinction of rain [1/km]
         (:func:`csuas.core.atmosphere.rain_extinction_per_km`), added to Kruse's; 0 adds no term.
+    fog_layer : tuple of (array_like, array_like), optional
+        Physical convention only: (L_fog / R, clear visibility [km]) of a fog layer the slant path crosses
+        (:func:`csuas.core.atmosphere.fog_path_fraction`); the extinction is then the path average
+        f beta(V_fog) + (1 - f) beta(V_clear). None: the fog (``visibility_km``) fills the path.
 
     Returns
     -------
@@ -122,6 +148,7 @@ def eo_range(
     rain = require("rain_extinction_per_km", rain_extinction_per_km, ge=0)
     if np.any(rain > 0) and convention == "paper":
         raise ParameterError("rain_extinction_per_km", float(np.max(rain)), "0 in the paper convention (no rain term)")
+    sigma, layer_terms = _layered_extinction(sigma, wavelength_nm, fog_layer, convention)
     sigma_aerosol, sigma = sigma, sigma + rain
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
@@ -134,11 +161,12 @@ def eo_range(
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),
         Term("johnson_range_m", r_johnson, "m", "Eq. 18"),
-        Term("kruse_extinction", sigma_aerosol, unit, EXTINCTION_SOURCE[convention]),
+        Term("kruse_extinction", sigma_aerosol, unit, EXTINCTION_SOURCE[convention] + (LAYERED if layer_terms else "")),
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
     if np.any(rain > 0):
         terms.insert(3, Term("rain_extinction_per_km", rain, "1/km", RAIN_EXTINCTION_SOURCE))
+    terms[3:3] = layer_terms
     model = "johnson_ttpf+contrast (Eqs. 18, 21)"
     if camera is not None and convention == "physical":
         r_light, chain = light_limited_range_m(

@@ -290,6 +290,28 @@ def _acoustic_pd(scenario, sensor, convention, r, result):
     return _energy_pd(sensor, reference + m, pfa), notes
 
 
+def acoustic_pd_with_loss(scenario: Scenario, sensor_name: str, range_m, loss_db) -> np.ndarray:
+    """Pd of an acoustic sensor at slant ranges with an extra path loss, e.g. a terrain barrier (ISO 9613-2 Eq. 12).
+
+    The energy detector of :func:`_acoustic_pd` at the SNR snr_req_db + m(R) - loss: the budget margin
+    (:func:`margin_db`, the scenario's convention) less the loss the free-field model does not hold.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    sensor_name : str
+        Key of an acoustic sensor of the scenario.
+    range_m, loss_db : array_like
+        Slant ranges [m] and the extra loss at each [dB], >= 0.
+    """
+    sensor = scenario.sensors[sensor_name]
+    if sensor.modality != "acoustic":
+        raise ParameterError("sensor", sensor_name, "an acoustic sensor of the scenario")
+    loss = require("loss_db", loss_db, ge=0)
+    m = margin_db(scenario, sensor, check_convention(scenario.convention), range_m)
+    return _energy_pd(sensor, sensor.params["snr_req_db"] + m - loss, sensor.params["pfa"])
+
+
 def _lidar_pd(scenario, sensor, convention, r, result):
     """Pd of a lidar: photon counting (Poisson) or a linear-mode receiver in Gaussian noise.
 

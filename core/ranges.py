@@ -13,7 +13,13 @@ import numpy as np
 
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
-from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, kruse_extinction_per_km, rain_extinction_per_km, transmittance
+from csuas.core.atmosphere import (
+    RAIN_EXTINCTION_SOURCE,
+    fog_path_fraction,
+    kruse_extinction_per_km,
+    rain_extinction_per_km,
+    transmittance,
+)
 from csuas.core.camera import CameraChain
 from csuas.core.horizon import line_of_sight_limit_m
 from csuas.core.modality import RECORDS, PartTable
@@ -62,7 +68,23 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         rain_extinction_per_km=rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
         if convention == "physical"
         else 0.0,
+        fog_layer=_fog_layer(sc, s) if convention == "physical" else None,
     )
+
+
+def _fog_layer(sc: Scenario, s: SensorSpec) -> tuple | None:
+    """(L_fog / R, clear visibility [km]) of the scenario's fog layer on an optical sensor's slant path, or None.
+
+    Only with ``environment.fog_top_m`` (docs/scenarios.md): the path runs from the sensor's ``height_m``
+    (else REFERENCE_SENSOR_HEIGHT_M, a mast-less sensor) to ``target.altitude_m`` above it
+    (:func:`csuas.core.atmosphere.fog_path_fraction`); above the top the air has ``visibility_km``.
+    """
+    top = sc.environment.get("fog_top_m")
+    if top is None:
+        return None
+    h_s = s.params.get("height_m")
+    h_s = REFERENCE_SENSOR_HEIGHT_M if h_s is None else h_s
+    return fog_path_fraction(h_s, h_s + sc.target["altitude_m"], top), sc.environment["visibility_km"]
 
 
 def thermal_contrast(sc: Scenario, s: SensorSpec, convention: str) -> tuple:

@@ -97,7 +97,7 @@ class Scenario:
 
     @property
     def effects(self) -> frozenset:
-        """Conditions present in the scene: subset of {rain, fog, haze, wind, night}.
+        """Conditions present in the scene: subset of {rain, fog, fog_layer, haze, wind, night}.
 
         ``haze`` means a visibility set by the scenario (not the Table 24
         default); ``wind`` a speed of at least 1 m/s (Table 31's range).
@@ -108,6 +108,8 @@ class Scenario:
             found.add("rain")
         if env.get("fog_visibility_m") is not None or env["lwc_g_m3"] > 0:
             found.add("fog")
+        if env.get("fog_top_m") is not None:
+            found.add("fog_layer")
         if "visibility_km" in self.explicit["environment"]:
             found.add("haze")
         if env["wind_speed_m_s"] >= 1.0:
@@ -269,6 +271,14 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
         _apply(section, values, _given(table), given, where, "scenario")
         sections[section], explicit[section], origin[section] = (values, preset), given, where
     sensors, errors = {}, []
+    environment = sections["environment"][0]
+    if environment.get("fog_top_m") is not None and environment.get("fog_visibility_m") is None:
+        errors.append(
+            ScenarioError(
+                f"environment.fog_top_m = {plain(environment['fog_top_m'])} is invalid; allowed: "
+                "given with environment.fog_visibility_m (the fog it tops)"
+            )
+        )
     for key, table in model.sensors.items():
         try:
             sensors[key] = _resolve_sensor(key, table)

@@ -65,7 +65,7 @@ KNOWN_DEBTS = {
     # only to unpack them again, and would touch its 32 calls in 6 files (2026-11-27)
     ("base/checks.py", "Check.of_paper", "parameters"): 11,
     ("core/acoustic.py", "acoustic_range", "parameters"): 9,
-    ("core/eo.py", "eo_range", "parameters"): 12,  # +1 parameter: rain extinction (Marshall-Palmer), 2026-11-27
+    ("core/eo.py", "eo_range", "parameters"): 13,  # +1 rain extinction (Marshall-Palmer), +1 fog layer, 2026-11-27
     ("core/lidar.py", "lidar_range", "parameters"): 10,
     ("core/radar.py", "radar_range", "parameters"): 24,  # public keyword wrapper of radar_range_of (records)
     ("core/rf.py", "rf_range", "parameters"): 12,  # +1 parameter: the gas term (ITU-R P.676), 2026-11-27

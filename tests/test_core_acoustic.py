@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from csuas.base.errors import ParameterError
 from csuas.core import acoustic
 from csuas.core.solve import LN10
 
@@ -107,3 +108,29 @@ def test_wind_beyond_table_31_is_flagged_in_the_term():
     assert "beyond its 1-12 m/s" in gale.term("wind_noise_db").source
     assert float(gale.term("wind_noise_db").value) == 89.0  # Table 31's last row, held
     assert breeze.term("wind_noise_db").source == "Table 31"
+
+
+def test_barrier_dz_against_iso9613_2_eq_14_by_hand():
+    """D_z = 10 lg(3 + 20 z f / 340): 1 kHz, z 0.5 m -> 10 lg 32.412 = 15.107 dB; 250 Hz, z 0.1 m -> 6.504 dB."""
+    assert acoustic.iso9613_barrier_db(1000.0, 0.5) == pytest.approx(10 * math.log10(3 + 20 / 0.34 * 0.5), abs=1e-12)
+    assert acoustic.iso9613_barrier_db(1000.0, 0.5) == pytest.approx(15.107, abs=5e-4)
+    assert acoustic.iso9613_barrier_db(250.0, 0.1) == pytest.approx(6.5035, abs=5e-4)
+    # grazing edge (z = 0): 10 lg 3 = 4.771 dB; K_met scales z (Eq. 14)
+    assert acoustic.iso9613_barrier_db(500.0, 0.0) == pytest.approx(4.7712, abs=5e-5)
+    assert acoustic.iso9613_barrier_db(1000.0, 1.0, met_factor=0.5) == pytest.approx(15.107, abs=5e-4)
+
+
+def test_barrier_capped_at_20_db_and_less_the_ground_effect():
+    """Single diffraction caps D_z at 20 dB (Section 7.4); A_bar = D_z - A_gr, not below 0 (Eq. 12)."""
+    # 4 kHz, z 5 m: 10 lg(3 + 20 x 5 / 0.085) = 30.72 dB uncapped
+    assert acoustic.iso9613_barrier_db(4000.0, 5.0) == 20.0
+    assert acoustic.iso9613_barrier_db(1000.0, 0.5, ground_db=3.0) == pytest.approx(12.107, abs=5e-4)
+    assert acoustic.iso9613_barrier_db(1000.0, 0.5, ground_db=20.0) == 0.0
+    with pytest.raises(ParameterError, match="path_difference_m"):
+        acoustic.iso9613_barrier_db(1000.0, -0.1)
+
+
+def test_barrier_met_factor_eq_18_by_hand():
+    """K_met = exp(-sqrt(d_ss d_sr d / 2z) / 2000): 100, 200, 290 m, z 10 m -> exp(-538.52 / 2000) = 0.763946."""
+    assert acoustic.iso9613_barrier_met_factor(10.0, 100.0, 200.0, 290.0) == pytest.approx(0.763946, abs=5e-7)
+    assert acoustic.iso9613_barrier_met_factor(0.0, 100.0, 200.0, 290.0) == 1.0

@@ -173,3 +173,38 @@ def test_db_transmittance_is_the_decibel_beer_lambert_law():
     assert atmosphere.db_transmittance(0.0, np.inf) == 1.0
     with pytest.raises(ParameterError, match="attenuation_db_km"):
         atmosphere.db_transmittance(-1.0, 10.0)
+
+
+def _fog_length_by_geometry(h_s, h_t, top, n=200_001):
+    """Length fraction of a straight path from h_s to h_t below ``top``, by counting midpoints (exact geometry)."""
+    s = (np.arange(n) + 0.5) / n
+    return float(np.mean(h_s + (h_t - h_s) * s < top))
+
+
+@pytest.mark.parametrize(
+    "h_s, h_t, top, expected",
+    [
+        (2.0, 30.0, 50.0, 1.0),  # fully inside the fog
+        (2.0, 102.0, 50.0, 0.48),  # crossing the top: (50 - 2) / (102 - 2)
+        (120.0, 10.0, 50.0, 40.0 / 110.0),  # descending path, the same rule
+        (60.0, 100.0, 50.0, 0.0),  # fully above: T = 1
+        (20.0, 20.0, 50.0, 1.0),  # level path in the fog
+        (80.0, 80.0, 50.0, 0.0),  # level path above it
+    ],
+)
+def test_layered_fog_path_fraction_is_the_closed_form(h_s, h_t, top, expected):
+    """L_fog / R of a straight slant path through a fog of top h_top; T = exp(-beta L_fog) (Beer-Lambert)."""
+    fraction = float(atmosphere.fog_path_fraction(h_s, h_t, top))
+    assert fraction == pytest.approx(expected, abs=1e-12)
+    if h_s != h_t:
+        assert fraction == pytest.approx(_fog_length_by_geometry(h_s, h_t, top), abs=1e-5)
+    beta, r_m = 19.56, 300.0  # 200 m fog visibility, Koschmieder [1/km]
+    tau = atmosphere.transmittance(beta * fraction, r_m)
+    assert tau == pytest.approx(math.exp(-beta * expected * r_m / 1000.0), rel=1e-12)
+    if expected == 0.0:
+        assert tau == 1.0
+
+
+def test_layered_fog_top_must_not_be_negative():
+    with pytest.raises(ParameterError, match="fog_top_m"):
+        atmosphere.fog_path_fraction(2.0, 30.0, -1.0)

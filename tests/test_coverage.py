@@ -624,3 +624,41 @@ def test_a_dem_in_longitude_and_latitude_is_reprojected_to_its_utm_zone(tmp_path
     assert cli.main(["coverage", str(bad), "--out", str(tmp_path / "bad")]) == 2
     err = capsys.readouterr().err
     assert "sensors.eo" in err and "x and y, or lat and lon (given: x, lat)" in err
+
+
+def _ridge_layers(convention):
+    """An acoustic array (broadband detector, 1.5 m mast) west of an 8 m ridge 100 m away; drones 10 m up."""
+    from csuas.core.coverage import SitedSensor, sensor_layers
+    from csuas.core.scenario import parse_scenario
+
+    scenario = parse_scenario(
+        {"convention": convention, "sensors": {"a": {"modality": "acoustic", "detector": "broadband"}}}
+    )
+    dem = np.zeros((21, 121))
+    dem[:, 20] = 8.0  # 10 m cells: the ridge 100 m east of the sensor at column 10
+    return scenario, sensor_layers(dem, 10.0, scenario, SitedSensor("a", 10.0, 10.0, 1.5), [10.0])
+
+
+def test_physical_acoustic_coverage_hears_over_a_ridge_by_iso9613():
+    """Cell 200 m east, behind the ridge: not visible; Pd at the margin less A_bar = 10 lg(3 + 20 f z K_met / 340)."""
+    from csuas.core.modality import BY_NAME
+    from csuas.core.pd_curves import acoustic_pd_with_loss, margin_db
+
+    scenario, layers = _ridge_layers("physical")
+    k = BY_NAME["acoustic"].line_of_sight.k
+    drop = lambda d: d**2 / (2 * k * 6_371_000.0)  # curvature drop d^2 / (2 k R_E)
+    near = math.hypot(100.0, 8.0 - drop(100.0) - 1.5)
+    far = math.hypot(100.0, 10.0 - drop(200.0) - (8.0 - drop(100.0)))
+    z = near + far - math.hypot(200.0, 10.0 - drop(200.0) - 1.5)
+    slant = math.hypot(200.0, 8.5)
+    k_met = math.exp(-math.sqrt(near * far * slant / (2 * z)) / 2000.0)
+    f = scenario.sensors["a"].params["frequency_hz"]
+    a_bar = min(10 * math.log10(3 + 20 * f / 340.0 * z * k_met), 20.0)
+    assert not layers["visible"][0, 10, 30]
+    expected = float(acoustic_pd_with_loss(scenario, "a", [slant], [a_bar])[0])
+    assert layers["pd"][0, 10, 30] == pytest.approx(expected, abs=1e-12)
+    margin = float(margin_db(scenario, scenario.sensors["a"], "physical", [slant])[0])
+    assert bool(layers["detected"][0, 10, 30]) == (margin >= a_bar)
+    assert 0.05 < expected < float(layers["pd"][0, 10, 15])  # heard behind the ridge, less than in front of it
+    _, paper = _ridge_layers("paper")
+    assert paper["pd"][0, 10, 30] == 0.0 and not paper["detected"][0, 10, 30]

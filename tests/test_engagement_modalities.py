@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
-from csuas.core.coverage import SitedSensor
-from csuas.core.pd_curves import sensor_pd
+from csuas.core.coverage import K_FACTOR, SitedSensor
+from csuas.core.horizon import EARTH_RADIUS_M
+from csuas.core.pd_curves import acoustic_pd_with_loss, sensor_pd
+from csuas.core.ranges import evaluate
 from csuas.core.scenario import parse_scenario
 from csuas.defaults import load_birds
 from csuas.render.engagement.sensors import LookSettings, SensorModel, Terrain, bird_critical_dimension_m
@@ -152,3 +154,40 @@ def test_aspect_decorrelation_is_refused_for_a_sensor_without_a_wavelength_rule(
     with pytest.raises(ParameterError) as caught:
         _sensor("rf", LookSettings(decorrelation="aspect"))
     assert "looks.rf.decorrelation" in str(caught.value)
+
+
+def _behind_ridge(convention):
+    """An acoustic array (2 m mast) 500 m east of a 25 m ridge (DEM column 80), the drone 10 m up west of it."""
+    dem = np.zeros((SIZE, SIZE))
+    dem[:, 80] = 25.0
+    terrain = Terrain(dem, CELL, 0.0, SIZE * CELL)
+    sensor = SensorModel(
+        _scenario(convention), SitedSensor("acoustic", CENTRE, CENTRE, 2.0), terrain, LookSettings(revisit_s=2.0)
+    )
+    path = DronePath(np.array([[sensor.x - 2000.0, sensor.y, 10.0], [sensor.x - 600.0, sensor.y, 10.0]]), 15.0)
+    return sensor, drone_looks(terrain, sensor, path)
+
+
+def test_acoustic_look_behind_a_ridge_hears_through_the_iso9613_barrier():
+    """Physical convention: Pd with A_bar = D_z(z, K_met) (ISO 9613-2 Eqs. 14, 16, 18) of the ridge's exact geometry."""
+    sensor, looks = _behind_ridge("physical")
+    assert looks.in_regard.all() and not looks.visible.any()
+    drop = lambda d: d**2 / (2 * K_FACTOR["acoustic"] * EARTH_RADIUS_M)  # curvature drop d^2 / (2 k R_E)
+    ground = np.hypot(looks.x - sensor.x, looks.y - sensor.y)
+    edge_rise, drone_rise = 25.0 - drop(500.0) - 2.0, looks.z - drop(ground) - 2.0
+    d_sr, d_ss = np.hypot(500.0, edge_rise), np.hypot(ground - 500.0, drone_rise - edge_rise)
+    z = d_sr + d_ss - np.hypot(ground, drone_rise)
+    k_met = np.exp(-np.sqrt(d_ss * d_sr * looks.slant_range_m / (2 * z)) / 2000.0)
+    f = float(evaluate(sensor.scenario)["acoustic"].term("detector_band_hz").value)
+    a_bar = np.minimum(10 * np.log10(3 + 20 * f / 340.0 * z * k_met), 20.0)  # no ground term: no height_m
+    expected = acoustic_pd_with_loss(sensor.scenario, "acoustic", looks.slant_range_m, a_bar)
+    np.testing.assert_allclose(looks.pd, expected, rtol=1e-9, atol=1e-12)
+    free = sensor_pd(sensor.scenario, "acoustic", looks.slant_range_m).pd
+    assert looks.pd.max() > 0.2 and np.all(looks.pd < free)  # audible behind the ridge, less than in the open
+    # from 10 lg 3 = 4.77 dB far off (K_met -> 0: downwind refraction over the edge) to 8.6 dB 100 m behind it
+    assert np.all(a_bar >= 10 * np.log10(3.0)) and 8.0 < a_bar.max() < 9.0
+
+
+def test_acoustic_look_behind_a_ridge_is_deaf_in_the_paper_convention():
+    _, looks = _behind_ridge("paper")
+    assert not looks.visible.any() and np.all(looks.pd == 0.0)

@@ -12,9 +12,11 @@ import math
 import numpy as np
 import pytest
 
+from csuas.base.errors import ParameterError
 from csuas.core import detection, radar_detection
 from csuas.core.horizon import K_RADIO, line_of_sight_limit_m
 from csuas.core.pd_curves import (
+    acoustic_pd_with_loss,
     approach,
     fuse,
     fused_cumulative,
@@ -97,6 +99,20 @@ def test_energy_detector_sensors_at_their_threshold():
         float(detection.energy_detector_pd(13.0, 1e-6, 1.0, "rayleigh")), abs=1e-9
     )
     assert any("rayleigh" in a for a in curve.assumptions)
+
+
+def test_acoustic_pd_with_a_loss_is_the_energy_detector_at_the_r2_margin_less_the_loss():
+    """Paper convention (R^-2): Pd(R, L) = Pd_energy(snr_req + 20 lg(R* / R) - L); L = 0 is the free-field curve."""
+    sc = _one("acoustic", {"time_bandwidth": 16.0, "pfa": 1e-4})
+    r_star = float(evaluate(sc)["s"].range_m)
+    r = np.array([0.2, 0.5, 1.0, 1.5]) * r_star
+    loss = np.array([0.0, 6.0, 4.771, 12.5])
+    snr = sc.sensors["s"].params["snr_req_db"] + 20 * np.log10(r_star / r) - loss
+    expected = detection.energy_detector_pd(snr, 1e-4, 16.0)
+    np.testing.assert_allclose(acoustic_pd_with_loss(sc, "s", r, loss), expected, atol=1e-3)
+    assert acoustic_pd_with_loss(sc, "s", r[:1], 0.0) == pytest.approx(sensor_pd(sc, "s", r[:1]).pd, abs=1e-12)
+    with pytest.raises(ParameterError, match="sensor"):
+        acoustic_pd_with_loss(_one("rf"), "s", r, loss)
 
 
 @pytest.mark.parametrize("p_desired", [0.3, 0.5, 0.8, 0.95])

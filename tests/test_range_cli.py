@@ -198,3 +198,16 @@ def test_sensitivity_of_a_scenario_with_several_sensors_needs_the_sensor_named(c
     assert main(["sensitivity", "--scenario", "default", "--vary", "sensor.hfov_deg=1:20"]) == 2
     err = capsys.readouterr().err
     assert "--sensor" in err and "eo, tir, acoustic, rf, radar, lidar" in err
+
+
+def test_fog_top_is_a_term_with_its_source_in_physical_and_ignored_in_paper(capsys, tmp_path):
+    text = (
+        "[target]\naltitude_m = 100.0\n[environment]\nfog_visibility_m = 200.0\nfog_top_m = 50.0\n"
+        '[sensors.e]\nmodality = "eo"\nheight_m = 2.0\n'
+    )
+    physical = _range(capsys, tmp_path, 'convention = "physical"\n' + text)
+    terms = physical["sensors"]["e"]["terms"]
+    assert terms["fog_path_fraction"]["value"] == pytest.approx(0.48, abs=1e-12)  # (50 - 2) / (102 - 2)
+    assert "layered fog" in terms["fog_path_fraction"]["source"] and physical["ignored_effects"] == {}
+    paper = _range(capsys, tmp_path, text)
+    assert "fog_top_m" in paper["ignored_effects"]["fog_layer"]

@@ -74,6 +74,7 @@ def test_presets_and_overrides():
         ({"sensors": {"x": {"modality": "radar", "model": "range_equation"}}}, "p_rx_min_w"),
         ({"sensors": {"x": {"modality": "eo", "preset": "hubble"}}}, "sensors.x.preset = 'hubble'"),
         ({"sensors": {}}, "at least one"),
+        ({"environment": {"fog_top_m": 50.0}}, "environment.fog_top_m = 50.0 is invalid; allowed: given with"),
     ],
 )
 def test_bad_input_names_key_value_and_what_is_allowed(data, fragment):
@@ -117,6 +118,29 @@ def test_disabled_effects_contribute_nothing_and_cost_nothing(monkeypatch):
         for result in results.values():
             names = {t.name for t in result.terms}
             assert not names & {"gamma_rain_db_km", "gamma_fog_db_km", "rain_loss_db", "wind_noise_db"}
+
+
+def test_fog_top_layers_the_physical_eo_path_by_its_closed_form():
+    """Sensor 2 m, drone 100 m above it, fog (200 m visibility) up to 50 m: 48 % of the path in fog, Eq. 21's
+    contrast range 1000 ln(C0 / C_min) / (0.48 beta_fog + 0.52 beta_clear); the paper convention ignores the top."""
+    fog = {"fog_visibility_m": 200.0, "fog_top_m": 50.0}
+    data = {"target": {"altitude_m": 100.0}, "sensors": {"eo": {"modality": "eo", "height_m": 2.0}}}
+    layered = evaluate(parse_scenario({**data, "convention": "physical", "environment": fog}))["eo"]
+    full = evaluate(parse_scenario({**data, "convention": "physical", "environment": {"fog_visibility_m": 200.0}}))
+    clear = evaluate(parse_scenario({**data, "convention": "physical"}))["eo"]
+    assert float(layered.term("fog_path_fraction").value) == pytest.approx(0.48, abs=1e-12)
+    beta_fog = float(full["eo"].term("kruse_extinction").value)
+    beta_clear = float(clear.term("kruse_extinction").value)
+    beta = 0.48 * beta_fog + 0.52 * beta_clear
+    assert float(layered.term("kruse_extinction").value) == pytest.approx(beta, rel=1e-12)
+    sc = parse_scenario({**data, "convention": "physical", "environment": fog})
+    c0, c_min = abs(sc.target["c_eo"]), sc.sensors["eo"].params["c_min"]
+    expected = 1000.0 * np.log(c0 / c_min) / beta
+    assert float(layered.term("contrast_limited_range_m").value) == pytest.approx(expected, rel=1e-12)
+    assert "fog_path_fraction" not in {t.name for t in full["eo"].terms}
+    paper = evaluate(parse_scenario({**data, "environment": fog}))["eo"]
+    paper_full = evaluate(parse_scenario({**data, "environment": {"fog_visibility_m": 200.0}}))["eo"]
+    assert float(paper.range_m) == float(paper_full.range_m) and sc.effects >= {"fog", "fog_layer"}
 
 
 def test_rain_adds_its_term_where_it_acts():

@@ -8,12 +8,17 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import ParameterError
+from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
 from csuas.core.horizon import first_fresnel_radius_m
+from csuas.core.modality import BY_NAME
+from csuas.core.scenario import parse_scenario
 from csuas.core.terrain import (
     RayLimits,
     curvature_drop_m,
+    diffraction_path_difference_m,
     fresnel_clearance,
     height_at,
+    line_of_sight,
     lowest_visible_height_m,
     viewshed,
 )
@@ -224,3 +229,47 @@ def test_fresnel_clearance_is_nodata_beyond_the_limits_and_names_bad_input():
     assert np.isnan(ratio[ground > 400.0]).all() and not np.isnan(ratio[ground <= 400.0]).any()
     with pytest.raises(ParameterError, match="wavelength_m"):
         fresnel_clearance(dem, 25.0, (30.0, 30.0, 10.0), 30.0, -1.0)
+
+
+def _knife_edge_dem():
+    """Flat ground at 0 m with a 20 m ridge along column 50 (cells of 10 m): a knife edge 500 m from column 0."""
+    dem = np.zeros((5, 101))
+    dem[:, 50] = 20.0
+    return dem
+
+
+def test_diffraction_path_difference_over_a_knife_edge_is_exact_geometry():
+    """Eye 1.5 m at x = 0, target 30 m at 1000 m, edge 20 m at 500 m: z = d_ss + d_sr - d (ISO 9613-2 Eq. 16)."""
+    dem, k = _knife_edge_dem(), 1e9  # k -> infinity: no curvature drop (sub-nanometre at 1 km)
+    targets = np.array([[2.0, 100.0, 30.0], [2.0, 100.0, 60.0]])
+    z, d_ss, d_sr = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), targets, k)
+    near, far = math.hypot(500.0, 20.0 - 1.5), math.hypot(500.0, 30.0 - 20.0)
+    assert z[0] == pytest.approx(near + far - math.hypot(1000.0, 28.5), abs=1e-9)  # 0.03608 m
+    assert d_sr[0] == pytest.approx(near, abs=1e-9) and d_ss[0] == pytest.approx(far, abs=1e-9)
+    # the 60 m target clears the edge (the line passes 30.75 m over it): no path difference
+    assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0
+    assert line_of_sight(dem, 10.0, (2.0, 0.0, 1.5), targets, k).tolist() == [False, True]
+
+
+def test_terrain_barrier_of_an_acoustic_sensor_is_iso9613_over_the_knife_edge():
+    """Physical acoustic sensor behind the 20 m edge: A_bar = 10 lg(3 + 20 f z K_met / 340) by hand (Eqs. 14, 18)."""
+    scenario = parse_scenario(
+        {"convention": "physical", "sensors": {"a": {"modality": "acoustic", "detector": "broadband"}}}
+    )
+    f = scenario.sensors["a"].params["frequency_hz"]
+    targets = np.array([[2.0, 100.0, 30.0]])
+    k = BY_NAME["acoustic"].line_of_sight.k
+    drop = lambda d: d**2 / (2 * k * 6_371_000.0)  # curvature drop d^2 / (2 k R_E)
+    near = math.hypot(500.0, 20.0 - drop(500.0) - 1.5)
+    far = math.hypot(500.0, 30.0 - drop(1000.0) - (20.0 - drop(500.0)))
+    z = near + far - math.hypot(1000.0, 30.0 - drop(1000.0) - 1.5)
+    slant = math.hypot(1000.0, 28.5)
+    k_met = math.exp(-math.sqrt(near * far * slant / (2 * z)) / 2000.0)
+    expected = min(10 * math.log10(3 + 20 * f / 340.0 * z * k_met), 20.0)
+    a_bar = terrain_barrier_db(scenario, "a", _knife_edge_dem(), 10.0, (2.0, 0.0, 1.5), targets, [slant])
+    assert a_bar[0] == pytest.approx(expected, abs=1e-9)
+    assert barrier_frequency_hz(scenario, "a") == f
+    paper = parse_scenario({"sensors": {"a": {"modality": "acoustic"}}})
+    assert barrier_frequency_hz(paper, "a") is None
+    with pytest.raises(ParameterError, match="sensors.a"):
+        terrain_barrier_db(paper, "a", _knife_edge_dem(), 10.0, (2.0, 0.0, 1.5), targets, [slant])

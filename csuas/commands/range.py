@@ -23,6 +23,8 @@ from csuas.core.scenario import load_scenario, provenance
 IGNORED_EFFECTS = {
     "night": "no range model of the paper reads illuminance_lx (Table 11): the EO model (Eqs. 18, 21) "
     "has no light-level term, so night changes no range (the physical convention's EO camera chain reads it)",
+    "fog_layer": "the paper's fog fills the whole path (Eqs. 19-21): fog_top_m changes no range (the physical "
+    "convention's EO path crosses fog only below it)",
 }
 #: Why Table 39's default radar reaches only tens of metres (shown for radars at the default preset).
 DEFAULT_RADAR_NOTE = (

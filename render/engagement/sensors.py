@@ -11,11 +11,14 @@ sqrt(wingspan x body diameter) until rendered bird signatures (drone_models/bird
 (:meth:`SensorModel.bird_pd`); on a lidar the drone's Pd with the drone's lidar cross-section and
 projected area scaled by the bird's d_crit^2 over the drone's (the same seam, the same reflectance);
 RF and acoustic sensors see no bird (a bird emits no radio signal, and its wingbeat is quiet in the
-drone's rotor bands: Pd 0). A detection reports the ground bearing and ground range from the
-sensor with Gaussian noise: a radar and a lidar their measured range; a camera its bearing and a range
-from the target's apparent size, with a relative error (passive ranging); an RF direction finder and an
-acoustic array their bearing and a coarse range from the received level (the level's spread of a few dB
-inverted through spherical spreading, a relative error of 50 %).
+drone's rotor bands: Pd 0). Where the terrain hides the drone the Pd is 0, except for an acoustic
+array of the physical convention, which hears it over the terrain's top edge less the ISO 9613-2
+barrier attenuation (:func:`csuas.core.barrier.terrain_barrier_db`). A detection reports the ground
+bearing and ground range from the sensor with Gaussian noise: a radar and a lidar their measured
+range; a camera its bearing and a range from the target's apparent size, with a relative error
+(passive ranging); an RF direction finder and an acoustic array their bearing and a coarse range
+from the received level (the level's spread of a few dB inverted through spherical spreading, a
+relative error of 50 %).
 
 False alarms per look are binomial with the sensor's cells and Pfa (:mod:`csuas.core.false_alarms`;
 the cells by modality in :meth:`SensorModel.cells_per_look`), placed uniformly over the ground area of
@@ -37,8 +40,9 @@ from csuas.base.errors import ParameterError
 from csuas.core import birds as bird_model
 from csuas.core import clutter, false_alarms, radar, radar_detection
 from csuas.core.acoustic_spectrum import BAND_NUMBERS
+from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
 from csuas.core.coverage import K_FACTOR, SitedSensor, elevation_deg, mapped_reach_m
-from csuas.core.pd_curves import margin_db, sensor_pd
+from csuas.core.pd_curves import acoustic_pd_with_loss, margin_db, sensor_pd
 from csuas.core.scenario import Scenario
 from csuas.core.terrain import RayLimits, bearing_deg, height_at, line_of_sight, off_boresight_deg, viewshed
 
@@ -161,6 +165,7 @@ class Geometry:
     bearing_rad: np.ndarray  # mathematical angle from +x (east) toward +y (north), Stone Soup's bearing
     in_regard: np.ndarray
     visible: np.ndarray
+    barrier_db: np.ndarray | None = None  # acoustic, physical convention: ISO 9613-2 A_bar where the terrain hides
 
 
 class SensorModel:
@@ -187,6 +192,7 @@ class SensorModel:
         self.cells = self._cells()
         self.false_alarms_per_look = float(false_alarms.false_alarms_per_look(self.pfa, self.cells))
         self.clutter_xy, self.clutter_rate = np.empty((0, 2)), np.empty(0)
+        self.barrier_hz = barrier_frequency_hz(scenario, sited.name)
         if self.modality == "radar" and settings.clutter and clutter_gamma_db is not None:
             self.clutter_xy, self.clutter_rate = self._clutter_map(float(clutter_gamma_db))
 
@@ -326,14 +332,39 @@ class SensorModel:
                 np.stack([rows, cols, z[regard]], axis=1),
                 self.k_factor,
             )
-        return Geometry(ground, slant, np.arctan2(dy, dx), regard, visible)
+        barrier = None
+        if self.barrier_hz is not None:
+            barrier = np.zeros(x.shape)
+            hidden = regard & ~visible
+            if hidden.any():
+                rows, cols = self.terrain.rowcol(x[hidden], y[hidden])
+                barrier[hidden] = terrain_barrier_db(
+                    self.scenario,
+                    self.name,
+                    self.terrain.dem_m,
+                    self.terrain.cell_m,
+                    (s.row, s.col, self.eye_z),
+                    np.stack([rows, cols, z[hidden]], axis=1),
+                    slant[hidden],
+                )
+        return Geometry(ground, slant, np.arctan2(dy, dx), regard, visible, barrier)
 
     def drone_pd(self, geometry: Geometry) -> np.ndarray:
-        """The drone's Pd at each point: the sensor's Pd at the slant range where seen, else 0."""
+        """The drone's Pd at each point: the sensor's Pd at the slant range where seen, else 0.
+
+        An acoustic array of the physical convention hears a drone the terrain hides, through the barrier
+        attenuation of the terrain's top edge (ISO 9613-2, Section 7.4; :mod:`csuas.core.barrier`).
+        """
         gate = geometry.in_regard & geometry.visible
         pd = np.zeros(geometry.slant_m.shape)
         if gate.any():
             pd[gate] = sensor_pd(self.scenario, self.name, geometry.slant_m[gate]).pd
+        if geometry.barrier_db is not None:
+            hidden = geometry.in_regard & ~geometry.visible
+            if hidden.any():
+                pd[hidden] = acoustic_pd_with_loss(
+                    self.scenario, self.name, geometry.slant_m[hidden], geometry.barrier_db[hidden]
+                )
         return pd
 
     def bird_pd(self, geometry: Geometry, bird: dict, aspect_rad) -> np.ndarray:

@@ -13,11 +13,13 @@ import math
 import time
 
 from csuas.base.checks import Check
+from csuas.core.atmosphere import fog_path_fraction
 from csuas.core.eo import contrast_limited_range_m
 from csuas.core.johnson import ifov_rad, johnson_range_m
 from csuas.core.radiometry import band_radiance, radiance_temperature
 from csuas.core.tir import delta_t_linear
 from csuas.render.imaging.eo import render_eo
+from csuas.render.imaging.fog_slab import fog_slab_transmittance
 from csuas.render.imaging.quality import Quality, resolve_quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.targets import plate
@@ -233,7 +235,36 @@ def _medium_check(seed) -> Check:
     )
 
 
+#: (sensor height, drone height) [m] of the fog-slab checks: 300 m apart on the ground, fog of 200 m visibility
+#: (Koschmieder 19.56 /km) up to 50 m: the path crossing the top upward and downward, fully above (T = 1).
+FOG_SLAB_CASES = ((2.0, 102.0), (120.0, 10.0), (60.0, 100.0))
+FOG_SLAB_TOP_M, FOG_SLAB_BETA_PER_KM, FOG_SLAB_GROUND_M = 50.0, 19.56, 300.0
+
+
+def _fog_slab_checks(seed) -> list:
+    """Rendered slant transmittance through a fog slab against exp(-beta L_fog) (layered fog, closed form)."""
+    checks = []
+    for h_s, h_d in FOG_SLAB_CASES:
+        m = fog_slab_transmittance(h_s, h_d, FOG_SLAB_GROUND_M, FOG_SLAB_TOP_M, FOG_SLAB_BETA_PER_KM, seed=seed)
+        fraction = float(fog_path_fraction(h_s, h_d, FOG_SLAB_TOP_M))
+        closed = math.exp(-FOG_SLAB_BETA_PER_KM * fraction * m["slant_range_m"] / 1000.0)
+        checks.append(
+            Check.of_paper(
+                f"render.fog_layer.slab_transmittance.{h_s:g}m_to_{h_d:g}m",
+                closed,
+                m["transmittance"],
+                "-",
+                f"exp(-beta L_fog), L_fog / R = {fraction:.4g} (csuas.core.atmosphere.fog_path_fraction), "
+                f"fog top {FOG_SLAB_TOP_M:g} m, beta {FOG_SLAB_BETA_PER_KM:g} /km, {FOG_SLAB_GROUND_M:g} m apart",
+                "volumetric path tracing (Mitsuba volpath) of an absorbing homogeneous slab, unit emitter",
+                abs_tol=4 * m["stderr"],
+                extra={"stderr": m["stderr"], "time_s": m["time_s"]},
+            )
+        )
+    return checks
+
+
 def imaging_checks(quality: str = "draft", seed: int = 0) -> list:
     """All imaging cross-checks (list of :class:`csuas.base.checks.Check`); draft takes about 10 s on 2 CPU cores."""
     q = resolve_quality(quality)
-    return _thermal_checks(q, seed) + _eo_checks(q, seed) + [_medium_check(seed)]
+    return _thermal_checks(q, seed) + _eo_checks(q, seed) + [_medium_check(seed)] + _fog_slab_checks(seed)
