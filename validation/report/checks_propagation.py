@@ -19,6 +19,7 @@ from csuas.base.checks import Check
 from csuas.core import acoustic, itu
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import parse_scenario
+from csuas.core.terrain import diffraction_path_difference_m
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
 GAS_FREQUENCIES_GHZ = (10.0, 22.235, 24.0, 35.0, 60.0, 94.0)
@@ -172,7 +173,6 @@ BARRIER_CASES = ((250.0, 0.1), (1000.0, 0.5), (500.0, 2.0), (4000.0, 5.0))
 
 def _knife_edge_z() -> tuple[float, float]:
     """z over a 20 m knife edge halfway along 1 km (eye 1.5 m, target 30 m): from the DEM profile and exact."""
-    from csuas.core.terrain import diffraction_path_difference_m
 
     dem = np.zeros((5, 101))
     dem[:, 50] = 20.0  # 10 m cells: the edge 500 m from the eye
@@ -186,7 +186,6 @@ def barrier(_knob=None) -> Section:
 
     No package cross-check: sound-propagation 0.1 has ISO 9613-1 absorption and ISO 9613-2 ground, no barrier.
     """
-    from csuas.core import acoustic
 
     s = Section()
     for f, z in BARRIER_CASES:
