@@ -38,6 +38,8 @@ CELL_M = 25.0
 RADAR_RANGE_M, RADAR_SNR_DB = 445.30460703828703, 10.0
 #: Per-cell Pfa of the RF and acoustic false-alarm checks (high enough for a count of hundreds in the quick report).
 RECEIVER_PFA = {"rf": 1e-4, "acoustic": 2e-2}
+#: Largest 3-standard-error band of a receiver's false-alarm rate, relative to the rate, that its look count allows.
+RECEIVER_RELATIVE_3SE = 0.1
 
 
 def _radar(dem, settings, gamma_db=None):
@@ -104,6 +106,8 @@ def _receiver_per_hour(name: str, pfa: float, looks: int, rng) -> Check:
     terrain = Terrain(dem, CELL_M, 0.0, dem.shape[0] * CELL_M)
     settings = LookSettings(pfa=pfa, instrumented_range_m=500.0)
     sensor = SensorModel(scenario, SitedSensor(name, 40.0, 40.0, 10.0), terrain, settings)
+    # enough looks for 3 standard errors of the count to stay within 10 % of the expected rate
+    looks = max(looks, int(np.ceil(9.0 / (RECEIVER_RELATIVE_3SE**2 * pfa * sensor.cells))))
     counts, elapsed = timed(lambda: np.array([len(sensor.false_alarm_xy(rng)) for _ in range(looks)]))
     per_hour = 3600.0 / settings.revisit_s
     stderr = float(np.sqrt(sensor.cells * pfa * (1 - pfa) / looks)) * per_hour
