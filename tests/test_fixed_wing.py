@@ -12,7 +12,7 @@ from csuas.drone_models.fixed_wing import MOTOR_INSET_M
 from csuas.drone_models.materials import MATERIALS, T_SUAS_K
 from csuas.drone_models.presets import FIXED_WING_MOTOR_EXCESS_K, preset_parameters
 from csuas.drone_models.silhouette import projected_metrics
-from tests.test_drone_presets import spec_values
+from test_drone_presets import spec_values
 
 PRESET = "euclid_class_fixed_wing"
 

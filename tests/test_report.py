@@ -224,6 +224,7 @@ def test_registry_declares_every_check():
         "conventions",
         "links",
         "rcs",
+        "micro_doppler",
         "lidar",
         "imaging",
         "detection",
