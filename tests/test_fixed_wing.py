@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from test_drone_presets import spec_values
 
 from csuas.base.errors import ParameterError
 from csuas.drone_models import build_drone
@@ -12,7 +13,6 @@ from csuas.drone_models.fixed_wing import MOTOR_INSET_M
 from csuas.drone_models.materials import MATERIALS, T_SUAS_K
 from csuas.drone_models.presets import FIXED_WING_MOTOR_EXCESS_K, preset_parameters
 from csuas.drone_models.silhouette import projected_metrics
-from test_drone_presets import spec_values
 
 PRESET = "euclid_class_fixed_wing"
 
