@@ -64,6 +64,10 @@ def test_engage_json_public_keys(tmp_path, capsys):
     assert set(m["false_tracks_per_hour"]["by_cause"]) == {"noise", "clutter", "birds"}
     assert {"radar", "eo"} == set(m["false_alarms_per_hour"])
     assert "track_continuity" in m and "gospa_mean" in m
+    siap = m["siap"]
+    for share in ("completeness", "spuriousness", "longest_track_segment"):
+        assert 0.0 <= siap[share] <= 1.0
+    assert siap["position_accuracy_m"] >= 0.0 and siap["ambiguity"] >= 0.0
     for sensor in ("radar", "eo"):
         looks = out["looks"][sensor]
         assert {"t_s", "x", "y", "slant_range_m", "visible", "pd"} <= set(looks)
