@@ -197,10 +197,7 @@ def eo_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict, 
     labels = []
     for draw in sorted(draws, key=lambda d: -d["range_m"]):
         if draw["class"] == INSECT:
-            blur = defocus_blur_px(draw["range_m"], render["f_number"], render["pitch_um"], ifov_rad)
-            coverage, x0, y0 = insect_coverage(draw, ifov_rad, (sensor.n_h, sensor.n_v), blur)
-            blend(frame, (x0, y0), coverage, coverage * insect_luminance, _under(drone, draw))
-            labels.append({**_insect_label(draw, coverage, x0, y0, (sensor.n_h, sensor.n_v)), "blur_px": blur})
+            labels.append(_paste_insect(frame, draw, ifov_rad, render, insect_luminance, drone))
             continue
         target = confuser_target(draw, render["ambient_k"])
         view = _view(draw)
@@ -221,6 +218,16 @@ def eo_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict, 
     return _in_draw_order(draws, labels)
 
 
+def _paste_insect(frame: np.ndarray, draw: dict, ifov_rad: float, render: dict, level: float, drone) -> dict:
+    """Blend an out-of-focus insect of uniform ``level`` (luminance or band radiance) on ``frame``; its label."""
+    sensor = render["sensor"]
+    size = (sensor.n_h, sensor.n_v)
+    blur = defocus_blur_px(draw["range_m"], render["f_number"], render["pitch_um"], ifov_rad)
+    coverage, x0, y0 = insect_coverage(draw, ifov_rad, size, blur)
+    blend(frame, (x0, y0), coverage, coverage * level, _under(drone, draw))
+    return {**_insect_label(draw, coverage, x0, y0, size), "blur_px": blur}
+
+
 def tir_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict, drone=None) -> list:
     """Paste every confuser on the thermal band-radiance ``frame`` in place (``drone`` as :func:`eo_confusers`'s);
     their labels.
@@ -235,10 +242,7 @@ def tir_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict,
     labels = []
     for draw in sorted(draws, key=lambda d: -d["range_m"]):
         if draw["class"] == INSECT:
-            blur = defocus_blur_px(draw["range_m"], render["f_number"], render["pitch_um"], ifov_rad)
-            coverage, x0, y0 = insect_coverage(draw, ifov_rad, (sensor.n_h, sensor.n_v), blur)
-            blend(frame, (x0, y0), coverage, coverage * insect_radiance, _under(drone, draw))
-            labels.append({**_insect_label(draw, coverage, x0, y0, (sensor.n_h, sensor.n_v)), "blur_px": blur})
+            labels.append(_paste_insect(frame, draw, ifov_rad, render, insect_radiance, drone))
             continue
         target = confuser_target(draw, render["ambient_k"])
         view = _view(draw)
