@@ -30,7 +30,7 @@ from stonesoup.types.groundtruth import GroundTruthPath, GroundTruthState
 from stonesoup.types.state import State
 from stonesoup.types.track import Track
 
-from csuas.render.engagement.tracker import timestamp
+from csuas.render.engagement.tracker import extrapolated_xy, timestamp
 
 #: The scores kept, by Stone Soup's metric title: name in engage.json -> title.
 SCORES = {
@@ -64,9 +64,9 @@ def held_track(track: Track, times) -> Track:
         if when < stamps[0] or when > stamps[-1]:
             continue
         latest = states[bisect.bisect_right(stamps, when) - 1]
-        dt = (when - latest.timestamp).total_seconds()
-        v = np.asarray(latest.state_vector, float).ravel()
-        held.append(State(np.array([[v[0] + v[1] * dt], [v[1]], [v[2] + v[3] * dt], [v[3]]]), timestamp=when))
+        x, y = extrapolated_xy(latest, when)
+        vx, vy = float(latest.state_vector[1]), float(latest.state_vector[3])
+        held.append(State(np.array([[x], [vx], [y], [vy]]), timestamp=when))
     return Track(held)
 
 

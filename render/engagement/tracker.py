@@ -114,12 +114,16 @@ class BearingRangeModel(CartesianToBearingRange):
         return jac
 
 
-def predicted_xy(track: Track, when: datetime) -> np.ndarray:
-    """A track's position (x, y) [m] extrapolated to ``when`` at constant velocity."""
-    state = track.state
+def extrapolated_xy(state, when: datetime) -> np.ndarray:
+    """A state's position (x, y) [m] (state x, vx, y, vy) extrapolated to ``when`` at constant velocity."""
     dt = (when - state.timestamp).total_seconds()
     v = state.state_vector
     return np.array([float(v[0]) + float(v[1]) * dt, float(v[2]) + float(v[3]) * dt])
+
+
+def predicted_xy(track: Track, when: datetime) -> np.ndarray:
+    """A track's position (x, y) [m] extrapolated to ``when`` at constant velocity."""
+    return extrapolated_xy(track.state, when)
 
 
 def predicted_position(track: Track, when: datetime) -> tuple[np.ndarray, np.ndarray]:

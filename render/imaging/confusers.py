@@ -193,17 +193,8 @@ def eo_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict, 
     from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo
 
     sensor, light = render["sensor"], render["light"]
-    insect_luminance = INSECT_REFLECTANCE * light.illuminance_lx / math.pi
-    labels = []
-    for draw in sorted(draws, key=lambda d: -d["range_m"]):
-        if draw["class"] == INSECT:
-            labels.append(_paste_insect(frame, draw, ifov_rad, render, insect_luminance, drone))
-            continue
-        target = confuser_target(draw, render["ambient_k"])
-        view = _view(draw)
-        if not _in_view(target, view, ifov_rad, (sensor.n_h, sensor.n_v)):
-            labels.append(None)
-            continue
+
+    def own_light(target, view, draw):
         lit = light if draw.get("sun_azimuth_deg") is None else replace(light, sun_azimuth_deg=draw["sun_azimuth_deg"])
         res = render_eo(target, view, sensor, lit, settings=RenderSettings(render["quality"], render["seed"]))
         rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
@@ -212,10 +203,10 @@ def eo_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict, 
             if light.background == "sky"
             else float(light.background) * light.illuminance_lx / math.pi
         )
-        light_c = rendered - (1.0 - res.coverage) * uniform  # the confuser's own light, coverage-weighted
-        blend(frame, (res.window.x0, res.window.y0), res.coverage, light_c, _under(drone, draw))
-        labels.append(_mesh_label(target, view, res, sensor))
-    return _in_draw_order(draws, labels)
+        return res, rendered - (1.0 - res.coverage) * uniform  # the confuser's own light, coverage-weighted
+
+    insect_luminance = INSECT_REFLECTANCE * light.illuminance_lx / math.pi
+    return _paste_confusers(frame, draws, ifov_rad, render, drone, insect_luminance, own_light)
 
 
 def _paste_insect(frame: np.ndarray, draw: dict, ifov_rad: float, render: dict, level: float, drone) -> dict:
@@ -238,24 +229,36 @@ def tir_confusers(frame: np.ndarray, draws: list, ifov_rad: float, render: dict,
     from csuas.render.imaging.tir import render_tir
 
     sensor = render["sensor"]
+
+    def own_radiance(target, view, draw):
+        settings = RenderSettings(render["quality"], render["seed"])
+        res = render_tir(target, view, sensor, render["scene"], reflected_surroundings=True, settings=settings)
+        radiance = res.image[0]
+        uncovered = res.coverage == 0
+        uniform = float(np.median(radiance[uncovered] if uncovered.any() else radiance))
+        return res, radiance - (1.0 - res.coverage) * uniform
+
     insect_radiance = float(band_radiance(render["ambient_k"], sensor.band))
+    return _paste_confusers(frame, draws, ifov_rad, render, drone, insect_radiance, own_radiance)
+
+
+def _paste_confusers(frame, draws, ifov_rad, render: dict, drone, insect_level: float, own_signal) -> list:
+    """Paste ``draws`` farthest first on ``frame`` in place: insects at ``insect_level``, meshes from
+    ``own_signal(target, view, draw) -> (window result, own signal)``; their labels in draw order (None: out of
+    view)."""
+    sensor = render["sensor"]
     labels = []
     for draw in sorted(draws, key=lambda d: -d["range_m"]):
         if draw["class"] == INSECT:
-            labels.append(_paste_insect(frame, draw, ifov_rad, render, insect_radiance, drone))
+            labels.append(_paste_insect(frame, draw, ifov_rad, render, insect_level, drone))
             continue
         target = confuser_target(draw, render["ambient_k"])
         view = _view(draw)
         if not _in_view(target, view, ifov_rad, (sensor.n_h, sensor.n_v)):
             labels.append(None)
             continue
-        settings = RenderSettings(render["quality"], render["seed"])
-        res = render_tir(target, view, sensor, render["scene"], reflected_surroundings=True, settings=settings)
-        radiance = res.image[0]
-        uncovered = res.coverage == 0
-        uniform = float(np.median(radiance[uncovered] if uncovered.any() else radiance))
-        light_c = radiance - (1.0 - res.coverage) * uniform
-        blend(frame, (res.window.x0, res.window.y0), res.coverage, light_c, _under(drone, draw))
+        res, signal = own_signal(target, view, draw)
+        blend(frame, (res.window.x0, res.window.y0), res.coverage, signal, _under(drone, draw))
         labels.append(_mesh_label(target, view, res, sensor))
     return _in_draw_order(draws, labels)
 
