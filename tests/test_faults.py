@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from waiting import wait_until
 
 from csuas import cli
 from csuas.base.fileio import exclusive_lock
@@ -223,16 +224,6 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-def _poll(condition, timeout_s: float = 120.0) -> bool:
-    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held."""
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.02)
-    return True
-
-
 def _worker(address: str, cwd: Path) -> subprocess.Popen:
     """One Dask worker process without a nanny: killed, nothing replaces it."""
     return subprocess.Popen(
@@ -265,7 +256,7 @@ def test_a_sweep_whose_workers_all_died_stops_after_the_timeout_and_resumes(tmp_
         argv = CSUAS + ["sweep", str(spec), "--scheduler", address, "--no-worker-timeout-s", "2", "--out", str(out)]
         chunks = lambda: list((out / "chunks").glob("chunk-*.parquet"))
         sweep = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-        assert _poll(lambda: len(chunks()) >= 2)
+        wait_until(lambda: len(chunks()) >= 2, "two chunks written", sweep, timeout_s=120.0)
         workers[0].kill()  # every worker of the cluster is gone, mid-sweep
         workers[0].wait()
         _, err = sweep.communicate(timeout=120)  # used to wait forever
