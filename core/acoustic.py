@@ -7,7 +7,7 @@ RL_wind = N_wind(v) - 20 log10(r) (Eq. 46, Table 31).
 
 The physical convention adds atmospheric sound absorption (ISO 9613-1),
 solved exactly with :func:`csuas.core.solve.solve_log_linear`, and, behind terrain, the barrier
-attenuation of one diffracting edge (ISO 9613-2:1996, Section 7.4, Eqs. 12-18).
+attenuation of one or two diffracting edges (ISO 9613-2:1996, Section 7.4, Eqs. 12-18).
 """
 
 from __future__ import annotations
@@ -250,10 +250,10 @@ def iso9613_cmet_db(distance_m, source_height_m, receiver_height_m, c0_db):
     return np.where(dp <= reach, 0.0, c0 * (1.0 - reach / np.maximum(dp, reach)))
 
 
-#: ISO 9613-2 Eq. 14 constants of single diffraction: C2 (ground reflections included) and C3.
-BARRIER_C2, BARRIER_C3_SINGLE = 20.0, 1.0
-#: Upper bound of D_z for single diffraction [dB] (ISO 9613-2, Section 7.4).
-BARRIER_CAP_SINGLE_DB = 20.0
+#: ISO 9613-2 Eq. 14 constant C2 (ground reflections taken into account by the image sources).
+BARRIER_C2 = 20.0
+#: Upper bounds of D_z for single and double diffraction [dB] (ISO 9613-2, Section 7.4).
+BARRIER_CAP_SINGLE_DB, BARRIER_CAP_DOUBLE_DB = 20.0, 25.0
 #: Speed of sound of the barrier's wavelength lambda = c / f [m/s] (air at 15 C, ISO 9613-2 uses the nominal value).
 SPEED_OF_SOUND_M_S = 340.0
 
@@ -266,7 +266,7 @@ def iso9613_barrier_met_factor(path_difference_m, source_edge_m, edge_receiver_m
     Parameters
     ----------
     path_difference_m : array_like
-        Path-length difference z [m] (Eq. 16).
+        Path-length difference z [m] (Eq. 16 or 17).
     source_edge_m, edge_receiver_m, distance_m : array_like
         Source to edge d_ss, edge to receiver d_sr and source to receiver d distances [m].
     """
@@ -281,24 +281,45 @@ def iso9613_barrier_met_factor(path_difference_m, source_edge_m, edge_receiver_m
     return np.where(z > 0, factor, 1.0)
 
 
-def iso9613_barrier_db(frequency_hz, path_difference_m, met_factor=1.0, ground_db=0.0):
-    """Barrier attenuation A_bar = D_z - A_gr of single top-edge diffraction [dB] (ISO 9613-2:1996, Eqs. 12, 14).
+def iso9613_barrier_c3(frequency_hz, edge_separation_m):
+    """Factor C3 of ISO 9613-2 Eq. 14 for an edge separation e [-] (Eq. 15; 1 for single diffraction).
 
-    D_z = 10 lg(3 + (C2 / lambda) C3 z K_met), C2 = 20, C3 = 1 (one diffracting edge), lambda = c / f with
-    c = 340 m/s, capped at 20 dB (Section 7.4); A_bar = D_z - A_gr, not below 0 (Eq. 12: the barrier
-    replaces the ground effect of the blocked path).
+    C3 = (1 + (5 lambda / e)^2) / (1/3 + (5 lambda / e)^2), lambda = c / f with c = 340 m/s: 1 at e = 0
+    (one edge: the limit of Eq. 15), rising to 3 for edges many wavelengths apart.
+
+    Parameters
+    ----------
+    frequency_hz : array_like
+        Frequency [Hz], > 0.
+    edge_separation_m : array_like
+        Distance e between the first and the last diffracting edge [m], >= 0 (0: single diffraction).
+    """
+    wavelength = SPEED_OF_SOUND_M_S / require("frequency_hz", frequency_hz, gt=0)
+    x = (require("edge_separation_m", edge_separation_m, ge=0) / (5.0 * wavelength)) ** 2
+    return 3.0 * (1.0 + x) / (3.0 + x)  # Eq. 15 with numerator and denominator times (e / 5 lambda)^2
+
+
+def iso9613_barrier_db(frequency_hz, path_difference_m, met_factor=1.0, ground_db=0.0, edge_separation_m=0.0):
+    """Barrier attenuation A_bar = D_z - A_gr of top-edge diffraction [dB] (ISO 9613-2:1996, Eqs. 12, 14, 15).
+
+    D_z = 10 lg(3 + (C2 / lambda) C3 z K_met), C2 = 20, C3 from the edge separation e
+    (:func:`iso9613_barrier_c3`: 1 for one edge), lambda = c / f with c = 340 m/s, capped at 20 dB for
+    single and 25 dB for double diffraction (e > 0; Section 7.4); A_bar = D_z - A_gr, not below 0
+    (Eq. 12: the barrier replaces the ground effect of the blocked path).
 
     Parameters
     ----------
     frequency_hz : array_like
         Frequency [Hz] (the band's mid-band frequency).
     path_difference_m : array_like
-        Path-length difference z [m] between the diffracted and the direct path (Eq. 16), >= 0
+        Path-length difference z [m] between the diffracted and the direct path (Eq. 16 or 17), >= 0
         (:func:`csuas.core.terrain.diffraction_path_difference_m` from a terrain profile).
     met_factor : array_like
         K_met (Eq. 18, :func:`iso9613_barrier_met_factor`); 1 for short paths.
     ground_db : array_like
         A_gr of the unblocked path [dB] (:func:`iso9613_ground_db`); 0 where the model has no ground term.
+    edge_separation_m : array_like
+        Distance e between the two diffracting edges of double diffraction [m] (Eq. 15); 0: one edge.
 
     Returns
     -------
@@ -308,9 +329,11 @@ def iso9613_barrier_db(frequency_hz, path_difference_m, met_factor=1.0, ground_d
     f = require("frequency_hz", frequency_hz, gt=0)
     z = require("path_difference_m", path_difference_m, ge=0)
     k_met = require("met_factor", met_factor, gt=0, le=1)
+    e = require("edge_separation_m", edge_separation_m, ge=0)
     wavelength = SPEED_OF_SOUND_M_S / f
-    d_z = 10.0 * np.log10(3.0 + BARRIER_C2 / wavelength * BARRIER_C3_SINGLE * z * k_met)
-    return np.maximum(np.minimum(d_z, BARRIER_CAP_SINGLE_DB) - require("ground_db", ground_db), 0.0)
+    d_z = 10.0 * np.log10(3.0 + BARRIER_C2 / wavelength * iso9613_barrier_c3(f, e) * z * k_met)
+    cap = np.where(e > 0, BARRIER_CAP_DOUBLE_DB, BARRIER_CAP_SINGLE_DB)
+    return np.maximum(np.minimum(d_z, cap) - require("ground_db", ground_db), 0.0)
 
 
 def acoustic_range(

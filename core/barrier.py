@@ -1,7 +1,8 @@
-"""Terrain barrier on an acoustic sensor's path: ISO 9613-2 single-edge diffraction (physical convention).
+"""Terrain barrier on an acoustic sensor's path: ISO 9613-2 top-edge diffraction (physical convention).
 
 Where the terrain hides the drone from an acoustic array, the sound still reaches it over the terrain's
-top edge, attenuated by A_bar = D_z - A_gr (ISO 9613-2:1996, Section 7.4, Eqs. 12, 14, 16, 18;
+top edge, or its first and last edges where it has two (double diffraction), attenuated by A_bar =
+D_z - A_gr (ISO 9613-2:1996, Section 7.4, Eqs. 12, 14-18;
 :func:`csuas.core.acoustic.iso9613_barrier_db`), z from the terrain profile
 (:func:`csuas.core.terrain.diffraction_path_difference_m`). The paper's convention has no diffraction:
 a hidden drone is not heard (docs/conventions.md, Point 7).
@@ -40,7 +41,7 @@ def barrier_frequency_hz(scenario: Scenario, sensor_name: str) -> float | None:
 
 
 def terrain_barrier_db(scenario: Scenario, sensor_name: str, dem_m, cell_m: float, eye, targets, slant_m):
-    """A_bar = D_z - A_gr [dB] of drones the terrain hides from an acoustic sensor (ISO 9613-2, one top edge).
+    """A_bar = D_z - A_gr [dB] of drones the terrain hides from an acoustic sensor (ISO 9613-2, one or two edges).
 
     Parameters
     ----------
@@ -55,8 +56,9 @@ def terrain_barrier_db(scenario: Scenario, sensor_name: str, dem_m, cell_m: floa
     Returns
     -------
     ndarray (n,)
-        A_bar [dB]: z from the profile, K_met from its edge distances; A_gr the ground attenuation the
-        free-field model holds at that range (band detector with the sensor's ``height_m``), else 0.
+        A_bar [dB]: z and the edge separation e from the profile, K_met from its edge distances; A_gr
+        the ground attenuation the free-field model holds at that range (band detector with the
+        sensor's ``height_m``), else 0.
     """
     frequency = barrier_frequency_hz(scenario, sensor_name)
     if frequency is None:
@@ -68,7 +70,7 @@ def terrain_barrier_db(scenario: Scenario, sensor_name: str, dem_m, cell_m: floa
         )
     k = BY_NAME["acoustic"].line_of_sight.k
     slant = np.asarray(slant_m, float)
-    path, d_ss, d_sr = diffraction_path_difference_m(dem_m, cell_m, eye, targets, k)
+    path, d_ss, d_sr, separation = diffraction_path_difference_m(dem_m, cell_m, eye, targets, k)
     k_met = iso9613_barrier_met_factor(path, d_ss, d_sr, slant)
     a_gr = 0.0
     p = scenario.sensors[sensor_name].params
@@ -77,4 +79,4 @@ def terrain_barrier_db(scenario: Scenario, sensor_name: str, dem_m, cell_m: floa
         dp = np.sqrt(np.maximum(slant**2 - altitude**2, 1e-4))
         hr = p["height_m"]
         a_gr = iso9613_ground_db(frequency, dp, max(hr + altitude, 0.0), hr, g, g, g)
-    return iso9613_barrier_db(frequency, path, k_met, a_gr)
+    return iso9613_barrier_db(frequency, path, k_met, a_gr, separation)

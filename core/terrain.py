@@ -534,13 +534,16 @@ def _profiles(dem, cell, eye, points, k_factor, chunk):
 
 
 def diffraction_path_difference_m(dem_m, cell_m, eye, targets, k_factor: float = 4.0 / 3.0, chunk: int = 4096):
-    """Path-length difference over the terrain's top edge between an eye and each target (ISO 9613-2, Eq. 16).
+    """Path-length difference over the terrain's top edges between an eye and each target (ISO 9613-2, Eqs. 16, 17).
 
-    Single diffraction: the terrain profile (sampled as :func:`line_of_sight` samples it, curvature drop
-    included) is searched for the sample above the straight eye-target line that lengthens the path the
-    most, z = d_ss + d_sr - d (Eq. 16 with a = 0: the edge lies across the vertical plane of the path),
-    the top of the highest obstruction as seen from both ends. Where no sample rises above the line the
-    path is clear: z = 0 and the edge distances are 0.
+    The diffracted path is the taut string over the terrain profile (sampled as :func:`line_of_sight`
+    samples it, curvature drop included) from the eye to the target: its first edge is the profile's
+    horizon seen from the eye (the sample of largest elevation angle), its last the horizon seen from the
+    target. One edge (both the same sample): single diffraction, z = d_ss + d_sr - d (Eq. 16 with a = 0:
+    the edge lies across the vertical plane of the path). Two: double diffraction, z = d_ss + e + d_sr - d
+    (Eq. 17, a = 0) with e the straight distance between the edges (terrain poking above that segment is
+    not followed: z errs short, the barrier weak). Where no sample rises above the straight eye-target
+    line the path is clear: z = 0 and every distance is 0.
 
     Parameters
     ----------
@@ -551,30 +554,33 @@ def diffraction_path_difference_m(dem_m, cell_m, eye, targets, k_factor: float =
     Returns
     -------
     tuple of ndarray (n,)
-        z [m], the target-to-edge distance d_ss [m] and the edge-to-eye distance d_sr [m] (the target
-        is the source, the eye the receiver).
+        z [m], the target-to-edge distance d_ss [m], the edge-to-eye distance d_sr [m] (the target is the
+        source, the eye the receiver) and the edge separation e [m] (0 for single diffraction).
     """
     dem = np.asarray(dem_m, dtype=float)
     cell = float(require("cell_m", cell_m, gt=0))
     points = np.atleast_2d(np.asarray(targets, dtype=float))
     eye_z = float(eye[2])
-    z, to_edge, from_edge = (np.zeros(len(points)) for _ in range(3))
+    z, to_edge, from_edge, between = (np.zeros(len(points)) for _ in range(4))
     for part, reach, steps, ground in _profiles(dem, cell, eye, points, k_factor, chunk):
         distance = steps * cell
         span = np.maximum(reach, 1e-9) * cell  # [m]
         rise = points[part, 2] - curvature_drop_m(span, k_factor) - eye_z
+        height = ground - eye_z
         inside = distance[None, :] < span[:, None]
-        above = inside & (ground - eye_z > rise[:, None] * distance[None, :] / span[:, None])
-        near = np.hypot(distance[None, :], ground - eye_z)
-        far = np.hypot(span[:, None] - distance[None, :], rise[:, None] - (ground - eye_z))
-        excess = np.where(above, near + far - np.hypot(span, rise)[:, None], -np.inf)
-        edge = np.argmax(excess, axis=1)
-        blocked = np.isfinite(excess[np.arange(edge.size), edge])
-        pick = (np.arange(edge.size), edge)
-        z[part] = np.where(blocked, excess[pick], 0.0)
-        to_edge[part] = np.where(blocked, far[pick], 0.0)
-        from_edge[part] = np.where(blocked, near[pick], 0.0)
-    return z, to_edge, from_edge
+        from_eye = np.where(inside, height / distance[None, :], -np.inf)
+        back = np.maximum(span[:, None] - distance[None, :], 1e-12)
+        from_target = np.where(inside, (height - rise[:, None]) / back, -np.inf)
+        first, last = np.argmax(from_eye, axis=1), np.argmax(from_target, axis=1)
+        rows = np.arange(first.size)
+        blocked = from_eye[rows, first] > rise / span
+        x1, y1 = distance[first], height[rows, first]
+        x2, y2 = distance[last], height[rows, last]
+        near, far, e = np.hypot(x1, y1), np.hypot(span - x2, rise - y2), np.hypot(x2 - x1, y2 - y1)
+        z[part] = np.where(blocked, np.maximum(near + e + far - np.hypot(span, rise), 0.0), 0.0)
+        to_edge[part], from_edge[part] = np.where(blocked, far, 0.0), np.where(blocked, near, 0.0)
+        between[part] = np.where(blocked, e, 0.0)
+    return z, to_edge, from_edge, between
 
 
 def gaussian_hills(cells: int, cell_m: float, hills: int = 12, seed: int = 7) -> np.ndarray:

@@ -130,6 +130,23 @@ def test_barrier_capped_at_20_db_and_less_the_ground_effect():
         acoustic.iso9613_barrier_db(1000.0, -0.1)
 
 
+def test_barrier_c3_and_double_diffraction_against_iso9613_2_eq_15_by_hand():
+    """C3 = (1 + (5 lambda/e)^2) / (1/3 + (5 lambda/e)^2): 1 kHz, e 1 m -> 3.89 / 3.2233 = 1.206825; cap 25 dB."""
+    assert acoustic.iso9613_barrier_c3(1000.0, 1.0) == pytest.approx(3.89 / (1 / 3 + 2.89), abs=1e-12)
+    assert acoustic.iso9613_barrier_c3(1000.0, 1.0) == pytest.approx(1.206825, abs=5e-7)
+    assert acoustic.iso9613_barrier_c3(1000.0, 0.0) == 1.0  # one edge
+    assert acoustic.iso9613_barrier_c3(1000.0, 1e6) == pytest.approx(3.0, abs=1e-9)  # edges far apart
+    # D_z with e = 1 m at 1 kHz, z 0.5 m: 10 lg(3 + 20 / 0.34 x 1.206825 x 0.5) = 15.8540 dB
+    assert acoustic.iso9613_barrier_db(1000.0, 0.5, edge_separation_m=1.0) == pytest.approx(
+        10 * math.log10(3 + 20 / 0.34 * (3.89 / (1 / 3 + 2.89)) * 0.5), abs=1e-12
+    )
+    # double diffraction caps at 25 dB, single at 20 (Section 7.4)
+    assert acoustic.iso9613_barrier_db(4000.0, 5.0, edge_separation_m=10.0) == 25.0
+    assert acoustic.iso9613_barrier_db(4000.0, 5.0) == 20.0
+    with pytest.raises(ParameterError, match="edge_separation_m"):
+        acoustic.iso9613_barrier_db(1000.0, 0.5, edge_separation_m=-1.0)
+
+
 def test_barrier_met_factor_eq_18_by_hand():
     """K_met = exp(-sqrt(d_ss d_sr d / 2z) / 2000): 100, 200, 290 m, z 10 m -> exp(-538.52 / 2000) = 0.763946."""
     assert acoustic.iso9613_barrier_met_factor(10.0, 100.0, 200.0, 290.0) == pytest.approx(0.763946, abs=5e-7)

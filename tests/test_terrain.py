@@ -242,13 +242,34 @@ def test_diffraction_path_difference_over_a_knife_edge_is_exact_geometry():
     """Eye 1.5 m at x = 0, target 30 m at 1000 m, edge 20 m at 500 m: z = d_ss + d_sr - d (ISO 9613-2 Eq. 16)."""
     dem, k = _knife_edge_dem(), 1e9  # k -> infinity: no curvature drop (sub-nanometre at 1 km)
     targets = np.array([[2.0, 100.0, 30.0], [2.0, 100.0, 60.0]])
-    z, d_ss, d_sr = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), targets, k)
+    z, d_ss, d_sr, e = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), targets, k)
     near, far = math.hypot(500.0, 20.0 - 1.5), math.hypot(500.0, 30.0 - 20.0)
     assert z[0] == pytest.approx(near + far - math.hypot(1000.0, 28.5), abs=1e-9)  # 0.03608 m
     assert d_sr[0] == pytest.approx(near, abs=1e-9) and d_ss[0] == pytest.approx(far, abs=1e-9)
+    assert e[0] == 0.0  # one edge: single diffraction
     # the 60 m target clears the edge (the line passes 30.75 m over it): no path difference
-    assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0
+    assert z[1] == 0.0 and d_ss[1] == 0.0 and d_sr[1] == 0.0 and e[1] == 0.0
     assert line_of_sight(dem, 10.0, (2.0, 0.0, 1.5), targets, k).tolist() == [False, True]
+
+
+def test_diffraction_over_two_edges_is_eq_17_exact_geometry():
+    """20 m edges at 300 and 700 m, eye and target 1.5 m up at 0 and 1 km: z = d_sr + e + d_ss - d (Eq. 17).
+
+    A lower middle edge (10 m at 500 m) stays under the taut string and changes nothing; a third edge
+    hidden behind the first (15 m at 400 m) neither.
+    """
+    dem, k = np.zeros((5, 101)), 1e9
+    dem[:, 30] = dem[:, 70] = 20.0
+    dem[:, 50], dem[:, 40] = 10.0, 15.0
+    z, d_ss, d_sr, e = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), np.array([[2.0, 100.0, 1.5]]), k)
+    side = math.hypot(300.0, 18.5)
+    assert z[0] == pytest.approx(2 * side + 400.0 - 1000.0, abs=1e-9)  # 1.1393 m
+    assert d_sr[0] == pytest.approx(side, abs=1e-9) and d_ss[0] == pytest.approx(side, abs=1e-9)
+    assert e[0] == pytest.approx(400.0, abs=1e-9)
+    # a target at 40 m sees over the far edge: the string touches only the first, single diffraction
+    z1, _, _, e1 = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), np.array([[2.0, 100.0, 40.0]]), k)
+    assert e1[0] == 0.0
+    assert z1[0] == pytest.approx(side + math.hypot(700.0, 20.0) - math.hypot(1000.0, 38.5), abs=1e-9)
 
 
 def test_terrain_barrier_of_an_acoustic_sensor_is_iso9613_over_the_knife_edge():

@@ -176,13 +176,22 @@ def _knife_edge_z() -> tuple[float, float]:
 
     dem = np.zeros((5, 101))
     dem[:, 50] = 20.0  # 10 m cells: the edge 500 m from the eye
-    z, _, _ = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), np.array([[2.0, 100.0, 30.0]]), 1e9)
+    z, _, _, _ = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), np.array([[2.0, 100.0, 30.0]]), 1e9)
     exact = math.hypot(500.0, 18.5) + math.hypot(500.0, 10.0) - math.hypot(1000.0, 28.5)
     return float(z[0]), exact
 
 
+def _two_edges_z() -> tuple[float, float, float]:
+    """z and e over 20 m edges at 300 and 700 m (eye and target 1.5 m up, 1 km apart): profile, and z exact."""
+
+    dem = np.zeros((5, 101))
+    dem[:, 30] = dem[:, 70] = 20.0
+    z, _, _, e = diffraction_path_difference_m(dem, 10.0, (2.0, 0.0, 1.5), np.array([[2.0, 100.0, 1.5]]), 1e9)
+    return float(z[0]), float(e[0]), 2.0 * math.hypot(300.0, 18.5) + 400.0 - 1000.0
+
+
 def barrier(_knob=None) -> Section:
-    """ISO 9613-2 single-edge barrier: D_z vs Eq. 14 by hand, the 20 dB cap, z of a knife edge vs exact geometry.
+    """ISO 9613-2 barrier: D_z vs Eqs. 14-15 by hand, the 20/25 dB caps, z over one and two edges vs exact geometry.
 
     No package cross-check: sound-propagation 0.1 has ISO 9613-1 absorption and ISO 9613-2 ground, no barrier.
     """
@@ -213,6 +222,33 @@ def barrier(_knob=None) -> Section:
             source="exact geometry: d_ss + d_sr - d over a 20 m edge at 500 m, eye 1.5 m, target 30 m at 1 km",
             method="csuas.core.terrain.diffraction_path_difference_m on a 10 m DEM (no curvature)",
             time_s=time.perf_counter() - t0,
+        )
+    )
+    t0 = time.perf_counter()
+    z_two, e_two, z_two_exact = _two_edges_z()
+    s.outcomes.append(
+        Check(
+            "sound.barrier_z.two_edges_m",
+            z_two_exact,
+            z_two,
+            1e-9,
+            "m",
+            source="exact geometry, ISO 9613-2 Eq. 17: d_ss + e + d_sr - d over 20 m edges at 300 and 700 m, eye and "
+            "target 1.5 m up, 1 km apart",
+            method="csuas.core.terrain.diffraction_path_difference_m on a 10 m DEM (no curvature)",
+            time_s=time.perf_counter() - t0,
+        )
+    )
+    c3 = (1.0 + (5.0 * 0.34 / e_two) ** 2) / (1.0 / 3.0 + (5.0 * 0.34 / e_two) ** 2)
+    s.outcomes.append(
+        Check(
+            "sound.barrier_dz.two_edges_1kHz",
+            min(10.0 * math.log10(3.0 + 20.0 / 0.34 * c3 * z_two_exact), 25.0),
+            float(acoustic.iso9613_barrier_db(1000.0, z_two, edge_separation_m=e_two)),
+            1e-9,
+            "dB",
+            source="ISO 9613-2:1996 Eqs. 14-15 by hand at 1 kHz, e = 400 m (C3 = 2.9998), K_met = 1; 25 dB cap",
+            method="csuas.core.acoustic.iso9613_barrier_db with edge_separation_m",
         )
     )
     return s
