@@ -161,3 +161,24 @@ def test_shipped_statistics_rows_agree_with_their_headers():
             assert float(vv["p10_dbsm"]) <= float(vv["median_dbsm"]) <= float(vv["p90_dbsm"])
         if options["total_s"] is not None:
             assert sum(float(r["time_s"]) for r in rows[::2]) == pytest.approx(int(options["total_s"].group(1)), abs=1)
+
+
+def _rows(preset, means_16, means_24, error_db):
+    return [
+        {"preset": preset, "frequency_ghz": f, "polarisation": pol, "mean_dbsm": m, "mean_error_db": error_db}
+        for f, means in ((16.0, means_16), (24.0, means_24))
+        for pol, m in zip(("VV", "HH"), means)
+    ]
+
+
+def test_trend_check_judges_the_rise_of_the_polarisation_mean():
+    """Eq. 6 mean of VV and HH: 10 log10((10^-1.5 + 10^-1.3) / 2) = -13.88 dBsm at 16 GHz, -11.88 at 24 GHz."""
+    from csuas.validation.report.checks_rcs import _trend_16_to_24
+
+    rising = _trend_16_to_24("x", _rows("x", (-15.0, -13.0), (-13.0, -11.0), 0.5))
+    assert rising.measured == pytest.approx(2.0) and rising.ok
+    assert rising.tolerance == pytest.approx(math.hypot(0.5, 0.5))
+    within = _trend_16_to_24("x", _rows("x", (-15.0, -13.0), (-15.5, -13.5), 0.5))  # -0.5 dB, bound 0.71 dB
+    assert within.ok
+    falling = _trend_16_to_24("x", _rows("x", (-15.0, -13.0), (-16.0, -14.0), 0.5))
+    assert falling.measured == pytest.approx(-1.0) and not falling.ok and falling.limitation

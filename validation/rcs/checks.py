@@ -47,8 +47,9 @@ TR38901_SMALL_UAV_MEAN_DBSM = -12.81
 TR38901_SMALL_UAV_SPREAD_DB = 3.74
 
 _WHY_LOW = (
-    "SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD), "
-    "creeping waves, rotor blades, cables or surface roughness, which fill the nulls of measured drones; "
+    "SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD) at these "
+    "settings, no creeping waves or surface roughness, and its wires (ka 0.02-0.3) are far below PO's validity: "
+    "these fill the nulls of measured drones; "
 )
 _WHY_HIGH = (
     "the model's metal parts (battery can, motors, landing legs) are smooth specular reflectors, and "

@@ -265,8 +265,7 @@ def drone_statistics(_knob=None) -> Section:
         if not measured.ok:
             measured.limitation = (
                 f"{preset} is larger than the measured quadcopters (a 2 m airframe against Phantom 3 to Matrice "
-                "600), and its pusher's swept disc is a solid plate to the radar; no published measurement of it "
-                "was found"
+                "600); no published measurement of it was found"
                 if mean > hi
                 else f"{preset} is far smaller than the measured quadcopters (Phantom 3 to Matrice 600); "
                 "no published measurement of it was found"
