@@ -43,6 +43,15 @@ GROUND_PLANE_THICKNESS_M = 0.0002
 WIRE_SECTIONS = 8
 #: Motor leads per arm (a brushless motor's three phases).
 LEADS_PER_MOTOR = 3
+#: Plan size of the ground plane as a fraction of the board's (the copper stops short of the board's edge).
+GROUND_PLANE_FRACTION = 0.95
+#: Centre-to-centre spacing of side-by-side motor leads and of the two battery leads, in wire diameters.
+LEAD_PITCH_DIAMETERS = 2.5
+BATTERY_LEAD_PITCH_DIAMETERS = 3.0
+#: Where the motor leads leave the board: this fraction of the way from its centre toward the arm's root.
+LEAD_START_FRACTION = 0.5
+#: Where the battery leads leave the board: this fraction of its length from its centre toward the battery.
+BATTERY_LEAD_FRACTION = 0.4
 
 
 @dataclass
@@ -262,6 +271,8 @@ def _internals(params: MultirotorParams, mat: dict[str, Material]) -> list[Part]
         parts.append(Part("camera_module", "camera_module", module, mat["camera_module"]))
     if params.flight_controller_extents_m is None:
         return parts
+    if params.flight_controller_center_m is None:
+        raise ParameterError("flight_controller_center_m", None, "the board's centre (x, y, z) [m] inside the body")
     centre = np.asarray(params.flight_controller_center_m, dtype=float)
     length, width = params.flight_controller_extents_m
     parts.append(
@@ -272,7 +283,7 @@ def _internals(params: MultirotorParams, mat: dict[str, Material]) -> list[Part]
             mat["flight_controller"],
         )
     )
-    plane = P.box(centre, (0.95 * length, 0.95 * width, GROUND_PLANE_THICKNESS_M))
+    plane = P.box(centre, (GROUND_PLANE_FRACTION * length, GROUND_PLANE_FRACTION * width, GROUND_PLANE_THICKNESS_M))
     parts.append(Part("ground_plane", "ground_plane", plane, mat["ground_plane"]))
     return parts + _wiring(params, mat["wiring"], centre)
 
@@ -288,8 +299,8 @@ def _wiring(params: MultirotorParams, material: Material, board_centre: np.ndarr
         along = root[:2] - board_centre[:2]
         side = np.array([-along[1], along[0]]) / max(float(np.linalg.norm(along)), 1e-9)
         for k in range(LEADS_PER_MOTOR):
-            shift = (k - (LEADS_PER_MOTOR - 1) / 2.0) * 2.5 * 2.0 * radius * side
-            start = [*(board_centre[:2] + 0.5 * along + shift), top]
+            shift = (k - (LEADS_PER_MOTOR - 1) / 2.0) * LEAD_PITCH_DIAMETERS * 2.0 * radius * side
+            start = [*(board_centre[:2] + LEAD_START_FRACTION * along + shift), top]
             end = [*(root[:2] + shift), arm_top]
             wires.append(
                 Part(f"wire_motor{i}_{k}", "wiring", P.cylinder_between(start, end, radius, WIRE_SECTIONS), material)
@@ -298,8 +309,9 @@ def _wiring(params: MultirotorParams, material: Material, board_centre: np.ndarr
         b_c = np.asarray(params.battery_center_m, dtype=float)
         toward = np.sign(board_centre[0] - b_c[0])
         face_x = b_c[0] + toward * params.battery_extents_m[0] / 2.0
-        board_x = board_centre[0] - toward * 0.4 * params.flight_controller_extents_m[0]
-        for k, dy in enumerate((-3.0 * radius, 3.0 * radius)):
+        board_x = board_centre[0] - toward * BATTERY_LEAD_FRACTION * params.flight_controller_extents_m[0]
+        half_pitch = BATTERY_LEAD_PITCH_DIAMETERS * radius
+        for k, dy in enumerate((-half_pitch, half_pitch)):
             start, end = [board_x, board_centre[1] + dy, top], [face_x, b_c[1] + dy, b_c[2]]
             wires.append(
                 Part(f"wire_battery_{k}", "wiring", P.cylinder_between(start, end, radius, WIRE_SECTIONS), material)
