@@ -124,7 +124,7 @@ PLASTIC = Material(
     conductivity_s_m=0.0,
     is_pec=False,
     source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle, Baker-Jarvis & Krupka, "
-    "IEEE T-MTT 51(3):727, 2003: ABS 2.6-3.0)",
+    "IEEE T-MTT 51(3):727, 2003, common plastics; ABS eps' 2.6-3.0 as commonly quoted)",
 )
 
 DARK_PLASTIC = Material(
