@@ -22,7 +22,8 @@ class Part:
     kind : str
         Component class: body, arm, motor, propeller, gimbal, landing_gear,
         battery, tail_boom, tail_rotor, mast; a fixed-wing adds wing, tail,
-        pusher_propeller.
+        pusher_propeller; parts inside the airframe (``Drone.internal_parts``) are
+        flight_controller, ground_plane, wiring and camera_module.
     mesh : trimesh.Trimesh
         Closed surface in the body frame [m].
     material : Material
@@ -52,6 +53,10 @@ class Drone:
         Published figures the model was built from, with their source.
     propellers : str
         ``"disc"`` (swept discs), ``"blades"``, ``"none"``, or ``"as file"`` for user meshes.
+    internal_parts : list of Part
+        Parts enclosed by the airframe's dielectric shell (circuit board, wiring, camera module):
+        the radar sees them through the shell (:meth:`radar_parts`); the EO, thermal, lidar and
+        silhouette models, which see the opaque outer surface, do not.
     """
 
     name: str
@@ -59,6 +64,11 @@ class Drone:
     parts: list
     spec: dict = field(default_factory=dict)
     propellers: str = "disc"
+    internal_parts: list = field(default_factory=list)
+
+    def radar_parts(self) -> list:
+        """The parts a radar sees: the outer parts and those inside the dielectric shell."""
+        return [*self.parts, *self.internal_parts]
 
     def mesh(self, kinds=None) -> trimesh.Trimesh:
         """All parts (or the parts whose ``kind`` is in ``kinds``) concatenated into one mesh.
@@ -126,8 +136,8 @@ class Drone:
         }
 
     def translated(self, offset) -> Drone:
-        """Move every part by ``offset`` [m] in place and return ``self``."""
-        for p in self.parts:
+        """Move every part, internal ones included, by ``offset`` [m] in place and return ``self``."""
+        for p in self.radar_parts():
             p.mesh.apply_translation(offset)
         return self
 

@@ -15,9 +15,18 @@ source:
 * Radio properties are complex relative permittivity ``eps' - j eps''`` and
   bulk conductivity at about 1-30 GHz: ABS/polycarbonate eps' ~ 2.8,
   tan(delta) ~ 0.01 (Riddle, Baker-Jarvis & Krupka, IEEE T-MTT 51(3), 2003);
-  carbon-fibre laminate ~1e4 S/m in-plane (Hu & Mittra; a good conductor at
-  GHz); aluminium 3.5e7 S/m (CRC Handbook); Li-ion battery pack treated as a
-  metal-cased conductor; paint as a thin lossy dielectric over its substrate.
+  carbon-fibre laminate ~1e4 S/m in-plane (Holloway, Sarto & Johansson, IEEE
+  T-EMC 47(4):833, 2005: 1e3-1e5 S/m; a good conductor at GHz); aluminium
+  3.5e7 S/m (CRC Handbook); copper 5.8e7 S/m (IACS annealed copper, CRC
+  Handbook) for a circuit board's ground plane and the wiring; FR-4 eps' 4.4,
+  tan(delta) 0.02 (Djordjevic et al., IEEE T-EMC 43(4):662, 2001: 4.3-4.5 to
+  a few GHz); the Li-ion battery's pouch cells are sealed in an aluminium
+  laminate (a ~40 um foil, some 20 skin depths at 2.4 GHz): a conductor of
+  aluminium's conductivity; paint as a thin lossy dielectric over its
+  substrate.
+* Parts inside the airframe (circuit board, wiring, camera module: a drone's
+  ``internal_parts``) are seen by the radar only, through the dielectric
+  shell; their optical and thermal figures are given for completeness.
 * Optical reflectances are diffuse (Lambertian) albedos at 550 nm and
   1550 nm and linear sRGB triples for previews; grey plastics from
   DJI's light-grey finish, black carbon composite, bare aluminium.
@@ -114,7 +123,8 @@ PLASTIC = Material(
     relative_permittivity=complex(2.8, -0.03),
     conductivity_s_m=0.0,
     is_pec=False,
-    source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle et al. 2003)",
+    source="emissivity 0.9-1 (paper 4.4.3 [114]); ABS/PC eps' 2.8, tan d 0.01 (Riddle, Baker-Jarvis & Krupka, "
+    "IEEE T-MTT 51(3):727, 2003, common plastics; ABS eps' 2.6-3.0 as commonly quoted)",
 )
 
 DARK_PLASTIC = Material(
@@ -128,7 +138,8 @@ DARK_PLASTIC = Material(
     relative_permittivity=complex(2.8, -0.03),
     conductivity_s_m=0.0,
     is_pec=False,
-    source="black propeller/gimbal plastic; emissivity as plastic (paper 4.4.3 [114])",
+    source="black propeller/gimbal plastic; emissivity as plastic (paper 4.4.3 [114]); radio as ABS/PC, eps' 2.8, "
+    "tan d 0.01 (Riddle, Baker-Jarvis & Krupka, IEEE T-MTT 51(3):727, 2003)",
 )
 
 CARBON_FIBRE = Material(
@@ -142,7 +153,8 @@ CARBON_FIBRE = Material(
     relative_permittivity=complex(12.0, 0.0),
     conductivity_s_m=1.0e4,
     is_pec=False,
-    source="emissivity 0.8-0.84 (paper 4.4.3 [115]); CFRP in-plane conductivity ~1e4 S/m",
+    source="emissivity 0.8-0.84 (paper 4.4.3 [115]); CFRP in-plane conductivity ~1e4 S/m (1e3-1e5 S/m: "
+    "Holloway, Sarto & Johansson, IEEE T-EMC 47(4):833, 2005)",
 )
 
 ALUMINIUM = Material(
@@ -197,9 +209,41 @@ BATTERY_PACK = Material(
     emissivity_mwir=0.93,
     temperature_k=T_SUAS_K,
     relative_permittivity=complex(1.0, 0.0),
-    conductivity_s_m=1.0e6,
+    conductivity_s_m=3.5e7,
     is_pec=False,
-    source="plastic-sleeved Li-ion cells: plastic surface (IR/optical), metal-cased conductor (radio)",
+    source="plastic-sleeved Li-ion pouch cells: plastic surface (IR/optical); the pouch's aluminium laminate "
+    "(~40 um foil) is a conductor of aluminium's 3.5e7 S/m (CRC Handbook) at radio frequencies",
+)
+
+COPPER = Material(
+    name="copper",
+    reflectance_rgb=(0.55, 0.35, 0.25),
+    reflectance_550nm=0.50,
+    reflectance_1550nm=0.95,
+    emissivity_lwir=0.03,
+    emissivity_mwir=0.03,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(1.0, 0.0),
+    conductivity_s_m=5.8e7,
+    is_pec=False,
+    source="circuit-board ground plane and wiring: conductivity 5.8e7 S/m (IACS annealed copper, CRC Handbook); "
+    "emissivity 0.03 polished (Incropera et al., Table A.11); inside the airframe, radio only",
+)
+
+FR4 = Material(
+    name="fr4",
+    reflectance_rgb=(0.05, 0.25, 0.10),
+    reflectance_550nm=0.20,
+    reflectance_1550nm=0.30,
+    emissivity_lwir=0.90,
+    emissivity_mwir=0.88,
+    temperature_k=T_SUAS_K,
+    relative_permittivity=complex(4.4, -0.088),
+    conductivity_s_m=0.0,
+    is_pec=False,
+    source="FR-4 glass-epoxy board: eps' 4.4, tan d 0.02 (Djordjevic, Biljic, Likar-Smiljanic & Sarkar, IEEE "
+    "T-EMC 43(4):662, 2001: eps' 4.3-4.5, tan d ~0.02 at 1-10 GHz); solder-mask emissivity ~0.9 (assumption); "
+    "inside the airframe, radio only",
 )
 
 PEC = Material(
@@ -255,6 +299,8 @@ MATERIALS = {
         ANODISED_ALUMINIUM,
         PAINT,
         BATTERY_PACK,
+        COPPER,
+        FR4,
         PEC,
         PLUMAGE_WHITE,
         PLUMAGE_GREY,

@@ -1,4 +1,10 @@
-"""Parametric multirotor generator: body, arms, motors, propellers, gimbal, legs, battery."""
+"""Parametric multirotor generator: body, arms, motors, propellers, gimbal, legs, battery.
+
+Inside the body shell (the drone's ``internal_parts``, seen by the radar only): the flight controller's
+board (FR-4) with its copper ground plane as an inner layer, the wiring (three motor leads along each
+arm's run inside the body, two battery leads) and the gimbal's metal camera module inside its ABS
+housing. Wires are AWG 20 (0.81 mm, ASTM B258 table) by default.
+"""
 
 from __future__ import annotations
 
@@ -23,7 +29,29 @@ DEFAULT_MULTIROTOR_MATERIALS = {
     "gimbal": "dark_plastic",
     "landing_gear": "aluminium",
     "battery": "battery_pack",
+    "flight_controller": "fr4",
+    "ground_plane": "copper",
+    "wiring": "copper",
+    "camera_module": "aluminium",
 }
+
+#: Thickness of the flight controller's board [m] (the common 1.6 mm FR-4 stack-up).
+BOARD_THICKNESS_M = 0.0016
+#: Thickness of the board's inner copper ground plane as meshed [m] (35 um foil, thickened for the mesh).
+GROUND_PLANE_THICKNESS_M = 0.0002
+#: Facets around a wire.
+WIRE_SECTIONS = 8
+#: Motor leads per arm (a brushless motor's three phases).
+LEADS_PER_MOTOR = 3
+#: Plan size of the ground plane as a fraction of the board's (the copper stops short of the board's edge).
+GROUND_PLANE_FRACTION = 0.95
+#: Centre-to-centre spacing of side-by-side motor leads and of the two battery leads, in wire diameters.
+LEAD_PITCH_DIAMETERS = 2.5
+BATTERY_LEAD_PITCH_DIAMETERS = 3.0
+#: Where the motor leads leave the board: this fraction of the way from its centre toward the arm's root.
+LEAD_START_FRACTION = 0.5
+#: Where the battery leads leave the board: this fraction of its length from its centre toward the battery.
+BATTERY_LEAD_FRACTION = 0.4
 
 
 @dataclass
@@ -74,6 +102,14 @@ class MultirotorParams:
         Leg tube radius.
     battery_extents_m, battery_center_m : tuple of 3 float or None
         Exposed battery pack; ``None`` for none.
+    flight_controller_extents_m, flight_controller_center_m : tuple of 2 and 3 float or None
+        Plan size (length, width) and centre of the flight controller's board inside the body,
+        :data:`BOARD_THICKNESS_M` thick with its ground plane at mid-thickness; ``None`` for none
+        (then no wiring either).
+    wire_diameter_m : float
+        Diameter of the motor and battery leads [m].
+    camera_module_fraction : float
+        Size of the gimbal's metal camera module as a fraction of the housing's extents (0 for none).
     materials : dict
         Part kind -> material name (:data:`DEFAULT_MULTIROTOR_MATERIALS`).
     sections : int
@@ -106,6 +142,10 @@ class MultirotorParams:
     leg_radius_m: float = 0.003
     battery_extents_m: tuple | None = None
     battery_center_m: tuple | None = None
+    flight_controller_extents_m: tuple | None = None
+    flight_controller_center_m: tuple | None = None
+    wire_diameter_m: float = 0.00081
+    camera_module_fraction: float = 0.6
     materials: dict = field(default_factory=lambda: dict(DEFAULT_MULTIROTOR_MATERIALS))
     sections: int = P.DEFAULT_SECTIONS
 
@@ -151,8 +191,23 @@ def build_multirotor(
         raise ParameterError("rotor_positions_m", params.rotor_positions_m, "at least one rotor")
     materials = {**DEFAULT_MULTIROTOR_MATERIALS, **params.materials}
     return build_rotorcraft(
-        name, mass_kg, materials, lambda mat: _airframe(params, mat, propellers), spec=spec, propellers=propellers
+        name,
+        mass_kg,
+        materials,
+        lambda mat: _airframe(params, mat, propellers),
+        spec=spec,
+        propellers=propellers,
+        internals=lambda mat: _internals(params, mat),
     )
+
+
+def _arm_root(params: MultirotorParams, x: float, y: float) -> np.ndarray:
+    """Where the arm of the rotor at (x, y) starts inside the body [m] (``arm_root_fraction``)."""
+    body_c = np.asarray(params.body_center_m, dtype=float)
+    offset = np.array([x, y]) - body_c[:2]
+    half = params.arm_root_fraction * np.asarray(params.body_extents_m, dtype=float)[:2] / 2.0
+    scale = min([1.0, *(h / abs(o) for h, o in zip(half, offset) if o != 0.0)])
+    return np.array([*(body_c[:2] + offset * scale), body_c[2]])
 
 
 def _airframe(params: MultirotorParams, mat: dict[str, Material], propellers: str) -> list[Part]:
@@ -164,10 +219,7 @@ def _airframe(params: MultirotorParams, mat: dict[str, Material], propellers: st
     for i, (x, y, z) in enumerate(params.rotor_positions_m):
         label = f"{i}_{_rotor_label(i, x, y, n)}"
         motor_mid = np.array([x, y, z + params.motor_height_m / 2.0])
-        offset = np.array([x, y]) - body_c[:2]
-        half = params.arm_root_fraction * body_ext[:2] / 2.0
-        scale = min([1.0, *(h / abs(o) for h, o in zip(half, offset) if o != 0.0)])
-        root = np.array([*(body_c[:2] + offset * scale), body_c[2]])
+        root = _arm_root(params, x, y)
         if np.linalg.norm(motor_mid[:2] - root[:2]) > 1e-9:  # a rotor above the body needs no arm
             if params.arm_profile == "bar":
                 arm = P.bar_between(root, motor_mid, params.arm_width_m, params.arm_thickness_m)
@@ -209,3 +261,59 @@ def _airframe(params: MultirotorParams, mat: dict[str, Material], propellers: st
             Part("battery", "battery", P.box(params.battery_center_m, params.battery_extents_m), mat["battery"])
         )
     return parts
+
+
+def _internals(params: MultirotorParams, mat: dict[str, Material]) -> list[Part]:
+    """The flight controller's board and ground plane, the wiring and the camera module, uncentred."""
+    parts = []
+    if params.gimbal_extents_m is not None and params.camera_module_fraction > 0.0:
+        module = P.box(params.gimbal_center_m, np.asarray(params.gimbal_extents_m) * params.camera_module_fraction)
+        parts.append(Part("camera_module", "camera_module", module, mat["camera_module"]))
+    if params.flight_controller_extents_m is None:
+        return parts
+    if params.flight_controller_center_m is None:
+        raise ParameterError("flight_controller_center_m", None, "the board's centre (x, y, z) [m] inside the body")
+    centre = np.asarray(params.flight_controller_center_m, dtype=float)
+    length, width = params.flight_controller_extents_m
+    parts.append(
+        Part(
+            "flight_controller",
+            "flight_controller",
+            P.box(centre, (length, width, BOARD_THICKNESS_M)),
+            mat["flight_controller"],
+        )
+    )
+    plane = P.box(centre, (GROUND_PLANE_FRACTION * length, GROUND_PLANE_FRACTION * width, GROUND_PLANE_THICKNESS_M))
+    parts.append(Part("ground_plane", "ground_plane", plane, mat["ground_plane"]))
+    return parts + _wiring(params, mat["wiring"], centre)
+
+
+def _wiring(params: MultirotorParams, material: Material, board_centre: np.ndarray) -> list[Part]:
+    """Motor leads from the board's top to each arm's root and battery leads to the pack, inside the body."""
+    radius = params.wire_diameter_m / 2.0
+    top = board_centre[2] + BOARD_THICKNESS_M / 2.0 + radius
+    arm_top = params.body_center_m[2] + params.arm_thickness_m / 2.0 + radius
+    wires = []
+    for i, (x, y, _) in enumerate(params.rotor_positions_m):
+        root = _arm_root(params, x, y)
+        along = root[:2] - board_centre[:2]
+        side = np.array([-along[1], along[0]]) / max(float(np.linalg.norm(along)), 1e-9)
+        for k in range(LEADS_PER_MOTOR):
+            shift = (k - (LEADS_PER_MOTOR - 1) / 2.0) * LEAD_PITCH_DIAMETERS * 2.0 * radius * side
+            start = [*(board_centre[:2] + LEAD_START_FRACTION * along + shift), top]
+            end = [*(root[:2] + shift), arm_top]
+            wires.append(
+                Part(f"wire_motor{i}_{k}", "wiring", P.cylinder_between(start, end, radius, WIRE_SECTIONS), material)
+            )
+    if params.battery_center_m is not None:
+        b_c = np.asarray(params.battery_center_m, dtype=float)
+        toward = np.sign(board_centre[0] - b_c[0])
+        face_x = b_c[0] + toward * params.battery_extents_m[0] / 2.0
+        board_x = board_centre[0] - toward * BATTERY_LEAD_FRACTION * params.flight_controller_extents_m[0]
+        half_pitch = BATTERY_LEAD_PITCH_DIAMETERS * radius
+        for k, dy in enumerate((-half_pitch, half_pitch)):
+            start, end = [board_x, board_centre[1] + dy, top], [face_x, b_c[1] + dy, b_c[2]]
+            wires.append(
+                Part(f"wire_battery_{k}", "wiring", P.cylinder_between(start, end, radius, WIRE_SECTIONS), material)
+            )
+    return wires

@@ -92,6 +92,8 @@ def _mini_4_pro():
         leg_radius_m=0.003,
         battery_extents_m=(0.014, 0.062, 0.034),
         battery_center_m=(-0.066, 0.0, 0.040),
+        flight_controller_extents_m=(0.070, 0.045),
+        flight_controller_center_m=(0.0, 0.0, 0.050),
     )
     return build_multirotor, params, spec
 
@@ -142,6 +144,8 @@ def _mavic_3():
         leg_radius_m=0.004,
         battery_extents_m=(0.020, 0.070, 0.050),
         battery_center_m=(-0.095, 0.0, 0.060),
+        flight_controller_extents_m=(0.100, 0.055),
+        flight_controller_center_m=(0.0, 0.0, 0.072),
     )
     return build_multirotor, params, spec
 

@@ -84,6 +84,7 @@ def build_rotorcraft(
     airframe: Callable[[dict[str, Material]], list[Part]],
     spec: dict | None = None,
     propellers: str = "disc",
+    internals: Callable[[dict[str, Material]], list[Part]] | None = None,
 ) -> Drone:
     """Assemble a rotorcraft: check the propeller style, resolve materials, build and centre its parts.
 
@@ -101,6 +102,9 @@ def build_rotorcraft(
         Published figures, stored on the result.
     propellers : {"disc", "blades", "none"}
         Representation of the rotors.
+    internals : callable, optional
+        Part kind -> :class:`Material` mapping -> the parts inside the airframe
+        (:attr:`Drone.internal_parts`, seen by the radar only).
 
     Returns
     -------
@@ -111,4 +115,12 @@ def build_rotorcraft(
         raise ParameterError("propellers", propellers, ", ".join(PROPELLER_STYLES))
     resolved = {kind: get_material(material) for kind, material in materials.items()}
     parts = airframe(resolved)
-    return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()
+    inside = internals(resolved) if internals is not None else []
+    return Drone(
+        name=name,
+        mass_kg=float(mass_kg),
+        parts=parts,
+        spec=dict(spec or {}),
+        propellers=propellers,
+        internal_parts=inside,
+    ).centred()

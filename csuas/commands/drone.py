@@ -22,6 +22,7 @@ from csuas.drone_models.silhouette import (
     projected_metrics,
 )
 from csuas.drone_models.sphere_average import QUALITY_PRESETS, sphere_average
+from csuas.render.rcs.geometry import radar_part_list
 
 
 def add_arguments(parser) -> None:
@@ -128,6 +129,7 @@ def run(args) -> dict:
             for p in drone.parts
         ],
         "spec": drone.spec,
+        "rf_model": radar_part_list(args.preset) if args.preset in list_presets() else None,
     }
     if args.quality != "none":
         _check_cost(model, args)
@@ -193,6 +195,12 @@ def render_text(result: dict) -> str:
         f"  LWIR emissivity       {e['area_weighted']:.3f} area-weighted (paper 0.68 = unweighted mean of "
         "its component list)"
     )
+    if result.get("rf_model"):
+        lines.append("  radar model           part, material, surface (csuas drone --json: rf_model)")
+        lines += [
+            f"    {p['name']:<22}{p['material']:<14}{p['surface']}" + (" (inside)" if p["inside_airframe"] else "")
+            for p in result["rf_model"]
+        ]
     lines += [f"  warning: {w}" for w in result.get("warnings", [])]
     if "export" in result:
         lines.append(f"  exported              {result['export']}")

@@ -258,16 +258,23 @@ def _from_trimesh(mesh, name: str) -> TargetMesh:
     return prepare_mesh(mesh.vertices, mesh.faces, name=name)
 
 
+#: How a preset's rotors enter the radar model: as blades at the preset's blade phase (a radar sees blades,
+#: not the swept disc the optical models use); over the sphere of aspects the blades' positions are averaged
+#: as a spinning rotor's are in time.
+RADAR_PROPELLERS = "blades"
+
+
 def _from_preset(name: str) -> TargetMesh:
+    """A drone preset's radar model: its parts with rotor blades and the parts inside its shell."""
     try:
         from csuas.drone_models import build_drone, list_presets
     except ImportError:
         raise ParameterError("mesh", name, "an existing mesh file (drone presets are not installed)") from None
     if name not in list_presets():
         raise ParameterError("mesh", name, "an existing mesh file or a drone preset: " + ", ".join(list_presets()))
-    drone = build_drone(name)
+    drone = build_drone(name, propellers=RADAR_PROPELLERS)
     vertices, faces, face_material, materials, offset = [], [], [], [], 0
-    for part in drone.parts:
+    for part in drone.radar_parts():
         index = next((i for i, m in enumerate(materials) if m == part.material), None)
         if index is None:
             materials.append(part.material)
@@ -280,3 +287,52 @@ def _from_preset(name: str) -> TargetMesh:
         np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material), materials, name=name
     )
     return target.with_shells(DRONE_SHELL_THICKNESS_M)
+
+
+def radar_part_list(name: str) -> list[dict]:
+    """A drone preset's radar model part by part, as the RCS engine sees it (:func:`load_target`).
+
+    Parameters
+    ----------
+    name : str
+        A preset of :func:`csuas.drone_models.list_presets`.
+
+    Returns
+    -------
+    list of dict
+        Per part: ``name``, ``kind``, ``material``, ``relative_permittivity`` (``[eps', -eps'']`` without
+        the conduction term, or ``"PEC"``), ``conductivity_s_m`` [S/m] (or ``"PEC"``), ``surface``
+        (``"PEC"``, ``"conductor half-space"`` or ``"dielectric shell <t> mm"``), ``inside_airframe``,
+        ``area_m2`` [m^2], ``size_m`` (bounding-box extents [m]) and the material's ``source``.
+    """
+    from csuas.drone_models import build_drone, list_presets
+
+    if name not in list_presets():
+        raise ParameterError("preset", name, ", ".join(list_presets()))
+    drone = build_drone(name, propellers=RADAR_PROPELLERS)
+    inside = {id(p) for p in drone.internal_parts}
+    rows = []
+    for part in drone.radar_parts():
+        material = resolve_material(part.material)
+        if material.is_pec:
+            eps, sigma, surface = "PEC", "PEC", "PEC"
+        else:
+            eps = [material.relative_permittivity.real, material.relative_permittivity.imag]
+            sigma = material.conductivity_s_m
+            shell = _is_dielectric(material)
+            surface = f"dielectric shell {DRONE_SHELL_THICKNESS_M * 1e3:g} mm" if shell else "conductor half-space"
+        rows.append(
+            {
+                "name": part.name,
+                "kind": part.kind,
+                "material": part.material.name,
+                "relative_permittivity": eps,
+                "conductivity_s_m": sigma,
+                "surface": surface,
+                "inside_airframe": id(part) in inside,
+                "area_m2": float(part.mesh.area),
+                "size_m": [float(e) for e in part.mesh.extents],
+                "source": part.material.source,
+            }
+        )
+    return rows

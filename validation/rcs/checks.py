@@ -16,11 +16,11 @@ default radar wavelength 1.25 cm (Table 39, 23.98 GHz), 3 rays per
 wavelength, 3 bounces and a 24 x 8 aspect quadrature (192 aspects, about
 5 s including kernel compilation). The drone's plastic and painted parts are
 2 mm dielectric shells, so its battery, motors and arms inside or behind them
-are illuminated. Measured on the DJI Mini 4 Pro model (VV/HH mean): Eq. 6
-mean -18.0 dBsm (0.016 m^2) with these settings, -17.9 dBsm with 6 rays per
-wavelength and 5 bounces, -18.5 dBsm with a 72 x 24 quadrature; mean of the
-dBsm values -21.5, -21.2 and -21.9 dBsm. So the coarse figures are good to
-about 0.5 dB; the quadrature's estimated sampling error is in ``extra``.
+are illuminated, and so are the flight controller's board, its ground plane and the wiring inside
+(the radar model of docs/simulation.md). Measured on the DJI Mini 4 Pro model (VV/HH mean), quick report
+of 2026-11-27: Eq. 6 mean -18.6 dBsm (1536 aspects) with these settings against -19.7 dBsm in the
+standard-quality table (defaults/drone_rcs_statistics.csv); mean of the dBsm values -23.2 dBsm. Before
+the model's rotors became blades (swept discs) these were -18.0 and -21.5 dBsm.
 """
 
 from __future__ import annotations
@@ -47,8 +47,9 @@ TR38901_SMALL_UAV_MEAN_DBSM = -12.81
 TR38901_SMALL_UAV_SPREAD_DB = 3.74
 
 _WHY_LOW = (
-    "SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD), "
-    "creeping waves, rotor blades, cables or surface roughness, which fill the nulls of measured drones; "
+    "SBR-PO on the faceted model has deep nulls between specular flashes: no edge diffraction (PTD) at these "
+    "settings, no creeping waves or surface roughness, and its wires (ka 0.02-0.3) are far below PO's validity: "
+    "these fill the nulls of measured drones; "
 )
 _WHY_HIGH = (
     "the model's metal parts (battery can, motors, landing legs) are smooth specular reflectors, and "
