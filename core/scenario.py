@@ -175,8 +175,9 @@ def _given(table) -> dict:
     return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality", "swarm")}
 
 
-def _formation(swarm) -> Formation | None:
-    """``target.swarm`` resolved: a line of ``count`` drones ``spacing_m`` apart, or ``offsets_m``."""
+def swarm_formation(swarm, key: str = "target.swarm") -> Formation | None:
+    """A validated swarm table (:class:`csuas.defaults.scenario_schema.SwarmTable`, or None) resolved: a line
+    of ``count`` drones ``spacing_m`` apart, or ``offsets_m``; ``key`` names it in the error."""
     if swarm is None:
         return None
     line = (swarm.count, swarm.spacing_m)
@@ -185,9 +186,7 @@ def _formation(swarm) -> Formation | None:
     if swarm.offsets_m is None and None not in line:
         return line_formation(swarm.count, swarm.spacing_m)
     given = {k: v for k, v in zip(("count", "spacing_m", "offsets_m"), (*line, swarm.offsets_m)) if v is not None}
-    raise ScenarioError(
-        f"target.swarm = {plain(given)} is invalid; allowed: count and spacing_m together, or offsets_m alone"
-    )
+    raise ScenarioError(f"{key} = {plain(given)} is invalid; allowed: count and spacing_m together, or offsets_m alone")
 
 
 def _preset(kind: str, name: str, modality: str | None = None) -> dict:
@@ -303,7 +302,7 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
             errors.append(exc)
     formation = None
     try:
-        formation = _formation(model.target.swarm)
+        formation = swarm_formation(model.target.swarm)
     except ScenarioError as exc:
         errors.append(exc)
     raise_all(errors)

@@ -109,3 +109,28 @@ def blob_critical_m(offsets_m, d_crit_m: float) -> float:
 def incoherent_sum_db(count: int) -> float:
     """Level gain of N incoherent equal sources, 10 log10 N [dB] (Kinsler et al. 2000, sec. 5.12)."""
     return float(10.0 * np.log10(count))
+
+
+def line_of_sight_axes(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
+    """Unit axes (3, 3) of the formation's frame in the target's frame, rows x, y, z: x away from the sensor
+    (the sensor seen from the target at ``azimuth_deg``, ``elevation_deg``), y horizontal across the line of
+    sight (+y of the target's frame at azimuth 0), z = y cross x (up at elevation 0)."""
+    az, el = np.radians(azimuth_deg), np.radians(elevation_deg)
+    away = -np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+    across = np.array([-np.sin(az), np.cos(az), 0.0])
+    return np.stack([away, across, np.cross(across, away)])
+
+
+def target_frame_offsets_m(offsets_m, azimuth_deg: float, elevation_deg: float) -> np.ndarray:
+    """The formation's offsets (x along the line of sight, y across, z up) in the target's frame [m]."""
+    return np.asarray(offsets_m, float) @ line_of_sight_axes(azimuth_deg, elevation_deg)
+
+
+def array_factor(offsets_m, toward_transmitter, toward_receiver, wavelength_m: float) -> float:
+    """|sum_i exp(j k (u_t + u_r) . r_i)|^2: the RCS of N equal, well-separated point scatterers at
+    ``offsets_m`` (target frame) over one's, u_t and u_r the unit vectors toward the transmitter and the
+    receiver (monostatic: u_t = u_r, the two-way path 2 u . r), k = 2 pi / lambda (the array factor of
+    Balanis, *Antenna Theory*, 4th ed. 2016, Eq. 6.1, with the scatterers' path differences)."""
+    u = np.asarray(toward_transmitter, float) + np.asarray(toward_receiver, float)
+    phase = 2.0 * np.pi / wavelength_m * (np.asarray(offsets_m, float) @ u)
+    return float(np.abs(np.exp(1j * phase).sum()) ** 2)

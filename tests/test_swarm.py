@@ -11,7 +11,7 @@ import pytest
 import tomllib
 
 from csuas.cli import main
-from csuas.core.scenario import parse_scenario
+from csuas.core.scenario import parse_scenario, swarm_formation
 from csuas.core.swarm import (
     blob_critical_m,
     first_detection_m,
@@ -21,6 +21,7 @@ from csuas.core.swarm import (
     link_range_m,
 )
 from csuas.core.swarm_detection import formation_json, group_target, sensor_cells, swarm_pd, swarm_range
+from csuas.defaults.scenario_schema import SwarmTable
 
 C = 299_792_458.0
 
@@ -41,6 +42,9 @@ def test_the_default_formation_is_a_centred_line_across_the_line_of_sight():
     f = line_formation(4, 5.0)
     np.testing.assert_array_equal(f.offsets_m, [[0, -7.5, 0], [0, -2.5, 0], [0, 2.5, 0], [0, 7.5, 0]])
     assert f.kind == "line" and f.count == 4
+    assert swarm_formation(None) is None
+    table = SwarmTable(count=3, spacing_m=2.0)
+    np.testing.assert_array_equal(swarm_formation(table).offsets_m, [[0, -2, 0], [0, 0, 0], [0, 2, 0]])
     sc = _scenario("{offsets_m = [[1, 2, 3], [4, 5, 6]]}", "radar")
     assert formation_json(sc) == {"count": 2, "formation": "offsets", "offsets_m": [[1, 2, 3], [4, 5, 6]]}
 
