@@ -64,7 +64,8 @@ RADAR_BUDGET_KEYS = {
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument(
-        "scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet, fixed_wing)"
+        "scenario",
+        help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet, fixed_wing, swarm)",
     )
     parser.add_argument(
         "--convention",
