@@ -521,6 +521,13 @@ def render_text(result: dict) -> str:
         f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
         f"(a first launch includes kernel compilation), {result['time_s']:.2f} s",
     ]
+    if "swarm" in result:
+        w = result["swarm"]
+        lines.append(
+            f"  swarm of {w['count']} traced together; one drone {w['single_rcs_m2']:.4g} m^2, N point scatterers "
+            f"{w['point_scatterer_rcs_m2']:.4g} m^2 (array factor {w['array_factor']:.3g}), random phases "
+            f"{w['random_phase_mean_rcs_m2']:.4g} m^2"
+        )
     if "sphere_average" in result:
         avg = result["sphere_average"]
         lines.append(
