@@ -22,7 +22,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from csuas.base.errors import ParameterError
 from csuas.core import false_alarms
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.ranges import evaluate
@@ -40,6 +39,8 @@ ASSUMPTIONS = {
     "rf": "N separate emitters (each link on its own channels or time slots): each drone detected alone",
     "lidar": "a beam of milliradians and nanosecond range gates resolve drones metres apart: each drone alone",
 }
+#: A modality without a swarm rule of its own sees each drone alone.
+EACH_ALONE = "no swarm rule for this modality: each drone alone"
 
 
 @dataclass(frozen=True)
@@ -94,10 +95,8 @@ def _one_sensor(scenario: Scenario, name: str) -> Scenario:
 
 
 def _scalar_range(scenario: Scenario, name: str, convention: str) -> float:
-    value = np.asarray(evaluate(scenario, convention)[name].range_m)
-    if value.size != 1:
-        raise ParameterError("target.swarm", "a swarm", "a scenario whose parameters are single values, not lists")
-    return float(value)
+    """One sensor's range [m] (a scenario's parameters are single values: one range)."""
+    return float(np.asarray(evaluate(scenario, convention)[name].range_m))
 
 
 def formation_json(scenario: Scenario) -> dict:
@@ -148,7 +147,7 @@ def swarm_range(scenario: Scenario, name: str, convention: str) -> dict:
         "resolved_count": len(groups),
         "largest_group": max(len(g) for g in groups),
         "terms": {t.name: t.as_dict() for t in terms},
-        "assumption": ASSUMPTIONS[sensor.modality],
+        "assumption": ASSUMPTIONS.get(sensor.modality, EACH_ALONE),
     }
 
 
