@@ -28,6 +28,7 @@ from csuas.base.errors import InputErrors, ParameterError, ScenarioError, plain,
 from csuas.base.schema import validate
 from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
+from csuas.core.swarm import Formation, line_formation
 from csuas.defaults import load_parameters, load_presets, load_tables, scenario_path
 from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, checked_values, scenario_schema
 from csuas.defaults.scenario_schema import TAGS as SCHEMA_TAGS
@@ -94,6 +95,7 @@ class Scenario:
     explicit: dict
     origin: dict = field(default_factory=lambda: {"target": {}, "environment": {}})
     warnings: list = field(default_factory=list)
+    swarm: Formation | None = None
 
     @property
     def effects(self) -> frozenset:
@@ -170,7 +172,21 @@ def _apply(section: str, values: dict, given: dict, explicit: set, origin: dict,
 
 def _given(table) -> dict:
     """The values a validated table gives, in the file's order (``preset`` and ``modality`` aside)."""
-    return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality")}
+    return {k: getattr(table, k) for k in table.model_fields_set if k not in ("preset", "modality", "swarm")}
+
+
+def swarm_formation(swarm, key: str = "target.swarm") -> Formation | None:
+    """A validated swarm table (:class:`csuas.defaults.scenario_schema.SwarmTable`, or None) resolved: a line
+    of ``count`` drones ``spacing_m`` apart, or ``offsets_m``; ``key`` names it in the error."""
+    if swarm is None:
+        return None
+    line = (swarm.count, swarm.spacing_m)
+    if swarm.offsets_m is not None and line == (None, None):
+        return Formation(np.asarray(swarm.offsets_m, dtype=float), "offsets")
+    if swarm.offsets_m is None and None not in line:
+        return line_formation(swarm.count, swarm.spacing_m)
+    given = {k: v for k, v in zip(("count", "spacing_m", "offsets_m"), (*line, swarm.offsets_m)) if v is not None}
+    raise ScenarioError(f"{key} = {plain(given)} is invalid; allowed: count and spacing_m together, or offsets_m alone")
 
 
 def _preset(kind: str, name: str, modality: str | None = None) -> dict:
@@ -284,6 +300,11 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
             sensors[key] = _resolve_sensor(key, table)
         except ScenarioError as exc:
             errors.append(exc)
+    formation = None
+    try:
+        formation = swarm_formation(model.target.swarm)
+    except ScenarioError as exc:
+        errors.append(exc)
     raise_all(errors)
     warnings = [w for spec in sensors.values() for w in plausibility_warnings(spec)]
     return Scenario(
@@ -297,6 +318,7 @@ def parse_scenario(data: dict, name: str = "scenario") -> Scenario:
         explicit,
         origin,
         warnings,
+        formation,
     )
 
 

@@ -131,6 +131,31 @@ def _parameter_fields(section: str) -> dict:
     return fields
 
 
+#: Most drones a swarm declares (the pairwise resolution test grows as N^2, its intervals as N^2 too).
+MAX_SWARM = 100
+
+
+class SwarmTable(Schema):
+    """``target.swarm``: N copies of the target in a formation (docs/scenarios.md "Swarms"). Offsets are in the
+    frame of the line of sight: x along it (away from the sensor), y across it horizontally, z up [m]."""
+
+    count: whole(2, MAX_SWARM) | None = key(None, "number of drones (with spacing_m: a line across the line of sight)")
+    spacing_m: number(0.0, 1e5, "m", low_open=True) | None = key(
+        None, "spacing of the default formation: a line along y (across the line of sight), centred on the target"
+    )
+    offsets_m: (
+        Annotated[
+            list[Annotated[list[number(-1e5, 1e5, "m")], Field(min_length=3, max_length=3)]],
+            Field(min_length=2, max_length=MAX_SWARM),
+        ]
+        | None
+    ) = key(
+        None,
+        "explicit offsets [[x, y, z], ...] of each drone from the target [m] (instead of count, spacing_m)",
+        allowed=f"2 to {MAX_SWARM} offsets [x, y, z], each in [-100000, 100000] m",
+    )
+
+
 @functools.cache
 def section_schema(section: str, kind: str, default_preset: str):
     """The model of a ``[target]``, ``[environment]`` or sensor table (``kind``: ``target``, ``environment``
@@ -142,6 +167,8 @@ def section_schema(section: str, kind: str, default_preset: str):
         fields["modality"] = (one_of(kind), key(description="the sensor's modality"))
     fields["preset"] = (one_of(*names, allowed=", ".join(names)), key(default_preset, "values to start from"))
     fields.update(_parameter_fields(section))
+    if kind == "target":
+        fields["swarm"] = (SwarmTable | None, key(None, None))
     return create_model(f"{kind.title()}Table", __base__=Schema, **fields)
 
 

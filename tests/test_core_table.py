@@ -474,6 +474,21 @@ COVERED_ELSEWHERE = {
     "tir.delta_t_radiometric": "tests/test_core_thermal.py (band radiometry)",
     "tir.tir_mrtd_range": "tests/test_core_thermal.py",
     "units.power_sum_db": "tests/test_core_direct.py; tests/test_core_acoustic.py (Eq. 108)",
+    "swarm.line_formation": "tests/test_swarm.py (offsets by hand)",
+    "swarm.link_range_m": "tests/test_swarm.py (s / theta, c / 2B by hand)",
+    "swarm.groups_at": "tests/test_swarm.py (groups either side of s / theta)",
+    "swarm.first_detection_m": "tests/test_swarm.py (intervals of constant groups by hand)",
+    "swarm.blob_critical_m": "tests/test_swarm.py (bounding box by hand)",
+    "swarm.incoherent_sum_db": "tests/test_swarm.py (10 log10 N)",
+    "swarm.line_of_sight_axes": "tests/test_swarm_rcs.py (axes at azimuth 90, elevation 30 by hand)",
+    "swarm.target_frame_offsets_m": "tests/test_swarm_rcs.py",
+    "swarm.array_factor": "tests/test_swarm_rcs.py (N^2 in phase, 0 a quarter wavelength apart; N PEC spheres)",
+    "scenario.swarm_formation": "tests/test_swarm.py (the line and offsets by hand)",
+    "swarm_detection.sensor_cells": "tests/test_swarm.py (c / 2B, sqrt(4 pi / G))",
+    "swarm_detection.group_target": "tests/test_swarm.py (SL + 10 log10 N)",
+    "swarm_detection.formation_json": "tests/test_swarm.py (the line's offsets)",
+    "swarm_detection.swarm_range": "tests/test_swarm.py (R sigma^(1/4), Johnson R proportional to d_crit)",
+    "swarm_detection.swarm_pd": "tests/test_swarm.py (1 - (1 - Pd)^N)",
 }
 
 

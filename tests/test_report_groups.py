@@ -92,6 +92,7 @@ def test_every_registered_group_is_declared_once_with_a_title_and_a_description(
         "terrain",
         "engage",
         "propagation",
+        "swarm",
     ]
     assert all(g.title and g.description.endswith(".") for g in groups)
 

@@ -11,6 +11,9 @@ reaches that range) and ``median_first_detection_range_m`` (the median of the di
 first-detection distribution: a look) per sensor and fused, the fused ones by ``--fusion``'s rule
 (k-of-n: at least K sensors have each detected by then); per sensor with independent looks and a
 Pfa, ``false_alarm_cumulative_pd``, what noise crossings alone put in its ``cumulative_pd``.
+With ``target.swarm`` also a top-level ``swarm`` (the formation) and per sensor ``swarm``: ``csuas range``'s
+swarm keys and, aligned with ``range_m``, ``pd_any`` (any resolved group detected) and
+``resolved_count_at_range``; the other keys stay one drone's.
 Every radio and optical sensor's Pd is 0 beyond its line-of-sight horizon: that of its
 ``height_m``, or without one that of the reference heights ``csuas range`` flags (2 m, 120 m).
 """
@@ -39,6 +42,7 @@ from csuas.core.pd_curves import (
     sensor_pd,
 )
 from csuas.core.scenario import load_scenario
+from csuas.core.swarm_detection import formation_json, swarm_pd, swarm_range
 
 
 def add_arguments(parser):
@@ -175,6 +179,13 @@ def run(args) -> dict:
             "looks": c.looks,
             "look_rate_hz": c.look_rate_hz,
         }
+    if scenario.swarm is not None:
+        out["swarm"] = formation_json(scenario)
+        for name, sensor in out["sensors"].items():
+            sensor["swarm"] = {
+                **swarm_range(scenario, name, out["convention"]),
+                **swarm_pd(scenario, name, grid, args.convention),
+            }
     if args.approach_speed_m_s is not None:
         _approaches(scenario, args, grid, out)
     if args.plot is not None:
@@ -205,6 +216,13 @@ def render_text(result: dict) -> str:
     lines.append(row + (f"{_metres(f['median_first_detection_range_m']):>16}" if approach_on else ""))
     if approach_on:
         lines.append(f"approach at {result['approach_speed_m_s']:g} m/s from {result['range_m'][-1]:,.0f} m")
+    for name, s in result["sensors"].items():
+        if "swarm" in s:
+            w = s["swarm"]
+            lines.append(
+                f"  {name}: swarm of {w['count']}, first detection of any {_metres(w['first_detection_m'])} "
+                f"({w['resolved_count']} resolved there); Pd of any: sensors.{name}.swarm.pd_any (--json)"
+            )
     lines.append("assumptions:")
     for name, s in result["sensors"].items():
         lines.append(f"  {name}: " + "; ".join(s["assumptions"] + s.get("approach_notes", [])))

@@ -5,7 +5,10 @@ JSON (``--json``): ``sensors.<name>`` with ``range_m``, ``modality``, ``model``,
 ``horizontal_range_m`` (with ``target.altitude_m``; null where the target is never within range),
 ``inputs`` (every parameter used, ``{value, unit, source}``, source ``scenario``, ``preset NAME``,
 ``derived from ...`` or ``default (TABLE)``) and ``notes``; top-level ``target_inputs``,
-``environment_inputs``, ``effects``, ``ignored_effects`` and ``warnings``.
+``environment_inputs``, ``effects``, ``ignored_effects`` and ``warnings``. With ``target.swarm`` also a
+top-level ``swarm`` (``count``, ``formation``, ``offsets_m``) and per sensor ``swarm``
+(:func:`csuas.core.swarm_detection.swarm_range`: ``first_detection_m`` of any member, ``resolved_count`` and
+``largest_group`` there, ``single_drone_range_m``, ``terms``, ``assumption``); the other keys stay one drone's.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import numpy as np
 from csuas.core.radar import radar_wavelength_m
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario, provenance
+from csuas.core.swarm_detection import formation_json, swarm_range
 
 #: Effects a scenario may declare that no range model of the paper reads, with the reason (paper convention;
 #: the physical convention's EO camera chain reads the illuminance, docs/detection.md).
@@ -60,7 +64,8 @@ RADAR_BUDGET_KEYS = {
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument(
-        "scenario", help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet, fixed_wing)"
+        "scenario",
+        help="scenario TOML file, or an embedded scenario name (default, adverse, black_hornet, fixed_wing, swarm)",
     )
     parser.add_argument(
         "--convention",
@@ -105,9 +110,11 @@ def run(args) -> dict:
             }
         at_table_39 = spec.preset == "default" and not spec.explicit & RADAR_BUDGET_KEYS
         entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and at_table_39 else []
+        if scenario.swarm is not None:
+            entry["swarm"] = swarm_range(scenario, name, convention)
         sensors[name] = entry
     effects = sorted(scenario.effects)
-    return {
+    out = {
         "scenario": scenario.name,
         "convention": convention,
         "target": scenario.target_preset,
@@ -119,6 +126,9 @@ def run(args) -> dict:
         "environment_inputs": provenance("environment", scenario.environment, scenario.origin["environment"]),
         "sensors": sensors,
     }
+    if scenario.swarm is not None:
+        out["swarm"] = formation_json(scenario)
+    return out
 
 
 def _metres(value) -> str:
@@ -156,6 +166,12 @@ def render_text(result: dict) -> str:
             if not i["source"].startswith("default")
         ]
         lines += [f"      note: {n}" for n in s["notes"]]
+        if "swarm" in s:
+            w = s["swarm"]
+            lines.append(
+                f"      swarm of {w['count']}: first detection {_metres(w['first_detection_m'])} "
+                f"({w['resolved_count']} resolved there, largest group {w['largest_group']}); {w['assumption']}"
+            )
     given = {
         **{f"target.{k}": v for k, v in result["target_inputs"].items()},
         **{f"environment.{k}": v for k, v in result["environment_inputs"].items()},

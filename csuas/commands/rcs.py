@@ -5,6 +5,7 @@ Method: docs/simulation.md; JSON keys: docs/command-line.md.
 
 from __future__ import annotations
 
+import argparse
 import math
 import time
 
@@ -13,7 +14,11 @@ import numpy as np
 from csuas.base.cost import Estimate, add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
+from csuas.base.schema import validate
+from csuas.core.scenario import swarm_formation
+from csuas.core.swarm import array_factor, line_of_sight_axes, target_frame_offsets_m
 from csuas.core.units import wavelength_m
+from csuas.defaults.scenario_schema import SwarmTable
 from csuas.render.quality import RCS
 
 
@@ -101,6 +106,7 @@ def add_arguments(parser) -> None:
         default=1e9,
         help="refuse work estimated above this many tubes in all (default 1e9, a few minutes on 2 CPU cores)",
     )
+    _add_swarm_arguments(parser)
     add_limit_arguments(parser)
     parser.add_argument(
         "--plot",
@@ -132,8 +138,80 @@ def _add_error_arguments(parser) -> None:
     )
 
 
+def _offsets(text: str) -> list[list[float]]:
+    """``--swarm-offsets-m``: ``X,Y,Z;X,Y,Z;...`` [m]."""
+    rows = []
+    for row in text.split(";"):
+        try:
+            values = [float(p) for p in row.split(",")]
+        except ValueError:
+            values = []
+        if len(values) != 3:
+            raise argparse.ArgumentTypeError(f"{row!r} is not X,Y,Z (three numbers [m]); rows split by ';'")
+        rows.append(values)
+    return rows
+
+
+def _add_swarm_arguments(parser) -> None:
+    """A swarm traced together: the scenario's target.swarm keys (docs/scenarios.md "Swarms")."""
+    parser.add_argument(
+        "--swarm-count",
+        type=int,
+        default=None,
+        help="trace N copies together, --swarm-spacing-m apart in a line "
+        "across the line of sight (horizontal) centred on the target",
+    )
+    parser.add_argument("--swarm-spacing-m", type=float, default=None, help="spacing of --swarm-count's line [m]")
+    parser.add_argument(
+        "--swarm-offsets-m",
+        type=_offsets,
+        default=None,
+        metavar="X,Y,Z;X,Y,Z",
+        help="or each copy's offset [m], rows split by ';': x along the line of sight away from the radar, "
+        "y across it, z up",
+    )
+
+
+def _formation(args):
+    """The swarm of ``--swarm-*`` (the schema of a scenario's target.swarm), or None."""
+    given = {
+        k: v
+        for k, v in (
+            ("count", args.swarm_count),
+            ("spacing_m", args.swarm_spacing_m),
+            ("offsets_m", args.swarm_offsets_m),
+        )
+        if v is not None
+    }
+    return swarm_formation(validate(SwarmTable, given, prefix="swarm") if given else None, key="swarm")
+
+
+def _swarm(args, formation, single_engine, res, pol: str) -> dict:
+    """The swarm's figures beside its coherent sum: one drone's RCS, the closed form of N point scatterers
+    (one drone's RCS times the array factor) and the random-phase mean N sigma."""
+    single, _ = _trace(args, single_engine)
+    sigma_one = float(single.rcs_m2(pol).ravel()[0])
+    axes = line_of_sight_axes(args.azimuth_deg, args.elevation_deg)
+    observe = line_of_sight_axes(float(res.observe_azimuth_deg.ravel()[0]), float(res.observe_elevation_deg.ravel()[0]))
+    mesh_offsets = target_frame_offsets_m(formation.offsets_m, args.azimuth_deg, args.elevation_deg)
+    factor = array_factor(mesh_offsets, -axes[0], -observe[0], float(wavelength_m(args.frequency_ghz)))
+    return {
+        "count": formation.count,
+        "formation": formation.kind,
+        "offsets_m": formation.offsets_m.tolist(),
+        "mesh_offsets_m": mesh_offsets.tolist(),
+        "single_rcs_m2": sigma_one,
+        "array_factor": factor,
+        "point_scatterer_rcs_m2": factor * sigma_one,
+        "random_phase_mean_rcs_m2": formation.count * sigma_one,
+        "note": "rcs_m2 is the coherent sum of the N meshes traced together (shadowing and multiple bounces "
+        "between drones included); point_scatterer_rcs_m2 the closed form without them",
+    }
+
+
 def run(args) -> dict:
     """Compute the RCS; returns the ``--json`` object (keys of docs/command-line.md plus details)."""
+    from csuas.render.rcs.geometry import formation_target
     from csuas.render.rcs.solver import POLARISATIONS, get_engine, resolve_quality
 
     start = time.perf_counter()
@@ -141,6 +219,10 @@ def run(args) -> dict:
     rays_per_wavelength, max_bounces = resolve_quality(args.quality, args.rays_per_wavelength, args.max_bounces)
     shell = None if args.shell_thickness_mm is None else args.shell_thickness_mm / 1000.0
     engine = get_engine(args.mesh_or_preset, args.material, shell_thickness_m=shell)
+    formation, single_engine = _formation(args), engine
+    if formation is not None:
+        offsets = target_frame_offsets_m(formation.offsets_m, args.azimuth_deg, args.elevation_deg)
+        engine = get_engine(formation_target(engine.target, offsets))
     cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
     res, tried = _trace(args, engine)
     bistatic = args.observe_azimuth_deg is not None
@@ -192,6 +274,8 @@ def run(args) -> dict:
         "replicas": res.replicas,
         "bounces_tried": tried,
     }
+    if formation is not None:
+        out["swarm"] = _swarm(args, formation, single_engine, res, pol)
     if args.sphere_average:
         out["sphere_average"] = _sphere_average(args, engine)
     if args.plot:
@@ -437,6 +521,13 @@ def render_text(result: dict) -> str:
         f"{result['ray_casts']} ray casts, {result['rays_x_bounces_per_s']:.3g} rays x bounces / s "
         f"(a first launch includes kernel compilation), {result['time_s']:.2f} s",
     ]
+    if "swarm" in result:
+        w = result["swarm"]
+        lines.append(
+            f"  swarm of {w['count']} traced together; one drone {w['single_rcs_m2']:.4g} m^2, N point scatterers "
+            f"{w['point_scatterer_rcs_m2']:.4g} m^2 (array factor {w['array_factor']:.3g}), random phases "
+            f"{w['random_phase_mean_rcs_m2']:.4g} m^2"
+        )
     if "sphere_average" in result:
         avg = result["sphere_average"]
         lines.append(

@@ -109,6 +109,7 @@ def build(spec, spec_dir: Path | None):
         spec.tracker.delete_after_misses,
         spec.seed,
         load_birds(),
+        scenario.swarm,
     )
 
 

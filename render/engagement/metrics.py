@@ -58,7 +58,7 @@ def summarise(engagement: Engagement, runs: list) -> dict:
         }
     continuity = [r["track_continuity"] for r in runs if r["track_continuity"] is not None]
     gospa = [r["gospa_mean"] for r in runs if r["gospa_mean"] is not None]
-    return {
+    out = {
         "first_track_time_s": {**_percentiles(times), "never_fraction": float(never.mean())},
         "first_track_range_m": {**_percentiles(ranges), "never_fraction": float(never.mean())},
         "warning_time_s": _percentiles([r["warning_time_s"] for r in runs]),
@@ -69,11 +69,21 @@ def summarise(engagement: Engagement, runs: list) -> dict:
         "siap": {name: float(np.mean([r["siap"][name] for r in runs])) for name in SCORES},
         "simulated_hours": hours,
     }
+    if engagement.swarm is not None:
+        first = [np.inf if r["first_detection_time_s"] is None else r["first_detection_time_s"] for r in runs]
+        out["swarm"] = {
+            "count": engagement.swarm.count,
+            "first_detection_time_s": _percentiles(first),
+            "drone_tracks_max": _percentiles([r["drone_tracks_max"] for r in runs]),
+            "drone_tracks_confirmed": _percentiles([r["drone_tracks_confirmed"] for r in runs]),
+        }
+    return out
 
 
 def looks_table(engagement: Engagement) -> dict:
-    """``looks.<sensor>``: the drone at each look (t, x, y, slant range, line of sight and field of regard, Pd)."""
-    return {
+    """``looks.<sensor>``: the drone at each look (t, x, y, slant range, line of sight and field of regard, Pd);
+    with a swarm also ``resolved_count`` (groups the sensor resolves) and ``pd_any`` (any group detected)."""
+    table = {
         name: {
             "t_s": looks.t_s.tolist(),
             "x": looks.x.tolist(),
@@ -84,6 +94,9 @@ def looks_table(engagement: Engagement) -> dict:
         }
         for name, looks in engagement.looks.items()
     }
+    for name, swarm in engagement.swarm_looks.items():
+        table[name].update(resolved_count=swarm.resolved_count.tolist(), pd_any=swarm.pd_any.tolist())
+    return table
 
 
 def curves(engagement: Engagement, runs: list) -> dict:

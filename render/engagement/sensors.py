@@ -349,21 +349,23 @@ class SensorModel:
                 )
         return Geometry(ground, slant, np.arctan2(dy, dx), regard, visible, barrier)
 
-    def drone_pd(self, geometry: Geometry) -> np.ndarray:
+    def drone_pd(self, geometry: Geometry, scenario: Scenario | None = None) -> np.ndarray:
         """The drone's Pd at each point: the sensor's Pd at the slant range where seen, else 0.
 
         An acoustic array of the physical convention hears a drone the terrain hides, through the barrier
         attenuation of the terrain's top edge (ISO 9613-2, Section 7.4; :mod:`csuas.core.barrier`).
+        ``scenario`` replaces the sensor's (a swarm's merged group: :mod:`csuas.render.engagement.swarm`).
         """
+        scenario = self.scenario if scenario is None else scenario
         gate = geometry.in_regard & geometry.visible
         pd = np.zeros(geometry.slant_m.shape)
         if gate.any():
-            pd[gate] = sensor_pd(self.scenario, self.name, geometry.slant_m[gate]).pd
+            pd[gate] = sensor_pd(scenario, self.name, geometry.slant_m[gate]).pd
         if geometry.barrier_db is not None:
             hidden = geometry.in_regard & ~geometry.visible
             if hidden.any():
                 pd[hidden] = acoustic_pd_with_loss(
-                    self.scenario, self.name, geometry.slant_m[hidden], geometry.barrier_db[hidden]
+                    scenario, self.name, geometry.slant_m[hidden], geometry.barrier_db[hidden]
                 )
         return pd
 

@@ -32,8 +32,10 @@ from stonesoup.metricgenerator.ospametric import GOSPAMetric
 from stonesoup.types.array import StateVector
 from stonesoup.types.state import State
 
+from csuas.core.swarm import Formation
 from csuas.render.engagement.sensors import SensorModel, Terrain
 from csuas.render.engagement.siap import siap_scores, truth_path
+from csuas.render.engagement.swarm import member_positions, swarm_looks
 from csuas.render.engagement.tracker import EngagementTracker, make_detection, predicted_xy, timestamp
 
 #: GOSPA's cut-off distance c [m], order p and alpha = 2 (Rahmathullah et al. 2017).
@@ -115,10 +117,26 @@ class Engagement:
     delete_after_misses: int
     seed: int
     bird_table: dict = field(default_factory=dict)
+    swarm: Formation | None = None
     looks: dict = field(init=False)
+    swarm_looks: dict = field(init=False)
 
     def __post_init__(self):
         self.looks = {name: drone_looks(self.terrain, sensor, self.path) for name, sensor in self.sensors.items()}
+        self.swarm_looks = {}
+        if self.swarm is not None:
+            self.swarm_looks = {
+                name: swarm_looks(self.terrain, sensor, self.path, self.swarm, self.looks[name].t_s)
+                for name, sensor in self.sensors.items()
+            }
+
+    def truth_xy(self, t_s: float) -> list:
+        """The truths' (x, y) at ``t_s`` [m]: the drone, or each drone of the swarm."""
+        if self.swarm is None:
+            x, y, _, _ = self.path.at(np.array([t_s]))
+            return [(x[0], y[0])]
+        x, y, _ = member_positions(self.path, self.swarm, np.array([t_s]))
+        return list(zip(x[0], y[0]))
 
     @property
     def protected_xy(self) -> np.ndarray:
@@ -211,6 +229,21 @@ def _bird_detections(rng, sensor: SensorModel, birds: list, index) -> list:
     return hits
 
 
+def _drone_truths(rng, engagement: Engagement, name: str) -> list:
+    """The drone's detections by one sensor at each look, (x, y, object) lists: the drone (correlated draws), or
+    each resolved group of a swarm at its centroid, the group's first drone as its object (independent draws)."""
+    if engagement.swarm is None:
+        looks = engagement.looks[name]
+        hits = correlated_draws(rng, looks.pd, looks.correlation)
+        return [[(looks.x[k], looks.y[k], 0)] if hit else [] for k, hit in enumerate(hits)]
+    swarm = engagement.swarm_looks[name]
+    out = []
+    for groups, centres, pd in zip(swarm.groups, swarm.centres, swarm.pd):
+        hits = rng.uniform(size=len(pd)) < pd
+        out.append([(centres[j, 0], centres[j, 1], groups[j][0]) for j in np.flatnonzero(hits)])
+    return out
+
+
 def _look_detections(rng, sensor: SensorModel, t_s: float, truth: dict) -> tuple[list, dict]:
     """Detections of one look: ``truth`` maps sources to (x, y, object) lists; plus noise and clutter false alarms."""
     noise, clutter = sensor.false_alarm_xy(rng), sensor.clutter_alarm_xy(rng)
@@ -258,10 +291,10 @@ def run_once(
     for order, (name, sensor) in enumerate(engagement.sensors.items()):
         looks = engagement.looks[name]
         index_in_run = np.searchsorted(times, looks.t_s)
-        drone_hits = correlated_draws(rng, looks.pd, looks.correlation)
+        drones = _drone_truths(rng, engagement, name)
         bird_hits = _bird_detections(rng, sensor, birds, index_in_run)
         for k, t in enumerate(looks.t_s):
-            truth = {"drone": [(looks.x[k], looks.y[k], 0)] if drone_hits[k] else []}
+            truth = {"drone": drones[k]}
             truth["birds"] = [
                 (birds[b]["x"][index_in_run[k]], birds[b]["y"][index_in_run[k]], b) for b, kk in bird_hits if kk == k
             ]
@@ -270,10 +303,11 @@ def run_once(
             alarms[name]["clutter"] += counts["clutter"]
             scans.append((float(t), order, name, detections))
     scans.sort(key=lambda s: (s[0], s[1]))
+    first_detection = next((t for t, _, _, ds in scans if any(d.metadata["source"] == "drone" for d in ds)), None)
     if until_s is not None:
         scans = [scan for scan in scans if scan[0] <= until_s]
     tracker = EngagementTracker(*engagement.confirm, engagement.delete_after_misses)
-    gospa_values, held = [], []
+    gospa_values, held, drone_tracks = [], [], [0]
     tracked, setup_cpu, tracking = 0, time.process_time(), time.perf_counter()
     for i, (t, _, name, detections) in enumerate(scans):
         if budget_s is not None and time.perf_counter() - tracking > budget_s:
@@ -281,12 +315,15 @@ def run_once(
         tracker.step(t, detections, engagement.sensors[name].covers)
         tracked += 1
         if i + 1 == len(scans) or scans[i + 1][0] != t:
-            value, near = _score(tracker, engagement.path, t)
+            value, near = _score(tracker, engagement, t)
             gospa_values.append(value)
             held.append((t, near))
+            drone_tracks.append(sum(1 for track in tracker.tracks if tracker.records[track]["cause"] == "drone"))
     record = _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, time.perf_counter() - started)
     record["siap"] = _siap(tracker, engagement.path, [t for t, _ in held])
     record["looks_tracked"], record["tracking_cpu_s"] = tracked, time.process_time() - setup_cpu
+    if engagement.swarm is not None:  # the drones the tracker resolved at once, and the first detection of any
+        record.update(first_detection_time_s=first_detection, drone_tracks_max=max(drone_tracks))
     return record
 
 
@@ -300,13 +337,14 @@ def gospa_distance(track_xy, truth_xy, c_m: float = GOSPA_C_M, p: float = GOSPA_
     return float(value.value["distance"])
 
 
-def _score(tracker: EngagementTracker, path: DronePath, t_s: float) -> tuple[float, bool]:
-    """GOSPA of the confirmed tracks against the drone at ``t_s``, and whether a track lies within GOSPA_C_M of it."""
-    x, y, _, _ = path.at(np.array([t_s]))
+def _score(tracker: EngagementTracker, engagement: Engagement, t_s: float) -> tuple[float, bool]:
+    """GOSPA of the confirmed tracks against the truths at ``t_s`` (the drone, or each drone of a swarm), and
+    whether a track lies within GOSPA_C_M of the lead."""
+    truths = engagement.truth_xy(t_s)
     when = timestamp(t_s)
     positions = [predicted_xy(track, when) for track in tracker.tracks]
-    near = any(np.hypot(p[0] - x[0], p[1] - y[0]) < GOSPA_C_M for p in positions)
-    return gospa_distance(positions, [(x[0], y[0])]), near
+    near = any(np.hypot(p[0] - truths[0][0], p[1] - truths[0][1]) < GOSPA_C_M for p in positions)
+    return gospa_distance(positions, truths), near
 
 
 def _siap(tracker: EngagementTracker, path: DronePath, times_s: list) -> dict:
@@ -351,6 +389,8 @@ def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, el
             out["false_tracks"].append(
                 {"cause": record["cause"], "t_s": record["confirmed_s"], "x": float(v[0]), "y": float(v[2])}
             )
+    if engagement.swarm is not None:  # every track of the swarm confirmed in the run, broken ones counted again
+        out["drone_tracks_confirmed"] = sum(1 for r in records.values() if r["cause"] == "drone")
     if keep_paths:
         out["tracks"] = [
             {

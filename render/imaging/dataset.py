@@ -334,7 +334,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
 
     p = sensor.params
     thermal = sensor.modality == "tir"
-    res, lab, dn = frame["result"], frame["label"], frame["chain"]["dn"]
+    lab, dn = frame["label"], frame["chain"]["dn"]
     width, height = int(p["n_h"]), int(p["n_v"])
     write_dn_png(inside(out, "images", f"{item['name']}.png"), dn, spec.bits)
     if spec.previews:
@@ -343,50 +343,91 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         unit = "K" if thermal else "electrons"
         _write_signal_exr(inside(out, "images", f"{item['name']}.exr"), frame["chain"]["signal"], item, unit)
     class_index = class_names(spec).index(item["drone"])
-    yolo = yolo_line(lab["bbox"], width, height, class_index) + "\n" if lab["bbox"] else ""
+    drones = [
+        _drone_annotation(sensor, item, frame, lab_i, class_index)
+        for lab_i in frame.get("swarm_labels", [lab])  # a swarm: one per drone (render/imaging/swarm.py)
+    ]
+    if "swarm_labels" in frame:
+        for member, annotation in enumerate(drones):
+            if annotation is not None:
+                annotation["csuas"]["swarm_member"] = member
     confusers = _confuser_annotations(spec, item, frame.get("layers"))
-    for annotation in confusers:
-        yolo += yolo_line(annotation["bbox"], width, height, annotation["category_id"] - 1) + "\n"
+    yolo = "".join(
+        yolo_line(a["bbox"], width, height, a["category_id"] - 1) + "\n" for a in [*drones, *confusers] if a is not None
+    )
     write_text_atomic(inside(out, "labels", f"{item['name']}.txt"), yolo)
+    entry = {
+        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
+        "annotation": drones[0],
+        **({"swarm": [a for a in drones[1:] if a is not None]} if "swarm_labels" in frame else {}),
+        **({"confusers": confusers} if "confusers" in item else {}),
+    }
+    objects = _objects(entry)
+    _with_difficulty(objects, dn, _horizon(spec, sensor, item, frame) if objects else None)
+    write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
+
+
+def _drone_annotation(sensor, item: dict, frame: dict, lab: dict, class_index: int) -> dict | None:
+    """The COCO annotation (without id) of a drone of a frame from its label, None when it is out of frame."""
+    if not lab["in_frame"]:
+        return None
+    p = sensor.params
+    thermal = sensor.modality == "tir"
+    res, width, height = frame["result"], int(p["n_h"]), int(p["n_v"])
     cycles = float(res.values.get("pixels_across_dcrit", 0.0)) / 2.0  # line pairs across d_crit (Eq. 17)
     contrast_key = "delta_t_k" if thermal else "contrast"  # apparent Delta T of a thermal frame
     contrast_value = float(frame["delta_t_k"] if thermal else res.values.get(contrast_key, float("nan")))
-    entry = {
-        "image": {"file_name": f"images/{item['name']}.png", "width": width, "height": height, **_video_keys(item)},
-        "annotation": None,
-        **({"confusers": confusers} if "confusers" in item else {}),
+    annotation = {
+        "category_id": class_index + 1,
+        "bbox": lab["bbox"],
+        "area": lab["area"],
+        "segmentation": lab["segmentation"],
+        "iscrowd": 0,
+        "csuas": {
+            "drone": item["drone"],
+            "modality": sensor.modality,
+            "range_m": item["range_m"],
+            "azimuth_deg": item["azimuth_deg"],
+            "elevation_deg": item["elevation_deg"],
+            "target_center_px": [width / 2 + item["target_offset_px"][0], height / 2 + item["target_offset_px"][1]],
+            "pixels_on_target": lab["pixels_on_target"],
+            contrast_key: contrast_value,
+            "snr": frame["snr"],
+            "johnson_cycles": cycles,
+            "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
+            "clipped": lab["clipped"],
+            "subpixel": lab["subpixel"],
+            "exposure_s": frame["chain"].get("exposure_s", frame.get("exposure_s")),
+            "visibility": lab["visibility"],
+            **_motion_keys(item),
+        },
     }
-    if lab["in_frame"]:
-        entry["annotation"] = {
-            "category_id": class_index + 1,
-            "bbox": lab["bbox"],
-            "area": lab["area"],
-            "segmentation": lab["segmentation"],
-            "iscrowd": 0,
-            "csuas": {
-                "drone": item["drone"],
-                "modality": sensor.modality,
-                "range_m": item["range_m"],
-                "azimuth_deg": item["azimuth_deg"],
-                "elevation_deg": item["elevation_deg"],
-                "target_center_px": [width / 2 + item["target_offset_px"][0], height / 2 + item["target_offset_px"][1]],
-                "pixels_on_target": lab["pixels_on_target"],
-                contrast_key: contrast_value,
-                "snr": frame["snr"],
-                "johnson_cycles": cycles,
-                "dri": next((task for task, pairs in DRI_LINE_PAIRS if cycles >= pairs), "none"),
-                "clipped": lab["clipped"],
-                "subpixel": lab["subpixel"],
-                "exposure_s": frame["chain"].get("exposure_s", frame.get("exposure_s")),
-                "visibility": lab["visibility"],
-                **_motion_keys(item),
-            },
-        }
-        if "track_id" in item:
-            entry["annotation"].update(track_id=item["track_id"], instance_id=item["track_id"])
-    objects = [a for a in [entry["annotation"], *confusers] if a is not None]
-    _with_difficulty(objects, dn, _horizon(spec, sensor, item, frame) if objects else None)
-    write_text_atomic(inside(out, "records", f"{item['name']}.json"), json.dumps(entry, indent=1))
+    if "track_id" in item:
+        annotation.update(track_id=item["track_id"], instance_id=item["track_id"])
+    return annotation
+
+
+def _swarm(scenario, item: dict, view, drone) -> tuple:
+    """A frame's drone, or with the scenario's ``target.swarm`` its drones (each one's parts, and all of them)."""
+    if scenario.swarm is None:
+        return None, drone
+    from csuas.render.imaging.swarm import formation_members
+
+    members = formation_members(drone, scenario.swarm, view.azimuth_deg, view.elevation_deg)
+    return members, [part for parts in members for part in parts]
+
+
+def _swarm_labels(frame: dict, members, view, p: dict, chain) -> None:
+    """A swarm frame's label of each drone, ``frame["swarm_labels"]`` (:mod:`csuas.render.imaging.swarm`)."""
+    if members is not None:
+        from csuas.render.imaging.swarm import member_labels
+
+        frame["swarm_labels"] = member_labels(members, view, frame["result"], int(p["n_h"]), int(p["n_v"]), chain)
+
+
+def _objects(entry: dict) -> list:
+    """Every labelled object of a record: its drone (each drone of a swarm), then its confusers."""
+    return [a for a in [entry["annotation"], *entry.get("swarm", []), *entry.get("confusers", [])] if a is not None]
 
 
 def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
@@ -418,7 +459,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     if spec.clutter is not None and spec.clutter.sun_offset_deg is not None:  # a still's sun where the spec puts it
         light = _sun_in_view(light, spec.clutter.sun_offset_deg, p, item)
     layered = "confusers" in item or spec.clutter is not None
-    target = sequence_target(item)
+    members, target = _swarm(scenario, item, view, sequence_target(item))
     frame = eo_frame(
         target,
         view,
@@ -439,6 +480,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         render["clutter_seed"] = _clutter_seed(spec, item)
         frame = with_eo_layers(frame, render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
+    _swarm_labels(frame, members, view, p, chain)
     return frame
 
 
@@ -472,7 +514,8 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         **_video_chain(item),
     )
     scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
-    layered, target = "confusers" in item or spec.clutter is not None, sequence_target(item)
+    layered = "confusers" in item or spec.clutter is not None
+    members, target = _swarm(scenario, item, view, sequence_target(item))
     frame = tir_frame(
         target,
         view,
@@ -492,6 +535,7 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
     excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))
     frame["snr"] = float(blob_snr(excess / pixels, p["netd_mk"] / 1000.0, pixels))
+    _swarm_labels(frame, members, view, p, chain)
     return frame
 
 
@@ -521,9 +565,8 @@ def _coco(spec: DatasetSpec, sensor, items: list, out: Path) -> Path:
         images.append(
             {"id": image_id, **entry["image"], "csuas": {"hfov_deg": p["hfov_deg"], "vfov_deg": p["vfov_deg"]}}
         )
-        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
-            if annotation is not None:
-                annotations.append({"id": len(annotations) + 1, "image_id": image_id, **annotation})
+        for annotation in _objects(entry):
+            annotations.append({"id": len(annotations) + 1, "image_id": image_id, **annotation})
     from csuas.render.imaging.confusers import SUPERCATEGORY
     from csuas.render.imaging.dataset_files import PNG_BITS, dn_scale
 
@@ -602,7 +645,7 @@ def _write_dataset_files(spec: DatasetSpec, sensor, items: list, out: Path) -> N
     for item in items[:SHEET_FRAMES]:
         entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
         dn = read_dn_png(out / entry["image"]["file_name"])
-        boxes = [a["bbox"] for a in [entry["annotation"], *entry.get("confusers", [])] if a is not None]
+        boxes = [a["bbox"] for a in _objects(entry)]
         sheet.append((preview(dn, spec.bits, sensor.modality == "tir"), boxes, item["name"]))
     write_contact_sheet(inside(out, "contact_sheet.png"), sheet)
 
@@ -623,9 +666,7 @@ def _write_difficulty(spec: DatasetSpec, items: list, out: Path) -> None:
     writer.writerow(DIFFICULTY_COLUMNS)
     for item in items:
         entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
-        for annotation in [entry["annotation"], *entry.get("confusers", [])]:
-            if annotation is None:
-                continue
+        for annotation in _objects(entry):
             block = annotation["csuas"]
             contrast = block.get("local_contrast")
             writer.writerow(

@@ -105,6 +105,24 @@ def _files(result, scenario, spec, request: RenderRequest, exposure: str = "scen
     return write_images(result, Path(out_dir), stem, meta, exposure=exposure)
 
 
+def _swarm_target(scenario, request: RenderRequest):
+    """The target a render traces: the preset, or the swarm's drones (their parts per drone, and all of them)."""
+    if scenario.swarm is None:
+        return None, scenario.target_preset
+    from csuas.render.imaging.swarm import formation_members
+
+    members = formation_members(scenario.target_preset, scenario.swarm, request.azimuth_deg, request.elevation_deg)
+    return members, [part for parts in members for part in parts]
+
+
+def _swarm_row(row: dict, members, view: View, res, spec) -> None:
+    """A swarm's drones and blobs in a render's row (:func:`csuas.render.imaging.swarm.swarm_summary`)."""
+    if members is not None:
+        from csuas.render.imaging.swarm import swarm_summary
+
+        row["swarm"] = swarm_summary(members, view, res, int(spec.params["n_h"]), int(spec.params["n_v"]))
+
+
 def eo_scenario(scenario, request: RenderRequest) -> list:
     """Render the scenario's EO sensor at each range of the request (mode ``eo``)."""
     from csuas.render.imaging.eo import render_eo
@@ -113,11 +131,13 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
     camera = EoSensor.from_params(spec.params)
     light = scenario_daylight(scenario)
     settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
+    members, target = _swarm_target(scenario, request)
     out = []
     for r in request.ranges_m:
+        view = View(r, request.azimuth_deg, request.elevation_deg)
         res = render_eo(
-            scenario.target_preset,
-            View(r, request.azimuth_deg, request.elevation_deg),
+            target,
+            view,
             camera,
             light,
             atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
@@ -125,6 +145,7 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
         )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, scenario, spec, request, request.exposure))
+        _swarm_row(row, members, view, res, spec)
         out.append(row)
     return out
 
@@ -138,11 +159,13 @@ def tir_scenario(scenario, request: RenderRequest) -> list:
     camera = ThermalSensor.from_params(spec.params)
     thermal_scene = scenario_thermal_scene(scenario, spec)
     settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
+    members, swarm_target = _swarm_target(scenario, request)
     out = []
     for r in request.ranges_m:
+        view = View(r, request.azimuth_deg, request.elevation_deg)
         res = render_tir(
-            scenario.target_preset,
-            View(r, request.azimuth_deg, request.elevation_deg),
+            swarm_target,
+            view,
             camera,
             thermal_scene,
             atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
@@ -152,5 +175,6 @@ def tir_scenario(scenario, request: RenderRequest) -> list:
         )
         row = res.summary()
         row.update(sensor=spec.name, files=_files(res, scenario, spec, request))
+        _swarm_row(row, members, view, res, spec)
         out.append(row)
     return out

@@ -336,3 +336,17 @@ def radar_part_list(name: str) -> list[dict]:
             }
         )
     return rows
+
+
+def formation_target(target: TargetMesh, offsets_m) -> TargetMesh:
+    """N copies of ``target`` moved by ``offsets_m`` (N, 3) [m, the target's frame], one mesh traced together
+    (a swarm: ``csuas rcs --swarm-*``); re-centred by :func:`prepare_mesh`, materials kept."""
+    shifts = np.asarray(offsets_m, float).reshape(-1, 3)
+    count = len(target.vertices)
+    return prepare_mesh(
+        np.concatenate([target.vertices + shift for shift in shifts]),
+        np.concatenate([target.faces + i * count for i in range(len(shifts))]),
+        np.tile(target.face_material, len(shifts)),
+        target.materials,
+        name=f"{len(shifts)} x {target.name}",
+    )

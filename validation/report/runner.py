@@ -33,6 +33,7 @@ SPEC_LISTS = (
     "csuas.validation.report.checks_terrain:SPECS",
     "csuas.validation.report.checks_engage:SPECS",
     "csuas.validation.report.checks_propagation:SPECS",
+    "csuas.validation.report.checks_swarm:SPECS",
 )
 
 
