@@ -44,8 +44,18 @@ def test_render_eo_json_and_files(tmp_path, capsys):
         for key in ("pixels_on_target", "pixels_across_dcrit", "contrast", "stderr", "time_s", "files"):
             assert key in row
         assert row["stderr"]["pixels_on_target"] >= 0
-        # the EO range applies Kruse's clear-air extinction at 10 km visibility: so does the render
-        assert [t["name"] for t in row["terms"]] == ["extinction_per_km", "transmittance", "airlight"]
+        # the EO range applies Kruse's clear-air extinction at 10 km visibility (3.912 / 10 km, Eq. 12, at 550 nm),
+        # read in dB by the default scenario's paper convention (Eq. 10): so does the render
+        assert [t["name"] for t in row["terms"]] == [
+            "kruse_extinction",
+            "extinction_per_km",
+            "transmittance",
+            "airlight",
+        ]
+        assert row["convention"] == "paper" and row["terms"][0]["unit"] == "dB/km"
+        assert row["terms"][0]["value"] == pytest.approx(-np.log(0.02) / 10.0, rel=1e-12)
+        tau = 10.0 ** (-(-np.log(0.02) / 10.0) * row["range_m"] / 1e4)
+        assert row["terms"][2]["value"] == pytest.approx(tau, rel=1e-12)
         exr, png = row["files"]
         assert exr.endswith(".exr") and png.endswith(".png")
         with OpenEXR.File(exr, separate_channels=True) as f:
