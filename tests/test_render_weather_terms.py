@@ -17,7 +17,7 @@ from csuas.core.atmosphere import rain_extinction_per_km
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import parse_scenario
 from csuas.defaults import load_presets
-from csuas.render.imaging.modes import _atmosphere_on, scenario_daylight, scenario_thermal_scene
+from csuas.render.imaging.modes import atmosphere_on, scenario_daylight, scenario_thermal_scene
 from csuas.render.imaging.path import NO_PATH, eo_path, tir_path
 
 RANGE_M = 300.0
@@ -53,7 +53,7 @@ def _range_path_terms(result) -> dict:
 def _render_path(sc, name: str):
     """The path a render of ``name`` applies under ``csuas render``'s automatic atmosphere (no Mitsuba)."""
     spec = sc.sensors[name]
-    if not _atmosphere_on(sc, "auto", spec):
+    if not atmosphere_on(sc, "auto", spec):
         return NO_PATH
     if spec.modality == "eo":
         light = scenario_daylight(sc, spec)
@@ -183,3 +183,58 @@ def test_thermal_path_terms_list_only_what_is_applied():
     assert [t.name for t in tir.path_terms(0.2, 0.0)] == ["extinction_db_km"]
     (rain,) = tir.rain_terms(1.5)
     assert (rain.name, rain.value, rain.unit) == ("rain_extinction_db_km", 1.5, "dB/km")
+
+
+def _dataset_exr(tmp_path, name: str, environment: str, sensor: str = "eo") -> np.ndarray:
+    """The signal (electrons or kelvin) of a one-image dataset of the drone at 100 m, centred, quantised only (its
+    EXR holds the signal before quantisation)."""
+    import OpenEXR
+
+    from csuas import cli
+
+    scenario = tmp_path / f"{name}.toml"
+    scenario.write_text(
+        f'name = "{name}"\nconvention = "physical"\n[environment]\n{environment}\n'
+        '[sensors.eo]\nmodality = "eo"\n[sensors.tir]\nmodality = "tir"\nmodel = "mrtd"\n'
+    )
+    spec = tmp_path / f"{name}_spec.toml"
+    spec.write_text(
+        f'seed = 1\ncount = 1\nscenario = "{scenario.as_posix()}"\nsensor = "{sensor}"\ndrones = ["dji_mini_4_pro"]\n'
+        'range_m = [100.0]\nposition = "centre"\nchain = ["quantise"]\nexr = true\n'
+    )
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / name)]) == 0
+    with OpenEXR.File(str(tmp_path / name / "images" / "000000_dji_mini_4_pro.exr")) as exr:
+        return np.asarray(exr.channels()["Y"].pixels, dtype=float)
+
+
+@pytest.mark.slow
+def test_dataset_frames_take_the_scenarios_fog(tmp_path):
+    """A fog of 200 m visibility cuts the drone's excess over the sky by exp(-(3.912/0.2 - 3.912/10) 0.1 km).
+
+    Same seed, same sky (the airlight of a sky background is the sky): the frames differ only by the path's
+    transmittance on the drone's excess light (Koschmieder, physical convention, at the EO default 550 nm).
+    """
+    clear = _dataset_exr(tmp_path, "clear", "")
+    fog = _dataset_exr(tmp_path, "fog", "fog_visibility_m = 200.0")
+    sky = float(np.median(clear))
+    assert float(np.median(fog)) == pytest.approx(sky, rel=1e-6)
+    excess_clear, excess_fog = (float(np.sum(frame - sky)) for frame in (clear, fog))
+    koschmieder = -math.log(0.02)
+    expected = math.exp(-(koschmieder / 0.2 - koschmieder / 10.0) * 0.1)
+    assert excess_fog / excess_clear == pytest.approx(expected, rel=1e-4)  # float32 EXR pixels
+
+
+@pytest.mark.slow
+def test_thermal_dataset_frames_take_the_scenarios_rain(tmp_path):
+    """Heavy rain (30 mm/h) cuts the drone's excess band radiance over the background by 10^(-a R / 10), a the
+    rain's Marshall-Palmer attenuation in dB/km: the path radiance adds alike to the drone and its background."""
+    from csuas.core.radiometry import band_radiance
+
+    dry = _dataset_exr(tmp_path, "dry", "", "tir")
+    wet = _dataset_exr(tmp_path, "wet", "rain_rate_mm_h = 30.0", "tir")
+    excess = []
+    for frame in (dry, wet):
+        radiance = np.asarray(band_radiance(frame, "lwir"), dtype=float)
+        excess.append(float(np.sum(radiance - np.median(radiance))))
+    rain_db_km = 10 * math.log10(math.e) * math.pi * 8000.0 / (4.1 * 30.0**-0.21) ** 3 * 1e-3  # Q_ext = 2
+    assert excess[1] / excess[0] == pytest.approx(10 ** (-rain_db_km * 0.1 / 10), rel=1e-3)

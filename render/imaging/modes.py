@@ -41,7 +41,7 @@ def _sensor(scenario, modality: str, name):
     raise ParameterError("sensor", None, f"a [sensors.NAME] with modality = '{modality}' in scenario {scenario.name!r}")
 
 
-def _atmosphere_on(scenario, atmosphere: str, spec, convention: str | None = None) -> bool:
+def atmosphere_on(scenario, atmosphere: str, spec, convention: str | None = None) -> bool:
     """Whether a render applies the path: ``on``, ``off``, or ``auto`` = wherever ``csuas range`` applies one.
 
     ``auto``: an EO sensor always (its range applies Kruse's extinction at the optical visibility); a thermal
@@ -139,7 +139,7 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
             View(r, request.azimuth_deg, request.elevation_deg),
             camera,
             light,
-            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec, request.convention),
+            atmosphere=atmosphere_on(scenario, request.atmosphere, spec, request.convention),
             settings=settings,
         )
         row = res.summary()
@@ -165,7 +165,7 @@ def tir_scenario(scenario, request: RenderRequest) -> list:
             View(r, request.azimuth_deg, request.elevation_deg),
             camera,
             thermal_scene,
-            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec, request.convention),
+            atmosphere=atmosphere_on(scenario, request.atmosphere, spec, request.convention),
             reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
             settings=settings,
