@@ -72,6 +72,32 @@ def test_render_eo_json_and_files(tmp_path, capsys):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left
 
 
+def test_render_convention_overrides_the_scenarios_as_range_does(capsys):
+    code, out, _ = run_cli(
+        capsys,
+        "render",
+        "eo",
+        "default",
+        "--range-m",
+        "300",
+        "--quality",
+        "draft",
+        "--convention",
+        "physical",
+        "--json",
+    )
+    assert code == 0
+    (row,) = json.loads(out)["results"]
+    terms = {t["name"]: t for t in row["terms"]}
+    assert row["convention"] == "physical" and terms["kruse_extinction"]["unit"] == "1/km"
+    # Koschmieder at 550 nm, 10 km (Eq. 12), Beer-Lambert over 300 m
+    assert terms["transmittance"]["value"] == pytest.approx(np.exp(-(-np.log(0.02) / 10.0) * 0.3), rel=1e-12)
+    code, out, _ = run_cli(capsys, "range", "default", "--convention", "physical", "--json")
+    assert (
+        json.loads(out)["sensors"]["eo"]["terms"]["kruse_extinction"]["source"] == terms["kruse_extinction"]["source"]
+    )
+
+
 def test_render_tir_text_and_atmosphere_on(capsys):
     code, out, err = run_cli(
         capsys,
