@@ -8,7 +8,9 @@
   T(tau eps_t L(T_t) + (1 - tau) L(T_air)) - T(tau eps_b L(T_b) + (1 - tau) L(T_air)), tau = 10^(-a R / 10)
   with the attenuation a the thermal range lists (Table 27 plus the rain's);
 * layered fog: the EO render's path transmittance of a scenario with ``fog_top_m`` against an absorbing Mitsuba
-  fog slab (:func:`csuas.render.imaging.fog_slab.fog_slab_transmittance`) times the clear air's exp(-beta L_clear).
+  fog slab (:func:`csuas.render.imaging.fog_slab.fog_slab_transmittance`) times the clear air's exp(-beta L_clear),
+  and the layer's airlight on a slant path against a scattering slab lit by the uniform sky
+  (:func:`csuas.validation.imaging.medium.layered_medium_vs_analytic_airlight`).
 
 Each figure is a :class:`csuas.base.checks.Check` with its Monte Carlo standard error and time.
 """
@@ -28,9 +30,11 @@ from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.fog_slab import fog_slab_transmittance
 from csuas.render.imaging.modes import scenario_daylight, scenario_thermal_scene
 from csuas.render.imaging.path import eo_path
+from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalSensor, View
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import render_tir
+from csuas.validation.imaging.medium import layered_medium_vs_analytic_airlight
 
 #: Standard errors of the Monte Carlo estimate a check allows.
 N_SIGMA = 4.0
@@ -196,9 +200,47 @@ def layered_fog_checks(seed: int = 0) -> list:
     return checks
 
 
+#: Fog-layer airlight: (elevation toward the sensor [deg], drone height [m], fog top [m]) at 300 m in 500 m fog, the
+#: path crossing the top upward (the sensor above) and downward (the sensor below); samples of the medium render.
+AIRLIGHT_CASES, AIRLIGHT_QUALITY = ((20.0, 10.0, 50.0), (-15.0, 100.0, 60.0)), Quality("medium_check", 6, 8)
+
+
+def layered_airlight_checks(seed: int = 0) -> list:
+    """The render's airlight of a fog layer on a slant path vs a scattering Mitsuba slab lit by the uniform sky."""
+    checks = []
+    for elevation, height, top in AIRLIGHT_CASES:
+        m = layered_medium_vs_analytic_airlight(
+            plate(width_m=0.3, height_m=0.3, reflectance=PLATE_REFLECTANCE),
+            View(300.0, 0.0, elevation),
+            visibility_km=FOG_VISIBILITY_M / 1000.0,
+            target_height_m=height,
+            fog_top_m=top,
+            settings=RenderSettings(quality=AIRLIGHT_QUALITY, seed=seed),
+        )
+        se = float(np.hypot(m["medium_stderr"], m["analytic_stderr"]))
+        checks.append(
+            Check(
+                f"imaging.weather.layered_airlight.el{elevation:g}_{height:g}m_top{top:g}m",
+                m["analytic_radiance"],
+                m["medium_radiance"],
+                N_SIGMA * se,
+                "cd m^-2",
+                error_estimate=se,
+                time_s=m["time_s"],
+                source=f"the render's layered path L0 tau + L_h (1 - tau), tau = exp(-beta L_fog), L_fog / R = "
+                f"{m['fog_path_fraction']:.4g} (fog {FOG_VISIBILITY_M:g} m to {top:g} m, vacuum above)",
+                tolerance_source=f"{N_SIGMA:g} combined standard errors (jackknife of the medium's batches)",
+                method="Mitsuba volpath through a conservative scattering slab lit by the uniform sky (radiative "
+                f"equilibrium), a 0.3 m plate at {height:g} m, 300 m away at {elevation:g} deg",
+                details={"transmittance": m["transmittance"], "inherent_radiance": m["inherent_radiance"]},
+            )
+        )
+    return checks
+
+
 def weather_checks(quality="draft", seed: int = 0) -> tuple:
     """All weather checks (list of Check) and the Koschmieder rows (range, contrast, stderr, closed form)."""
     t0 = time.perf_counter()
     eo, rows = koschmieder_checks(quality, seed)
-    checks = eo + thermal_path_checks(quality, seed) + layered_fog_checks(seed)
+    checks = eo + thermal_path_checks(quality, seed) + layered_fog_checks(seed) + layered_airlight_checks(seed)
     return checks, np.array(rows), time.perf_counter() - t0
