@@ -15,7 +15,7 @@ from csuas.core import eo, tir
 from csuas.core import ranges as ranges_module
 from csuas.core.atmosphere import rain_extinction_per_km
 from csuas.core.ranges import evaluate
-from csuas.core.scenario import parse_scenario
+from csuas.core.scenario import load_scenario, parse_scenario
 from csuas.defaults import load_presets
 from csuas.render.imaging.modes import atmosphere_on, scenario_daylight, scenario_thermal_scene
 from csuas.render.imaging.path import NO_PATH, eo_path, tir_path
@@ -238,3 +238,27 @@ def test_thermal_dataset_frames_take_the_scenarios_rain(tmp_path):
         excess.append(float(np.sum(radiance - np.median(radiance))))
     rain_db_km = 10 * math.log10(math.e) * math.pi * 8000.0 / (4.1 * 30.0**-0.21) ** 3 * 1e-3  # Q_ext = 2
     assert excess[1] / excess[0] == pytest.approx(10 ** (-rain_db_km * 0.1 / 10), rel=1e-3)
+
+
+@pytest.mark.slow
+def test_a_render_keeps_todays_figures_where_range_applies_no_term(capsys, tmp_path):
+    """Heavy rain on a Johnson thermal sensor: its range lists no path term (the model has no path), so the
+    automatic atmosphere renders exactly what ``--atmosphere off`` (the render without any path) does."""
+    import json
+
+    from csuas import cli
+
+    scenario = tmp_path / "wet.toml"
+    scenario.write_text(
+        'name = "wet"\nconvention = "physical"\n[environment]\npreset = "rain_heavy"\n[sensors.t]\nmodality = "tir"\n'
+    )
+    assert not {"extinction_db_km", "rain_extinction_db_km"} & {
+        t.name for t in evaluate(load_scenario(str(scenario)))["t"].terms
+    }
+    rows = []
+    for atmosphere in ("auto", "off"):
+        argv = ["render", "tir", str(scenario), "--range-m", "150", "--quality", "draft", "--quiet", "--json"]
+        assert cli.main([*argv, "--atmosphere", atmosphere]) == 0
+        (row,) = json.loads(capsys.readouterr().out)["results"]
+        rows.append({k: v for k, v in row.items() if k != "time_s"})
+    assert rows[0]["terms"] == [] and rows[0] == rows[1]
