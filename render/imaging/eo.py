@@ -114,7 +114,9 @@ def render_eo(
         Sun, sky, ground, background (Table 11, module docstring) and visibility.
     atmosphere : bool
         Koschmieder transmittance and airlight over the range at ``light.visibility_km``
-        (Eqs. 19-21); off: no path, and the contrast-limited range is unbounded (JSON null).
+        (Eqs. 19-21), with ``light``'s rain, fog layer and convention
+        (:func:`csuas.render.imaging.path.eo_path`); off: no path, and the contrast-limited range is
+        unbounded (JSON null).
     settings : RenderSettings
         Quality, seed, path length, full frame, progress and variant.
     """
