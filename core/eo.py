@@ -88,6 +88,34 @@ def _layered_extinction(sigma_fog, wavelength_nm, fog_layer, convention):
     return fraction * sigma_fog + (1.0 - fraction) * clear, [Term("fog_path_fraction", fraction, "-", FOG_LAYER_SOURCE)]
 
 
+def path_extinction(wavelength_nm, visibility_km, convention="paper", rain_extinction_per_km=0.0, fog_layer=None):
+    """Extinction of an EO sensor's path and its terms, as :func:`eo_range` applies them and the render's path does.
+
+    Parameters
+    ----------
+    wavelength_nm, visibility_km, convention, rain_extinction_per_km, fog_layer
+        As in :func:`eo_range`.
+
+    Returns
+    -------
+    (ndarray, list of Term)
+        The total extinction (dB/km read by ``paper``, 1/km by ``physical``: Kruse's, path-averaged over a fog
+        layer, plus the rain's) and its terms: ``kruse_extinction``, then ``fog_path_fraction`` with a fog
+        layer and ``rain_extinction_per_km`` with rain.
+    """
+    sigma = extinction_per_km(wavelength_nm, visibility_km, convention)
+    rain = require("rain_extinction_per_km", rain_extinction_per_km, ge=0)
+    if np.any(rain > 0) and convention == "paper":
+        raise ParameterError("rain_extinction_per_km", float(np.max(rain)), "0 in the paper convention (no rain term)")
+    sigma, layer_terms = _layered_extinction(sigma, wavelength_nm, fog_layer, convention)
+    unit = "dB/km" if convention == "paper" else "1/km"
+    source = EXTINCTION_SOURCE[convention] + (LAYERED if layer_terms else "")
+    terms = [Term("kruse_extinction", sigma, unit, source), *layer_terms]
+    if np.any(rain > 0):
+        terms.append(Term("rain_extinction_per_km", rain, "1/km", RAIN_EXTINCTION_SOURCE))
+    return sigma + rain, terms
+
+
 def eo_range(
     *,
     d_crit_m,
@@ -144,12 +172,7 @@ def eo_range(
     check_convention(convention)
     ifov = ifov_rad(hfov_deg, n_h)
     r_johnson = johnson_range_m(d_crit_m, ifov, lp_task, n_ttpf)
-    sigma = extinction_per_km(wavelength_nm, visibility_km, convention)
-    rain = require("rain_extinction_per_km", rain_extinction_per_km, ge=0)
-    if np.any(rain > 0) and convention == "paper":
-        raise ParameterError("rain_extinction_per_km", float(np.max(rain)), "0 in the paper convention (no rain term)")
-    sigma, layer_terms = _layered_extinction(sigma, wavelength_nm, fog_layer, convention)
-    sigma_aerosol, sigma = sigma, sigma + rain
+    sigma, path_terms = path_extinction(wavelength_nm, visibility_km, convention, rain_extinction_per_km, fog_layer)
     r_contrast = contrast_limited_range_m(c_eo, c_min, sigma, convention)
     r = np.minimum(r_johnson, r_contrast)
     reason = np.where(
@@ -157,16 +180,12 @@ def eo_range(
         "never detectable: |c_eo| <= c_min",
         np.where(r_contrast < r_johnson, "contrast-limited (Eq. 21)", "resolution-limited (Eq. 18)"),
     )
-    unit = "dB/km" if convention == "paper" else "1/km"
     terms = [
         Term("ifov_rad", ifov, "rad", "Eq. 15"),
         Term("johnson_range_m", r_johnson, "m", "Eq. 18"),
-        Term("kruse_extinction", sigma_aerosol, unit, EXTINCTION_SOURCE[convention] + (LAYERED if layer_terms else "")),
+        *path_terms,
         Term("contrast_limited_range_m", r_contrast, "m", "Eq. 21"),
     ]
-    if np.any(rain > 0):
-        terms.insert(3, Term("rain_extinction_per_km", rain, "1/km", RAIN_EXTINCTION_SOURCE))
-    terms[3:3] = layer_terms
     model = "johnson_ttpf+contrast (Eqs. 18, 21)"
     if camera is not None and convention == "physical":
         r_light, chain = light_limited_range_m(

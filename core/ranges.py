@@ -14,7 +14,6 @@ import numpy as np
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import (
-    RAIN_EXTINCTION_SOURCE,
     fog_path_fraction,
     kruse_extinction_per_km,
     rain_extinction_per_km,
@@ -62,13 +61,27 @@ def _eo(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
         c_eo=sc.target["c_eo"],
         c_min=p["c_min"],
         wavelength_nm=p["wavelength_nm"],
-        visibility_km=sc.optical_visibility_km,
         convention=convention,
         camera=camera,
-        rain_extinction_per_km=rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
-        if convention == "physical"
-        else 0.0,
-        fog_layer=_fog_layer(sc, s) if convention == "physical" else None,
+        **eo_path_inputs(sc, s, convention),
+    )
+
+
+def eo_path_inputs(sc: Scenario, s: SensorSpec, convention: str) -> dict:
+    """What an EO sensor's path takes from the scenario under a convention, for ``range`` and ``render`` alike.
+
+    Returns
+    -------
+    dict
+        ``visibility_km`` (the optical visibility: the fog's in fog), ``rain_extinction_per_km`` (the physical
+        convention's Marshall-Palmer rain, else 0) and ``fog_layer`` (the physical convention's layered fog,
+        :func:`_fog_layer`, else None): the keywords of :func:`csuas.core.eo.path_extinction`.
+    """
+    physical = check_convention(convention) == "physical"
+    return dict(
+        visibility_km=sc.optical_visibility_km,
+        rain_extinction_per_km=rain_extinction_per_km(sc.environment["rain_rate_mm_h"]) if physical else 0.0,
+        fog_layer=_fog_layer(sc, s) if physical else None,
     )
 
 
@@ -137,11 +150,24 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             convention=convention,
             **extra,
         )
-    if np.any(np.asarray(rain_db_km) > 0):
-        result.terms.append(
-            Term("rain_extinction_db_km", rain_db_km, "dB/km", RAIN_EXTINCTION_SOURCE + " (in extinction_db_km)")
-        )
+    result.terms += tir.rain_terms(rain_db_km)
     return result
+
+
+def thermal_path(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """The path a thermal sensor's range applies, for ``render`` to apply the same: attenuation and its terms.
+
+    Returns
+    -------
+    (float or None, float, list of Term)
+        The attenuation [dB/km] (:func:`thermal_extinction_db_km`), None where the range applies no path (the
+        Johnson model, or no attenuation at all); its rain part [dB/km]; the terms ``extinction_db_km`` and
+        ``rain_extinction_db_km`` as the MRTD and NETD models list them.
+    """
+    extinction, rain = thermal_extinction_db_km(sc, s, convention)
+    if s.params["model"] == "johnson" or not np.any(extinction > 0):
+        return None, 0.0, []
+    return extinction, rain, tir.path_terms(extinction, rain)
 
 
 def thermal_extinction_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE
 from csuas.core.checks import require, require_registry_bounds
 from csuas.core.detection import blob_snr, target_pixels
 from csuas.core.johnson import ifov_rad, johnson_range_m
@@ -83,6 +84,32 @@ def attenuated_delta_t(
     l_target = band_radiance(np.asarray(t_bg_app_k) + dt0, band)
     l_path = (1.0 - tau) * band_radiance(air_temperature_k, band)
     return radiance_temperature(tau * l_target + l_path, band) - radiance_temperature(tau * l_bg + l_path, band)
+
+
+#: Source of the path attenuation term of the MRTD and NETD models (and of the thermal render's path).
+EXTINCTION_SOURCE = "Eq. 31 (Table 27)"
+
+
+def path_terms(extinction_db_km, rain_db_km=0.0) -> list:
+    """The terms of a thermal path as the MRTD and NETD ranges list them (and the thermal render's path).
+
+    Parameters
+    ----------
+    extinction_db_km : array_like
+        Path attenuation [dB/km] (Table 27, with the physical convention's rain); 0 lists no term.
+    rain_db_km : array_like
+        Its rain part [dB/km] (:func:`csuas.core.atmosphere.rain_extinction_per_km` in dB); 0 lists no term.
+    """
+    terms = [Term("extinction_db_km", extinction_db_km, "dB/km", EXTINCTION_SOURCE)]
+    terms = terms if np.any(np.asarray(extinction_db_km) > 0) else []
+    return terms + rain_terms(rain_db_km)
+
+
+def rain_terms(rain_db_km) -> list:
+    """The rain term of a thermal path (its part of ``extinction_db_km``) [dB/km], or none without rain."""
+    if not np.any(np.asarray(rain_db_km) > 0):
+        return []
+    return [Term("rain_extinction_db_km", rain_db_km, "dB/km", RAIN_EXTINCTION_SOURCE + " (in extinction_db_km)")]
 
 
 #: Arguments of :func:`tir_johnson_range` -> their defaults/parameters.toml entries (upper bounds checked).
@@ -216,7 +243,7 @@ def tir_mrtd_range(
         Term("mrtd_range_unattenuated_m", r0, "m", "Eq. 29"),
     ]
     if np.any(sigma > 0):
-        terms.append(Term("extinction_db_km", sigma, "dB/km", "Eq. 31 (Table 27)"))
+        terms.append(Term("extinction_db_km", sigma, "dB/km", EXTINCTION_SOURCE))
         dt_r = np.where(r > 0, mrtd(cycles_per_m * r), 0.0)
         terms.append(Term("mrtd_at_range_k", dt_r, "K", "Eq. 27"))
     return RangeResult(r, "tir", "mrtd (Eqs. 24-31)", terms, reason)
@@ -304,5 +331,5 @@ def tir_netd_range(
         Term("netd_range_unattenuated_m", r0, "m", "|Delta T0| sqrt(A) / (NETD IFOV SNR)"),
     ]
     if np.any(sigma > 0):
-        terms.append(Term("extinction_db_km", sigma.reshape(shape), "dB/km", "Eq. 31 (Table 27)"))
+        terms.append(Term("extinction_db_km", sigma.reshape(shape), "dB/km", EXTINCTION_SOURCE))
     return RangeResult(r, "tir", "netd (blob SNR, extension)", terms, reason)

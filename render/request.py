@@ -39,6 +39,8 @@ class RenderRequest:
         Where progress goes; None: silent.
     exposure : {"scene", "auto"}
         EO previews only: a camera set for clear daylight (night looks dark), or the brightest pixel white.
+    convention : {"paper", "physical"} or None
+        The convention of the path (as ``csuas range --convention``); None: the scenario's.
     """
 
     ranges_m: object
@@ -51,3 +53,4 @@ class RenderRequest:
     atmosphere: str = "auto"
     progress: object = None
     exposure: str = "scene"
+    convention: str | None = None

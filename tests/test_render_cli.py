@@ -44,8 +44,18 @@ def test_render_eo_json_and_files(tmp_path, capsys):
         for key in ("pixels_on_target", "pixels_across_dcrit", "contrast", "stderr", "time_s", "files"):
             assert key in row
         assert row["stderr"]["pixels_on_target"] >= 0
-        # the EO range applies Kruse's clear-air extinction at 10 km visibility: so does the render
-        assert [t["name"] for t in row["terms"]] == ["extinction_per_km", "transmittance", "airlight"]
+        # the EO range applies Kruse's clear-air extinction at 10 km visibility (3.912 / 10 km, Eq. 12, at 550 nm),
+        # read in dB by the default scenario's paper convention (Eq. 10): so does the render
+        assert [t["name"] for t in row["terms"]] == [
+            "kruse_extinction",
+            "extinction_per_km",
+            "transmittance",
+            "airlight",
+        ]
+        assert row["convention"] == "paper" and row["terms"][0]["unit"] == "dB/km"
+        assert row["terms"][0]["value"] == pytest.approx(-np.log(0.02) / 10.0, rel=1e-12)
+        tau = 10.0 ** (-(-np.log(0.02) / 10.0) * row["range_m"] / 1e4)
+        assert row["terms"][2]["value"] == pytest.approx(tau, rel=1e-12)
         exr, png = row["files"]
         assert exr.endswith(".exr") and png.endswith(".png")
         with OpenEXR.File(exr, separate_channels=True) as f:
@@ -60,6 +70,32 @@ def test_render_eo_json_and_files(tmp_path, capsys):
             assert f.read(8) == b"\x89PNG\r\n\x1a\n"
     assert "render eo 300 m" in err  # progress on stderr
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary files left
+
+
+def test_render_convention_overrides_the_scenarios_as_range_does(capsys):
+    code, out, _ = run_cli(
+        capsys,
+        "render",
+        "eo",
+        "default",
+        "--range-m",
+        "300",
+        "--quality",
+        "draft",
+        "--convention",
+        "physical",
+        "--json",
+    )
+    assert code == 0
+    (row,) = json.loads(out)["results"]
+    terms = {t["name"]: t for t in row["terms"]}
+    assert row["convention"] == "physical" and terms["kruse_extinction"]["unit"] == "1/km"
+    # Koschmieder at 550 nm, 10 km (Eq. 12), Beer-Lambert over 300 m
+    assert terms["transmittance"]["value"] == pytest.approx(np.exp(-(-np.log(0.02) / 10.0) * 0.3), rel=1e-12)
+    code, out, _ = run_cli(capsys, "range", "default", "--convention", "physical", "--json")
+    assert (
+        json.loads(out)["sensors"]["eo"]["terms"]["kruse_extinction"]["source"] == terms["kruse_extinction"]["source"]
+    )
 
 
 def test_render_tir_text_and_atmosphere_on(capsys):

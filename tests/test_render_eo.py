@@ -186,8 +186,8 @@ def test_koschmieder_transmittance_and_airlight(hazy_plate):
         apparent = l_t * tau + l_h * (1 - tau)
         assert res.values["contrast"] == pytest.approx((apparent - l_h) / (apparent + l_h), rel=1e-9)
         names = [t["name"] for t in res.terms]
-        assert names == ["extinction_per_km", "transmittance", "airlight"]
-        assert res.terms[1]["value"] == pytest.approx(tau, rel=1e-12)
+        assert names == ["kruse_extinction", "extinction_per_km", "transmittance", "airlight"]
+        assert res.terms[2]["value"] == pytest.approx(tau, rel=1e-12)
 
 
 def test_rendered_contrast_limited_range_matches_core(hazy_plate):

@@ -71,6 +71,12 @@ def add_arguments(parser) -> None:
         help="path transmittance and airlight/path radiance: auto = where csuas range applies one "
         "(EO always; thermal with the MRTD/NETD models or declared rain, fog or haze)",
     )
+    parser.add_argument(
+        "--convention",
+        choices=("paper", "physical"),
+        default=None,
+        help="override the scenario's convention of the path, as csuas range --convention (docs/conventions.md)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="random seed (deterministic results)")
     parser.add_argument("--out", metavar="DIR", default=None, help="write EXR and PNG per range into DIR")
     parser.add_argument("--quiet", action="store_true", help="no progress on standard error")
@@ -117,6 +123,7 @@ def run(args) -> dict:
             atmosphere=args.atmosphere,
             progress=None if args.quiet else sys.stderr,
             exposure="auto" if args.auto_exposure else "scene",
+            convention=args.convention,
         )
         rows = mode(scenario, request)
         results += [{**row, "azimuth_deg": azimuth, "elevation_deg": elevation} for row in rows]

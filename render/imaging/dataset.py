@@ -285,7 +285,7 @@ def _frame(spec: DatasetSpec, scenario, sensor, item: dict) -> dict:
 
     view = View(item["range_m"], item["azimuth_deg"], item["elevation_deg"], tuple(item["target_offset_px"]))
     seed = _frame_seed(spec, item)
-    return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor.params, item, view, seed)
+    return (_thermal if sensor.modality == "tir" else _visible)(spec, scenario, sensor, item, view, seed)
 
 
 def _frame_seed(spec: DatasetSpec, item: dict) -> int:
@@ -430,13 +430,15 @@ def _objects(entry: dict) -> list:
     return [a for a in [entry["annotation"], *entry.get("swarm", []), *entry.get("confusers", [])] if a is not None]
 
 
-def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
-    """An EO frame of the draw, with the target's blob SNR against shot and read noise."""
+def _visible(spec: DatasetSpec, scenario, sensor, item: dict, view, seed: int) -> dict:
+    """An EO frame of the draw through the path ``csuas range`` applies, its blob SNR against shot and read noise."""
     from csuas.render.imaging.frame import camera_from_params, eo_frame, target_snr
-    from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings
+    from csuas.render.imaging.modes import atmosphere_on, scenario_daylight
+    from csuas.render.imaging.records import EoSensor, RenderSettings
     from csuas.render.imaging.sensor_chain import ChainSettings
     from csuas.render.imaging.sequence import sequence_target
 
+    p = sensor.params
     chain = ChainSettings(
         stages=spec.chain,
         f_number=p["f_number"],
@@ -448,12 +450,11 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         normal_shot_noise_above_e=spec.normal_shot_noise_above_e,
         **_video_chain(item),
     )
-    light = Daylight(
-        illuminance_lx=scenario.environment["illuminance_lx"],
+    # a sequence's sun is fixed in the world; a still's behind the camera
+    light = replace(
+        scenario_daylight(scenario, sensor),
         background=spec.background,
-        sun_azimuth_deg=item.get(
-            "sun_azimuth_deg"
-        ),  # a sequence's sun is fixed in the world; a still's behind the camera
+        sun_azimuth_deg=item.get("sun_azimuth_deg"),
         cloud_cover=spec.cloud_cover,
     )
     if spec.clutter is not None and spec.clutter.sun_offset_deg is not None:  # a still's sun where the spec puts it
@@ -468,6 +469,7 @@ def _visible(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         camera_from_params(p),
         replace(chain, stages=()) if layered else chain,  # with layers, the chain runs once they are in
         settings=RenderSettings(quality=spec.quality, seed=seed),
+        atmosphere=atmosphere_on(scenario, "auto", sensor),  # the path csuas range applies to the scenario
     )
     if layered:
         from csuas.render.imaging.confusers import eo_render_settings
@@ -496,14 +498,16 @@ def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):
     return replace(light, sun_azimuth_deg=azimuth, sun_elevation_deg=elevation)
 
 
-def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) -> dict:
-    """A thermal frame of the draw (the chain's thermal stages), with the target's blob SNR against the NETD."""
+def _thermal(spec: DatasetSpec, scenario, sensor, item: dict, view, seed: int) -> dict:
+    """A thermal frame of the draw (the chain's thermal stages) through the path ``csuas range`` applies, with the
+    target's blob SNR against the NETD."""
     from csuas.render.imaging.frame import tir_frame
-    from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor
+    from csuas.render.imaging.modes import atmosphere_on, scenario_thermal_scene
+    from csuas.render.imaging.records import RenderSettings, ThermalSensor
     from csuas.render.imaging.sensor_chain import ChainSettings
     from csuas.render.imaging.sequence import sequence_target
 
-    env = scenario.environment
+    env, p = scenario.environment, sensor.params
     chain = ChainSettings(
         stages=tuple(s for s in spec.chain if s in THERMAL_STAGES),
         f_number=p["f_number"],
@@ -513,7 +517,9 @@ def _thermal(spec: DatasetSpec, scenario, p: dict, item: dict, view, seed: int) 
         bits=spec.bits,
         **_video_chain(item),
     )
-    scene = ThermalScene(t_bg_k=env["t_bg_k"], emissivity_bg=env["emissivity_bg"], surroundings_k=env["temperature_k"])
+    scene = scenario_thermal_scene(scenario, sensor)  # its path applied where csuas range applies one
+    if not atmosphere_on(scenario, "auto", sensor):
+        scene = replace(scene, extinction_db_km=None)
     layered = "confusers" in item or spec.clutter is not None
     members, target = _swarm(scenario, item, view, sequence_target(item))
     frame = tir_frame(

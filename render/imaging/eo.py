@@ -72,9 +72,9 @@ def sun_and_sky(
     }
 
 
-def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
-    """Add the rendered Johnson range (Eq. 18) and the contrast-limited range (Eq. 21) to ``m``."""
-    cycles = 2.0 * lp_task * n_ttpf
+def _range_figures(m, range_m, sensor: EoSensor, path, convention: str) -> None:
+    """Add the rendered Johnson range (Eq. 18) and the contrast-limited range (Eq. 21, the path's convention)."""
+    cycles = 2.0 * sensor.lp_task * sensor.n_ttpf
     if cycles > 0:
         m.values["johnson_range_rendered_m"] = range_m * m.values["pixels_across_dcrit"] / cycles
         m.stderr["johnson_range_rendered_m"] = range_m * m.stderr["pixels_across_dcrit"] / cycles
@@ -83,7 +83,7 @@ def _range_figures(m, range_m, lp_task, n_ttpf, c_min, path) -> None:
         m.notes.append("n_ttpf * lp_task = 0: the Johnson range is unbounded")
     beta = next((t["value"] for t in path.terms if t["name"] == "extinction_per_km"), 0.0)
     c0 = min(abs(m.values["contrast_inherent"]), 1.0)
-    m.values["contrast_limited_range_m"] = float(contrast_limited_range_m(c0, c_min, beta, "physical"))
+    m.values["contrast_limited_range_m"] = float(contrast_limited_range_m(c0, sensor.c_min, beta, convention))
 
 
 def render_eo(
@@ -114,7 +114,9 @@ def render_eo(
         Sun, sky, ground, background (Table 11, module docstring) and visibility.
     atmosphere : bool
         Koschmieder transmittance and airlight over the range at ``light.visibility_km``
-        (Eqs. 19-21); off: no path, and the contrast-limited range is unbounded (JSON null).
+        (Eqs. 19-21), with ``light``'s rain, fog layer and convention
+        (:func:`csuas.render.imaging.path.eo_path`); off: no path, and the contrast-limited range is
+        unbounded (JSON null).
     settings : RenderSettings
         Quality, seed, path length, full frame, progress and variant.
     """
@@ -132,12 +134,20 @@ def render_eo(
         progress = progress_printer(f"render eo {r:g} m", progress)
     sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=3)
     tally = trace_window(scene, path_integrator(settings.max_depth), framing, sampling, progress=progress)
-    path = eo_path(r, visibility_km, sensor.wavelength_nm, sky["sky_radiance"], light.rain_extinction_per_km)
+    path = eo_path(
+        r,
+        visibility_km,
+        sensor.wavelength_nm,
+        sky["sky_radiance"],
+        light.rain_extinction_per_km,
+        light.convention,
+        light.fog_layer,
+    )
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)
     for name in ("contrast", "contrast_weber"):
         m.values[f"{name}_inherent"], m.stderr[f"{name}_inherent"] = inherent.values[name], inherent.stderr[name]
-    _range_figures(m, r, sensor.lp_task, sensor.n_ttpf, sensor.c_min, path)
+    _range_figures(m, r, sensor, path, light.convention)
     notes = list(m.notes)
     if visibility_km is None:
         notes.append("no atmosphere: the contrast-limited range is unbounded (null)")

@@ -17,7 +17,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from csuas.base.errors import ParameterError
 from csuas.core.camera import auto_exposure_s, electron_rate, focal_plane_illuminance_lx, photons_per_lumen
 from csuas.core.checks import require
 from csuas.core.detection import blob_snr
@@ -79,7 +78,10 @@ def eo_frame(
     settings : RenderSettings
         The render's quality (default draft) and seed, which also seeds the clouds and the chain's noise.
     atmosphere : bool
-        Koschmieder path of the render.
+        Koschmieder path of the render (``light``'s visibility, rain, convention and fog layer): the frame's
+        uniform background is the render's apparent one; over a ``"clear_sky"`` gradient the target's covered
+        share takes the path's transmittance and the horizon sky's airlight while the gradient itself (the sky
+        seen through the whole atmosphere) stays as it is (the ground's own aerial perspective is left out).
 
     Returns
     -------
@@ -91,15 +93,11 @@ def eo_frame(
         uniform background, or the gradient frame's median, which the auto-exposure uses).
     """
     gradient = light.background == "clear_sky"
-    if gradient and atmosphere:
-        raise ParameterError("background", "clear_sky", "'sky' or a reflectance when the atmosphere is on")
     lit = replace(light, background="sky") if gradient else light
     seed = settings.seed
     res = render_eo(target, view, sensor, lit, atmosphere=atmosphere, settings=settings)
-    if lit.background == "sky":
-        background = float(res.values["sky_radiance"])
-    else:
-        background = float(lit.background) * light.illuminance_lx / math.pi
+    # the render's uniform background at the sensor (the sky, or rho E / pi), after the path when there is one
+    background = float(res.values["background_radiance_apparent"])
     window = res.window
     rows = slice(window.y0, window.y0 + window.height)
     cols = slice(window.x0, window.x0 + window.width)
@@ -199,6 +197,11 @@ def tir_frame(
 ) -> dict:
     """Render, degrade and label one full thermal frame (apparent temperature through the chain).
 
+    The path (transmittance and path radiance, :func:`csuas.render.imaging.path.tir_path`) is the scene's
+    where it gives ``extinction_db_km`` (a scenario's, :func:`csuas.render.imaging.modes.scenario_thermal_scene`),
+    none where that is None; the background around the window is then the render's apparent one (a sky of
+    ``sky_temperature_k`` is the sky seen through the whole atmosphere already).
+
     The window's band radiance (:func:`csuas.render.imaging.tir.render_tir`) is pasted on the
     background's (the window's uncovered pixels, uniform), turned into apparent temperature
     (:func:`csuas.core.radiometry.radiance_temperature`) and passed through the chain's thermal stages
@@ -224,6 +227,7 @@ def tir_frame(
         view,
         sensor,
         scene,
+        atmosphere=scene.extinction_db_km is not None,
         reflected_surroundings=reflected_surroundings,
         settings=settings,
     )

@@ -85,9 +85,8 @@ def with_eo_layers(frame: dict, render: dict, chain, seed: int) -> dict:
     from csuas.render.imaging.frame import frame_label
     from csuas.render.imaging.sensor_chain import apply_chain
 
-    res, luminance, light = frame["result"], frame["luminance"], render["light"]
-    sky = float(res.values["sky_radiance"])
-    uniform = sky if light.background == "sky" else float(light.background) * light.illuminance_lx / math.pi
+    res, luminance = frame["result"], frame["luminance"]
+    uniform = float(res.values["background_radiance_apparent"])  # the render's background, after its path
     rendered = np.tensordot(LUMINANCE_WEIGHTS, res.image, axes=1)
     drone = DroneWindow(res.window.x0, res.window.y0, rendered, 1.0 - res.coverage, uniform, res.range_m)
     rate_per_nit = float(np.sum(frame["electrons"]) / np.sum(luminance)) / frame["exposure_s"]  # e/s per cd/m^2

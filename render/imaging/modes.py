@@ -6,14 +6,17 @@ also reads the request's ``exposure`` of the preview ("scene": a camera set for 
 night looks dark; "auto": the brightest pixel white).
 File names and EXR metadata: :mod:`csuas.render.files`.
 
-``atmosphere="auto"`` applies the path wherever ``csuas range`` applies one (docs/scenarios.md
-(effects)): for EO always (the EO range model applies Kruse's extinction at the optical
-visibility, 10 km clear air by default); for thermal with the MRTD and NETD models (Table 27's
-attenuation) or a declared rain, fog or haze. EO then uses Koschmieder with the optical visibility
-(fog visibility in fog) plus the rain's extinction; thermal the sensor's ``extinction_db_km``
-plus the rain's, with path radiance at the environment's ``temperature_k``: the same
-extinctions as ``csuas range`` in the physical convention (:func:`scenario_daylight`,
-:func:`scenario_thermal_scene`).
+``atmosphere="auto"`` applies the path wherever ``csuas range`` applies one to the same scenario under
+the same convention (the scenario's, or the request's ``convention``; docs/scenarios.md (effects)): for EO
+always (the EO range model applies Kruse's extinction at the optical visibility, 10 km clear air by
+default); for thermal with the MRTD and NETD models (Table 27's attenuation), never with the Johnson
+model (its range has no path, whatever the weather). EO then uses Koschmieder with the optical
+visibility (fog visibility in fog), averaged over a fog layer of given top on the sensor's slant path,
+plus the rain's extinction (physical); thermal the sensor's ``extinction_db_km`` plus the rain's
+(physical), with path radiance at the environment's ``temperature_k``. The extinction terms come from
+the core functions the range models use (:func:`csuas.core.ranges.eo_path_inputs`,
+:func:`csuas.core.eo.path_extinction`, :func:`csuas.core.ranges.thermal_path`), so a scenario's weather
+changes both or neither (tests/test_render_weather_terms.py).
 """
 
 from __future__ import annotations
@@ -21,8 +24,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import rain_extinction_per_km
-from csuas.core.ranges import thermal_extinction_db_km
+from csuas.core.ranges import eo_path_inputs, thermal_extinction_db_km, thermal_path
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.request import ATMOSPHERE_CHOICES, RenderRequest
 
@@ -39,32 +41,48 @@ def _sensor(scenario, modality: str, name):
     raise ParameterError("sensor", None, f"a [sensors.NAME] with modality = '{modality}' in scenario {scenario.name!r}")
 
 
-def _atmosphere_on(scenario, atmosphere: str, spec) -> bool:
-    """Whether a render applies the path: ``on``, ``off``, or ``auto`` = wherever ``csuas range`` applies one."""
+def atmosphere_on(scenario, atmosphere: str, spec, convention: str | None = None) -> bool:
+    """Whether a render applies the path: ``on``, ``off``, or ``auto`` = wherever ``csuas range`` applies one.
+
+    ``auto``: an EO sensor always (its range applies Kruse's extinction at the optical visibility); a thermal
+    sensor where its range lists a path (:func:`csuas.core.ranges.thermal_path`: the MRTD and NETD models with an
+    attenuation, not the Johnson model, which no weather changes).
+    """
     if atmosphere not in ATMOSPHERE_CHOICES:
         raise ParameterError("atmosphere", atmosphere, ", ".join(ATMOSPHERE_CHOICES))
     if atmosphere == "auto":
-        if spec.modality == "eo" or spec.params.get("model") in ("mrtd", "netd"):
+        if spec.modality == "eo":
             return True
-        return bool({"fog", "haze", "rain"} & set(scenario.effects))
+        return thermal_path(scenario, spec, convention or scenario.convention)[0] is not None
     return atmosphere == "on"
 
 
-def scenario_daylight(scenario) -> Daylight:
-    """Light and air of a scenario's EO render: its illuminance, optical visibility and rain extinction."""
+def scenario_daylight(scenario, spec, convention: str | None = None) -> Daylight:
+    """Light and air of a scenario's EO render: its illuminance and the path ``csuas range`` applies to ``spec``.
 
+    ``convention``: the scenario's unless given. The path's inputs are :func:`csuas.core.ranges.eo_path_inputs`'
+    (the optical visibility, the physical convention's rain and layered fog on the sensor's slant path).
+    """
+    conv = convention or scenario.convention
+    path = eo_path_inputs(scenario, spec, conv)
+    layer = path["fog_layer"]
     return Daylight(
         illuminance_lx=scenario.environment["illuminance_lx"],
-        visibility_km=scenario.optical_visibility_km,
-        rain_extinction_per_km=float(rain_extinction_per_km(scenario.environment["rain_rate_mm_h"])),
+        visibility_km=path["visibility_km"],
+        rain_extinction_per_km=float(path["rain_extinction_per_km"]),
+        convention=conv,
+        fog_layer=None if layer is None else (float(layer[0]), float(layer[1])),
     )
 
 
-def scenario_thermal_scene(scenario, spec) -> ThermalScene:
-    """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies (physical)."""
+def scenario_thermal_scene(scenario, spec, convention: str | None = None) -> ThermalScene:
+    """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies.
 
-    env = scenario.environment
-    extinction, rain = thermal_extinction_db_km(scenario, spec, "physical")
+    ``convention``: the scenario's unless given (the physical convention adds the rain's attenuation).
+    """
+
+    env, conv = scenario.environment, convention or scenario.convention
+    extinction, rain = thermal_extinction_db_km(scenario, spec, conv)
     return ThermalScene(
         t_bg_k=env["t_bg_k"],
         emissivity_bg=env["emissivity_bg"],
@@ -72,6 +90,7 @@ def scenario_thermal_scene(scenario, spec) -> ThermalScene:
         extinction_db_km=float(extinction),
         air_temperature_k=env["temperature_k"],
         rain_db_km=float(rain),
+        convention=conv,
     )
 
 
@@ -129,7 +148,7 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
 
     spec = _sensor(scenario, "eo", request.sensor)
     camera = EoSensor.from_params(spec.params)
-    light = scenario_daylight(scenario)
+    light = scenario_daylight(scenario, spec, request.convention)
     settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
     members, target = _swarm_target(scenario, request)
     out = []
@@ -140,11 +159,12 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
             view,
             camera,
             light,
-            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
+            atmosphere=atmosphere_on(scenario, request.atmosphere, spec, request.convention),
             settings=settings,
         )
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, scenario, spec, request, request.exposure))
+        row.update(sensor=spec.name, convention=light.convention)
+        row.update(files=_files(res, scenario, spec, request, request.exposure))
         _swarm_row(row, members, view, res, spec)
         out.append(row)
     return out
@@ -157,7 +177,7 @@ def tir_scenario(scenario, request: RenderRequest) -> list:
     spec = _sensor(scenario, "tir", request.sensor)
     target = scenario.target
     camera = ThermalSensor.from_params(spec.params)
-    thermal_scene = scenario_thermal_scene(scenario, spec)
+    thermal_scene = scenario_thermal_scene(scenario, spec, request.convention)
     settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
     members, swarm_target = _swarm_target(scenario, request)
     out = []
@@ -168,13 +188,13 @@ def tir_scenario(scenario, request: RenderRequest) -> list:
             view,
             camera,
             thermal_scene,
-            atmosphere=_atmosphere_on(scenario, request.atmosphere, spec),
+            atmosphere=atmosphere_on(scenario, request.atmosphere, spec, request.convention),
             reflected_surroundings=True,
             linear_reference=(target["emissivity_suas"], target["t_suas_k"]),
             settings=settings,
         )
         row = res.summary()
-        row.update(sensor=spec.name, files=_files(res, scenario, spec, request))
+        row.update(sensor=spec.name, convention=thermal_scene.convention, files=_files(res, scenario, spec, request))
         _swarm_row(row, members, view, res, spec)
         out.append(row)
     return out

@@ -1,17 +1,21 @@
 """Path effects of the true range, applied analytically to range-normalised renders.
 
 The render gives the radiance leaving the target and the background toward
-the sensor. The atmosphere between them and the sensor is a homogeneous
-horizontal path of length R:
+the sensor. The atmosphere between them and the sensor is a path of length R
+with the extinction ``csuas range`` applies to the same scenario and convention
+(the terms come from the same core functions, :func:`csuas.core.eo.path_extinction`
+and :func:`csuas.core.tir.path_terms`):
 
 * visible (Koschmieder 1924; docs/validation.md, "Optics and thermal radiometry"):
-  L(R) = L0 tau + L_h (1 - tau), tau = exp(-beta R), beta from Kruse/Kim
-  (Eqs. 19-20, physical convention: km^-1) at the sensor's wavelength and
-  visibility (fog visibility in fog), L_h the horizon sky luminance;
+  L(R) = L0 tau + L_h (1 - tau), tau = exp(-beta R) (physical; the paper's Eq. 10
+  reads beta as dB/km, tau = 10^(-beta R/10)), beta Kruse/Kim's (Eqs. 19-20) at the
+  sensor's wavelength and visibility (fog visibility in fog), averaged along the
+  slant path over a fog layer of given top, plus the rain's (physical), L_h the
+  horizon sky luminance;
 * thermal infrared: L(R) = L0 tau + L_band(T_air) (1 - tau) with
-  tau = 10^(-sigma R / 10) for the band attenuation sigma [dB/km] (Table 27)
-  and path radiance of air at T_air (the path emits as a graybody of
-  emissivity 1 - tau).
+  tau = 10^(-sigma R / 10) for the band attenuation sigma [dB/km] (Table 27, plus
+  the rain's; the paper's Eq. 31 as printed: exp(-sigma R)) and path radiance of
+  air at T_air (the path emits as a graybody of emissivity 1 - tau).
 
 Both are the solution of the radiative transfer equation along a
 homogeneous path whose source function is uniform: the horizon luminance
@@ -28,8 +32,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE, db_transmittance, extinction_per_km, transmittance
+from csuas.core.atmosphere import db_transmittance, transmittance
+from csuas.core.eo import path_extinction
 from csuas.core.radiometry import band_radiance
+from csuas.core.result import Term, check_convention
+from csuas.core.tir import path_terms
 
 
 @dataclass(frozen=True)
@@ -65,8 +72,10 @@ def eo_path(
     wavelength_nm: float,
     horizon_radiance: float,
     rain_extinction_per_km: float = 0.0,
+    convention: str = "physical",
+    fog_layer: tuple | None = None,
 ) -> PathEffect:
-    """Koschmieder transmittance and airlight for the visible band.
+    """Koschmieder transmittance and airlight for the visible band, with the extinction ``csuas range`` applies.
 
     Parameters
     ----------
@@ -80,22 +89,30 @@ def eo_path(
         Horizon sky luminance L_h [cd m^-2] (the airlight source).
     rain_extinction_per_km : float
         Extinction of rain [1/km] (:func:`csuas.core.atmosphere.rain_extinction_per_km`), added to the
-        aerosol's; the rain scatters the same horizon light, so it adds to the airlight alike.
+        aerosol's; the rain scatters the same horizon light, so it adds to the airlight alike (physical only).
+    convention : {"paper", "physical"}
+        How the extinction enters the transmittance (:func:`csuas.core.atmosphere.transmittance`: the paper
+        reads Kruse's coefficient as dB/km, Eq. 10).
+    fog_layer : (float, float) or None
+        Physical only: (L_fog / R, clear visibility [km]) of a fog layer the slant path crosses
+        (:func:`csuas.core.eo.path_extinction`).
+
+    The extinction terms are :func:`csuas.core.eo.path_extinction`'s, as the EO range lists them; then the
+    total ``extinction_per_km``, the ``transmittance`` and the ``airlight``.
     """
     if visibility_km is None:
         return NO_PATH
-    aerosol = float(extinction_per_km(wavelength_nm, visibility_km, "physical"))
-    beta = aerosol + float(rain_extinction_per_km)
-    tau = float(transmittance(beta, range_m, "physical"))
-    rain_terms = _rain_term("rain_extinction_per_km", rain_extinction_per_km, "1/km")
-    terms = rain_terms + (
+    total, applied = path_extinction(wavelength_nm, visibility_km, convention, rain_extinction_per_km, fog_layer)
+    beta = float(total)
+    tau = float(transmittance(beta, range_m, convention))
+    terms = tuple(term_record(t) for t in applied) + (
         {
             "name": "extinction_per_km",
             "value": beta,
-            "unit": "1/km",
-            "source": "Kruse/Kim Eqs. 19-20 (physical)" + (" + rain" if rain_terms else ""),
+            "unit": applied[0].unit,
+            "source": " + ".join(t.name for t in applied if t.name != "fog_path_fraction"),
         },
-        {"name": "transmittance", "value": tau, "unit": "-", "source": "Beer-Lambert exp(-beta R)"},
+        {"name": "transmittance", "value": tau, "unit": "-", "source": TRANSMITTANCE_SOURCE[convention]},
         {
             "name": "airlight",
             "value": horizon_radiance * (1.0 - tau),
@@ -106,8 +123,30 @@ def eo_path(
     return PathEffect(tau, horizon_radiance * (1.0 - tau), terms)
 
 
+#: Source of the visible path's transmittance per convention (csuas.core.atmosphere.transmittance).
+TRANSMITTANCE_SOURCE = {
+    "paper": "Eq. 10 as printed: 10^(-sigma R / 10), sigma read as dB/km",
+    "physical": "Beer-Lambert exp(-beta R)",
+}
+#: Source of the thermal path's transmittance per convention (csuas.core.tir.attenuated_delta_t).
+THERMAL_TRANSMITTANCE_SOURCE = {
+    "paper": "Eq. 31 as printed: exp(-sigma R), sigma [dB/km] read as 1/km",
+    "physical": "10^(-sigma R/10)",
+}
+
+
+def term_record(term: Term) -> dict:
+    """A core :class:`~csuas.core.result.Term` as a render's JSON term (name, value, unit, source)."""
+    return {"name": term.name, "value": float(np.asarray(term.value)), "unit": term.unit, "source": term.source}
+
+
 def tir_path(
-    range_m: float, extinction_db_km: float | None, air_temperature_k: float, band, rain_db_km: float = 0.0
+    range_m: float,
+    extinction_db_km: float | None,
+    air_temperature_k: float,
+    band,
+    rain_db_km: float = 0.0,
+    convention: str = "physical",
 ) -> PathEffect:
     """Band transmittance and path radiance for the thermal infrared.
 
@@ -123,22 +162,25 @@ def tir_path(
     rain_db_km : float
         The part of ``extinction_db_km`` that is rain [dB/km], listed as its own term; the drops, near
         the air's temperature, emit with the rest of the path.
+    convention : {"paper", "physical"}
+        ``physical``: tau = 10^(-sigma R/10); ``paper``: Eq. 31 as printed, exp(-sigma R)
+        (:func:`csuas.core.tir.attenuated_delta_t`).
+
+    The terms are :func:`csuas.core.tir.path_terms`' (as the MRTD and NETD ranges list them), then the
+    ``transmittance`` and the ``path_radiance``.
     """
     if extinction_db_km is None:
         return NO_PATH
     if not np.isfinite(extinction_db_km) or extinction_db_km < 0:
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
-    tau = float(db_transmittance(extinction_db_km, range_m))
+    check_convention(convention)
+    if convention == "paper":
+        tau = float(transmittance(extinction_db_km, range_m, "physical"))
+    else:
+        tau = float(db_transmittance(extinction_db_km, range_m))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
-    rain_terms = _rain_term("rain_extinction_db_km", rain_db_km, "dB/km")
-    terms = rain_terms + (
-        {
-            "name": "extinction_db_km",
-            "value": float(extinction_db_km),
-            "unit": "dB/km",
-            "source": "Table 27" + (" + rain" if rain_terms else ""),
-        },
-        {"name": "transmittance", "value": tau, "unit": "-", "source": "10^(-sigma R/10)"},
+    terms = tuple(term_record(t) for t in path_terms(extinction_db_km, rain_db_km)) + (
+        {"name": "transmittance", "value": tau, "unit": "-", "source": THERMAL_TRANSMITTANCE_SOURCE[convention]},
         {
             "name": "path_radiance",
             "value": l_path,
@@ -147,10 +189,3 @@ def tir_path(
         },
     )
     return PathEffect(tau, l_path, terms)
-
-
-def _rain_term(name: str, value: float, unit: str) -> tuple:
-    """The path's rain term (Marshall-Palmer extinction), or none when no rain is declared."""
-    if not value > 0:
-        return ()
-    return ({"name": name, "value": float(value), "unit": unit, "source": RAIN_EXTINCTION_SOURCE},)

@@ -121,7 +121,12 @@ class Daylight:
         Visibility of the Koschmieder transmittance and airlight [km]; used when the render's
         ``atmosphere`` switch is on.
     rain_extinction_per_km : float
-        Extinction of the scene's rain [1/km], added to the visibility's with the atmosphere on.
+        Extinction of the scene's rain [1/km], added to the visibility's with the atmosphere on (physical).
+    convention : {"paper", "physical"}
+        How the path's extinction enters its transmittance (:func:`csuas.render.imaging.path.eo_path`).
+    fog_layer : (float, float) or None
+        Physical only: (L_fog / R, clear visibility [km]) of a fog layer the slant path crosses
+        (:func:`csuas.core.ranges.eo_path_inputs`); None: the visibility fills the path.
     cloud_cover : float
         Share of the sky under seeded clouds (0..1) of a full frame's ``"clear_sky"`` background
         (:func:`csuas.render.imaging.frame.eo_frame`); the window render's uniform sky has none.
@@ -136,6 +141,8 @@ class Daylight:
     visibility_km: float | None = None
     rain_extinction_per_km: float = 0.0
     cloud_cover: float = 0.0
+    convention: str = "physical"
+    fog_layer: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -155,6 +162,8 @@ class ThermalScene:
         Air temperature of the path radiance [K].
     rain_db_km : float
         The part of ``extinction_db_km`` that is rain [dB/km] (listed as its own term).
+    convention : {"paper", "physical"}
+        How the attenuation enters the path (:func:`csuas.render.imaging.path.tir_path`).
     """
 
     t_bg_k: float = 298.15
@@ -163,6 +172,7 @@ class ThermalScene:
     extinction_db_km: float | None = None
     air_temperature_k: float = 293.15
     rain_db_km: float = 0.0
+    convention: str = "physical"
 
 
 @dataclass(frozen=True)

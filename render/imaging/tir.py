@@ -120,7 +120,7 @@ def render_tir(
         progress = progress_printer(f"render tir {r:g} m", progress)
     sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=1)
     tally = trace_window(mitsuba_scene, path_integrator(settings.max_depth), framing, sampling, progress=progress)
-    path = tir_path(r, extinction_db_km, scene.air_temperature_k, band, scene.rain_db_km)
+    path = tir_path(r, extinction_db_km, scene.air_temperature_k, band, scene.rain_db_km, scene.convention)
 
     def to_temperature(radiance):
         return radiance_temperature(radiance, band)
@@ -131,7 +131,7 @@ def render_tir(
     m.stderr["delta_t_inherent_k"] = inherent.stderr["delta_t_k"]
     eps_t, t_t = linear_reference or area_weighted_graybody(target, band)
     m.values["delta_t_linear_k"] = float(delta_t_linear(eps_t, t_t, scene.emissivity_bg, scene.t_bg_k))
-    _mrtd_figures(m, inherent, sensor, framing.sensor.ifov_rad, r, extinction_db_km, scene.air_temperature_k)
+    _mrtd_figures(m, inherent, sensor, framing.sensor.ifov_rad, r, extinction_db_km, scene)
     notes = list(m.notes)
     if sensor.lp_task * sensor.n_ttpf <= 0:
         notes.append("n_ttpf * lp_task = 0: the MRTD range is unbounded")
@@ -172,9 +172,11 @@ def _check_thermal(sensor: ThermalSensor, scene: ThermalScene, atmosphere: bool,
 
 
 def _mrtd_figures(
-    m, inherent, sensor: ThermalSensor, ifov_rad: float, range_m: float, extinction_db_km, air_temperature_k: float
+    m, inherent, sensor: ThermalSensor, ifov_rad: float, range_m: float, extinction_db_km, scene: ThermalScene
 ) -> None:
     """Add the MRTD range (Eqs. 24, 27-29) of the rendered inherent Delta T and d_crit, with its error, to ``m``.
+
+    The path is the scene's (its air temperature and convention) at ``extinction_db_km`` (None: no path).
 
     Also the target's spatial frequency f(R) = lp n_TTPF R / d_crit and the MRTD there, and the rendered d_crit.
     """
@@ -199,9 +201,9 @@ def _mrtd_figures(
             n_ttpf=n_ttpf,
             delta_t0_k=dt,
             extinction_db_km=sigma,
-            convention="physical",
+            convention=scene.convention,
             t_bg_app_k=t_bg_app,
-            air_temperature_k=air_temperature_k,
+            air_temperature_k=scene.air_temperature_k,
             band=band,
         )
         return float(np.asarray(res.range_m))

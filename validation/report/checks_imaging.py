@@ -8,6 +8,9 @@
   exact projected area / (IFOV R)^2, and its accuracy against samples per pixel;
 * ``imaging.birds``: the bird meshes (drone_models/birds.py) rendered in EO and LWIR against their
   exact silhouette and the Planck band closed form (:mod:`csuas.validation.imaging.birds`);
+* ``imaging.weather``: the scenario's weather in the renders (the path ``csuas range`` applies) against
+  Koschmieder's law, Beer-Lambert with path radiance and a Mitsuba fog slab
+  (:mod:`csuas.validation.imaging.weather`);
 * ``imaging.gallery``: EO and thermal previews of the default scenario at
   several ranges.
 
@@ -483,6 +486,27 @@ def closed_loop(settings: dict) -> Section:
     return s
 
 
+def weather(quality: str) -> Section:
+    """The path of the scenario's weather in the renders vs Koschmieder, Beer-Lambert and a Mitsuba fog slab."""
+    from csuas.validation.imaging.weather import FOG_VISIBILITY_M, weather_checks
+
+    s = Section()
+    checks, rows, elapsed = weather_checks(quality)
+    s.outcomes += checks
+    r = rows[:, 0]
+    s.figures.append(
+        curves(
+            "imaging_weather_koschmieder",
+            f"Rendered contrast of a plate in fog (V = {FOG_VISIBILITY_M:g} m) vs Koschmieder's law",
+            axes=PlotAxes("range [m]", "Weber contrast against the horizon sky"),
+            lines=[("C0 exp(-beta R), C0 closed form, beta from csuas range", r, rows[:, 3])],
+            points=[("rendered (csuas render's path)", r, rows[:, 1], rows[:, 2])],
+            caption=f"{quality} quality, all weather checks {elapsed:.1f} s.",
+        )
+    )
+    return s
+
+
 #: The report section of these checks.
 GROUP = CheckGroup(
     "imaging",
@@ -557,6 +581,19 @@ SPECS = [
         "EO: 3 standard errors + 0.5 % (orthographic oracle, pinhole render); thermal: 3 standard errors + "
         "(1 - eps) 0.1 Delta T, what the bird's parts reflect of each other with a view factor up to 0.1",
         birds,
+        "render quality (samples per pixel)",
+        QUALITY,
+        True,
+    ),
+    CheckSpec(
+        "imaging.weather",
+        "Weather in the renders: Koschmieder, Beer-Lambert with path radiance, layered fog",
+        GROUP,
+        "a plate's rendered contrast in fog vs C0 exp(-beta R) (C0 closed form, beta csuas range's); a graybody "
+        "plate's rendered LWIR Delta T in heavy rain vs Beer-Lambert with the air's path radiance; the render's "
+        "slant-path transmittance through a fog layer (fog_top_m) vs an absorbing Mitsuba fog slab",
+        "4 Monte Carlo standard errors (render batches, slab batches); thermal + 1e-4 K for float32 radiances",
+        weather,
         "render quality (samples per pixel)",
         QUALITY,
         True,
