@@ -102,3 +102,37 @@ def test_pd_reports_micro_doppler_only_when_asked(capsys):
     )
     err = capsys.readouterr().err
     assert code == 2 and "micro_doppler.prf_hz" in err and "micro_doppler.dwell_s" in err
+
+
+def test_engagement_classification_rejects_bird_tracks_and_keeps_the_drone():
+    """Birds over a radar: the same runs with and without the decision; bird tracks drop, the drone's stays."""
+    import dataclasses
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_engagement import _approach, _radar
+
+    from csuas.render.engagement.metrics import summarise
+    from csuas.render.engagement.sensors import LookSettings
+    from csuas.render.engagement.simulate import run_once
+    from csuas.render.rcs.drone_or_bird import ClassifierSettings
+
+    dem = np.zeros((80, 80))
+    settings = LookSettings(pfa=1e-7, clutter=False, decorrelation="independent", sigma_bearing_deg=0.5)
+    _, sensor = _radar(dem, settings)
+    plain = _approach(dem, sensor, birds=20.0)
+    fields = {f.name: getattr(plain, f.name) for f in dataclasses.fields(plain) if f.init}
+    classified = type(plain)(**{**fields, "classifier": ClassifierSettings()})
+    off = [run_once(plain, i) for i in range(2)]
+    on = [run_once(classified, i) for i in range(2)]
+    assert [(f["cause"], f["t_s"]) for r in off for f in r["false_tracks"]] == [
+        (f["cause"], f["t_s"]) for r in on for f in r["false_tracks"]
+    ]
+    assert all(not f["rejected"] for r in off for f in r["false_tracks"])
+    birds = [f for r in on for f in r["false_tracks"] if f["cause"] == "birds"]
+    assert len(birds) >= 10 and sum(not f["rejected"] for f in birds) < 0.2 * len(birds)
+    assert sum(r["drone_tracks"] for r in on) >= 2 and sum(r["drone_tracks_rejected"] for r in on) == 0
+    metrics = summarise(classified, on)
+    kept, total = metrics["classified"]["false_tracks_per_hour"], metrics["false_tracks_per_hour"]
+    assert kept["by_cause"]["birds"] < total["by_cause"]["birds"] and "classified" not in summarise(plain, off)
