@@ -20,6 +20,7 @@ import numpy as np
 from csuas.base.checks import Check
 from csuas.core import micro_doppler as md
 from csuas.core.micro_doppler import rotor_blade_signal
+from csuas.core.micro_doppler_detection import blade_feature_pd
 from csuas.core.units import wavelength_m
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
@@ -258,8 +259,6 @@ def _filter_bank_declared(rng, trials: int, with_line: bool) -> float:
 def decision_cases(trials=4000) -> Section:
     """The drone-or-bird decision (core/micro_doppler_detection.py, Eq. DS-3) against a simulated filter bank,
     and the blade lines' sum against the time-mean RCS (Parseval, Eq. MD-1a's quadrature)."""
-    from csuas.core.micro_doppler_detection import blade_feature_pd
-
     s, d = Section(), DECISION
     start = time.perf_counter()
     line_hz = d["line_bin"] * d["prf_hz"] / d["pulses"]
