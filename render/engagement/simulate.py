@@ -189,7 +189,9 @@ def blade_line_chances(sensor: SensorModel, looks: Looks, classifier: Classifier
         float(radar.integration_gain(int(p["n_pulses"]), p["integration"], sensor.scenario.convention))
     )
     snr1_db = sensor.radar_snr_db(looks.slant_range_m, sensor.scenario.target["sigma_radar_m2"]) - gain_db
-    decision = drone_or_bird(sensor.scenario, p, snr1_db, classifier)  # the scenario's Pfa, per Doppler bin
+    decision = drone_or_bird(
+        sensor.scenario, p, snr1_db, classifier, "classification"
+    )  # the scenario's Pfa, per Doppler bin
     return np.asarray(decision["pd_classified_drone"], float), float(decision["p_bird_classified_drone"])
 
 

@@ -87,7 +87,7 @@ def preset_blade_lines(preset: str, frequency_ghz: float, blade_passing_hz: floa
     }
 
 
-def drone_or_bird(scenario, params: dict, snr1_db, settings: ClassifierSettings) -> dict:
+def drone_or_bird(scenario, params: dict, snr1_db, settings: ClassifierSettings, key: str = "micro_doppler") -> dict:
     """The drone's line SNRs and the decision's probabilities for one radar of a scenario.
 
     Parameters
@@ -99,12 +99,30 @@ def drone_or_bird(scenario, params: dict, snr1_db, settings: ClassifierSettings)
     snr1_db : array_like (R,)
         Single-pulse SNR of the body line at each range [dB].
     settings : ClassifierSettings
+    key : str
+        The settings' key in errors (``micro_doppler`` of ``csuas pd``, ``classification`` of engagements).
+
+    Raises
+    ------
+    ParameterError
+        ``target.preset`` without rotor blades; ``<key>.dwell_s`` too short to resolve the blade lines.
     """
     frequency = radar.radar_frequency_ghz(params)
     target = scenario.target
-    lines = preset_blade_lines(scenario.target_preset, frequency, target["blade_passing_hz"], settings.elevation_deg)
+    try:
+        lines = preset_blade_lines(
+            scenario.target_preset, frequency, target["blade_passing_hz"], settings.elevation_deg
+        )
+    except ParameterError as exc:
+        raise ParameterError("target.preset", scenario.target_preset, exc.allowed) from None
     body = float(target["sigma_radar_m2"])
     n = int(round(settings.prf_hz * settings.dwell_s))
+    if n < settings.prf_hz / lines["line_spacing_hz"]:
+        raise ParameterError(
+            f"{key}.dwell_s",
+            settings.dwell_s,
+            f">= 1 / line spacing = {1.0 / lines['line_spacing_hz']:.4g} s (bins that resolve the blade lines)",
+        )
     guard = bird_guard_hz(frequency)
     feature = blade_feature_pd(
         snr1_db, body, lines["frequency_hz"], lines["rcs_m2"], params["pfa"], settings.prf_hz, n, guard
