@@ -168,3 +168,65 @@ def max_tip_doppler_hz(blade_length_m, rotation_rate_hz, frequency_ghz, elevatio
     )
     tip_speed = 2.0 * np.pi * length * np.abs(rate)
     return 2.0 * tip_speed * np.cos(np.radians(elevation)) / wavelength_m(f)
+
+
+def blade_line_rcs_m2(
+    blade_length_m, n_blades, rotation_rate_hz, frequency_ghz, elevation_deg, chord_m, n_rotors=1, samples=None
+):
+    """RCS of every I/Q Doppler line of rotors of flat PEC blades (Eq. MD-1a, Fourier series) [m^2].
+
+    The rotor's return repeats every ``1 / (N Omega)`` (Eq. MD-3), so its lines lie at ``m N Omega`` with
+    the Fourier coefficients ``c_m`` of one period, computed exactly by the FFT of ``samples`` points of
+    the closed form over that period. The return is nearly band-limited to the tip Doppler (Eq. MD-4;
+    beyond it the flashes' short ends leave 8e-5 of the power of the Mini 4 Pro's rotor at 10 GHz), so
+    the default ``samples``, 16 times the lines within the tip Doppler, sums to the quadrature of the
+    time-mean power within 1e-9 (tests/test_micro_doppler_detection.py). A flat
+    PEC blade's PO amplitude is ``w sin(beta) s(t)`` [m^2], so line ``m`` has the RCS
+    ``4 pi (w sin(beta))^2 |c_m|^2 / lambda^2`` and the lines sum to the blades' time-mean RCS
+    (Parseval). ``n_rotors`` rotors at different hubs add their lines with independent phases: in
+    power, on average.
+
+    Parameters
+    ----------
+    blade_length_m : float
+        Hub axis to tip [m], > 0.
+    n_blades : int
+        Blades per rotor, >= 1.
+    rotation_rate_hz : float
+        Rotation rate [rev/s], != 0 (its sign is ignored: the magnitudes are mirror-symmetric).
+    frequency_ghz : float
+        Radar frequency [GHz], > 0.
+    elevation_deg : float
+        Radar elevation above the rotor plane [deg], -90..90.
+    chord_m : float
+        Blade chord ``w`` [m], > 0.
+    n_rotors : int
+        Rotors of the same blades and rate, >= 1.
+    samples : int, optional
+        Points over one period, >= 16 (default above).
+
+    Returns
+    -------
+    (order, frequency_hz, rcs_m2) : (ndarray int, ndarray, ndarray)
+        Line orders ``m`` ascending, their Doppler ``m N |Omega|`` [Hz] and RCS [m^2].
+    """
+    length, rate, f, elevation, chord = require_all(
+        ("blade_length_m", blade_length_m, {"gt": 0}),
+        ("rotation_rate_hz", np.abs(np.asarray(rotation_rate_hz, float)), {"gt": 0}),
+        ("frequency_ghz", frequency_ghz, {"gt": 0}),
+        ("elevation_deg", elevation_deg, {"ge": -90, "le": 90}),
+        ("chord_m", chord_m, {"gt": 0}),
+    )
+    count, rotors = _blade_count(n_blades), float(require("n_rotors", n_rotors, ge=1))
+    spacing = float(line_spacing_hz(count, rate))
+    if samples is None:
+        lines_within_tip = float(max_tip_doppler_hz(length, rate, f, elevation)) / spacing
+        samples = int(2 ** np.ceil(np.log2(16.0 * (lines_within_tip + 1.0))))
+    count_t = int(require("samples", samples, ge=16))
+    t = np.arange(count_t) / (count_t * spacing)
+    s = rotor_blade_signal(t, length, count, rate, f, elevation, 0.0, chord)
+    coefficients = np.fft.fftshift(np.fft.fft(s)) / count_t
+    order = np.fft.fftshift(np.fft.fftfreq(count_t, 1.0 / count_t)).astype(int)
+    amplitude_m2 = chord * np.sin(np.radians(elevation)) * np.abs(coefficients)
+    rcs = rotors * 4.0 * np.pi * amplitude_m2**2 / wavelength_m(f) ** 2
+    return order, order * spacing, rcs

@@ -26,6 +26,13 @@ motors, legs) are plausible estimates from photographs, marked as such.
   0.28 / 0.16 m (aspect ratio 9.1), dihedral 3 deg; black-anodised motor bell 30 K above T_sUAS in
   flight (brushless outrunner at cruise power, assumption). Built by
   :func:`csuas.drone_models.fixed_wing.build_fixed_wing`.
+* ``small_delta_wing``: a 1 m-span flying-wing delta, 1 kg, in the class of the foam flying wings flown as
+  small fixed-wing drones; no product is modelled and every figure is an assumption: length 0.585 m
+  (nose to the pusher's rear face), height 0.22 m (disc bottom to winglet tops), root / tip chord
+  0.50 / 0.12 m with a straight trailing edge (leading edge swept 0.38 m, about 37 deg), 8 % thick,
+  8-inch (203.2 mm) two-blade pusher on the trailing edge, 0.36 m pod, tip winglets 0.12 m tall; the
+  motor bell 30 K above T_sUAS in flight as the fixed-wing's. Built by
+  :func:`csuas.drone_models.flying_wing.build_flying_wing`.
 """
 
 from __future__ import annotations
@@ -36,6 +43,7 @@ from typing import TYPE_CHECKING
 from csuas.base.errors import ParameterError
 from csuas.drone_models.birds import build_bird, list_birds
 from csuas.drone_models.fixed_wing import FixedWingParams, build_fixed_wing
+from csuas.drone_models.flying_wing import FlyingWingParams, build_flying_wing
 from csuas.drone_models.helicopter import HelicopterParams, build_helicopter
 from csuas.drone_models.materials import T_SUAS_K
 from csuas.drone_models.multirotor import MultirotorParams, build_multirotor
@@ -210,6 +218,31 @@ def _euclid_class_fixed_wing():
     return build_fixed_wing, params, spec
 
 
+def _small_delta_wing():
+    spec = {
+        "span_m": 1.0,
+        "length_m": 0.585,
+        "height_m": 0.22,
+        "mass_kg": 1.0,
+        "propeller_diameter_m": 8.0 * INCH_M,
+        "motor_excess_k": FIXED_WING_MOTOR_EXCESS_K,
+        "source": "assumed 1 m-span flying-wing delta (no product modelled): span, length, height, mass, "
+        "chords, propeller and motor heat stated in drone_models/presets.py",
+    }
+    params = FlyingWingParams(
+        span_m=spec["span_m"],
+        length_m=spec["length_m"],
+        height_m=spec["height_m"],
+        fuselage_length_m=0.36,
+        fuselage_diameter_m=0.07,
+        root_chord_m=0.50,
+        tip_chord_m=0.12,
+        propeller_diameter_m=spec["propeller_diameter_m"],
+        motor_temperature_k=T_SUAS_K + FIXED_WING_MOTOR_EXCESS_K,
+    )
+    return build_flying_wing, params, spec
+
+
 _PRESETS = {
     "dji_mini_4_pro": (_mini_4_pro, "DJI Mini 4 Pro, 249 g class-1 quadcopter (paper default, Table 8)"),
     "dji_mavic_3": (_mavic_3, "DJI Mavic 3, 895 g class-1 quadcopter"),
@@ -218,6 +251,7 @@ _PRESETS = {
         _euclid_class_fixed_wing,
         "2 m-span electric pusher fixed-wing, 5 kg, in the class of the Euclid UAV (Drones 7(1):39, 2023)",
     ),
+    "small_delta_wing": (_small_delta_wing, "1 m-span flying-wing delta with a pusher propeller, 1 kg (assumed)"),
 }
 
 
@@ -248,8 +282,9 @@ def build_drone(preset: str, propellers: str = "disc", **overrides) -> Drone:
         as blades, or left out.
     **overrides
         Fields of the preset's :class:`~csuas.drone_models.multirotor.MultirotorParams`,
-        :class:`~csuas.drone_models.helicopter.HelicopterParams` or
-        :class:`~csuas.drone_models.fixed_wing.FixedWingParams`, e.g.
+        :class:`~csuas.drone_models.helicopter.HelicopterParams`,
+        :class:`~csuas.drone_models.fixed_wing.FixedWingParams` or
+        :class:`~csuas.drone_models.flying_wing.FlyingWingParams`, e.g.
         ``blade_phase_deg=30`` or ``materials={"body": "plastic"}`` (merged
         with the preset's materials); for a bird ``wingbeat_phase`` and ``ambient_k``.
 

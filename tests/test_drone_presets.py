@@ -40,7 +40,13 @@ def mini():
 
 
 def test_list_presets_names():
-    assert set(list_presets()) == {"dji_mini_4_pro", "dji_mavic_3", "black_hornet_3", "euclid_class_fixed_wing"}
+    assert set(list_presets()) == {
+        "dji_mini_4_pro",
+        "dji_mavic_3",
+        "black_hornet_3",
+        "euclid_class_fixed_wing",
+        "small_delta_wing",
+    }
 
 
 def test_mini_4_pro_bbox_within_1_percent_of_spec(mini):

@@ -131,3 +131,20 @@ def test_cli_writes_the_json_and_png_and_refuses_an_aliasing_prf(tmp_path, capsy
     code = cli.main(["micro-doppler", "dji_mini_4_pro", "--out", str(tmp_path / "y"), "--rpm", "-5", "--dwell-s", "0"])
     err = capsys.readouterr().err
     assert code == 2 and "rpm" in err and "dwell_s" in err
+
+
+def test_cost_estimate_is_samples_times_blade_facets_and_refuses_before_making_out(tmp_path, capsys):
+    from csuas import cli
+    from csuas.render.rcs import micro_doppler as module
+
+    plan = module.plan_micro_doppler("dji_mini_4_pro", 10.0, 200_000.0, 10.0)  # 2e6 samples x 480 facets
+    estimate = module.estimate_cost(plan)
+    blades = 2_000_000 * 480 * module.SECONDS_PER_SAMPLE_FACET
+    assert plan.samples == 2_000_000 and blades < estimate.seconds < blades + module.OVERHEAD_SECONDS + 1.0
+    out = tmp_path / "long"
+    argv = ["micro-doppler", "dji_mini_4_pro", "--out", str(out), "--prf-hz", "200000", "--dwell-s", "10"]
+    assert cli.main(argv) == 2  # 960 s of blades above the default 600 s
+    err = capsys.readouterr().err
+    assert "max_seconds" in err and "2,000,000 samples x 480 blade facets" in err and not out.exists()
+    assert cli.main([*argv, "--max-seconds", "1e9", "--max-memory-gb", "1e-3"]) == 2
+    assert "max_memory_gb" in capsys.readouterr().err and not out.exists()

@@ -3,7 +3,9 @@
 The slow-time field of the preset's blades (PO, :mod:`csuas.render.rcs.micro_doppler`) plus the
 body's static return, sampled at the PRF over the dwell; the spectrum (Hann window by default), its
 lines at multiples of ``N Omega``, the blade-flash period and the time-averaged RCS of the spinning
-rotors against the blades at rest. Writes ``micro_doppler.json`` and ``micro_doppler.png`` (the
+rotors against the blades at rest. The arguments are checked and the cost (samples x blade facets,
+and the body's SBR run) estimated and held against ``--max-seconds`` and ``--max-memory-gb`` before
+``--out`` is made; then the simulation runs. Writes ``micro_doppler.json`` and ``micro_doppler.png`` (the
 spectrum and a spectrogram) into ``--out``.
 """
 
@@ -14,6 +16,7 @@ import time
 
 import numpy as np
 
+from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError
 from csuas.base.fileio import atomic_path, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside
@@ -51,6 +54,7 @@ def add_arguments(parser) -> None:
         action="store_true",
         help="flag PRF < 2 x tip Doppler in the output instead of refusing it",
     )
+    add_limit_arguments(parser)
 
 
 def _plot(path, result, preset: str, frequency_ghz: float) -> None:
@@ -97,14 +101,14 @@ def _plot(path, result, preset: str, frequency_ghz: float) -> None:
 
 
 def run(args) -> dict:
-    """Simulate, write the JSON and the plot; returns the ``--json`` object."""
-    from csuas.render.rcs.micro_doppler import MODEL_LIMITS, micro_doppler
+    """Check, estimate, prepare ``--out``, simulate, write the JSON and the plot; returns the ``--json`` object."""
+    from csuas.render.rcs.micro_doppler import MODEL_LIMITS, estimate_cost, plan_micro_doppler, simulate
     from csuas.render.rcs.solver import to_dbsm
 
     start = time.perf_counter()
     if args.out is None:
         raise ParameterError("--out", None, "an output folder")
-    result = micro_doppler(
+    plan = plan_micro_doppler(
         args.preset,
         args.frequency_ghz,
         args.prf_hz,
@@ -114,7 +118,10 @@ def run(args) -> dict:
         args.window,
         args.allow_aliasing,
     )
+    estimate = estimate_cost(plan)
+    check_limits(estimate, args, "micro-doppler")  # before --out is made and any field computed
     out = prepare_output_dir(args.out)
+    result = simulate(plan)
     summary, png = inside(out, "micro_doppler.json"), inside(out, "micro_doppler.png")
     _plot(png, result, args.preset, args.frequency_ghz)
     record = {
@@ -141,6 +148,7 @@ def run(args) -> dict:
             "rcs_dbsm": [float(v) for v in to_dbsm(result.spectrum_m2)],
         },
         "model_limits": MODEL_LIMITS,
+        "cost_estimate": estimate.as_dict(),
         "simulation_time_s": result.time_cost_s,
         "time_s": time.perf_counter() - start,
         "json": str(summary),

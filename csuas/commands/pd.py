@@ -16,6 +16,9 @@ swarm keys and, aligned with ``range_m``, ``pd_any`` (any resolved group detecte
 ``resolved_count_at_range``; the other keys stay one drone's.
 Every radio and optical sensor's Pd is 0 beyond its line-of-sight horizon: that of its
 ``height_m``, or without one that of the reference heights ``csuas range`` flags (2 m, 120 m).
+With ``--micro-doppler`` each radar also reports ``micro_doppler`` (:mod:`csuas.render.rcs.drone_or_bird`):
+the drone as a Doppler-spread target, its blade lines' SNR and the probability that its blade lines
+declare it a drone (aligned with ``range_m``), against the probability that a bird is declared one.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ import numpy as np
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.paths import output_file
 from csuas.base.plots import pd_plot
+from csuas.core import radar
 from csuas.core.pd_curves import (
     FALSE_ALARM_NOTE,
     GRID_BEYOND,
@@ -38,11 +42,13 @@ from csuas.core.pd_curves import (
     fused_cumulative,
     fused_first_detection_m,
     fused_pd_of_range,
+    margin_db,
     range_at_pd,
     sensor_pd,
 )
 from csuas.core.scenario import load_scenario
 from csuas.core.swarm_detection import formation_json, swarm_pd, swarm_range
+from csuas.render.rcs.drone_or_bird import ClassifierSettings, drone_or_bird
 
 
 def add_arguments(parser):
@@ -67,6 +73,24 @@ def add_arguments(parser):
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="write Pd against range (and the approach)")
     parser.add_argument(
         "--convention", choices=("paper", "physical"), default=None, help="override the scenario's convention"
+    )
+    defaults = ClassifierSettings()
+    parser.add_argument(
+        "--micro-doppler",
+        action="store_true",
+        help="radars also report the drone's blade lines and the drone-or-bird decision (docs/detection.md)",
+    )
+    parser.add_argument(
+        "--micro-doppler-prf-hz", type=float, default=defaults.prf_hz, help="PRF of the Doppler dwell [Hz]"
+    )
+    parser.add_argument(
+        "--micro-doppler-dwell-s", type=float, default=defaults.dwell_s, help="Doppler dwell [s] (default 0.05)"
+    )
+    parser.add_argument(
+        "--micro-doppler-elevation-deg",
+        type=float,
+        default=defaults.elevation_deg,
+        help="radar elevation above the rotor plane [deg] (default 10)",
     )
 
 
@@ -146,9 +170,32 @@ def _plot(args, scenario, grid, curves, out) -> str:
     )
 
 
+def _classifier(args) -> ClassifierSettings:
+    settings = ClassifierSettings(
+        args.micro_doppler_prf_hz, args.micro_doppler_dwell_s, args.micro_doppler_elevation_deg
+    )
+    return settings.check("micro_doppler")
+
+
+def _micro_doppler(scenario, args, grid, out) -> None:
+    """``sensors.<radar>.micro_doppler``: the drone-or-bird decision on the grid (:func:`drone_or_bird`)."""
+    convention = args.convention or scenario.convention
+    for name, sensor in scenario.sensors.items():
+        if sensor.modality != "radar":
+            continue
+        p = sensor.params
+        gain_db = 10 * np.log10(float(radar.integration_gain(int(p["n_pulses"]), p["integration"], convention)))
+        snr1_db = p["snr_min_db"] - gain_db + margin_db(scenario, sensor, convention, grid)
+        result = drone_or_bird(scenario, p, snr1_db, _classifier(args))
+        result["pd_detected_and_classified"] = out["sensors"][name]["pd"] * result["pd_classified_drone"]
+        out["sensors"][name]["micro_doppler"] = result
+
+
 def run(args) -> dict:
     """Pd of every sensor of the scenario on the grid, fused, and along an approach."""
     _check(args)
+    if args.micro_doppler:
+        _classifier(args)
     scenario = load_scenario(args.scenario)
     grid = _grid(scenario, args)
     curves = [sensor_pd(scenario, name, grid, args.convention) for name in scenario.sensors]
@@ -186,6 +233,8 @@ def run(args) -> dict:
                 **swarm_range(scenario, name, out["convention"]),
                 **swarm_pd(scenario, name, grid, args.convention),
             }
+    if args.micro_doppler:
+        _micro_doppler(scenario, args, grid, out)
     if args.approach_speed_m_s is not None:
         _approaches(scenario, args, grid, out)
     if args.plot is not None:

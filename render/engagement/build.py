@@ -21,6 +21,7 @@ from csuas.defaults import engagement_path, load_birds, load_clutter, scenario_p
 from csuas.render.engagement.sensors import ENGAGED_MODALITIES, LOOK_DEFAULTS, LookSettings, SensorModel, Terrain
 from csuas.render.engagement.simulate import BirdSettings, DronePath, Engagement
 from csuas.render.engagement.spec import EngageSpec, parse_spec
+from csuas.render.rcs.drone_or_bird import ClassifierSettings
 from csuas.render.site import load_dem, sensor_xy, validated_site
 
 
@@ -100,6 +101,8 @@ def build(spec, spec_dir: Path | None):
         sensors[name] = SensorModel(scenario, sited, terrain, settings, gamma[settings.land_cover])
     birds = BirdSettings(spec.confusers.birds_per_km2, tuple(spec.confusers.bird_classes), spec.confusers.radius_m)
     path = DronePath(waypoints, spec.drone.speed_m_s)
+    c = spec.classification
+    classifier = ClassifierSettings(c.prf_hz, c.dwell_s, c.elevation_deg) if c.micro_doppler else None
     return Engagement(
         terrain,
         sensors,
@@ -110,6 +113,7 @@ def build(spec, spec_dir: Path | None):
         spec.seed,
         load_birds(),
         scenario.swarm,
+        classifier.check("classification") if classifier else None,
     )
 
 

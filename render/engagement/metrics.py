@@ -32,6 +32,19 @@ def _percentiles(values) -> dict:
     return out
 
 
+def _classified(runs: list, kept: dict) -> dict:
+    """``classified``: false tracks per hour by cause once the drone-or-bird decision rejects tracks, and the
+    share of the drone's tracks it rejected (null without drone tracks)."""
+    drone = sum(r["drone_tracks"] for r in runs)
+    rejected = sum(r["drone_tracks_rejected"] for r in runs)
+    return {
+        "classified": {
+            "false_tracks_per_hour": {"total": float(sum(kept.values())), "by_cause": kept},
+            "drone_tracks_rejected_fraction": rejected / drone if drone else None,
+        }
+    }
+
+
 def summarise(engagement: Engagement, runs: list) -> dict:
     """``metrics`` of engage.json from the runs' records (:func:`csuas.render.engagement.simulate.run_once`)."""
     hours = len(runs) * engagement.path.duration_s / 3600.0
@@ -39,6 +52,10 @@ def summarise(engagement: Engagement, runs: list) -> dict:
     times = [np.inf if r["first_track_time_s"] is None else r["first_track_time_s"] for r in runs]
     ranges = [-np.inf if r["first_track_range_m"] is None else r["first_track_range_m"] for r in runs]
     by_cause = {c: sum(1 for r in runs for f in r["false_tracks"] if f["cause"] == c) / hours for c in CAUSES}
+    kept = {
+        c: sum(1 for r in runs for f in r["false_tracks"] if f["cause"] == c and not f["rejected"]) / hours
+        for c in CAUSES
+    }
     alarms = {}
     for name, sensor in engagement.sensors.items():
         noise = sum(r["false_alarms"][name]["noise"] for r in runs) / hours
@@ -63,6 +80,7 @@ def summarise(engagement: Engagement, runs: list) -> dict:
         "first_track_range_m": {**_percentiles(ranges), "never_fraction": float(never.mean())},
         "warning_time_s": _percentiles([r["warning_time_s"] for r in runs]),
         "false_tracks_per_hour": {"total": float(sum(by_cause.values())), "by_cause": by_cause},
+        **(_classified(runs, kept) if engagement.classifier is not None else {}),
         "false_alarms_per_hour": alarms,
         "track_continuity": float(np.mean(continuity)) if continuity else None,
         "gospa_mean": float(np.mean(gospa)) if gospa else None,

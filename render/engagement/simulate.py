@@ -18,6 +18,15 @@ with its cause, the false alarms of each sensor, GOSPA
 (Stone Soup's metric; the drone is the only truth, birds are confusers) averaged over the looks, and
 the track continuity (the share of looks from the first track to arrival at which a confirmed track
 lies within GOSPA_C_M of the drone).
+
+With a drone-or-bird decision (``Engagement.classifier``, spec ``[classification] micro_doppler``) every
+radar detection carries ``blade_lines``: drawn true with the drone's probability of showing its blade
+lines at that look's range (:func:`csuas.render.rcs.drone_or_bird.drone_or_bird`) for the drone, and
+with the probability that noise alone crosses a tested Doppler bin for birds, noise and clutter (their
+power stays inside the guard band). The draws come from a generator of their own, so the tracks are
+those of the same run without the decision; a confirmed track whose radar detections were classified
+and none showed blade lines is declared not a drone (:func:`csuas.render.engagement.tracker.declared_not_drone`):
+its record says ``rejected``, and the false tracks are counted with and without the rejected ones.
 """
 
 from __future__ import annotations
@@ -32,11 +41,19 @@ from stonesoup.metricgenerator.ospametric import GOSPAMetric
 from stonesoup.types.array import StateVector
 from stonesoup.types.state import State
 
+from csuas.core import radar
 from csuas.core.swarm import Formation
 from csuas.render.engagement.sensors import SensorModel, Terrain
 from csuas.render.engagement.siap import siap_scores, truth_path
 from csuas.render.engagement.swarm import member_positions, swarm_looks
-from csuas.render.engagement.tracker import EngagementTracker, make_detection, predicted_xy, timestamp
+from csuas.render.engagement.tracker import (
+    EngagementTracker,
+    declared_not_drone,
+    make_detection,
+    predicted_xy,
+    timestamp,
+)
+from csuas.render.rcs.drone_or_bird import ClassifierSettings, drone_or_bird
 
 #: GOSPA's cut-off distance c [m], order p and alpha = 2 (Rahmathullah et al. 2017).
 GOSPA_C_M, GOSPA_P = 100.0, 2
@@ -118,11 +135,18 @@ class Engagement:
     seed: int
     bird_table: dict = field(default_factory=dict)
     swarm: Formation | None = None
+    classifier: ClassifierSettings | None = None
     looks: dict = field(init=False)
     swarm_looks: dict = field(init=False)
+    blade_lines: dict = field(init=False)
 
     def __post_init__(self):
         self.looks = {name: drone_looks(self.terrain, sensor, self.path) for name, sensor in self.sensors.items()}
+        self.blade_lines = {
+            name: blade_line_chances(sensor, self.looks[name], self.classifier)
+            for name, sensor in self.sensors.items()
+            if self.classifier is not None and sensor.modality == "radar"
+        }
         self.swarm_looks = {}
         if self.swarm is not None:
             self.swarm_looks = {
@@ -174,6 +198,28 @@ def drone_looks(terrain: Terrain, sensor: SensorModel, path: DronePath) -> Looks
     return Looks(
         t, x, y, z, geometry.slant_m, geometry.visible, geometry.in_regard, sensor.drone_pd(geometry), correlation
     )
+
+
+def blade_line_chances(sensor: SensorModel, looks: Looks, classifier: ClassifierSettings) -> tuple[np.ndarray, float]:
+    """Chance that a radar detection shows blade lines: the drone's at each look, and anything else's (a scalar)."""
+    p = sensor.spec.params
+    gain_db = 10 * np.log10(
+        float(radar.integration_gain(int(p["n_pulses"]), p["integration"], sensor.scenario.convention))
+    )
+    snr1_db = sensor.radar_snr_db(looks.slant_range_m, sensor.scenario.target["sigma_radar_m2"]) - gain_db
+    decision = drone_or_bird(
+        sensor.scenario, p, snr1_db, classifier, "classification"
+    )  # the scenario's Pfa, per Doppler bin
+    return np.asarray(decision["pd_classified_drone"], float), float(decision["p_bird_classified_drone"])
+
+
+def _classify(rng, detections: list, chances: tuple | None, k: int) -> None:
+    """Mark each detection of look ``k`` with ``blade_lines`` (module docstring); nothing without a decision."""
+    if chances is None:
+        return
+    for detection in detections:
+        chance = chances[0][k] if detection.metadata["source"] == "drone" else chances[1]
+        detection.metadata["blade_lines"] = bool(rng.uniform() < chance)
 
 
 def correlated_draws(rng: np.random.Generator, pd, correlation) -> np.ndarray:
@@ -284,6 +330,7 @@ def run_once(
     """
     started = time.perf_counter()
     rng = np.random.default_rng([engagement.seed, index])
+    classifying = np.random.default_rng([engagement.seed, index, 1])  # apart: the same tracks with or without it
     times = np.unique(np.concatenate([looks.t_s for looks in engagement.looks.values()]))
     birds = draw_birds(rng, engagement, times)
     scans = []  # (t, sensor order, sensor name, detections)
@@ -299,6 +346,7 @@ def run_once(
                 (birds[b]["x"][index_in_run[k]], birds[b]["y"][index_in_run[k]], b) for b, kk in bird_hits if kk == k
             ]
             detections, counts = _look_detections(rng, sensor, float(t), truth)
+            _classify(classifying, detections, engagement.blade_lines.get(name), k)
             alarms[name]["noise"] += counts["noise"]
             alarms[name]["clutter"] += counts["clutter"]
             scans.append((float(t), order, name, detections))
@@ -358,6 +406,7 @@ def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, el
     """One run's record for ``runs_detail``."""
     records = tracker.records
     drone_times = [r["confirmed_s"] for r in records.values() if r["cause"] == "drone"]
+    drone_rejected = sum(declared_not_drone(r["sources"]) for r in records.values() if r["cause"] == "drone")
     first = min(drone_times) if drone_times else None
     arrival = engagement.path.duration_s
     out = {
@@ -368,6 +417,8 @@ def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, el
         "gospa_mean": float(np.mean(gospa_values)) if gospa_values else None,
         "false_alarms": alarms,
         "false_tracks": [],
+        "drone_tracks": len(drone_times),
+        "drone_tracks_rejected": drone_rejected,
         "time_s": elapsed,
     }
     if first is not None:
@@ -387,7 +438,13 @@ def _run_summary(engagement, tracker, alarms, gospa_values, held, keep_paths, el
             )
             v = np.asarray(state.state_vector, float).ravel()
             out["false_tracks"].append(
-                {"cause": record["cause"], "t_s": record["confirmed_s"], "x": float(v[0]), "y": float(v[2])}
+                {
+                    "cause": record["cause"],
+                    "t_s": record["confirmed_s"],
+                    "x": float(v[0]),
+                    "y": float(v[2]),
+                    "rejected": declared_not_drone(record["sources"]),
+                }
             )
     if engagement.swarm is not None:  # every track of the swarm confirmed in the run, broken ones counted again
         out["drone_tracks_confirmed"] = sum(1 for r in records.values() if r["cause"] == "drone")

@@ -3,7 +3,9 @@
 Public keys (issue 24): ``site``, ``sensors``, ``runs``, ``seed``, ``[drone]`` (``target``,
 ``waypoints``, ``speed_m_s``), ``[looks.NAME]`` (``revisit_s``, ``sigma_range_m``,
 ``sigma_bearing_deg``), ``[tracker]`` (``confirm``, ``delete_after_misses``), ``[confusers]``
-(``birds_per_km2``, ``bird_classes``). Extensions: ``scenario`` (a scenario name, file or inline
+(``birds_per_km2``, ``bird_classes``), ``[classification]`` (``micro_doppler``, ``prf_hz``,
+``dwell_s``, ``elevation_deg``: the radars' drone-or-bird decision by blade lines, off by default).
+Extensions: ``scenario`` (a scenario name, file or inline
 table replacing the site's), the further ``[looks.NAME]`` keys of
 :class:`csuas.render.engagement.sensors.LookSettings` and ``confusers.radius_m``.
 """
@@ -102,6 +104,15 @@ class ConfusersSpec(_Strict):
         return value
 
 
+class ClassificationSpec(_Strict):
+    """``[classification]``: the radars' drone-or-bird decision by blade lines (render/rcs/drone_or_bird.py)."""
+
+    micro_doppler: bool = False
+    prf_hz: float = Field(20_000.0, gt=0, le=1e7)
+    dwell_s: float = Field(0.05, gt=0, le=1.0)
+    elevation_deg: float = Field(10.0, gt=0, lt=90)
+
+
 class EngageSpec(_Strict):
     """The whole spec (module docstring)."""
 
@@ -114,6 +125,7 @@ class EngageSpec(_Strict):
     looks: dict[str, LookSpec] = Field(default_factory=dict)
     tracker: TrackerSpec = Field(default_factory=TrackerSpec)
     confusers: ConfusersSpec = Field(default_factory=ConfusersSpec)
+    classification: ClassificationSpec = Field(default_factory=ClassificationSpec)
 
     @model_validator(mode="after")
     def _looks_of_engaged(self):

@@ -247,7 +247,7 @@ class MOfNInitiator:
             if hit:
                 track.append(self.updater.update(hypothesis))
                 used.add(hypothesis.measurement)
-                self.sources[track][hypothesis.measurement.metadata["source"]] += 1
+                self.sources[track] += tally(hypothesis.measurement)
             history = self.tentative[track]
             history.append(hit)
             if sum(history[-self.n :]) >= self.m:
@@ -257,7 +257,7 @@ class MOfNInitiator:
         for detection in detections - used:
             track = Track([initial_state(detection)])
             self.tentative[track] = [True]
-            self.sources[track] = Counter({detection.metadata["source"]: 1})
+            self.sources[track] = tally(detection)
             if self.m <= 1:
                 confirmed.add(track)
         for track in confirmed:
@@ -310,7 +310,7 @@ class EngagementTracker:
             if hypothesis and hypothesis.measurement in pending:
                 track.append(self.updater.update(hypothesis))
                 pending.discard(hypothesis.measurement)
-                self.records[track]["sources"][hypothesis.measurement.metadata["source"]] += 1
+                self.records[track]["sources"] += tally(hypothesis.measurement)
             else:
                 track.append(
                     hypothesis.prediction if hypothesis else self.predictor.predict(track.state, timestamp=when)
@@ -322,6 +322,21 @@ class EngagementTracker:
             self.records[track] = {"confirmed_s": t_s, "cause": cause_of(sources), "sources": sources}
         self.tracks |= confirmed
         return list(confirmed)
+
+
+def tally(detection) -> Counter:
+    """What one detection adds to its track's counts: its source, and with a drone-or-bird decision
+    (metadata ``blade_lines`` True or False; None without one) ``classified`` and ``blade_lines``."""
+    flag = detection.metadata.get("blade_lines")
+    counts = Counter({detection.metadata["source"]: 1})
+    if flag is not None:
+        counts.update({"classified": 1, "blade_lines": int(flag)})
+    return counts
+
+
+def declared_not_drone(sources: Counter) -> bool:
+    """Whether a track's drone-or-bird decisions reject it: some detections were classified, none showed blade lines."""
+    return sources.get("classified", 0) > 0 and sources.get("blade_lines", 0) == 0
 
 
 def cause_of(sources: Counter) -> str:

@@ -39,7 +39,7 @@ from csuas.drone_models.geometry import direction_vector
 _SERIES_BELOW = 1e-3
 
 #: Aspects x facets evaluated at once (bounds the memory of the vectorised sum, about 100 MB).
-_CHUNK_ELEMENTS = 1_000_000
+CHUNK_ELEMENTS = 1_000_000
 
 
 def _e1(x):
@@ -112,7 +112,7 @@ def facet_po_amplitude(vertices, faces, frequency_ghz: float, azimuth_deg, eleva
     normal = cross / area2[:, None]
     d = np.atleast_2d(direction_vector(np.atleast_1d(azimuth_deg), np.atleast_1d(elevation_deg)))
     out = np.empty(len(d), complex)
-    chunk = max(1, _CHUNK_ELEMENTS // max(len(normal), 1))
+    chunk = max(1, CHUNK_ELEMENTS // max(len(normal), 1))
     for first in range(0, len(d), chunk):
         dc = d[first : first + chunk]
         cos_i = dc @ normal.T  # (aspects, facets)

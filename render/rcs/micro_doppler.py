@@ -35,11 +35,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from csuas.base.cost import Estimate
 from csuas.base.errors import ParameterError, raise_all
 from csuas.core.micro_doppler import line_spacing_hz, max_tip_doppler_hz
 from csuas.core.units import wavelength_m
 
-from .facet_po import facet_po_amplitude
+from .facet_po import CHUNK_ELEMENTS, facet_po_amplitude
 
 #: Rotor rate without one given [rpm]: the dataset renders' 6000 rpm (render/imaging/sequence.py).
 #: Assumed, not a published figure: small quadcopters hover at roughly 5000-10000 rpm.
@@ -217,6 +218,126 @@ def _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window) -> 
         raise ParameterError("dwell_s", dwell_s, f"16 to 2,000,000 samples at PRF {prf_hz:g} Hz")
 
 
+#: Wall time of one facet of the blades at one slow-time sample [s] (faceted PO, float64): 6.5e-7 s measured
+#: (``csuas bench --only cost_models``: 1000 to 16,000 samples x 480 facets of the Mini 4 Pro, 2.7-7.3 s, on
+#: the shared 2 CPU cores at load 2.0), rounded up to cover a busier machine.
+SECONDS_PER_SAMPLE_FACET = 1.0e-6
+#: Wall time besides the blades' samples [s]: the process's start, the body's SBR engine and run and the plot
+#: (the intercept of the same measurement, 2.4 s at load 2.0).
+OVERHEAD_SECONDS = 2.0
+#: Arrays held per slow-time sample besides one per rotor [complex128 each]: times, turned directions,
+#: the sum, the windowed FFT, spectrum and frequency axis.
+ARRAYS_PER_SAMPLE = 8
+#: Peak memory per element of one chunk of the facet integral (samples x facets of a rotor, at most
+#: ``facet_po.CHUNK_ELEMENTS``) [B]: 48 MB more at 16,000 than at 1000 samples of 120-facet rotors.
+CHUNK_ELEMENT_BYTES = 55.0
+
+
+@dataclass
+class MicroDopplerPlan:
+    """A checked micro-Doppler request: its rotors and body, before any field is computed."""
+
+    preset: str
+    frequency_ghz: float
+    prf_hz: float
+    samples: int
+    rate_hz: float
+    aspect_deg: tuple
+    window: str
+    rotors: list
+    body: object
+    tip_doppler_hz: float
+    aliased: bool
+
+
+def plan_micro_doppler(
+    preset: str,
+    frequency_ghz: float,
+    prf_hz: float,
+    dwell_s: float,
+    rpm: float = DEFAULT_ROTOR_RPM,
+    aspect_deg: tuple = (0.0, 10.0),
+    window: str = "hann",
+    allow_aliasing: bool = False,
+) -> MicroDopplerPlan:
+    """Check a request and build the preset's rotors (cheap); the parameters of :func:`micro_doppler`.
+
+    Raises
+    ------
+    ParameterError
+        Out-of-range input, or ``PRF < 2 f_tip`` without ``allow_aliasing``.
+    """
+    _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window)
+    rotors, body = drone_rotors(preset)
+    rate = rpm / 60.0
+    tip = max_tip_doppler_hz(max(r.tip_radius_m for r in rotors), rate, frequency_ghz, aspect_deg[1])
+    aliased = bool(prf_hz < 2.0 * tip)
+    if aliased and not allow_aliasing:
+        raise ParameterError("prf_hz", prf_hz, f">= 2 x the blade-tip Doppler {tip:.1f} Hz = {2 * tip:.1f} Hz")
+    samples = int(round(prf_hz * dwell_s))
+    return MicroDopplerPlan(
+        preset, frequency_ghz, prf_hz, samples, rate, tuple(aspect_deg), window, rotors, body, tip, aliased
+    )
+
+
+def estimate_cost(plan: MicroDopplerPlan) -> Estimate:
+    """Wall time on 2 CPU cores and peak memory of :func:`simulate` (samples x blade facets, the body's SBR run)."""
+    from .solver import REPLICAS, estimate_peak_bytes, estimate_seconds, estimate_tubes, resolve_quality
+
+    facets = sum(len(r.faces) for r in plan.rotors)
+    mesh = plan.body.mesh()
+    radius = float(np.max(np.linalg.norm(mesh.vertices - mesh.bounding_box.centroid, axis=1)))
+    rays_per_wavelength, bounces = resolve_quality("standard")
+    tubes = estimate_tubes(radius, plan.frequency_ghz, rays_per_wavelength)
+    seconds = OVERHEAD_SECONDS + plan.samples * facets * SECONDS_PER_SAMPLE_FACET
+    seconds += estimate_seconds(tubes * REPLICAS, bounces)
+    chunk = min(plan.samples * max(len(r.faces) for r in plan.rotors), CHUNK_ELEMENTS)
+    held = plan.samples * 16.0 * (len(plan.rotors) + ARRAYS_PER_SAMPLE) + CHUNK_ELEMENT_BYTES * chunk
+    what = f"micro-Doppler of {plan.samples:,} samples x {facets} blade facets and the body's SBR run"
+    return Estimate(what, seconds, estimate_peak_bytes(tubes) + held)
+
+
+def simulate(plan: MicroDopplerPlan) -> MicroDopplerResult:
+    """The slow-time field and spectrum of a planned request (module docstring)."""
+    from .solver import compute_rcs
+
+    start = time.perf_counter()
+    rotors, rate, frequency_ghz, prf_hz = plan.rotors, plan.rate_hz, plan.frequency_ghz, plan.prf_hz
+    azimuth, elevation = plan.aspect_deg
+    times = np.arange(plan.samples) / prf_hz
+    fields = [rotor_field(r, rate, times, frequency_ghz, azimuth, elevation) for r in rotors]
+    blades = np.sum(fields, axis=0)
+    at_rest = sum(rotor_field(r, 0.0, times[:1], frequency_ghz, azimuth, elevation)[0] for r in rotors)
+    body_rcs = compute_rcs(plan.body.mesh(), frequency_ghz, azimuth, elevation, quality="standard")
+    body_m2 = float(body_rcs.rcs_m2("VV")[0, 0, 0])
+    body_bound = body_rcs.bound_db("VV")
+    wavelength = wavelength_m(frequency_ghz)
+    total = blades + np.sqrt(body_m2 / (4.0 * np.pi)) * wavelength
+    bins, power = spectrum_m2(total, plan.window)
+    to_m2 = 4.0 * np.pi / wavelength**2
+    frequency_hz = bins * prf_hz / len(times)
+    spacing = line_spacing_hz(rotors[0].n_blades, rate)
+    lines = spectral_lines(frequency_hz, power * to_m2, spacing, min(plan.tip_doppler_hz, prf_hz / 2.0))
+    return MicroDopplerResult(
+        times,
+        total,
+        frequency_hz,
+        power * to_m2,
+        lines,
+        1.0 / spacing,
+        spacing,
+        plan.tip_doppler_hz,
+        plan.aliased,
+        float(np.mean(np.abs(blades) ** 2) * to_m2),
+        float(np.abs(at_rest) ** 2 * to_m2),
+        body_m2,
+        float(body_bound[0, 0, 0]) if body_bound is not None else float("inf"),
+        plan.window,
+        time.perf_counter() - start,
+        [{"name": r.name, "spin": r.spin, "n_blades": r.n_blades, "tip_radius_m": r.tip_radius_m} for r in rotors],
+    )
+
+
 def micro_doppler(
     preset: str,
     frequency_ghz: float,
@@ -227,7 +348,8 @@ def micro_doppler(
     window: str = "hann",
     allow_aliasing: bool = False,
 ) -> MicroDopplerResult:
-    """Micro-Doppler of a preset's rotors over one dwell (module docstring).
+    """Micro-Doppler of a preset's rotors over one dwell (module docstring): :func:`plan_micro_doppler`, then
+    :func:`simulate`.
 
     Parameters
     ----------
@@ -251,46 +373,4 @@ def micro_doppler(
     ParameterError
         Out-of-range input, or ``PRF < 2 f_tip`` without ``allow_aliasing``.
     """
-    from .solver import compute_rcs
-
-    start = time.perf_counter()
-    _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window)
-    rotors, body = drone_rotors(preset)
-    rate = rpm / 60.0
-    azimuth, elevation = aspect_deg
-    tip = max_tip_doppler_hz(max(r.tip_radius_m for r in rotors), rate, frequency_ghz, elevation)
-    aliased = bool(prf_hz < 2.0 * tip)
-    if aliased and not allow_aliasing:
-        raise ParameterError("prf_hz", prf_hz, f">= 2 x the blade-tip Doppler {tip:.1f} Hz = {2 * tip:.1f} Hz")
-    times = np.arange(int(round(prf_hz * dwell_s))) / prf_hz
-    fields = [rotor_field(r, rate, times, frequency_ghz, azimuth, elevation) for r in rotors]
-    blades = np.sum(fields, axis=0)
-    at_rest = sum(rotor_field(r, 0.0, times[:1], frequency_ghz, azimuth, elevation)[0] for r in rotors)
-    body_rcs = compute_rcs(body.mesh(), frequency_ghz, azimuth, elevation, quality="standard")
-    body_m2 = float(body_rcs.rcs_m2("VV")[0, 0, 0])
-    body_bound = body_rcs.bound_db("VV")
-    wavelength = wavelength_m(frequency_ghz)
-    total = blades + np.sqrt(body_m2 / (4.0 * np.pi)) * wavelength
-    bins, power = spectrum_m2(total, window)
-    to_m2 = 4.0 * np.pi / wavelength**2
-    frequency_hz = bins * prf_hz / len(times)
-    spacing = line_spacing_hz(rotors[0].n_blades, rate)
-    lines = spectral_lines(frequency_hz, power * to_m2, spacing, min(tip, prf_hz / 2.0))
-    return MicroDopplerResult(
-        times,
-        total,
-        frequency_hz,
-        power * to_m2,
-        lines,
-        1.0 / spacing,
-        spacing,
-        tip,
-        aliased,
-        float(np.mean(np.abs(blades) ** 2) * to_m2),
-        float(np.abs(at_rest) ** 2 * to_m2),
-        body_m2,
-        float(body_bound[0, 0, 0]) if body_bound is not None else float("inf"),
-        window,
-        time.perf_counter() - start,
-        [{"name": r.name, "spin": r.spin, "n_blades": r.n_blades, "tip_radius_m": r.tip_radius_m} for r in rotors],
-    )
+    return simulate(plan_micro_doppler(preset, frequency_ghz, prf_hz, dwell_s, rpm, aspect_deg, window, allow_aliasing))

@@ -139,11 +139,24 @@ def bench_rcs_statistics(folder: Path) -> list[dict]:
     return rows
 
 
+def bench_micro_doppler(folder: Path) -> list[dict]:
+    """The micro-Doppler model (:func:`csuas.render.rcs.micro_doppler.estimate_cost`): the Mini 4 Pro at 10 GHz,
+    PRF 20 kHz, dwells of 0.05, 0.2 and 0.8 s (1000 to 16,000 samples x 480 blade facets)."""
+    from csuas.render.rcs.micro_doppler import estimate_cost, plan_micro_doppler
+
+    rows = []
+    for dwell in (0.05, 0.2, 0.8):
+        estimate = estimate_cost(plan_micro_doppler("dji_mini_4_pro", 10.0, 20_000.0, dwell))
+        argv = ["micro-doppler", "dji_mini_4_pro", "--dwell-s", str(dwell), "--out", str(folder / f"md{dwell}")]
+        rows.append(_row("micro-doppler", f"dwell {dwell:g} s", estimate, argv, folder))
+    return rows
+
+
 def bench_cost_models() -> list[dict]:
     """Every cost model on three sizes: estimated and measured time and peak memory, and their ratios."""
     rows = []
     with tempfile.TemporaryDirectory(prefix="csuas-cost-") as tmp:
         folder = Path(tmp)
-        for bench in (bench_sweeps, bench_dataset, bench_coverage, bench_rcs_statistics):
+        for bench in (bench_sweeps, bench_dataset, bench_coverage, bench_rcs_statistics, bench_micro_doppler):
             rows += bench(folder)
     return rows

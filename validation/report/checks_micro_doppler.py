@@ -20,6 +20,7 @@ import numpy as np
 from csuas.base.checks import Check
 from csuas.core import micro_doppler as md
 from csuas.core.micro_doppler import rotor_blade_signal
+from csuas.core.micro_doppler_detection import blade_feature_pd
 from csuas.core.units import wavelength_m
 from csuas.validation.report.registry import CheckGroup, CheckSpec, Section
 
@@ -237,6 +238,71 @@ def drone_lines(dwell_s=DWELL_S) -> Section:
     return s
 
 
+#: Decision's Monte Carlo: pulses, PRF [Hz], guard band [Hz], Pfa per bin, the line's single-pulse SNR [dB] and bin.
+DECISION = {"pulses": 64, "prf_hz": 6400.0, "guard_hz": 350.0, "pfa": 1e-2, "snr1_db": -12.0, "line_bin": 12}
+
+
+def _filter_bank_declared(rng, trials: int, with_line: bool) -> float:
+    """Share of simulated dwells declared a drone: complex Gaussian noise (unit power per pulse), a Swerling 1
+    line in ``DECISION["line_bin"]`` (or none), FFT, any bin outside the guard above ``-ln Pfa``."""
+    n, d = DECISION["pulses"], DECISION
+    noise = (rng.standard_normal((trials, n)) + 1j * rng.standard_normal((trials, n))) / np.sqrt(2.0)
+    if with_line:
+        power = rng.exponential(10 ** (d["snr1_db"] / 10), trials)
+        phase = rng.uniform(0.0, 2.0 * np.pi, trials)[:, None] + 2.0 * np.pi * d["line_bin"] * np.arange(n) / n
+        noise = noise + np.sqrt(power)[:, None] * np.exp(1j * phase)
+    spectrum = np.abs(np.fft.fft(noise, axis=1)) ** 2 / n
+    tested = np.abs(np.fft.fftfreq(n, 1.0 / d["prf_hz"])) > d["guard_hz"]
+    return float(np.mean((spectrum[:, tested] > -np.log(d["pfa"])).any(axis=1)))
+
+
+def decision_cases(trials=4000) -> Section:
+    """The drone-or-bird decision (core/micro_doppler_detection.py, Eq. DS-3) against a simulated filter bank,
+    and the blade lines' sum against the time-mean RCS (Parseval, Eq. MD-1a's quadrature)."""
+    s, d = Section(), DECISION
+    start = time.perf_counter()
+    line_hz = d["line_bin"] * d["prf_hz"] / d["pulses"]
+    closed = blade_feature_pd(d["snr1_db"], 1.0, [line_hz], [1.0], d["pfa"], d["prf_hz"], d["pulses"], d["guard_hz"])
+    rng = np.random.default_rng(26)
+    drone, bird = _filter_bank_declared(rng, trials, True), _filter_bank_declared(rng, trials, False)
+    chord = wavelength_m(FREQUENCY_GHZ) / 20.0
+    _, _, lines = md.blade_line_rcs_m2(BLADE_LENGTH_M, 2, RATE_HZ, FREQUENCY_GHZ, ELEVATION_DEG, chord)
+    quadrature = time_mean_rcs_m2(2, chord)
+    elapsed = (time.perf_counter() - start) / 3.0
+    common = {"time_s": elapsed, "method": f"{trials} simulated dwells: noise, a Swerling 1 line, FFT, threshold"}
+    for name, expected, measured in (
+        ("pd_drone", float(closed["pd_drone"][0]), drone),
+        ("p_bird", closed["p_bird"], bird),
+    ):
+        stderr = float(np.sqrt(expected * (1.0 - expected) / trials))
+        s.outcomes.append(
+            Check(
+                f"md.decision.{name}_vs_filter_bank",
+                expected,
+                measured,
+                4.0 * stderr,
+                "-",
+                error_estimate=stderr,
+                tolerance_source="4 binomial standard errors of the simulated share",
+                source="Eq. DS-3: 1 - prod(1 - Pd_m)(1 - Pfa)^(K - L), Swerling 1 coherent Pd = Pfa^(1/(1 + n snr))",
+                **common,
+            )
+        )
+    s.outcomes.append(
+        Check(
+            "md.decision.blade_lines_sum_vs_time_mean_m2",
+            quadrature,
+            float(lines.sum()),
+            1e-9 * quadrature,
+            "m^2",
+            time_s=elapsed,
+            source="Parseval: the lines of Eq. MD-1a sum to its time-mean power (quadrature over one turn)",
+            method="csuas.core.micro_doppler.blade_line_rcs_m2 (FFT of one period 1/(N Omega))",
+        )
+    )
+    return s
+
+
 GROUP = CheckGroup(
     "micro_doppler",
     "Rotor micro-Doppler (PO of spinning blades) vs the closed form",
@@ -265,6 +331,18 @@ SPECS = [
         drone_lines,
         knob="dwell_s",
         knob_values={"quick": 0.05, "full": 0.2},
+        simulated=True,
+    ),
+    CheckSpec(
+        "md.decision",
+        "Drone or bird by blade lines: the decision's probabilities vs a simulated Doppler filter bank",
+        GROUP,
+        "Pd of declaring a drone (one Swerling 1 blade line, 64 pulses, Pfa 1e-2 per bin) and a bird's false "
+        "declaration against simulated dwells; the blade lines' sum against the time-mean RCS",
+        "4 binomial standard errors of the simulated shares; 1e-9 of the time-mean RCS (quadrature)",
+        decision_cases,
+        knob="trials",
+        knob_values={"quick": 4000, "full": 40000},
         simulated=True,
     ),
 ]
