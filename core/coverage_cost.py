@@ -13,7 +13,7 @@ Times are for 2 idle CPU cores: the viewshed's 0.55 s for 10^6 cells (docs/perfo
 site took 27.6 s wall (37.7 CPU-s) before its PNG maps were drawn once in two workers and its radio
 maps' replicas stopped rebuilding the scene (README), 47 maps at 0.34 s each of it; a map now costs
 0.16-0.25 CPU-s from 200^2 to 800^2 cells (measured with the process's CPU time at a load average of
-13, which counts what the map itself uses), and a radio map of the demo at 2^20 rays RADIO_MAP_SECONDS.
+13, which counts what the map itself uses), and a radio map of the demo at 2^20 rays :data:`RADIO_MAP_SECONDS`.
 The viewshed and Fresnel shares were split between a fixed and a per-cell part as measured under load
 (synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6 levels took 14.9, 18.0, 41.2
 and 48.5 s on 2 CPU cores at a load average of 10-20, about 7 times the idle figures). Memory does not
@@ -40,8 +40,10 @@ MAP_SECONDS = 0.16
 MAP_CELL_SECONDS = 0.15e-6
 MAP_WORKERS = 2
 #: One Sionna RT radio map of one sensor and level at :data:`RADIO_MAP_SAMPLES` rays per replica [s]; other
-#: ray counts in proportion (assumed: tracing dominates).
-RADIO_MAP_SECONDS = 4.8
+#: ray counts in proportion (assumed: tracing dominates). 4.8 s idle while every replica rotated the scene;
+#: turning the rays instead took 0.31 times the wall and 0.30 times the CPU of that for the demo's two maps,
+#: side by side at a load average of 11-15 (20.8 s against 66.9 s, 7.0 against 22.9 CPU-s).
+RADIO_MAP_SECONDS = 1.5
 RADIO_MAP_SAMPLES = 2**20
 #: One Fresnel clearance layer of one RF or radar link and level, per cell and terrain sample of its own
 #: path (about sqrt(cells) samples a cell over a whole DEM) [s]: 1.7 s a level for the demo's RF sensor
