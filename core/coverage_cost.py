@@ -39,6 +39,8 @@ LAYER_CELL_SECONDS = 0.04e-6
 MAP_SECONDS = 0.16
 MAP_CELL_SECONDS = 0.15e-6
 MAP_WORKERS = 2
+#: The map workers' start: each imports matplotlib (0.73 CPU-s, measured) beside the main process's work.
+MAP_WORKERS_START_SECONDS = 0.7
 #: One Sionna RT radio map of one sensor and level at :data:`RADIO_MAP_SAMPLES` rays per replica [s]; other
 #: ray counts in proportion (assumed: tracing dominates). 4.8 s idle while every replica rotated the scene;
 #: turning the rays instead took 0.31 times the wall and 0.30 times the CPU of that for the demo's two maps,
@@ -98,7 +100,7 @@ def coverage_estimate(
     n = float(cells[0]) * float(cells[1])
     layers = sensors * (SENSOR_LAYERS * levels + 1) + (FUSED_LAYERS + (FUSED_K_LAYERS if k_of_n else 0)) * levels
     layers += (RADIO_LAYERS * radio_maps + fresnel_links) * levels + FUSED_HEIGHT_LAYERS
-    seconds = START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
+    seconds = START_SECONDS + MAP_WORKERS_START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
     seconds += (
         layers * (LAYER_SECONDS + LAYER_CELL_SECONDS * n)
         + layers * (MAP_SECONDS + MAP_CELL_SECONDS * n) / MAP_WORKERS
