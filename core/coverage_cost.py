@@ -3,18 +3,22 @@
 Each sensor traces one viewshed per flight level (:func:`csuas.core.terrain.viewshed`, in
 proportion to the cells), each RF or radar sensor also one Fresnel clearance layer per level
 (:func:`csuas.core.terrain.fresnel_clearance`, each cell's own path: cells^1.5), every layer is
-written as a GeoTIFF and a PNG map (a fixed part and a part in proportion to the cells), and a radio
-map costs one Sionna RT run per sensor and level.
+written as a GeoTIFF (and a detected layer as GeoJSON) by the main process and as a PNG map by one of
+the map workers (``csuas.commands.coverage_files.MapWriter``: a fixed part and a part in proportion
+to the cells, shared among the workers), and a radio map costs one Sionna RT run per sensor and level.
 The process holds the DEM, every sensor's grids per level, the fused grids and, at its peak,
 one viewshed's rays and one map's images.
 
-Times are for 2 idle CPU cores: the viewshed's 0.55 s for 10^6 cells (docs/performance.md), the
-demo site's 13.5 s of which 9.6 s its two radio maps (README), the rest of the demo (400^2 cells, 3
-sensors, 2 levels, 39 layers) giving the layers' share, split between a fixed and a per-cell part
-as measured under load (synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6
-levels took 14.9, 18.0, 41.2 and 48.5 s on 2 CPU cores at a load average of 10-20, about 7 times
-the idle figures). Memory does not depend on the load: 201, 289, 757 and 306 MB (ru_maxrss) for
-those runs. The ``cost_models`` benchmark compares the model with measurements on three sizes.
+Times are for 2 idle CPU cores: the viewshed's 0.55 s for 10^6 cells (docs/performance.md); the demo
+site took 27.6 s wall (37.7 CPU-s) before its PNG maps were drawn once in two workers and its radio
+maps' replicas stopped rebuilding the scene (README), 47 maps at 0.34 s each of it; a map now costs
+0.16-0.25 CPU-s from 200^2 to 800^2 cells (measured with the process's CPU time at a load average of
+13, which counts what the map itself uses), and a radio map of the demo at 2^20 rays :data:`RADIO_MAP_SECONDS`.
+The viewshed and Fresnel shares were split between a fixed and a per-cell part as measured under load
+(synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6 levels took 14.9, 18.0, 41.2
+and 48.5 s on 2 CPU cores at a load average of 10-20, about 7 times the idle figures). Memory does not
+depend on the load: 201, 289, 757 and 306 MB (ru_maxrss) for those runs. The ``cost_models`` benchmark
+compares the model with measurements on three sizes.
 """
 
 from __future__ import annotations
@@ -26,12 +30,22 @@ START_SECONDS = 1.0
 #: One viewshed and Pd map of one sensor and level: fixed part [s] and per cell [s].
 TRACE_SECONDS = 0.02
 TRACE_CELL_SECONDS = 0.6e-6
-#: One layer written (GeoTIFF, PNG map, GeoJSON): fixed part [s] and per cell [s].
-LAYER_SECONDS = 0.033
-LAYER_CELL_SECONDS = 0.15e-6
+#: One layer written by the main process (GeoTIFF, GeoJSON): fixed part [s] and per cell [s] (0.48 CPU-s for
+#: the demo's 47 layers of 400^2 cells, measured).
+LAYER_SECONDS = 0.004
+LAYER_CELL_SECONDS = 0.04e-6
+#: One PNG map drawn and written by a map worker: fixed part [s] and per cell [s] (0.16 CPU-s at 200^2 cells,
+#: 0.25 at 800^2, measured), and the workers sharing them (MapWriter's on 2 CPU cores).
+MAP_SECONDS = 0.16
+MAP_CELL_SECONDS = 0.15e-6
+MAP_WORKERS = 2
+#: The map workers' start: each imports matplotlib (0.73 CPU-s, measured) beside the main process's work.
+MAP_WORKERS_START_SECONDS = 0.7
 #: One Sionna RT radio map of one sensor and level at :data:`RADIO_MAP_SAMPLES` rays per replica [s]; other
-#: ray counts in proportion (assumed: tracing dominates).
-RADIO_MAP_SECONDS = 4.8
+#: ray counts in proportion (assumed: tracing dominates). 4.8 s idle while every replica rotated the scene;
+#: turning the rays instead took 0.31 times the wall and 0.30 times the CPU of that for the demo's two maps,
+#: side by side at a load average of 11-15 (20.8 s against 66.9 s, 7.0 against 22.9 CPU-s).
+RADIO_MAP_SECONDS = 1.5
 RADIO_MAP_SAMPLES = 2**20
 #: One Fresnel clearance layer of one RF or radar link and level, per cell and terrain sample of its own
 #: path (about sqrt(cells) samples a cell over a whole DEM) [s]: 1.7 s a level for the demo's RF sensor
@@ -86,9 +100,10 @@ def coverage_estimate(
     n = float(cells[0]) * float(cells[1])
     layers = sensors * (SENSOR_LAYERS * levels + 1) + (FUSED_LAYERS + (FUSED_K_LAYERS if k_of_n else 0)) * levels
     layers += (RADIO_LAYERS * radio_maps + fresnel_links) * levels + FUSED_HEIGHT_LAYERS
-    seconds = START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
+    seconds = START_SECONDS + MAP_WORKERS_START_SECONDS + sensors * levels * (TRACE_SECONDS + TRACE_CELL_SECONDS * n)
     seconds += (
         layers * (LAYER_SECONDS + LAYER_CELL_SECONDS * n)
+        + layers * (MAP_SECONDS + MAP_CELL_SECONDS * n) / MAP_WORKERS
         + radio_maps * levels * RADIO_MAP_SECONDS * radio_samples / RADIO_MAP_SAMPLES
     )
     seconds += fresnel_links * levels * FRESNEL_CELL_SAMPLE_SECONDS * n * n**0.5

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from csuas.base.errors import InputErrors, ParameterError
+from csuas.core.terrain import bearing_deg, off_boresight_deg
 from csuas.render.links import terrain_map as tm
 
 EARTH_RADIUS_M = 6_371_000.0
@@ -107,6 +108,8 @@ def test_bad_input_is_reported_at_once():
         ({"altitude_m": np.nan, "k_factor": -1.0}, ["altitude_m", "k_factor"]),
         ({"samples": 0, "replicas": 1, "step": 0}, ["step", "replicas", "samples"]),
         ({"max_depth": 11, "polarization": "X", "los": 1}, ["polarization", "los", "max_depth"]),
+        ({"sector_deg": (90.0, 0.0)}, ["sector_deg"]),
+        ({"sector_deg": 90.0, "altitude_m": -1.0}, ["altitude_m", "sector_deg"]),
     ],
 )
 def test_radio_map_bad_input(kwargs, names):
@@ -118,6 +121,7 @@ def test_radio_map_bad_input(kwargs, names):
         "mast_m": 10.0,
         "altitude_m": 50.0,
         "frequency_ghz": 2.4,
+        "sector_deg": None,
         **kwargs,
     }
     with pytest.raises((ParameterError, InputErrors)) as caught:
@@ -257,3 +261,180 @@ def test_a_ground_given_by_its_constants_reflects_as_the_itu_ground_of_those_con
     np.testing.assert_allclose(named.path_gain_db[named.reached], given.path_gain_db[given.reached], atol=1e-5)
     with pytest.raises(ParameterError, match="ground"):
         ground_properties((0.5, 0.0), 2.4)
+
+
+def test_sector_cells_and_blocks_follow_the_bearing():
+    inside = tm.sector_cells((5, 5), 2.0, 2.0, (90.0, 100.0))  # east, +-50 degrees
+    # the own cell; one column east: 3 cells (45 degrees off at most); two columns east: all 5 (45 at most)
+    assert inside.sum() == 1 + 3 + 5 and inside[2, 2] and inside[:, 4].all() and inside[1:4, 3].all()
+    assert not inside[0, 3] and not inside[4, 3]  # 63.4 degrees off the boresight
+    assert tm.sector_cells((3, 4), 1.0, 1.0).all()
+    blocks = tm.cells_to_blocks(np.eye(5, dtype=bool), 2)
+    np.testing.assert_array_equal(blocks, [[True, False, False], [False, True, False], [False, False, True]])
+    np.testing.assert_array_equal(tm.sensor_blocks((5, 5), 2, 2.0, 1.5), [[0, 0, 0], [1, 1, 0], [0, 0, 0]])
+
+
+def test_the_ray_band_spans_the_sector_and_its_blocks_footprints():
+    """East +-50 degrees from the centre of 5 x 5 cells: the cells one column east, north and south of the
+    row reach 71.57 degrees off the boresight with their far corners (atan(1.5 / 0.5)); all round: no fold."""
+    inside = tm.sector_cells((5, 5), 2.0, 2.0, (90.0, 100.0))
+    first, share = tm.ray_band((90.0, 100.0), (5, 5), 1, 2.0, 2.0, inside)
+    edge = np.degrees(np.arctan(1.5 / 0.5))
+    assert np.degrees(first) == pytest.approx(-edge) and share == pytest.approx(2 * edge / 360.0)
+    far = np.zeros((41, 41), dtype=bool)
+    far[20, 40] = True  # one cell 20 cells east: within the sector's +-50 degrees, no widening
+    first, share = tm.ray_band((90.0, 100.0), (41, 41), 1, 20.0, 20.0, far)
+    assert np.degrees(first) == pytest.approx(-50.0) and share == pytest.approx(100.0 / 360.0)
+    assert tm.ray_band(None, (5, 5), 1, 2.0, 2.0, inside) == (-np.pi, 1.0)
+    # north +-175 degrees: the cells due south are outside it, but a measured one there straddles the seam
+    around = tm.sector_cells((5, 5), 2.0, 2.0, (0.0, 350.0))
+    first, share = tm.ray_band((0.0, 350.0), (5, 5), 1, 2.0, 2.0, around)
+    assert not around[3, 2] and share == pytest.approx(350.0 / 360.0)
+    assert tm.ray_band((0.0, 350.0), (5, 5), 1, 2.0, 2.0, np.ones((5, 5), bool)) == (-np.pi, 1.0)
+
+
+def test_folded_directions_are_uniform_over_the_band():
+    """Uniform directions on the sphere land uniformly on the band: bearings in it, z kept, unit length, and
+    the bearing's histogram flat (chi-square, 9 degrees of freedom, 0.1 % level)."""
+    from drjit.llvm import Float64
+    from scipy.stats import chi2
+
+    rng = np.random.default_rng(8)
+    d = rng.normal(size=(3, 40_000))
+    d /= np.linalg.norm(d, axis=0)
+    folded = tm.fold_directions(*(Float64(v) for v in d), (float(np.radians(90.0 - 300.0 - 30.0)), 60.0 / 360.0))
+    x, y, z = (np.asarray(v) for v in folded)
+    np.testing.assert_allclose(x * x + y * y + z * z, 1.0, atol=1e-12)
+    np.testing.assert_array_equal(z, d[2])
+    off = off_boresight_deg(bearing_deg(-y, x), 300.0)  # a direction (x, y) has grid offset (-y rows, x cols)
+    assert np.all(np.abs(off) <= 30.0 + 1e-9)
+    counts, _ = np.histogram(off, bins=10, range=(-30.0, 30.0))
+    expected = len(off) / 10
+    assert np.sum((counts - expected) ** 2 / expected) < chi2.ppf(0.999, 9)
+
+
+def _counted(monkeypatch, owner, name: str, counts: dict, which=lambda *args: True):
+    """Wrap ``owner.name`` so that each call whose arguments pass ``which`` adds one to ``counts[name]``."""
+    original = getattr(owner, name)
+
+    def counting(*args, **kwargs):
+        counts[name] += bool(which(*args))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(owner, name, counting)
+
+
+@pytest.mark.slow
+def test_a_map_builds_its_scene_once_and_its_replicas_none(monkeypatch):
+    """Every Mitsuba scene (and its acceleration structure) comes from ``mi.load_dict`` of a ``scene`` dict,
+    and moving a mesh in one from ``SceneParameters.update``: counted over maps of a new terrain, a new
+    flight level and a repeated one, each of 8 replicas (Sionna also loads a sampler per solve: not a scene)."""
+    from csuas.render.links.sionna_backend import load_sionna_rt
+
+    load_sionna_rt()
+    import mitsuba as mi
+
+    counts = {"load_dict": 0, "update": 0}
+    _counted(monkeypatch, mi, "load_dict", counts, lambda spec, *rest: spec.get("type") == "scene")
+    _counted(monkeypatch, mi.SceneParameters, "update", counts)
+    dem = _hills(21, seed=9)
+    options = tm.RadioMapOptions(samples=2**12, replicas=8)
+    tm.terrain_radio_map(tm.RadioMapSite(dem, 50.0, 10.0, 10.0, 10.0, 40.0, 2.4), options)
+    first = dict(counts)
+    # Sionna's empty scene, the terrain added, the flight level; Sionna's own updates while it sets up (2)
+    assert first["load_dict"] == 3 and first["update"] < options.replicas
+    higher = tm.RadioMapSite(dem, 50.0, 10.0, 10.0, 10.0, 70.0, 2.4)
+    tm.terrain_radio_map(higher, options)
+    second = dict(counts)
+    assert second["load_dict"] == first["load_dict"] + 1  # the new flight level only
+    tm.terrain_radio_map(higher, tm.RadioMapOptions(samples=2**12, replicas=2))
+    assert counts == second  # nothing built, nothing moved: the replicas turn the rays
+    assert second["update"] - first["update"] <= 1  # Sionna's, once with the new flight level
+
+
+def _scene_rotated_map(site: tm.RadioMapSite, options: tm.RadioMapOptions) -> np.ndarray:
+    """Block power of the replicas made the other way: terrain, surface and antenna rigidly rotated about the
+    transmitter by each replica's rotation R, the lattice left in place (the scheme before rays turned)."""
+    import mitsuba as mi
+
+    terrain = tm.terrain_scene(site.dem_m, site.cell_m, site.frequency_ghz, options.ground, options.k_factor)
+    full = np.ones(tm.cells_to_blocks(np.ones(site.dem_m.shape, bool), options.step).shape, bool)
+    surface = terrain.surface(site.altitude_m, options.step, full)
+    params = mi.traverse(surface.mi_scene)
+    keys = [key for key in params.keys() if key.endswith(".vertex_positions")]
+    unmoved = {key: np.array(params[key], dtype=float).reshape(-1, 3) for key in keys}
+    centre = np.array(terrain.transmitter.position.numpy(), dtype=float).ravel()
+    areas, powers = surface.areas_m2.reshape(-1, 2), []
+    try:
+        for angles in tm.random_rotation_angles(options.replicas, np.random.default_rng(options.seed)):
+            rotation = tm.rotation_matrix(angles)
+            for key, vertices in unmoved.items():
+                params[key] = mi.Float(((vertices - centre) @ rotation.T + centre).astype(np.float32).ravel())
+            params.update()
+            terrain.transmitter.orientation = [float(a) for a in angles]
+            radio_map = tm.radio_map_solver()(
+                terrain.scene,
+                measurement_surface=surface.mesh,
+                samples_per_tx=options.samples,
+                max_depth=options.max_depth,
+                modified_scene=surface.mi_scene,
+            )
+            gain = np.asarray(radio_map.path_gain.numpy(), dtype=float)[0].reshape(-1, 2)
+            powers.append(np.sum(gain * areas, axis=1) / areas.sum(axis=1))
+    finally:
+        for key, vertices in unmoved.items():
+            params[key] = mi.Float(vertices.astype(np.float32).ravel())
+        params.update()
+        terrain.transmitter.orientation = [0.0, 0.0, 0.0]
+    with np.errstate(divide="ignore"):
+        return 10 * np.log10(np.mean(powers, axis=0)).reshape(site.dem_m.shape)
+
+
+@pytest.mark.slow
+def test_turning_the_rays_gives_the_map_of_turning_the_scene():
+    """A replica turns the lattice by R^T in the unmoved scene; rotating terrain, flight level and antenna by R
+    about the transmitter shoots the same rays relative to the ground. Over hills with reflections the two
+    maps differ only where float32 rounding sends a grazing ray into a neighbouring triangle: the median
+    difference is nil and the map's own bound covers the difference on at least its stated share of cells."""
+    dem = _hills(31, seed=5)
+    site = tm.RadioMapSite(dem, 50.0, 15.0, 15.0, 10.0, 40.0, 2.4)
+    options = tm.RadioMapOptions(samples=2**16, max_depth=2, seed=3)
+    turned = tm.terrain_radio_map(site, options)
+    rotated = _scene_rotated_map(site, options)
+    assert np.array_equal(turned.reached, np.isfinite(rotated))
+    reliable = turned.reliable
+    difference = np.abs(turned.path_gain_db[reliable] - rotated[reliable])  # finite there
+    assert reliable.mean() > 0.5 and np.median(difference) < 1e-3
+    assert np.mean(difference <= turned.error_db[reliable]) >= tm.STATED_COVERAGE
+
+
+@pytest.mark.slow
+def test_a_sector_map_traces_and_measures_only_its_sector():
+    """Flat ground, the sensor looking east over 90 degrees: cells outside the sector are NaN (not measured),
+    inside the rays of the whole budget land where the two-ray oracle puts the power, within the bound on
+    at least its stated share of the reliable cells, and the bound is tighter than the all-round map's with
+    the same rays (4 times the rays over the sector)."""
+    from csuas.core.dielectric import complex_permittivity
+    from csuas.validation.links.terrain_map import block_average_two_ray
+
+    dem = np.zeros((31, 31))
+    site = tm.RadioMapSite(dem, 20.0, 15.0, 15.0, 10.0, 60.0, 1.0, sector_deg=(90.0, 90.0))
+    options = tm.RadioMapOptions(samples=2**16, max_depth=1, k_factor=None, polarization="H")
+    sector = tm.terrain_radio_map(site, options)
+    inside = tm.sector_cells(dem.shape, 15.0, 15.0, (90.0, 90.0))
+    assert np.array_equal(np.isnan(sector.path_gain_db), ~inside) and np.array_equal(np.isnan(sector.error_db), ~inside)
+    assert not sector.reached[~inside].any() and np.array_equal(sector.extra["in_sector"], inside)
+    eta = complex_permittivity(sector.extra["relative_permittivity"], sector.extra["conductivity_s_m"], 1.0)
+    oracle = 10 * np.log10(block_average_two_ray(site, eta, polarization="H"))
+    judged = sector.reliable
+    assert judged.sum() > 0.9 * inside.sum()
+    assert np.mean(np.abs(sector.path_gain_db - oracle)[judged] <= sector.error_db[judged]) >= tm.STATED_COVERAGE
+    around = tm.terrain_radio_map(replace_sector(site, None), options)
+    both = judged & around.reliable
+    assert np.median(sector.error_db[both]) < 0.75 * np.median(around.error_db[both])
+
+
+def replace_sector(site: tm.RadioMapSite, sector_deg) -> tm.RadioMapSite:
+    from dataclasses import replace
+
+    return replace(site, sector_deg=sector_deg)

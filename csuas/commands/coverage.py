@@ -24,13 +24,13 @@ from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
 from csuas.base.paths import checked_path, inside
 from csuas.commands.coverage_files import (
+    MapWriter,
     covered_polygons,
     to_wgs84,
     write_geojson,
     write_geopackage,
     write_geotiff,
     write_kml,
-    write_map_png,
 )
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
 from csuas.core.coverage import (
@@ -170,7 +170,8 @@ def run(args) -> dict:
     radio_sensors = [] if radio is None else radio["sensors"]
     for name in _layer_files(sited, altitudes, radio_sensors, k, _fresnel_sensors(sited, scenario)):
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work
-    with exclusive_lock(out / LOCK_NAME, "--out"):
+    frame = {"transform": transform, "crs": crs, "hillshade": _hillshade(dem, cell), "sited": sited}
+    with exclusive_lock(out / LOCK_NAME, "--out"), MapWriter(frame) as maps:  # its workers start meanwhile
         layers, per_sensor = [], {}
         for name, placed in sited.items():
             print(f"csuas coverage: {name} ...", file=sys.stderr, flush=True)
@@ -181,15 +182,7 @@ def run(args) -> dict:
         }
         fused = {**fused_layers(per_sensor, k), **fused_visibility(dem, cell, scenario, sited, per_sensor)}
         radio_maps = {} if radio is None else radio_map_layers(dem, cell, scenario, sited, altitudes, per_sensor, radio)
-        hillshade = _hillshade(dem, cell)
-        where = {
-            "transform": transform,
-            "crs": crs,
-            "hillshade": hillshade,
-            "sited": sited,
-            "cell_km2": cell * cell / 1e6,
-            "vectors": [],
-        }
+        where = {**frame, "cell_km2": cell * cell / 1e6, "vectors": [], "maps": maps}
         for name, grids in per_sensor.items():
             for i, altitude in enumerate(altitudes):
                 for kind in SENSOR_KINDS:
@@ -233,6 +226,7 @@ def run(args) -> dict:
         if radio is not None:
             settings = {key: radio[key] for key in ("ground", "step", "max_depth", "seed", "accuracy_db")}
             summary["radio_maps"] = {"settings": settings, "maps": {n: g["maps"] for n, g in radio_maps.items()}}
+        maps.close()  # every PNG map written before coverage.json names it
         write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
         summary["out"] = str(out)
         return summary
@@ -302,7 +296,7 @@ def _layer(out: Path, sensor: str, altitude, kind: str, grid, where: dict) -> di
     title = f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL")
     every_value, unit = kind in VALUE_KINDS, UNITS.get(kind, "")
     write_geotiff(tif, grid, where, title, unit or BAND_UNITS.get(kind, ""))
-    write_map_png(png, grid, where, title, _legend(kind, every_value, unit))
+    where["maps"].write(png, grid, title, _legend(kind, every_value, unit))
     covered = np.isfinite(grid) if kind in VALUE_KINDS else np.nan_to_num(grid) > 0
     layer = {
         "sensor": sensor,

@@ -10,11 +10,17 @@
   virtual globe.
 * PNG maps: over the DEM's hillshade, axes in the DEM's CRS [km], a scale bar, a north arrow, the
   sensors, and a legend: a colour bar with its unit, or a patch naming what a yes/no layer marks.
+  Each map is drawn once, cropped to its tight bounding box (``savefig(bbox_inches="tight")`` draws it
+  twice), and :class:`MapWriter` writes them in worker processes while the caller goes on.
 """
 
 from __future__ import annotations
 
 import json
+import os
+from collections import namedtuple
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
 from pathlib import Path
 from xml.sax.saxutils import escape
 
@@ -29,6 +35,12 @@ GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockx
 GEOPACKAGE_VERSION = "1.2"
 #: Geographic CRS of GeoJSON (RFC 7946 Section 4) and KML.
 WGS84 = "EPSG:4326"
+#: Resolution of the PNG maps [dots per inch] and the margin around their tight bounding box [in]
+#: (matplotlib's ``savefig.pad_inches``).
+MAP_DPI = 90
+MAP_PAD_INCHES = 0.1
+#: Most processes writing PNG maps at once.
+MAP_WORKERS = 4
 
 
 def write_geotiff(path: Path, grid: np.ndarray, where: dict, description: str, unit: str) -> None:
@@ -146,7 +158,7 @@ def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend:
     west, north = transform @ (0, 0)
     east, south = transform @ (cols, rows)
     extent = (west / 1e3, east / 1e3, south / 1e3, north / 1e3)
-    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    fig, ax = plt.subplots(figsize=(6.4, 5.6), dpi=MAP_DPI)
     ax.imshow(where["hillshade"], cmap="gray", vmin=0, vmax=1, extent=extent)
     finite = np.isfinite(grid)
     if "patch" in legend:
@@ -185,5 +197,88 @@ def write_map_png(path: Path, grid: np.ndarray, where: dict, title: str, legend:
     ax.set_ylabel("northing [km]")
     ax.set_title(title, fontsize=10)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=90, bbox_inches="tight", format="png")
+        _save_tight(fig, tmp)
     plt.close(fig)
+
+
+def _save_tight(fig, path: Path) -> None:
+    """The figure as a PNG cropped to its tight bounding box plus ``MAP_PAD_INCHES``, drawn once.
+
+    ``savefig(bbox_inches="tight")`` draws the figure twice, the first time only to find the box; the box
+    is found here from the artists' extents without drawing (the axes' aspect applied as a draw would)
+    and handed to ``savefig``, which then draws once.
+    """
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(MAP_PAD_INCHES)
+    fig.savefig(path, dpi=MAP_DPI, bbox_inches=box, format="png")
+
+
+SensorMark = namedtuple("SensorMark", "row col")
+"""A sensor on a map: its fractional cell (row, col)."""
+
+
+class MapWriter:
+    """Writes PNG maps (:func:`write_map_png`) in a pool of spawned processes; :meth:`close` waits for them.
+
+    Spawned, not forked: the caller may hold Dr.Jit's threads (Sionna RT), which a fork would copy
+    mid-state. Each worker receives the map's grid and the static parts of ``where`` once (hillshade,
+    transform, CRS, sensors). With one worker, or none to spare, maps are written in the caller.
+
+    Parameters
+    ----------
+    where : dict
+        ``transform``, ``crs``, ``hillshade`` and ``sited`` of the maps.
+    workers : int, optional
+        Processes (default: the CPUs this process may use, at most ``MAP_WORKERS``).
+    """
+
+    def __init__(self, where: dict, workers: int | None = None):
+        self.where = {key: where[key] for key in ("transform", "crs", "hillshade")}
+        # the sensors' cells alone: a worker then imports no more than this module (0.7 CPU-s, not 1.4)
+        self.where["sited"] = {name: SensorMark(s.row, s.col) for name, s in where["sited"].items()}
+        count = workers if workers is not None else min(len(os.sched_getaffinity(0)), MAP_WORKERS)
+        self._pool = None
+        if count > 1:
+            self._pool = ProcessPoolExecutor(
+                count, mp_context=get_context("spawn"), initializer=_set_map_frame, initargs=(self.where,)
+            )
+        self._futures: list = []
+
+    def write(self, path: Path, grid: np.ndarray, title: str, legend: dict) -> None:
+        """Write one map now (no pool) or queue it."""
+        if self._pool is None:
+            write_map_png(path, grid, self.where, title, legend)
+        else:
+            self._futures.append(self._pool.submit(_write_queued_map, path, grid, title, legend))
+
+    def close(self) -> None:
+        """Wait for every queued map; the first worker's error is raised here."""
+        if self._pool is None:
+            return
+        try:
+            for future in self._futures:
+                future.result()
+        finally:
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+
+    def __enter__(self) -> MapWriter:
+        return self
+
+    def __exit__(self, kind, error, trace) -> None:
+        if kind is None:
+            self.close()
+        elif self._pool is not None:  # the caller failed: drop the maps not started, wait for the rest
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+
+
+_map_frame: dict = {}
+
+
+def _set_map_frame(where: dict) -> None:
+    """A map worker's start: keep the maps' static parts."""
+    _map_frame.update(where)
+
+
+def _write_queued_map(path: Path, grid: np.ndarray, title: str, legend: dict) -> None:
+    write_map_png(path, grid, _map_frame, title, legend)

@@ -141,8 +141,9 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
         ``detected`` (1/0) and ``pd`` (:func:`csuas.core.coverage.multipath_detection`; NaN, unknown,
         in the line of sight where some replica got no ray: too few rays to judge, and beyond the
         mapped square, ``MAP_REACH_FACTOR`` times the sensor's mapped reach, or outside the sensor's
-        azimuth sector; the map's square is cut to the sector's bounding box, so only what the
-        sensor can see is traced) and ``maps`` (per
+        azimuth sector; the map's square is cut to the sector's bounding box, and its rays leave and
+        its measurement surface lies only over the sector: :class:`RadioMapSite` ``sector_deg``) and
+        ``maps`` (per
         flight level: rays per replica, replicas, time [s], the share of visible cells that are
         reliable, the median bound over them, the unknown cells, and the comparison with the
         line-of-sight layer over the judged cells).
@@ -169,7 +170,8 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
             print(f"csuas coverage: {name} radio map at {altitude:g} m ...", file=sys.stderr, flush=True)
             start = time.perf_counter()
             row, col = placed.row - origin[0], placed.col - origin[1]
-            where = RadioMapSite(dem[window], cell_m, row, col, placed.mast_m, altitude, frequency)
+            sector = None if placed.sector_deg >= 360.0 else (placed.azimuth_deg, placed.sector_deg)
+            where = RadioMapSite(dem[window], cell_m, row, col, placed.mast_m, altitude, frequency, sector)
             if settings["accuracy_db"] is None:
                 result = terrain_radio_map(where, options)
             else:
@@ -186,7 +188,9 @@ def radio_map_layers(dem, cell_m: float, scenario, sited: dict, altitudes, per_s
             mapped[window] = los["aimed"][window]  # the sensor's sector only, as its line of sight
             gain, error = np.full(dem.shape, -np.inf), np.full(dem.shape, np.inf)
             reached, reliable_map = np.zeros(dem.shape, dtype=bool), np.zeros(dem.shape, dtype=bool)
-            gain[window], error[window] = result.path_gain_db, result.error_db
+            measured = result.extra["in_sector"]  # outside it the map is NaN: not traced
+            gain[window] = np.where(measured, result.path_gain_db, -np.inf)
+            error[window] = np.where(measured, result.error_db, np.inf)
             reached[window], reliable_map[window] = result.reached, result.reliable
             seen, hit = multipath_detection(scenario, name, gain, los["regard"][i] & mapped)
             visible = los["visible"][i]

@@ -29,14 +29,17 @@ The coherent sum at points is :func:`csuas.render.links.rf.rf_path_gain` (PathSo
 
 Error estimate. Sionna shoots its rays along a spherical Fibonacci lattice fixed in the world
 frame, and with reflection only its sampler draws nothing: a seed changes no result, so a second
-run gives no error estimate. The run is instead made of ``replicas`` solves of the whole scene
-(terrain, measurement surface, transmitter and its antenna) rigidly rotated about the transmitter by
-independent uniformly distributed rotations (Haar measure on SO(3)); the transmitter turns with
-the scene, so its polarised antenna keeps its attitude relative to the ground. This leaves the
-physics unchanged and makes the lattice's directions uniform relative to the scene: each replica
-is an unbiased estimate of every cell's mean power (a randomised quasi-Monte Carlo rule; Owen,
-*Monte Carlo theory, methods and examples*, 2013, Ch. 17). The map is the replicas' mean, its
-standard error SE = s / sqrt(K) comes from their spread s, and
+run gives no error estimate. The run is instead made of ``replicas`` solves, each with the lattice
+turned about the transmitter by the transpose R^T of an independent uniformly distributed rotation R
+(Haar measure on SO(3); :func:`turned_rays`). Relative to the ground these are the rays of a
+replica in which the whole scene (terrain, measurement surface, transmitter and its antenna) is
+rigidly rotated by R about the transmitter, as csuas first did, but the scene and its acceleration
+structure are built once per map and never moved (rotating the scene cost 0.4 s of BVH rebuild per
+replica of the demo's 400^2-cell terrain, more than the trace). This leaves the physics unchanged
+and makes the lattice's directions uniform relative to the scene: each replica is an unbiased
+estimate of every cell's mean power (a randomised quasi-Monte Carlo rule; Owen, *Monte Carlo theory,
+methods and examples*, 2013, Ch. 17). The map is the replicas' mean, its standard error SE = s /
+sqrt(K) comes from their spread s, and
 
     error_db = -10 log10(1 - t SE / mean),    t = t_{(1 + p) / 2}(K - 1)  (Student),
 
@@ -56,6 +59,14 @@ flight level dh above the transmitter collects about N c^2 dh / (4 pi r^3) rays 
 replica: far, grazing cells need the most. :func:`radio_map_budget` doubles the rays per replica
 until the bound meets a requested value over a requested fraction of the map.
 
+Sector. A sensor with an azimuth sector (:class:`RadioMapSite` ``sector_deg``) gets rays only over
+it and a measurement surface only over its blocks: the turned lattice's azimuths are folded linearly
+onto a band (:func:`fold_directions`, which keeps directions uniform, each ray standing for a solid
+angle smaller by the band's share of the turn, by which the map is scaled), the sector widened to
+the whole footprint of every measured block (:func:`ray_band`). All the rays per replica then cross
+the sector. Cells outside it are NaN in ``path_gain_db`` and ``error_db`` (not measured); the blocks
+around the sensor, of which the band lights only a part, are not reliable.
+
 References: Sionna RT 2.2 ``RadioMapSolver`` and ``MeshRadioMap`` documentation; Sionna RT
 technical report, Sec. 4 (radio maps); ITU-R P.2040-3 (materials); 3GPP TR 38.901 Eq. 7.1-4
 (rotation angles).
@@ -66,6 +77,7 @@ from __future__ import annotations
 import hashlib
 import time
 from collections import OrderedDict
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from functools import cache
 from typing import Any
@@ -74,7 +86,7 @@ import numpy as np
 
 from csuas.base.errors import InputErrors, ParameterError, raise_all
 from csuas.core.horizon import K_RADIO
-from csuas.core.terrain import curvature_drop_m, height_at, viewshed
+from csuas.core.terrain import bearing_deg, curvature_drop_m, height_at, off_boresight_deg, viewshed
 from csuas.render.links.budget import LinkBudget, resolve_budget
 from csuas.render.links.rf import check_height
 from csuas.render.links.scene import (
@@ -222,6 +234,113 @@ def blocks_to_grid(values: np.ndarray, shape, step: int) -> np.ndarray:
     return np.repeat(np.repeat(values, step, axis=0), step, axis=1)[: shape[0], : shape[1]]
 
 
+def sector_cells(shape, tx_row: float, tx_col: float, sector_deg=None) -> np.ndarray:
+    """The cells of a grid of ``shape`` inside the sensor's azimuth sector (all of them for None).
+
+    ``sector_deg`` is ``(azimuth, width)`` [deg] as :class:`csuas.core.terrain.RayLimits`: a cell is inside
+    when its bearing from (``tx_row``, ``tx_col``) (:func:`csuas.core.terrain.bearing_deg`) lies within
+    ``width / 2`` of ``azimuth``, as the coverage layers' ``aimed`` cells; the sensor's own cell is in every
+    sector.
+    """
+    if sector_deg is None:
+        return np.ones(shape, dtype=bool)
+    rows, cols = np.indices(shape)
+    d_row, d_col = rows - tx_row, cols - tx_col
+    aside = np.abs(off_boresight_deg(bearing_deg(d_row, d_col), sector_deg[0]))
+    return (aside <= sector_deg[1] / 2.0) | ((d_row == 0) & (d_col == 0))
+
+
+def cells_to_blocks(cells: np.ndarray, step: int) -> np.ndarray:
+    """The blocks of ``step`` x ``step`` cells (:func:`block_edges`) holding at least one True cell."""
+    n_rows, n_cols = -(-cells.shape[0] // step), -(-cells.shape[1] // step)
+    padded = np.zeros((n_rows * step, n_cols * step), dtype=bool)
+    padded[: cells.shape[0], : cells.shape[1]] = cells
+    return padded.reshape(n_rows, step, n_cols, step).any(axis=(1, 3))
+
+
+def sensor_blocks(shape, step: int, tx_row: float, tx_col: float) -> np.ndarray:
+    """The blocks (:func:`block_edges`) whose footprint holds the sensor (1, or 2-4 on their edges)."""
+    r_edges, c_edges = block_edges(shape[0], step), block_edges(shape[1], step)
+    rows = (r_edges[:-1] <= tx_row) & (tx_row <= r_edges[1:])
+    cols = (c_edges[:-1] <= tx_col) & (tx_col <= c_edges[1:])
+    return rows[:, None] & cols[None, :]
+
+
+def ray_band(sector_deg, shape, step: int, tx_row: float, tx_col: float, blocks: np.ndarray) -> tuple[float, float]:
+    """The azimuth band the rays are folded into: (its first angle [rad], its share of the full turn).
+
+    The sector ``(azimuth, width)`` widened to the whole footprint of every measured block (``blocks``,
+    each corner's bearing from the sensor), so that no measured block is half lit; the blocks holding
+    the sensor (:func:`sensor_blocks`) are left out of the widening (they surround it). Angles are
+    counter-clockwise from east (x) in the local frame, a bearing b (clockwise from north) being the angle
+    90 deg - b. None, or a band of a full turn: (-pi, 1), which leaves every direction where it is.
+    """
+    if sector_deg is None:
+        return -np.pi, 1.0
+    azimuth, width = sector_deg
+    r_edges, c_edges = block_edges(shape[0], step), block_edges(shape[1], step)
+    rows, cols = np.nonzero(blocks & ~sensor_blocks(shape, step, tx_row, tx_col))
+    corners = [(r_edges[rows + i], c_edges[cols + j]) for i in (0, 1) for j in (0, 1)]
+    off = np.array([off_boresight_deg(bearing_deg(r - tx_row, c - tx_col), azimuth) for r, c in corners])
+    low, high = min(-width / 2.0, float(off.min(initial=0.0))), max(width / 2.0, float(off.max(initial=0.0)))
+    # a block behind the sensor straddles the seam at 180 degrees (its corners on both sides)
+    if high - low >= 360.0 or np.any(np.ptp(off, axis=0) > 180.0):
+        return -np.pi, 1.0
+    return float(np.radians(90.0 - azimuth - high)), float(high - low) / 360.0
+
+
+def fold_directions(x, y, z, band: tuple[float, float]):
+    """Unit directions (x, y, z) with their azimuth phi in [-pi, pi] mapped onto ``band``, z kept.
+
+    phi' = first + share (phi + pi): uniform directions on the sphere map to uniform directions on the
+    band (the area element dz dphi is scaled by ``share``), so each ray then stands for a solid angle
+    ``share`` times the 4 pi / N Sionna gives it, and the radio map is scaled by ``share``. On Dr.Jit
+    arrays.
+    """
+    import drjit as dr
+
+    first, share = band
+    phi = first + share * (dr.atan2(y, x) + np.pi)
+    across = dr.safe_sqrt(1.0 - z * z)
+    return across * dr.cos(phi), across * dr.sin(phi), z
+
+
+@contextmanager
+def turned_rays(rotation: np.ndarray, band: tuple[float, float] = (-np.pi, 1.0)):
+    """Sionna's radio map solver shooting its Fibonacci lattice turned by ``rotation``, folded into ``band``.
+
+    Sionna RT 2.2 fixes the lattice in the world frame (``spawn_ray_from_sources(fibonacci_lattice,
+    ...)`` in ``sionna.rt.radio_map_solvers.radio_map_solver``) and has no argument for it, so this
+    wraps that function for the duration of a solve: the lattice's directions d become R d, then
+    :func:`fold_directions` maps them onto the sensor's azimuth band (left as they are for the full
+    turn). Turning the rays by R^T is the same replica as turning the scene and the transmitter by R
+    about the transmitter (what csuas did before), without rebuilding the scene's acceleration
+    structure. R and the band enter as opaque Dr.Jit values, so every replica reuses one kernel.
+    """
+    import drjit as dr
+    import mitsuba as mi
+    from sionna.rt.radio_map_solvers import radio_map_solver as solver_module
+
+    original = solver_module.spawn_ray_from_sources
+    matrix = mi.Matrix3f(mi.ScalarMatrix3f(np.asarray(rotation, dtype=float)))
+    first, share = dr.opaque(mi.Float, band[0]), dr.opaque(mi.Float, band[1])
+    dr.make_opaque(matrix)
+
+    def spawn(lattice, samples_per_src, src_positions):
+        ray = original(lattice, samples_per_src, src_positions)
+        d = matrix @ ray.d
+        if band[1] < 1.0:
+            d = mi.Vector3f(*fold_directions(d.x, d.y, d.z, (first, share)))
+        ray.d = d
+        return ray
+
+    solver_module.spawn_ray_from_sources = spawn
+    try:
+        yield
+    finally:
+        solver_module.spawn_ray_from_sources = original
+
+
 def rotation_matrix(angles_rad) -> np.ndarray:
     """Rotation matrix R = R_z(alpha) R_y(beta) R_x(gamma) of angles (alpha, beta, gamma) [rad].
 
@@ -275,30 +394,28 @@ class MeasurementSurface:
     Attributes
     ----------
     mesh : mitsuba.Mesh
-    vertices : numpy.ndarray
-        Unrotated vertices of the surface [m].
+        Two triangles per measured block (those of ``blocks``), blocks row-major.
+    blocks : numpy.ndarray of bool (n_block_rows, n_block_cols)
+        The blocks the surface holds (all of them, or those of the sensor's sector).
     areas_m2 : numpy.ndarray
         Triangle areas [m^2].
     mi_scene : mitsuba.Scene
         The terrain and this surface, built once (Sionna's ``modified_scene``): without it the radio
         map solver rebuilds a scene with the surface on every call (0.55 s of a 0.9 s replica, measured).
-    params : mitsuba.SceneParameters
-        Parameters of ``mi_scene``; one update moves terrain and surface together.
-    vertex_key : str
-        Key of the surface's vertex positions in ``params``.
     """
 
     mesh: object
-    vertices: np.ndarray
+    blocks: np.ndarray
     areas_m2: np.ndarray
     mi_scene: object
-    params: object
-    vertex_key: str
 
 
 @dataclass
 class TerrainScene:
     """A Sionna scene holding one terrain mesh and one transmitter, and its flight levels.
+
+    The scene stays where it was built: each replica turns the rays (:func:`turned_rays`), not the
+    scene, so no replica rebuilds an acceleration structure.
 
     Attributes
     ----------
@@ -306,60 +423,36 @@ class TerrainScene:
     dem_m : numpy.ndarray
     cell_m : float
     k_factor : float or None
-    vertices : numpy.ndarray
-        Unrotated terrain vertices [m] (:func:`terrain_mesh`).
-    vertex_key : str
-        Key of the terrain's vertex positions in the scene's Mitsuba parameters.
     transmitter : sionna.rt.Transmitter
     surfaces : OrderedDict
-        (altitude_m, step) -> :class:`MeasurementSurface`, least recently used first.
+        (altitude_m, step, measured blocks) -> :class:`MeasurementSurface`, least recently used first.
     """
 
     scene: object
     dem_m: np.ndarray
     cell_m: float
     k_factor: float | None
-    vertices: np.ndarray
-    vertex_key: str
     transmitter: object
     surfaces: OrderedDict = field(default_factory=OrderedDict)
 
-    def surface(self, altitude_m: float, step: int) -> MeasurementSurface:
-        """The measurement surface ``altitude_m`` above the terrain in blocks of ``step`` cells (cached)."""
-        import mitsuba as mi
-
-        key = (float(altitude_m), int(step))
+    def surface(self, altitude_m: float, step: int, blocks: np.ndarray) -> MeasurementSurface:
+        """The measurement surface ``altitude_m`` above the terrain over the ``blocks`` of ``step`` cells (cached)."""
+        key = (float(altitude_m), int(step), blocks.shape, np.packbits(blocks).tobytes())
         if key in self.surfaces:
             self.surfaces.move_to_end(key)
             return self.surfaces[key]
         from sionna.rt.scene_utils import extend_scene_with_mesh
 
         vertices, faces = measurement_mesh(self.dem_m, self.cell_m, altitude_m, step, self.k_factor)
+        faces = faces.reshape(-1, 2, 3)[blocks.ravel()].reshape(-1, 3)
         mesh = triangle_mesh("measurement", vertices, faces)
-        with_surface = extend_scene_with_mesh(self.scene.mi_scene, mesh)
-        params = mi.traverse(with_surface)
-        (key,) = [k for k in params.keys() if k.endswith(".vertex_positions") and k != self.vertex_key]
-        surface = MeasurementSurface(mesh, vertices, triangle_areas_m2(vertices, faces), with_surface, params, key)
+        surface = MeasurementSurface(
+            mesh, blocks.copy(), triangle_areas_m2(vertices, faces), extend_scene_with_mesh(self.scene.mi_scene, mesh)
+        )
         self.surfaces[key] = surface
         while len(self.surfaces) > SURFACE_CACHE_SIZE:
             self.surfaces.popitem(last=False)
         return surface
-
-    def rotate(self, rotation: np.ndarray, centre_m: np.ndarray, surface: MeasurementSurface) -> None:
-        """Put the terrain and ``surface`` at their unrotated vertices rotated by ``rotation`` about ``centre_m``.
-
-        Both move inside ``surface.mi_scene`` (the scene the solver traces), with one update of its
-        acceleration structure.
-        """
-        import mitsuba as mi
-
-        for key, vertices in (
-            (self.vertex_key, self.vertices),
-            (surface.vertex_key, surface.vertices),
-        ):
-            moved = (vertices - centre_m) @ rotation.T + centre_m
-            surface.params[key] = mi.Float(moved.astype(np.float32).ravel())
-        surface.params.update()
 
 
 _terrain_cache: OrderedDict = OrderedDict()
@@ -413,9 +506,7 @@ def terrain_scene(dem_m: np.ndarray, cell_m: float, frequency_ghz: float, ground
     scene.edit(add=[rt.SceneObject(mi_mesh=mesh, name="terrain", radio_material=material)])
     transmitter = rt.Transmitter(name="tx0", position=[0.0, 0.0, 0.0])
     scene.add(transmitter)
-    cached = TerrainScene(
-        scene, dem_m.copy(), float(cell_m), k_factor, vertices, mesh.id() + ".vertex_positions", transmitter
-    )
+    cached = TerrainScene(scene, dem_m.copy(), float(cell_m), k_factor, transmitter)
     _terrain_cache[key] = cached
     while len(_terrain_cache) > TERRAIN_CACHE_SIZE:
         _terrain_cache.popitem(last=False)
@@ -441,15 +532,17 @@ class TerrainRadioMap:
     ----------
     path_gain_db : numpy.ndarray (rows, cols)
         10 log10 of the path gain averaged over the cell's measurement block (power sum of the rays,
-        isotropic antennas) [dB]; -inf where no replica collected any ray.
+        isotropic antennas) [dB]; -inf where no replica collected any ray, NaN outside the sensor's
+        sector (not measured).
     error_db : numpy.ndarray (rows, cols)
-        Bound on |path_gain_db - true| [dB] at level ``level``; inf where no bound exists.
+        Bound on |path_gain_db - true| [dB] at level ``level``; inf where no bound exists, NaN outside
+        the sector.
     reached : numpy.ndarray of bool (rows, cols)
         Some replica collected power there.
     reliable : numpy.ndarray of bool (rows, cols)
         Every replica collected power there (the bound holds at its level; elsewhere too few rays).
     time_s : float
-        Wall time: scene look-up (or build), every replica's rotation and solve, post-processing [s].
+        Wall time: scene look-up (or build), every replica's turned solve, post-processing [s].
     budget : LinkBudget
         Rays per replica (``samples``) and maximum depth.
     replicas : int
@@ -458,7 +551,7 @@ class TerrainRadioMap:
         Mitsuba variant Sionna ran on.
     extra : dict
         Transmitter position in the local frame [m], measurement step, ground permittivity and
-        conductivity, replica times [s].
+        conductivity, replica times [s], the cells measured (``in_sector``).
     """
 
     path_gain_db: np.ndarray
@@ -492,6 +585,10 @@ class RadioMapSite:
     frequency_ghz : float
         Carrier frequency [GHz], inside the ITU ranges of the ground (e.g. 1-10 GHz for
         ``medium_dry_ground``).
+    sector_deg : (float, float), optional
+        The sensor's azimuth sector ``(azimuth, width)`` [deg] (azimuth 0-360 clockwise from north, width
+        in (0, 360]; :func:`sector_cells`): rays leave only over it and only its cells are measured. None:
+        all round.
     """
 
     dem_m: Any
@@ -501,6 +598,7 @@ class RadioMapSite:
     mast_m: Any
     altitude_m: Any
     frequency_ghz: Any
+    sector_deg: Any = None
 
 
 @dataclass(frozen=True)
@@ -587,6 +685,7 @@ def _check_inputs(site: RadioMapSite, options: RadioMapOptions, errors: list):
         ground_properties(options.ground, frequency)
     except ParameterError as exc:
         errors.append(exc)
+    _check_sector(site.sector_deg, errors)
     k_factor = options.k_factor
     if k_factor is not None:
         try:
@@ -597,6 +696,18 @@ def _check_inputs(site: RadioMapSite, options: RadioMapOptions, errors: list):
     if options.polarization not in ("V", "H"):
         errors.append(ParameterError("polarization", options.polarization, "V or H"))
     return dem, cell, row, col, heights[0], heights[1], frequency
+
+
+def _check_sector(sector_deg, errors: list) -> None:
+    """``sector_deg`` None or (azimuth in [0, 360], width in (0, 360]) [deg]; a mistake goes to ``errors``."""
+    if sector_deg is None:
+        return
+    try:
+        azimuth, width = (float(v) for v in sector_deg)
+        if not (0.0 <= azimuth <= 360.0 and 0.0 < width <= 360.0):
+            raise ValueError
+    except (TypeError, ValueError):
+        errors.append(ParameterError("sector_deg", sector_deg, "None or (azimuth in [0, 360], width in (0, 360]) deg"))
 
 
 def _check_tracing(options: RadioMapOptions, shape, errors: list) -> tuple[RadioMapOptions, LinkBudget | None]:
@@ -629,7 +740,8 @@ def terrain_radio_map(site: RadioMapSite, options: RadioMapOptions = RadioMapOpt
     Returns
     -------
     TerrainRadioMap
-        Arrays on the DEM grid (module docstring: -inf / inf where no ray came).
+        Arrays on the DEM grid (module docstring: -inf / inf where no ray came, NaN outside the sector);
+        ``extra["in_sector"]`` the cells measured.
 
     Raises
     ------
@@ -643,8 +755,10 @@ def terrain_radio_map(site: RadioMapSite, options: RadioMapOptions = RadioMapOpt
 
     rt = load_sionna_rt()  # the first call imports Sionna: not part of the map's time
     start = time.perf_counter()
+    sector = None if site.sector_deg is None else tuple(float(v) for v in site.sector_deg)
+    inside = sector_cells(dem.shape, row, col, sector)
     terrain = terrain_scene(dem, cell, frequency, options.ground, options.k_factor)
-    surface = terrain.surface(altitude, options.step)
+    surface = terrain.surface(altitude, options.step, cells_to_blocks(inside, options.step))
     x, y = local_xy(row, col, dem.shape, cell)
     drop = float(surface_drop_m(x, y, options.k_factor))
     z = float(height_at(dem, np.array([row]), np.array([col]))[0]) + mast - drop
@@ -652,20 +766,23 @@ def terrain_radio_map(site: RadioMapSite, options: RadioMapOptions = RadioMapOpt
     array = rt.PlanarArray(num_rows=1, num_cols=1, pattern="iso", polarization=options.polarization)
     terrain.scene.tx_array = terrain.scene.rx_array = array
     terrain.transmitter.position = [float(v) for v in tx_m]
-    n_blocks = (len(block_edges(dem.shape[0], options.step)) - 1, len(block_edges(dem.shape[1], options.step)) - 1)
-    stack, replica_times = _replica_powers(terrain, surface, tx_m, n_blocks, budget, options)
+    terrain.transmitter.orientation = [0.0, 0.0, 0.0]  # the rays turn, the antenna keeps its attitude
+    band = ray_band(sector, dem.shape, options.step, row, col, surface.blocks)
+    stack, replica_times = _replica_powers(terrain, surface, band, budget, options)
     mean, error = bound_db(stack, BOUND_LEVEL)
     reached, reliable = np.any(stack > 0, axis=0), np.all(stack > 0, axis=0)
+    if band[1] < 1.0:  # the sector covers part of the blocks around the sensor: their mean is too low
+        reliable &= ~sensor_blocks(dem.shape, options.step, row, col)
     with np.errstate(divide="ignore"):
         gain_db = 10.0 * np.log10(mean)
     elapsed = time.perf_counter() - start
     eps_r, sigma = ground_properties(options.ground, frequency)
     step = options.step
     return TerrainRadioMap(
-        blocks_to_grid(gain_db, dem.shape, step),
-        blocks_to_grid(error, dem.shape, step),
-        blocks_to_grid(reached, dem.shape, step),
-        blocks_to_grid(reliable, dem.shape, step),
+        np.where(inside, blocks_to_grid(gain_db, dem.shape, step), np.nan),
+        np.where(inside, blocks_to_grid(error, dem.shape, step), np.nan),
+        blocks_to_grid(reached, dem.shape, step) & inside,
+        blocks_to_grid(reliable, dem.shape, step) & inside,
         elapsed,
         budget,
         options.replicas,
@@ -677,38 +794,41 @@ def terrain_radio_map(site: RadioMapSite, options: RadioMapOptions = RadioMapOpt
             "relative_permittivity": eps_r,
             "conductivity_s_m": sigma,
             "replica_times_s": replica_times,
+            "in_sector": inside,
         },
     )
 
 
-def _replica_powers(terrain: TerrainScene, surface: MeasurementSurface, tx_m, n_blocks, budget, options):
-    """Block-averaged path gain of every rotated replica (replicas, *n_blocks) and each replica's time [s].
+def _replica_powers(terrain: TerrainScene, surface: MeasurementSurface, band, budget, options):
+    """Block-averaged path gain of every rotated replica (replicas, *blocks) and each replica's time [s].
 
-    Each replica rotates the scene about the transmitter by seeded random angles (the transmitter
-    turned with it) and solves Sionna's radio map on the measurement surface.
+    Each replica turns the rays by the transpose of seeded random rotations, folds them into the
+    sensor's azimuth ``band`` (:func:`turned_rays`) and solves Sionna's radio map on the measurement
+    surface of the unmoved scene; blocks outside the surface stay 0 (not measured).
     """
     rng = np.random.default_rng(options.seed)
     areas = surface.areas_m2.reshape(-1, 2)
     powers, replica_times = [], []
     for k, angles in enumerate(random_rotation_angles(options.replicas, rng)):
         t0 = time.perf_counter()
-        terrain.rotate(rotation_matrix(angles), tx_m, surface)
-        terrain.transmitter.orientation = [float(a) for a in angles]
-        radio_map = radio_map_solver()(
-            terrain.scene,
-            measurement_surface=surface.mesh,
-            samples_per_tx=budget.samples,
-            max_depth=budget.max_depth,
-            los=options.los,
-            specular_reflection=options.reflection,
-            diffuse_reflection=False,
-            refraction=False,
-            diffraction=False,
-            seed=options.seed + k,
-            modified_scene=surface.mi_scene,
-        )
-        gain = np.asarray(radio_map.path_gain.numpy(), dtype=float)[0].reshape(-1, 2)
-        powers.append((np.sum(gain * areas, axis=1) / areas.sum(axis=1)).reshape(n_blocks))
+        with turned_rays(rotation_matrix(angles).T, band):
+            radio_map = radio_map_solver()(
+                terrain.scene,
+                measurement_surface=surface.mesh,
+                samples_per_tx=budget.samples,
+                max_depth=budget.max_depth,
+                los=options.los,
+                specular_reflection=options.reflection,
+                diffuse_reflection=False,
+                refraction=False,
+                diffraction=False,
+                seed=options.seed + k,
+                modified_scene=surface.mi_scene,
+            )
+            gain = np.asarray(radio_map.path_gain.numpy(), dtype=float)[0].reshape(-1, 2) * band[1]
+        power = np.zeros(surface.blocks.shape)
+        power[surface.blocks] = np.sum(gain * areas, axis=1) / areas.sum(axis=1)
+        powers.append(power)
         replica_times.append(time.perf_counter() - t0)
     return np.stack(powers), replica_times
 
@@ -742,7 +862,8 @@ def radio_map_budget(
         Fraction of the judged cells that must meet the target, in (0, 1].
     judged : numpy.ndarray of bool (rows, cols), optional
         Cells the target applies to. By default those in the sensor's line of sight
-        (:func:`csuas.core.terrain.viewshed` with the map's ``k_factor``, 1e12 for a flat Earth):
+        (:func:`csuas.core.terrain.viewshed` with the map's ``k_factor``, 1e12 for a flat Earth) and its
+        sector:
         a path surely reaches them, while a hidden cell may have none at any budget.
     start_samples, max_samples : int
         First and largest rays per replica (1 to 1e8).
@@ -782,6 +903,7 @@ def radio_map_budget(
     raise_all(errors)
     if judged is None:
         judged = viewshed(dem, cell, row, col, mast, altitude, 1e12 if k_factor is None else k_factor)
+        judged &= sector_cells(dem.shape, row, col, site.sector_deg)
     samples, steps = first, []
     while True:
         result = terrain_radio_map(site, replace(options, samples=samples))
