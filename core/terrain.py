@@ -264,6 +264,8 @@ def _fresnel_ratios(dem, sensor, height, wavelength, judged, clearance):
 #: What the sweep writes for each judged cell (:func:`_sweep`): that it is judged, whether its target is
 #: in sight, the lowest height above it in sight [m].
 _JUDGED, _VISIBLE, _LOWEST = 0, 1, 2
+#: Columns copied at once into a strip for the east and west wedges (:func:`_sweep_wedge`).
+_STRIP_LINES = 8
 
 
 @dataclass(frozen=True)
@@ -317,20 +319,19 @@ def _sweep(dem: np.ndarray, sight: _Sight, mode: int, target: np.ndarray, out: n
 
     ``mode`` is :data:`_JUDGED` (``out`` bool: True), :data:`_VISIBLE` (``out`` bool: whether the
     target ``target`` [m] above the terrain is seen) or :data:`_LOWEST` (``out`` float: the lowest
-    visible height [m]). The south and north wedges walk the DEM's rows as they lie in memory, the
-    east and west ones a transposed copy of the window's columns; cells not judged are left as they are.
+    visible height [m]). The south and north wedges sweep the DEM's rows, the east and west ones its
+    columns (:func:`_sweep_wedge`); cells not judged are left as they are.
     """
     row, col = sight.record[0], sight.record[1]
     rows, cols = sight.window
     view = dem[rows, cols]
     for transposed in (False, True):
-        grid = _transposed(view) if transposed else view  # the copy is made only after the row-wise wedges
         shape, origin = (dem.shape[::-1], (col, row)) if transposed else (dem.shape, (row, col))
         offset = (cols.start, rows.start) if transposed else (rows.start, cols.start)
         for step in (1, -1):
             slopes = _wedge_slopes(shape, origin, step, sight.bounds, transposed)
             frame = (float(origin[0]), float(origin[1]), step, transposed, *offset)
-            _sweep_wedge(grid, frame, sight.record, slopes, sight.bounds, mode, target[rows, cols], out[rows, cols])
+            _sweep_wedge(view, frame, sight.record, slopes, sight.bounds, mode, target[rows, cols], out[rows, cols])
     near_rows, near_cols = cells_around(dem.shape, row, col, 1.0)
     for r in range(near_rows.start, near_rows.stop):  # the sensor's own cell: always in sight
         for c in range(near_cols.start, near_cols.stop):
@@ -368,48 +369,55 @@ def _wedge_slopes(shape, origin, step: int, bounds, transposed: bool) -> np.ndar
 
 
 @numba.njit(cache=True, nogil=True)
-def _transposed(grid):
-    """``grid.T`` as a C-contiguous copy, copied in square blocks so that both sides stay in cache."""
-    n_r, n_c = grid.shape
-    out = np.empty((n_c, n_r), grid.dtype)
-    for r0 in range(0, n_r, 64):
-        for c0 in range(0, n_c, 64):
-            for r in range(r0, min(r0 + 64, n_r)):
-                for c in range(c0, min(c0 + 64, n_c)):
-                    out[c, r] = grid[r, c]
-    return out
+def _fill_strip(view, strip, first, step):
+    """The next columns ``first``, ``first + step``, ... of ``view`` (as many as ``strip`` holds and the window
+    has) as rows of ``strip``: a column swept is then contiguous, and ``view`` is read a few cache lines
+    per row at a time. Returns how many were copied."""
+    count = min(strip.shape[0], view.shape[1] - first if step > 0 else first + 1)
+    for r in range(view.shape[0]):
+        for t in range(count):
+            strip[t, r] = view[r, first + t * step]
+    return count
 
 
 @numba.njit(cache=True, nogil=True)
-def _sweep_wedge(grid, frame, sensor, slopes, bounds, mode, target, out):
+def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
     """One wedge of the sweep: its lines from the sensor outward, each judging its cells on the rays' horizons
     so far, then adding its own samples to them.
 
-    ``grid`` holds the terrain [m] of a window of the DEM with the lines swept along axis 0 (each line
-    contiguous); ``frame`` is the sensor's (line, cross) position on the whole DEM [cells], the direction
-    swept (+1, -1), whether ``grid`` is transposed from ``out`` and ``target`` (the east and west
-    wedges), and the window's first line and cross index on the DEM (distances are taken on the DEM's
-    own indices, so a window changes no bit of them). A ray is active on a line while it crosses the
-    window there, within a cell: the active rays are one run of ``slopes``, shrinking outward.
+    ``view`` holds the terrain [m] of a window of the DEM; ``frame`` is the sensor's (line, cross)
+    position on the whole DEM [cells], the direction swept (+1, -1), whether the lines are the DEM's
+    columns (the east and west wedges: they are copied :data:`_STRIP_LINES` at a time into rows of a
+    strip, so that every line swept is contiguous in memory) and the window's first line and cross
+    index on the DEM (distances are taken on the DEM's own indices, so a window changes no bit of them).
+    A ray is active on a line while it crosses the window there, within a cell: the active rays are one
+    run of ``slopes``, shrinking outward.
     """
     a0, b0, step, transposed, a_off, b_off = frame
-    n_rays = slopes.size
-    if n_rays == 0:
+    n_lines, n_cross = (view.shape[1], view.shape[0]) if transposed else (view.shape[0], view.shape[1])
+    if slopes.size == 0:
         return
-    secants = np.sqrt(1.0 + slopes * slopes)
-    horizon = np.full(n_rays, -np.inf)
-    bottom, top = float(b_off), b_off + grid.shape[1] - 1.0
-    lo, hi = 0, n_rays - 1
+    rays = (slopes, np.sqrt(1.0 + slopes * slopes), np.full(slopes.size, -np.inf))  # slope, secant, horizon
+    strip = np.empty((_STRIP_LINES if transposed else 0, n_cross))
+    lo, hi, used, filled = 0, slopes.size - 1, 0, 0  # the active rays; the strip's lines swept and copied
     a = int(np.floor(a0)) + 1 if step > 0 else int(np.ceil(a0)) - 1
-    while 0 <= a - a_off < grid.shape[0] and step * (a - a0) <= bounds[0]:
+    while 0 <= a - a_off < n_lines and step * (a - a0) <= bounds[0]:
         da = step * (a - a0)
-        while lo < hi and b0 + slopes[lo] * da < bottom - 1.0:
+        while lo < hi and b0 + slopes[lo] * da < b_off - 1.0:
             lo += 1
-        while hi > lo and b0 + slopes[hi] * da > top + 1.0:
+        while hi > lo and b0 + slopes[hi] * da > b_off + n_cross:
             hi -= 1
         line = (a, da, b0, step, transposed, a_off, b_off)
-        _judge_line(grid, line, sensor, (slopes, horizon, lo, hi), bounds, mode, target, out)
-        _sample_line(grid[a - a_off], (da, b0, b_off), sensor, (slopes, secants, horizon), (lo, hi))
+        if transposed:
+            if used == filled:
+                used, filled = 0, _fill_strip(view, strip, a - a_off, step)
+            heights = strip[used]
+            used += 1
+            _judge_line(heights, line, sensor, (slopes, rays[2], lo, hi), bounds, mode, target, out)
+            _sample_line(heights, (da, b0, b_off), sensor, rays, (lo, hi))
+        else:
+            _judge_line(view[a - a_off], line, sensor, (slopes, rays[2], lo, hi), bounds, mode, target, out)
+            _sample_line(view[a - a_off], (da, b0, b_off), sensor, rays, (lo, hi))
         a += step
 
 
@@ -433,7 +441,7 @@ def _sample_line(heights, line, sensor, rays, active):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _judge_line(grid, line, sensor, rays, bounds, mode, target, out):
+def _judge_line(heights, line, sensor, rays, bounds, mode, target, out):
     """Each cell of the line in the wedge (within the limit and the sector) takes the horizon so far of the
     ray that crosses the line nearest to it (a pointer walking up the sorted rays) and gets ``mode``'s value."""
     a, da, b0, step, transposed, a_off, b_off = line
@@ -441,7 +449,7 @@ def _judge_line(grid, line, sensor, rays, bounds, mode, target, out):
     slopes, horizon, lo, hi = rays
     limit, azimuth, width = bounds
     half = min(da, np.sqrt(max(limit * limit - da * da, 0.0)))
-    first, last = max(int(np.ceil(b0 - half)), b_off), min(int(np.floor(b0 + half)), b_off + grid.shape[1] - 1)
+    first, last = max(int(np.ceil(b0 - half)), b_off), min(int(np.floor(b0 + half)), b_off + heights.size - 1)
     j = lo
     for b in range(first, last + 1):
         db = b - b0
@@ -460,10 +468,10 @@ def _judge_line(grid, line, sensor, rays, bounds, mode, target, out):
         if mode == _JUDGED:
             out[r, c] = True
         elif mode == _VISIBLE:
-            rise = grid[w_a, w_b] + target[r, c] - drop_1m * distance * distance - eye
+            rise = heights[w_b] + target[r, c] - drop_1m * distance * distance - eye
             out[r, c] = rise / distance >= horizon[j]
         else:
-            out[r, c] = max(horizon[j] * distance + eye + drop_1m * distance * distance - grid[w_a, w_b], 0.0)
+            out[r, c] = max(horizon[j] * distance + eye + drop_1m * distance * distance - heights[w_b], 0.0)
 
 
 def line_of_sight(dem_m, cell_m, eye, targets, k_factor: float = 4.0 / 3.0, chunk: int = 4096) -> np.ndarray:
