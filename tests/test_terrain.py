@@ -126,6 +126,25 @@ def test_a_sector_traces_only_its_rays_and_matches_the_all_round_viewshed_inside
     assert full[~inside].any()  # the sector hides cells that are in sight
 
 
+def test_a_narrow_sector_from_any_sensor_keeps_the_all_round_answers():
+    """Sectors of 2 degrees from the grid's corners, edges and inside: every cell inside is judged as all round
+    and none outside is visible (the ray-by-ray code this replaced failed on most of these: no ray left)."""
+    from csuas.core.terrain import bearing_deg, off_boresight_deg
+
+    dem = gaussian_hills(40, 50.0)
+    rows, cols = np.indices(dem.shape)
+    inside_cells = 0
+    for row, col in [(0.0, 0.0), (20.3, 10.7), (39.0, 0.0), (12.0, 39.0)]:
+        full = viewshed(dem, 50.0, row, col, 5.0, 20.0)
+        own = np.hypot(rows - row, cols - col) < 0.5
+        for azimuth in (0.0, 95.0, 200.0, 315.0):
+            cut = viewshed(dem, 50.0, row, col, 5.0, 20.0, limits=RayLimits(sector_deg=(azimuth, 2.0)))
+            inside = np.abs(off_boresight_deg(bearing_deg(rows - row, cols - col), azimuth)) <= 1.0
+            assert np.array_equal(cut[inside], full[inside]) and not cut[~inside & ~own].any()
+            inside_cells += int(inside.sum())
+    assert inside_cells > 100  # 130
+
+
 def test_cells_around_a_point_are_clipped_to_the_grid():
     from csuas.core.terrain import cells_around
 
