@@ -29,7 +29,9 @@ strip (a few rows of the DEM). Alternatives measured on an 8000^2 DEM against GD
 previous code, same method): 9.9 times GDAL's CPU, cost ~ cells^1.1, scattered in memory; the east
 and west wedges swept on a transposed copy of the DEM: 1.9 s (the copy alone 0.6 s, 8 bytes a cell
 more); their columns read in place eight at a time: 1.9-2.1 s; the strip: 1.5-1.6 s (all the same
-answers, cell for cell). GDAL's own algorithm (Wang, Robinson & White 2000, reference planes, one
+answers, cell for cell); rays traced only once their neighbours part by a cell, taking the nearer
+one's horizon there: 15 % less CPU, but 98.5 % of cells against the exact sight line on rough terrain
+(below 99 %). GDAL's own algorithm (Wang, Robinson & White 2000, reference planes, one
 interpolation a cell) is cheaper still but judges a cell on horizons interpolated from its
 neighbours: on rough terrain it meets the exact sight line on 96.8-99.3 % of cells where these rays
 meet it on at least 99 % (tests/test_terrain_gdal.py), so it was not taken.
