@@ -7,18 +7,20 @@ written as a GeoTIFF (and a detected layer as GeoJSON) by the main process and a
 the map workers (``csuas.commands.coverage_files.MapWriter``: a fixed part and a part in proportion
 to the cells, shared among the workers), and a radio map costs one Sionna RT run per sensor and level.
 The process holds the DEM, every sensor's grids per level, the fused grids and, at its peak,
-one viewshed's rays and one map's images.
+one map's images (a viewshed adds only its result, 1 byte a cell: docs/performance.md).
 
-Times are for 2 idle CPU cores: the viewshed's 0.55 s for 10^6 cells (docs/performance.md); the demo
-site took 27.6 s wall (37.7 CPU-s) before its PNG maps were drawn once in two workers and its radio
-maps' replicas stopped rebuilding the scene (README), 47 maps at 0.34 s each of it; a map now costs
-0.16-0.25 CPU-s from 200^2 to 800^2 cells (measured with the process's CPU time at a load average of
-13, which counts what the map itself uses), and a radio map of the demo at 2^20 rays :data:`RADIO_MAP_SECONDS`.
-The viewshed and Fresnel shares were split between a fixed and a per-cell part as measured under load
-(synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3 sensors and 2 or 6 levels took 14.9, 18.0, 41.2
-and 48.5 s on 2 CPU cores at a load average of 10-20, about 7 times the idle figures). Memory does not
-depend on the load: 201, 289, 757 and 306 MB (ru_maxrss) for those runs. The ``cost_models`` benchmark
-compares the model with measurements on three sizes.
+Times are for 2 idle CPU cores: the demo site took 27.6 s wall (37.7 CPU-s) before its PNG maps were
+drawn once in two workers and its radio maps' replicas stopped rebuilding the scene (README), 47 maps
+at 0.34 s each of it; a map now costs 0.16-0.25 CPU-s from 200^2 to 800^2 cells (measured with the
+process's CPU time at a load average of 13, which counts what the map itself uses), and a radio map of
+the demo at 2^20 rays :data:`RADIO_MAP_SECONDS`. The viewshed and Fresnel shares were split between a
+fixed and a per-cell part as measured under load (synthetic DEMs of 200^2, 400^2 and 800^2 cells with 3
+sensors and 2 or 6 levels took 14.9, 18.0, 41.2 and 48.5 s on 2 CPU cores at a load average of 10-20,
+about 7 times the idle figures). Memory does not depend on the load: 425, 476 and 703 MB (ru_maxrss)
+for 200^2, 400^2 and 800^2 cells with 3 sensors and 2 levels (two Fresnel links) since the viewshed's
+rays are swept (2026-11-27; 201, 289 and 757 MB before, when they held 690 bytes a cell): about 470
+bytes a cell and 400 MB before the grids. The ``cost_models`` benchmark compares the model with
+measurements on three sizes.
 """
 
 from __future__ import annotations
@@ -53,11 +55,14 @@ RADIO_MAP_SAMPLES = 2**20
 FRESNEL_CELL_SAMPLE_SECONDS = 1.3e-8
 #: Memory per cell and level of each Fresnel clearance grid kept (float64) [B].
 FRESNEL_LEVEL_CELL_BYTES = 8.0
-#: Resident memory before the grids (interpreter, rasterio, matplotlib) [B]; with a radio map, Sionna's [B].
-PROCESS_BYTES = 140e6
-RADIO_PROCESS_BYTES = 350e6
-#: Memory per cell at the peak (the DEM, hillshade, one viewshed's rays, one map's images) [B].
-CELL_BYTES = 950.0
+#: Resident memory before the grids (interpreter, rasterio, matplotlib) [B]: the intercept of the three
+#: measured peaks (module docstring); with a radio map, Sionna's 210 MB more (measured as 350 MB against
+#: 140 MB when the process was smaller) [B].
+PROCESS_BYTES = 400e6
+RADIO_PROCESS_BYTES = PROCESS_BYTES + 210e6
+#: Memory per cell at the peak (the DEM, hillshade, one map's images; a viewshed's result) [B]: the measured
+#: 470 bytes a cell (module docstring) less the grids kept for 3 sensors, 2 levels and 2 Fresnel links.
+CELL_BYTES = 330.0
 #: Memory per cell and level of each sensor's kept grids (visible, detected, Pd, regard) [B], and of
 #: the fused grids per level [B].
 SENSOR_LEVEL_CELL_BYTES = 11.0

@@ -9,7 +9,7 @@ import pytest
 
 from csuas.base.errors import ParameterError
 from csuas.core.barrier import barrier_frequency_hz, terrain_barrier_db
-from csuas.core.horizon import first_fresnel_radius_m
+from csuas.core.horizon import K_OPTICAL, K_RADIO, first_fresnel_radius_m
 from csuas.core.modality import BY_NAME
 from csuas.core.scenario import parse_scenario
 from csuas.core.terrain import (
@@ -17,11 +17,13 @@ from csuas.core.terrain import (
     curvature_drop_m,
     diffraction_path_difference_m,
     fresnel_clearance,
+    gaussian_hills,
     height_at,
     line_of_sight,
     lowest_visible_height_m,
     viewshed,
 )
+from csuas.validation.terrain.viewshed_oracles import cell_relief_m, fractal_dem, sight_line_clearance_m
 
 
 def test_curvature_drop_is_the_effective_earths_sag():
@@ -124,6 +126,25 @@ def test_a_sector_traces_only_its_rays_and_matches_the_all_round_viewshed_inside
     assert full[~inside].any()  # the sector hides cells that are in sight
 
 
+def test_a_narrow_sector_from_any_sensor_keeps_the_all_round_answers():
+    """Sectors of 2 degrees from the grid's corners, edges and inside: every cell inside is judged as all round
+    and none outside is visible (the ray-by-ray code this replaced failed on most of these: no ray left)."""
+    from csuas.core.terrain import bearing_deg, off_boresight_deg
+
+    dem = gaussian_hills(40, 50.0)
+    rows, cols = np.indices(dem.shape)
+    inside_cells = 0
+    for row, col in [(0.0, 0.0), (20.3, 10.7), (39.0, 0.0), (12.0, 39.0)]:
+        full = viewshed(dem, 50.0, row, col, 5.0, 20.0)
+        own = np.hypot(rows - row, cols - col) < 0.5
+        for azimuth in (0.0, 95.0, 200.0, 315.0):
+            cut = viewshed(dem, 50.0, row, col, 5.0, 20.0, limits=RayLimits(sector_deg=(azimuth, 2.0)))
+            inside = np.abs(off_boresight_deg(bearing_deg(rows - row, cols - col), azimuth)) <= 1.0
+            assert np.array_equal(cut[inside], full[inside]) and not cut[~inside & ~own].any()
+            inside_cells += int(inside.sum())
+    assert inside_cells > 100  # 130
+
+
 def test_cells_around_a_point_are_clipped_to_the_grid():
     from csuas.core.terrain import cells_around
 
@@ -149,6 +170,29 @@ def test_lowest_visible_height_behind_a_wall_is_the_sight_line_over_its_top():
     expected = np.where(behind, 5.0 + 15.0 * d / 40.0, 0.0)
     assert np.allclose(lowest[20, 11:50], 0.0) and lowest[20, 10] == 0.0
     assert np.allclose(lowest[20, behind], expected[behind], rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "terrain, row, col, target_m",
+    [("rough", 60.0, 60.0, 2.0), ("rough", 17.4, 93.6, 30.0), ("hills", 60.3, 55.7, 20.0), ("hills", 0.0, 119.0, 2.0)],
+)
+def test_viewshed_meets_the_exact_sight_line_but_where_it_grazes(terrain, row, col, target_m):
+    """Against the sight line itself (sampled every 0.05 cell and at every grid-line crossing over the bilinear
+    terrain, :func:`sight_line_clearance_m`) on 2000 random cells of a 120^2 DEM: >= 99 % agree, and where
+    they do not, the sight line passes within a quarter of the DEM's largest step between neighbouring
+    cells of the terrain (an elevation angle of that over the distance; the rays sample a path within half
+    a cell of the sight line). Measured on every cell: 99.2-99.9 % agree, the worst miss 0.17 of the step
+    (the rough DEM: slopes to 52 degrees, steps of 38 m on 30 m cells)."""
+    if terrain == "rough":
+        dem, cell, mast, k = fractal_dem(120, 300.0, 1.6, seed=2), 30.0, 10.0, K_OPTICAL
+    else:
+        dem, cell, mast, k = gaussian_hills(120, 50.0), 50.0, 5.0, K_RADIO
+    seen = viewshed(dem, cell, row, col, mast, target_m, k)
+    cells = np.random.default_rng(int(row)).integers(0, 120, size=(2000, 2))
+    clearance = sight_line_clearance_m(dem, cell, row, col, mast, target_m, k, cells)
+    wrong = seen[cells[:, 0], cells[:, 1]] != (clearance >= 0.0)
+    assert wrong.mean() <= 0.01 and 0.05 < seen.mean() < 0.95  # shadows and sight both present
+    assert np.all(np.abs(clearance[wrong]) <= cell_relief_m(dem) / 4)
 
 
 def test_lowest_visible_height_agrees_with_the_viewshed_at_every_flight_level():
