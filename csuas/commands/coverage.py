@@ -23,7 +23,7 @@ import numpy as np
 from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
-from csuas.base.paths import checked_path, inside
+from csuas.base.paths import checked_path, inside, sub_folder
 from csuas.commands.coverage_files import (
     covered_polygons,
     to_wgs84,
@@ -319,7 +319,8 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
     fresnel = tuple(_fresnel_sensors(sited, scenario))
     specs = _tiled_layers(sited, altitudes, k, fresnel)
     out = prepare_output_dir(args.out)
-    for name in ["coverage.json", STATE_NAME, TILES_DIR] + [_stem(*spec) + ".tif" for spec in specs]:
+    sub_folder(out, TILES_DIR)
+    for name in ["coverage.json", STATE_NAME] + [_stem(*spec) + ".tif" for spec in specs]:
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work
     dem = None if site.dem is None else str(dem_path(site.dem, source))
     reach = {n: mapped_reach_m(scenario, n, farthest_ground_m(shape, p, cell)) for n, p in sited.items()}

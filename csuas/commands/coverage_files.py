@@ -26,7 +26,7 @@ from csuas.base.plots import _pyplot
 #: GeoTIFF creation options (GDAL's GTiff driver).
 GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockxsize": 256, "blockysize": 256}
 #: Cloud Optimised GeoTIFF creation options (GDAL's COG driver) of the layers written by tiles.
-COG_OPTIONS = {"compress": "DEFLATE", "predictor": "YES", "blocksize": 512, "overview_resampling": "NEAREST"}
+COG_OPTIONS = {"compress": "DEFLATE", "predictor": "YES", "blocksize": 256, "overview_resampling": "NEAREST"}
 #: GeoPackage version written: 1.2 opens without a warning in GDAL 3.6 and later, 1.4 warns before 3.12.
 GEOPACKAGE_VERSION = "1.2"
 #: Geographic CRS of GeoJSON (RFC 7946 Section 4) and KML.

@@ -10,7 +10,7 @@ one band each, to ``DIR/tiles/tile-R-C.tif`` with its covered-cell counts in ``t
 atomically; the JSON last). A tile whose JSON is there is skipped when the command is run again on the
 same folder with the same inputs (``DIR/coverage-tiles-state.json`` holds their digest: the site, the
 scenario, the DEM's bytes and the tile size). When every tile is done, each layer's tiles are mosaicked
-(a GDAL VRT) into ``DIR/<layer>.tif``: a Cloud Optimised GeoTIFF (GDAL's COG driver: 512-cell blocks,
+(a GDAL VRT) into ``DIR/<layer>.tif``: a Cloud Optimised GeoTIFF (GDAL's COG driver: 256-cell blocks,
 DEFLATE with the floating-point predictor, overviews by nearest neighbour, NaN as nodata, the band's
 description and unit), and ``DIR/coverage.json`` lists the layers and areas as the single-process run does.
 

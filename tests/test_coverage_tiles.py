@@ -1,0 +1,167 @@
+"""csuas coverage --scheduler (csuas/commands/coverage_tiles.py): tiles answer as the single-process run, cell for
+cell; resume per tile; Cloud Optimised GeoTIFFs gdalinfo reads without a warning; bad options named."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+from csuas import cli
+from csuas.core.terrain import gaussian_hills
+
+#: A 288 x 320 DEM of 50 m cells: 4 tiles of 160 cells a side (COG blocks of 256 cells: one overview).
+ROWS, COLS, CELL_M, TILE = 288, 320, 50.0, "160"
+WEST, NORTH = 400_000.0, 5_010_000.0
+SITE = """dem = "dem.tif"
+altitudes_agl_m = [30.0, 120.0]
+fusion_k = 2
+[sensors.radar]
+x = 407975.0
+y = 5002025.0
+mast_m = 10.0
+elevation_max_deg = 60.0
+[sensors.rf]
+x = 401200.0
+y = 5006000.0
+mast_m = 10.0
+[sensors.eo]
+x = 404100.0
+y = 5008100.0
+mast_m = 5.0
+azimuth_deg = 255.0
+sector_deg = 120.0
+"""
+
+
+def _site(folder, site_text=SITE):
+    """The site and its DEM: hills with a nodata hole (filled with the lowest valid height in both runs)."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    dem = gaussian_hills(max(ROWS, COLS), CELL_M)[:ROWS, :COLS].astype(np.float32)
+    dem[40:44, 90:95] = -9999.0
+    profile = {"driver": "GTiff", "height": ROWS, "width": COLS, "count": 1, "dtype": "float32"}
+    profile.update(crs="EPSG:32633", transform=from_origin(WEST, NORTH, CELL_M, CELL_M), nodata=-9999.0)
+    with rasterio.open(folder / "dem.tif", "w", **profile) as dst:
+        dst.write(dem, 1)
+    (folder / "site.toml").write_text(site_text)
+    return folder / "site.toml"
+
+
+def _layers(folder) -> dict:
+    """Every layer's grid, by file name."""
+    import rasterio
+
+    summary = json.loads((folder / "coverage.json").read_text())
+    grids = {}
+    for layer in summary["layers"]:
+        with rasterio.open(folder / layer["path"]) as src:
+            grids[layer["path"]] = src.read(1)
+    return grids
+
+
+def _same(tiled, single) -> None:
+    """The tiled run's layers, areas and Fresnel shares are the single-process run's, cell for cell."""
+    a, b = _layers(tiled), _layers(single)
+    assert a.keys() == b.keys() and len(a) == 39
+    different = [name for name in a if not np.array_equal(a[name], b[name], equal_nan=True)]
+    assert different == []
+    layers_a = json.loads((tiled / "coverage.json").read_text())["layers"]
+    layers_b = json.loads((single / "coverage.json").read_text())["layers"]
+    for x, y in zip(layers_a, layers_b):
+        assert x == {key: y[key] for key in x}
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """The single-process run and the serial run by 4 tiles of the same site."""
+    folder = tmp_path_factory.mktemp("tiles")
+    site = _site(folder)
+    assert cli.main(["coverage", str(site), "--out", str(folder / "single")]) == 0
+    assert (
+        cli.main(["coverage", str(site), "--out", str(folder / "serial"), "--scheduler", "serial", "--tile", TILE]) == 0
+    )
+    return folder
+
+
+def test_tiles_in_this_process_match_the_single_process_run_cell_for_cell(runs):
+    summary = json.loads((runs / "serial" / "coverage.json").read_text())
+    assert summary["tiles"]["tiles"] == 4 and summary["tiles"]["tiles_run"] == 4
+    # the radar (on the corner of 4 tiles, cell 159, 159) is traced on a window of its reach across all
+    # four tiles; the EO camera's reach (137 cells) on a window narrower than the DEM; the RF sensor's Pd stays
+    # above 1e-3 over the whole DEM: traced on all of it
+    radar = summary["sensors"]["radar"]
+    assert (radar["row"], radar["col"]) == (159.0, 159.0) and CELL_M < radar["reach_m"] < 4 * CELL_M
+    assert (
+        summary["sensors"]["rf"]["reach_m"] is None
+        and 100 * CELL_M < summary["sensors"]["eo"]["reach_m"] < 150 * CELL_M
+    )
+    _same(runs / "serial", runs / "single")
+
+
+def test_tiles_on_two_local_workers_match_the_single_process_run_cell_for_cell(runs):
+    out = runs / "local"
+    args = ["coverage", str(runs / "site.toml"), "--out", str(out), "--scheduler", "local", "--workers", "2"]
+    assert cli.main([*args, "--tile", TILE]) == 0
+    summary = json.loads((out / "coverage.json").read_text())
+    assert summary["tiles"]["workers"] == 2 and summary["tiles"]["tiles_run"] == 4
+    _same(out, runs / "single")
+
+
+def test_a_tiled_run_resumes_only_the_missing_tiles_and_refuses_other_inputs(runs, capsys):
+    import shutil
+
+    out = runs / "resumed"
+    shutil.copytree(runs / "serial", out)
+    for suffix in (".json", ".tif"):
+        (out / "tiles" / f"tile-000160-000000{suffix}").unlink()
+    args = ["coverage", str(runs / "site.toml"), "--out", str(out), "--scheduler", "serial", "--tile", TILE]
+    assert cli.main(args) == 0
+    tiles = json.loads((out / "coverage.json").read_text())["tiles"]
+    assert (tiles["tiles_run"], tiles["tiles_resumed"]) == (1, 3)
+    _same(out, runs / "single")
+    capsys.readouterr()
+    assert cli.main([*args[:-1], "80"]) == 2  # other tiles: another run's folder
+    err = capsys.readouterr().err
+    assert "--out" in err and "another run's tiles" in err
+
+
+def test_tiled_layers_are_cloud_optimised_geotiffs_gdalinfo_reads_without_a_warning(runs):
+    out = runs / "serial"
+    for name, description, unit in (
+        ("fused_pd_30m.tif", "fused: pd at 30 m AGL", "Pd"),
+        ("radar_visible_120m.tif", "radar: visible at 120 m AGL", "1 = in sight"),
+        ("rf_fresnel_clearance_30m.tif", "rf: fresnel_clearance at 30 m AGL", "clearance / r1"),
+    ):
+        info = subprocess.run(["gdalinfo", out / name], capture_output=True, text=True, check=True)
+        assert info.stderr == "", info.stderr
+        expected = (
+            "LAYOUT=COG",
+            "COMPRESSION=DEFLATE",
+            "Block=256x256",
+            "Overviews: 160x144",
+            f"Description = {description}",
+            f"Unit Type: {unit}",
+            "NoData Value=nan",
+            "Size is 320, 288",
+        )
+        assert all(text in info.stdout for text in expected), info.stdout
+
+
+def test_bad_tile_options_are_named_all_at_once(runs, capsys):
+    site = str(runs / "site.toml")
+    assert cli.main(["coverage", site, "--out", str(runs / "b"), "--scheduler", "udp://x", "--tile", "4"]) == 2
+    err = capsys.readouterr().err
+    assert "--scheduler" in err and "udp://x" in err and "--tile" in err and ">= 16" in err
+    assert cli.main(["coverage", site, "--out", str(runs / "b"), "--workers", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers" in err and "only with --scheduler" in err
+    radio = runs / "radio"
+    radio.mkdir()
+    _site(radio, SITE + '[radio_map]\nsensors = ["rf"]\nstep = 8\n')
+    assert cli.main(["coverage", str(radio / "site.toml"), "--out", str(runs / "b"), "--scheduler", "serial"]) == 2
+    assert "radio_map" in capsys.readouterr().err
+    assert not (runs / "b").exists()
