@@ -165,3 +165,21 @@ def test_bad_tile_options_are_named_all_at_once(runs, capsys):
     assert cli.main(["coverage", str(radio / "site.toml"), "--out", str(runs / "b"), "--scheduler", "serial"]) == 2
     assert "radio_map" in capsys.readouterr().err
     assert not (runs / "b").exists()
+
+
+def test_a_sensors_reach_window_holds_every_cell_within_its_reach_and_places_it_exactly():
+    from csuas.core.coverage import SitedSensor, farthest_ground_m, in_window, reach_window
+
+    sited = SitedSensor("a", 50.5, 10.25, 1.0)
+    assert farthest_ground_m((101, 81), sited, 10.0) == pytest.approx(
+        np.hypot(50.5, 80 - 10.25) * 10.0, rel=1e-15
+    )  # corner (0, 80)
+    # 205 m of 10 m cells: 20.5 cells each way, rows 30..71, columns 0 (clipped)..31
+    window = reach_window((101, 81), sited, 205.0, 10.0)
+    assert (window[0].start, window[0].stop, window[1].start, window[1].stop) == (30, 72, 0, 32)
+    rows, cols = np.indices((101, 81))
+    within = np.hypot(rows - 50.5, cols - 10.25) * 10.0 <= 205.0
+    assert within[window].sum() == within.sum()
+    placed = in_window(sited, window)
+    assert (placed.row, placed.col, placed.mast_m) == (20.5, 10.25, 1.0)
+    assert reach_window((101, 81), sited, float("inf"), 10.0) == (slice(0, 101), slice(0, 81))
