@@ -15,6 +15,8 @@ from csuas.base.errors import ParameterError
 
 #: Seconds to wait for a ``tcp://`` scheduler before giving up.
 CONNECT_TIMEOUT_S = 10.0
+#: Workers of a local cluster by default: one a CPU core.
+DEFAULT_WORKERS = max(1, os.cpu_count() or 1)
 #: The schedulers the commands accept (a prefix for the remote ones).
 SCHEDULERS = "serial, local, tcp://HOST:PORT or tls://HOST:PORT"
 
@@ -33,7 +35,7 @@ def open_client(scheduler: str, workers: int | None):
 
     if scheduler == "local":
         cluster = LocalCluster(
-            n_workers=workers or max(1, (os.cpu_count() or 1)),
+            n_workers=workers or DEFAULT_WORKERS,
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,

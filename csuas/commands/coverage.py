@@ -45,6 +45,7 @@ from csuas.commands.coverage_tiles import (
     inputs_digest,
     nodata_fill_m,
     run_tiles,
+    window_tiles,
 )
 from csuas.core.coverage import (
     POINTING,
@@ -54,14 +55,15 @@ from csuas.core.coverage import (
     fused_layers,
     fused_visibility,
     mapped_reach_m,
+    reach_window,
     sensor_layers,
 )
-from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.coverage_cost import coverage_estimate, coverage_tiles_estimate
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario
 from csuas.defaults import site_path
 from csuas.render.site import DEMO, dem_path, load_dem, sensor_xy, validated_site
-from csuas.sweep.cluster import check_scheduler, show_progress
+from csuas.sweep.cluster import DEFAULT_WORKERS, check_scheduler, show_progress
 
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
 LOCK_NAME = ".csuas-coverage.lock"
@@ -219,10 +221,10 @@ def run(args) -> dict:
     radio = radio_map_settings(site, scenario)
     checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
     _tile_options(args, radio)
-    links = len(_fresnel_sensors(site.sensors, scenario))
-    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
     if getattr(args, "scheduler", None) is not None:
         return _run_tiled(args, (table, site, scenario), source if source.is_file() else None)
+    links = len(_fresnel_sensors(site.sensors, scenario))
+    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
     dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
     sited = _site_sensors(site, transform, crs, dem.shape)
     altitudes = [float(a) for a in site.altitudes_agl_m]
@@ -318,15 +320,24 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
     altitudes, k = [float(a) for a in site.altitudes_agl_m], site.fusion_k
     fresnel = tuple(_fresnel_sensors(sited, scenario))
     specs = _tiled_layers(sited, altitudes, k, fresnel)
+    reach = {n: mapped_reach_m(scenario, n, farthest_ground_m(shape, p, cell)) for n, p in sited.items()}
+    tile = args.tile or TILE_CELLS
+    windows = [
+        (*window_tiles(shape, reach_window(shape, p, reach[n], cell), tile), n in fresnel) for n, p in sited.items()
+    ]
+    workers = 1 if args.scheduler == "serial" else args.workers or DEFAULT_WORKERS
+    estimate = coverage_tiles_estimate(
+        shape, windows, (min(tile, shape[0]) * min(tile, shape[1]), workers), len(altitudes), len(specs)
+    )
+    check_limits(estimate, args, "coverage")  # before the DEM is read
     out = prepare_output_dir(args.out)
     sub_folder(out, TILES_DIR)
     for name in ["coverage.json", STATE_NAME] + [_stem(*spec) + ".tif" for spec in specs]:
         inside(out, name)  # outside --out, or a special file there: refused now, not after the work
     dem = None if site.dem is None else str(dem_path(site.dem, source))
-    reach = {n: mapped_reach_m(scenario, n, farthest_ground_m(shape, p, cell)) for n, p in sited.items()}
     tiled = TiledSite(
         dem, shape, cell, nodata_fill_m(dem), scenario, sited, reach, tuple(altitudes), k, fresnel, tuple(specs),
-        VALUE_KINDS, args.tile or TILE_CELLS,
+        VALUE_KINDS, tile,
     )  # fmt: skip
     where = {"transform": transform, "crs": crs}
     run = {"scheduler": args.scheduler, "workers": args.workers}
@@ -360,6 +371,7 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
                 "tiles": ran["tiles"],
                 "tiles_run": ran["run"],
                 "tiles_resumed": ran["tiles"] - ran["run"],
+                "peak_rss_mib": ran["peak_rss_mib"],
                 "wall_time_s": time.perf_counter() - started,
             },
         }

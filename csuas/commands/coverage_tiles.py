@@ -228,6 +228,20 @@ def tile_layers(site: TiledSite, bounds: tuple) -> dict:
     return {"grids": grids, "fresnel": fresnel}
 
 
+def window_tiles(shape: tuple[int, int], window: tuple[slice, slice], tile: int) -> tuple[int, int]:
+    """The cells of a window and the tiles of ``tile`` cells a side it touches (each traces it once)."""
+    rows, cols = window
+    touched = (-(-rows.stop // tile) - rows.start // tile) * (-(-cols.stop // tile) - cols.start // tile)
+    return (rows.stop - rows.start) * (cols.stop - cols.start), touched
+
+
+def peak_rss_mib() -> float:
+    """This process's peak resident memory [MiB] (``ru_maxrss``, KiB on Linux)."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
 def _tile_name(bounds: tuple) -> str:
     return f"tile-{bounds[0]:06d}-{bounds[2]:06d}"
 
@@ -304,7 +318,7 @@ def _done(folder: Path, bounds: tuple, bands: int) -> dict | None:
 
 def run_tiles(site: TiledSite, out: Path, run: dict, where: dict, progress=sys.stderr) -> dict:
     """Run every tile not yet done in ``out`` (``run``: ``scheduler``, ``workers``, ``digest``); the counts of each
-    tile, by its bounds, and what ran."""
+    tile, by its bounds, what ran, and the peak resident memory of each process that ran tiles [MiB]."""
     _check_state(out, run["digest"])
     folder = sub_folder(out, TILES_DIR)
     bounds = tile_bounds(site.shape, site.tile)
@@ -315,6 +329,7 @@ def run_tiles(site: TiledSite, out: Path, run: dict, where: dict, progress=sys.s
         for done, b in enumerate(todo, 1):
             counts[b] = write_tile(site, b, str(folder), where)
             show_progress("coverage: tiles", done, len(todo), started, progress)
+        rss = [peak_rss_mib()]
     else:
         from distributed import as_completed
 
@@ -328,8 +343,9 @@ def run_tiles(site: TiledSite, out: Path, run: dict, where: dict, progress=sys.s
             for done, future in enumerate(as_completed(futures), 1):
                 counts[futures[future]] = future.result()
                 show_progress("coverage: tiles", done, len(todo), started, progress)
+            rss = sorted(client.run(peak_rss_mib).values())
         finally:
             client.close()
             if cluster is not None:
                 cluster.close()
-    return {"counts": counts, "tiles": len(bounds), "run": len(todo), "workers": workers}
+    return {"counts": counts, "tiles": len(bounds), "run": len(todo), "workers": workers, "peak_rss_mib": rss}
