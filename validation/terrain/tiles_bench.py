@@ -1,6 +1,6 @@
 """Benchmark ``coverage_tiles``: ``csuas coverage --scheduler local --workers 2`` on a large synthetic DEM.
 
-The DEM is a seeded synthetic relief (:func:`synthetic_relief`: a sum of plane waves of 2-40 km wavelength,
+The DEM is a seeded synthetic relief (:func:`synthetic_relief`: a sum of 8 plane waves of 2-40 km wavelength,
 about 600 m of relief, 10 m cells) written block by block to a tiled, DEFLATE-compressed GeoTIFF in a temporary
 folder, so no process ever holds the whole DEM; the site places four sensors of the default scenario whose
 mapped reach is finite (EO, thermal, acoustic, radar: 0.2-6.8 km) at one flight level with 2-of-4 fusion. The
@@ -29,18 +29,23 @@ WEST, NORTH = 300_000.0, 5_500_000.0
 SENSORS = {"eo": (0.3, 0.3), "tir": (0.3, 0.7), "acoustic": (0.7, 0.3), "radar": (0.7, 0.7)}
 
 
-def synthetic_relief(rows: slice, cols: slice, seed: int = 11, waves: int = 16) -> np.ndarray:
+def synthetic_relief(rows: slice, cols: slice, seed: int = 11, waves: int = 8) -> np.ndarray:
     """Heights [m] of a seeded relief over the given rows and columns: ``waves`` plane waves of random direction,
-    2-40 km wavelength and 10-60 m amplitude on 10 m cells, plus 800 m; the same cells always get the same heights."""
+    2-40 km wavelength and 10-60 m amplitude on 10 m cells, plus 800 m; the same cells always get the same heights.
+
+    Each wave sin(u r + v c + phase) is summed as sin(u r + phase) cos(v c) + cos(u r + phase) sin(v c): two outer
+    products a wave instead of a sine a cell.
+    """
     rng = np.random.default_rng(seed)
     bearing = rng.uniform(0.0, np.pi, waves)
-    wavelength = rng.uniform(2_000.0, 40_000.0, waves) / CELL_M  # [cells]
+    wavenumber = 2 * np.pi / (rng.uniform(2_000.0, 40_000.0, waves) / CELL_M)  # [rad / cell]
     amplitude, phase = rng.uniform(10.0, 60.0, waves), rng.uniform(0.0, 2 * np.pi, waves)
-    r, c = np.meshgrid(np.arange(rows.start, rows.stop), np.arange(cols.start, cols.stop), indexing="ij")
-    heights = np.full(r.shape, 800.0)
+    r = np.arange(rows.start, rows.stop, dtype=float)[:, None]
+    c = np.arange(cols.start, cols.stop, dtype=float)[None, :]
+    heights = np.full((r.size, c.size), 800.0)
     for k in range(waves):
-        along = (r * np.cos(bearing[k]) + c * np.sin(bearing[k])) / wavelength[k]
-        heights += amplitude[k] * np.sin(2 * np.pi * along + phase[k])
+        down, across = r * wavenumber[k] * np.cos(bearing[k]) + phase[k], c * wavenumber[k] * np.sin(bearing[k])
+        heights += amplitude[k] * (np.sin(down) * np.cos(across) + np.cos(down) * np.sin(across))
     return heights
 
 
