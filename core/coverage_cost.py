@@ -108,6 +108,10 @@ def coverage_estimate(
 
 #: Bytes per cell of a tile a worker holds: its layers (float32) and each sensor's grids cut to it (float64, bool).
 TILE_LAYER_CELL_BYTES = 4.0
+#: Bytes per cell of the reach window a worker traces (the DEM's float64 heights, one viewshed's horizons,
+#: the sensor's grids over the window): 480 MiB peak per worker measured with a 1363^2 window and 500^2 tiles
+#: (csuas bench --only coverage_tiles --coverage-cells 2000), less the process and the tile: about 170 B.
+WINDOW_CELL_BYTES = 200.0
 #: Start of a Dask cluster of local workers, each importing csuas [s].
 CLUSTER_START_SECONDS = 5.0
 
@@ -140,7 +144,7 @@ def coverage_tiles_estimate(cells: tuple[int, int], windows: list, tiling: tuple
     seconds = START_SECONDS + (CLUSTER_START_SECONDS if workers > 1 else 0.0) + work / workers
     largest = max((float(w) for w, _, _ in windows), default=0.0)
     kept = layers * TILE_LAYER_CELL_BYTES + levels * len(windows) * (SENSOR_LEVEL_CELL_BYTES + FRESNEL_LEVEL_CELL_BYTES)
-    peak = PROCESS_BYTES + tile_cells * kept + largest * CELL_BYTES
+    peak = PROCESS_BYTES + tile_cells * kept + largest * WINDOW_CELL_BYTES
     what = (
         f"coverage by tiles of {cells[0]:,} x {cells[1]:,} cells, {len(windows)} sensor(s), {levels} flight "
         f"level(s) ({layers:,} layers), memory per worker"

@@ -323,6 +323,7 @@ COVERED_ELSEWHERE = {
     "terrain.gaussian_hills": "tests/test_terrain_gdal.py (the terrain of the GDAL and sight-line cross-checks)",
     "terrain.lowest_visible_height_m": "tests/test_terrain.py (a wall's sight line, the viewshed at 4 levels)",
     "coverage_cost.coverage_estimate": "tests/test_core_direct.py (the measured demo site)",
+    "coverage_cost.coverage_tiles_estimate": "tests/test_coverage_tiles.py (a measured worker, bounded in the DEM)",
     "birds.bird_rcs_m2": "tests/test_engagement_core.py (overlaps the drone's 24 GHz distribution)",
     "birds.normal_reflectivity": "tests/test_engagement_core.py (Fresnel at normal incidence)",
     "birds.random_aspects_rad": "tests/test_engagement_core.py (uniform on the sphere)",

@@ -183,3 +183,16 @@ def test_a_sensors_reach_window_holds_every_cell_within_its_reach_and_places_it_
     placed = in_window(sited, window)
     assert (placed.row, placed.col, placed.mast_m) == (20.5, 10.25, 1.0)
     assert reach_window((101, 81), sited, float("inf"), 10.0) == (slice(0, 101), slice(0, 81))
+
+
+def test_the_tiled_estimate_brackets_a_measured_worker_and_does_not_grow_with_the_dem():
+    """The 2000^2 coverage_tiles bench (4 sensors, the EO's 1363^2 window over 16 tiles of 500, 25 layers, one
+    level) peaked at 480 MiB a worker (the window's bytes a cell were calibrated on it: a factor 2 check only);
+    a DEM 100 times larger with the same windows and tiles needs the same memory a worker and more time."""
+    from csuas.core.coverage_cost import coverage_tiles_estimate
+
+    windows = [(1363**2, 16, False), (249**2, 1, False), (253**2, 1, False), (41**2, 1, True)]
+    small = coverage_tiles_estimate((2000, 2000), windows, (500**2, 2), 1, 25)
+    assert 0.5 < small.bytes / (480 * 2**20) < 2.0
+    large = coverage_tiles_estimate((20_000, 20_000), windows, (500**2, 2), 1, 25)
+    assert large.bytes == small.bytes and large.seconds > 10 * small.seconds
