@@ -23,7 +23,7 @@ x = 407975.0
 y = 5002025.0
 mast_m = 10.0
 elevation_max_deg = 60.0
-[sensors.rf]
+[sensors.tir]
 x = 401200.0
 y = 5006000.0
 mast_m = 10.0
@@ -66,7 +66,7 @@ def _layers(folder) -> dict:
 def _same(tiled, single) -> None:
     """The tiled run's layers, areas and Fresnel shares are the single-process run's, cell for cell."""
     a, b = _layers(tiled), _layers(single)
-    assert a.keys() == b.keys() and len(a) == 39
+    assert a.keys() == b.keys() and len(a) == 37
     different = [name for name in a if not np.array_equal(a[name], b[name], equal_nan=True)]
     assert different == []
     layers_a = json.loads((tiled / "coverage.json").read_text())["layers"]
@@ -91,14 +91,14 @@ def test_tiles_in_this_process_match_the_single_process_run_cell_for_cell(runs):
     summary = json.loads((runs / "serial" / "coverage.json").read_text())
     assert summary["tiles"]["tiles"] == 4 and summary["tiles"]["tiles_run"] == 4
     # the radar (on the corner of 4 tiles, cell 159, 159) is traced on a window of its reach across all
-    # four tiles; the EO camera's reach (137 cells) on a window narrower than the DEM; the RF sensor's Pd stays
-    # above 1e-3 over the whole DEM: traced on all of it
+    # four tiles; the EO camera's reach (137 cells) on a window narrower than the DEM across two tiles; the
+    # south-east tile's far corner lies beyond every sensor's reach (the cells no sensor reaches)
     radar = summary["sensors"]["radar"]
     assert (radar["row"], radar["col"]) == (159.0, 159.0) and CELL_M < radar["reach_m"] < 4 * CELL_M
-    assert (
-        summary["sensors"]["rf"]["reach_m"] is None
-        and 100 * CELL_M < summary["sensors"]["eo"]["reach_m"] < 150 * CELL_M
-    )
+    assert 100 * CELL_M < summary["sensors"]["eo"]["reach_m"] < 150 * CELL_M
+    assert 10 * CELL_M < summary["sensors"]["tir"]["reach_m"] < 50 * CELL_M
+    grids = _layers(runs / "serial")
+    assert all(np.isnan(grids[f"{name}_visible_30m.tif"][280, 310]) for name in ("radar", "eo", "tir"))
     _same(runs / "serial", runs / "single")
 
 
@@ -134,7 +134,7 @@ def test_tiled_layers_are_cloud_optimised_geotiffs_gdalinfo_reads_without_a_warn
     for name, description, unit in (
         ("fused_pd_30m.tif", "fused: pd at 30 m AGL", "Pd"),
         ("radar_visible_120m.tif", "radar: visible at 120 m AGL", "1 = in sight"),
-        ("rf_fresnel_clearance_30m.tif", "rf: fresnel_clearance at 30 m AGL", "clearance / r1"),
+        ("radar_fresnel_clearance_30m.tif", "radar: fresnel_clearance at 30 m AGL", "clearance / r1"),
     ):
         info = subprocess.run(["gdalinfo", out / name], capture_output=True, text=True, check=True)
         assert info.stderr == "", info.stderr
@@ -161,7 +161,7 @@ def test_bad_tile_options_are_named_all_at_once(runs, capsys):
     assert "--workers" in err and "only with --scheduler" in err
     radio = runs / "radio"
     radio.mkdir()
-    _site(radio, SITE + '[radio_map]\nsensors = ["rf"]\nstep = 8\n')
+    _site(radio, SITE + '[sensors.rf]\nx = 401200.0\ny = 5006000.0\n[radio_map]\nsensors = ["rf"]\nstep = 8\n')
     assert cli.main(["coverage", str(radio / "site.toml"), "--out", str(runs / "b"), "--scheduler", "serial"]) == 2
     assert "radio_map" in capsys.readouterr().err
     assert not (runs / "b").exists()

@@ -163,24 +163,37 @@ def read_window(site: TiledSite, window: tuple[slice, slice]) -> np.ndarray:
     return heights
 
 
-def _sensor_tile(site: TiledSite, name: str, bounds: tuple) -> dict:
-    """One sensor's grids over a tile: computed on its reach window, cropped to the tile; empty beyond it."""
-    r0, r1, c0, c1 = bounds
-    n_alt, shape = len(site.altitudes), (r1 - r0, c1 - c0)
-    grids = {
-        "visible": np.zeros((n_alt, *shape), bool),
-        "detected": np.zeros((n_alt, *shape), bool),
-        "pd": np.zeros((n_alt, *shape)),
+def _empty_grids(levels: int, shape: tuple[int, int]) -> dict:
+    """A sensor's grids over cells beyond its reach: nothing visible, traced or detected."""
+    return {
+        "visible": np.zeros((levels, *shape), bool),
+        "detected": np.zeros((levels, *shape), bool),
+        "pd": np.zeros((levels, *shape)),
         "traced": np.zeros(shape, bool),
         "min_altitude_m": np.full(shape, np.nan),
         "min_visible_height_m": np.full(shape, np.nan),
-        "clearance": np.full((n_alt, *shape), np.nan),
+        "clearance": np.full((levels, *shape), np.nan),
     }
+
+
+def _overlap(site: TiledSite, name: str, bounds: tuple) -> tuple | None:
+    """The cells ``(row0, row1, col0, col1)`` of ``bounds`` inside the sensor's reach window (None: none)."""
+    rows, cols = reach_window(site.shape, site.sited[name], site.reach_m[name], site.cell_m)
+    r0, r1, c0, c1 = bounds
+    top, bottom, left, right = max(r0, rows.start), min(r1, rows.stop), max(c0, cols.start), min(c1, cols.stop)
+    return (top, bottom, left, right) if top < bottom and left < right else None
+
+
+def _sensor_tile(site: TiledSite, name: str, bounds: tuple) -> dict:
+    """One sensor's grids over ``bounds``: computed on its reach window, cropped; empty beyond it."""
+    r0, r1, c0, c1 = bounds
+    grids = _empty_grids(len(site.altitudes), (r1 - r0, c1 - c0))
+    overlap = _overlap(site, name, bounds)
+    if overlap is None:
+        return grids
+    top, bottom, left, right = overlap
     placed, reach = site.sited[name], site.reach_m[name]
     rows, cols = reach_window(site.shape, placed, reach, site.cell_m)
-    top, bottom, left, right = max(r0, rows.start), min(r1, rows.stop), max(c0, cols.start), min(c1, cols.stop)
-    if top >= bottom or left >= right:
-        return grids
     dem = read_window(site, (rows, cols))
     local = in_window(placed, (rows, cols))
     layers = sensor_layers(dem, site.cell_m, site.scenario, local, site.altitudes, reach_m=reach)
@@ -199,8 +212,28 @@ def _sensor_tile(site: TiledSite, name: str, bounds: tuple) -> dict:
 
 def tile_layers(site: TiledSite, bounds: tuple) -> dict:
     """Every layer's float32 grid over one tile, by ``(sensor, altitude, kind)``, as the single-process run
-    writes it; and the Fresnel counts ``(sensor, altitude) -> (obstructed, judged)``."""
-    per_sensor = {name: _sensor_tile(site, name, bounds) for name in site.sited}
+    writes it; and the Fresnel counts ``(sensor, altitude) -> (obstructed, judged)``.
+
+    Only the box of the tile's cells within some sensor's reach is computed; the cells outside every reach
+    take the values the same functions give a cell that no sensor reaches (computed on one such cell).
+    """
+    r0, r1, c0, c1 = bounds
+    nowhere = _fused_grids(site, {name: _empty_grids(len(site.altitudes), (1, 1)) for name in site.sited})
+    grids = {key: np.full((r1 - r0, c1 - c0), grid[0, 0], np.float32) for key, grid in nowhere["grids"].items()}
+    boxes = [box for name in site.sited if (box := _overlap(site, name, bounds)) is not None]
+    if not boxes:
+        return {"grids": grids, "fresnel": nowhere["fresnel"]}
+    active = (min(b[0] for b in boxes), max(b[1] for b in boxes), min(b[2] for b in boxes), max(b[3] for b in boxes))
+    found = _fused_grids(site, {name: _sensor_tile(site, name, active) for name in site.sited})
+    inner = (slice(active[0] - r0, active[1] - r0), slice(active[2] - c0, active[3] - c0))
+    for key, grid in found["grids"].items():
+        grids[key][inner] = grid
+    return {"grids": grids, "fresnel": found["fresnel"]}
+
+
+def _fused_grids(site: TiledSite, per_sensor: dict) -> dict:
+    """The layers' float32 grids from each sensor's grids over the same cells (fused cell by cell); the Fresnel
+    counts ``(sensor, altitude) -> (obstructed, judged)``."""
     fused = fused_layers(per_sensor, site.fusion_k)
     fused["visible_count"] = np.sum([g["visible"] for g in per_sensor.values()], axis=0)
     fused["min_visible_height"] = np.fmin.reduce([g["min_visible_height_m"] for g in per_sensor.values()])
@@ -225,7 +258,7 @@ def tile_layers(site: TiledSite, bounds: tuple) -> dict:
         grids[(name, None, "min_altitude")] = g["min_altitude_m"].astype(np.float32)
     for quantity in ("min_visible_height", "min_detectable_height"):
         grids[("fused", None, quantity)] = fused[quantity].astype(np.float32)
-    return {"grids": grids, "fresnel": fresnel}
+    return {"grids": {key: grids[key] for key in site.layers}, "fresnel": fresnel}
 
 
 def window_tiles(shape: tuple[int, int], window: tuple[slice, slice], tile: int) -> tuple[int, int]:
