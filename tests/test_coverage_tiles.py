@@ -36,7 +36,7 @@ sector_deg = 120.0
 """
 
 
-def _site(folder, site_text=SITE):
+def _site(folder, site_text=SITE, crs="EPSG:32633"):
     """The site and its DEM: hills with a nodata hole (filled with the lowest valid height in both runs)."""
     import rasterio
     from rasterio.transform import from_origin
@@ -44,7 +44,7 @@ def _site(folder, site_text=SITE):
     dem = gaussian_hills(max(ROWS, COLS), CELL_M)[:ROWS, :COLS].astype(np.float32)
     dem[40:44, 90:95] = -9999.0
     profile = {"driver": "GTiff", "height": ROWS, "width": COLS, "count": 1, "dtype": "float32"}
-    profile.update(crs="EPSG:32633", transform=from_origin(WEST, NORTH, CELL_M, CELL_M), nodata=-9999.0)
+    profile.update(crs=crs, transform=from_origin(WEST, NORTH, CELL_M, CELL_M), nodata=-9999.0)
     with rasterio.open(folder / "dem.tif", "w", **profile) as dst:
         dst.write(dem, 1)
     (folder / "site.toml").write_text(site_text)
@@ -164,6 +164,12 @@ def test_bad_tile_options_are_named_all_at_once(runs, capsys):
     _site(radio, SITE + '[sensors.rf]\nx = 401200.0\ny = 5006000.0\n[radio_map]\nsensors = ["rf"]\nstep = 8\n')
     assert cli.main(["coverage", str(radio / "site.toml"), "--out", str(runs / "b"), "--scheduler", "serial"]) == 2
     assert "radio_map" in capsys.readouterr().err
+    geographic = runs / "lonlat"
+    geographic.mkdir()
+    _site(geographic, SITE, crs="EPSG:4326")
+    assert cli.main(["coverage", str(geographic / "site.toml"), "--out", str(runs / "b"), "--scheduler", "serial"]) == 2
+    err = capsys.readouterr().err
+    assert "dem" in err and "north-up GeoTIFF in a projected CRS" in err
     assert not (runs / "b").exists()
 
 

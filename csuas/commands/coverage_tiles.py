@@ -47,7 +47,7 @@ from csuas.core.coverage import (
     sensor_layers,
 )
 from csuas.core.fusion import fuse_or
-from csuas.render.site import load_dem
+from csuas.render.site import dem_path, load_dem
 from csuas.sweep.cluster import open_client, show_progress
 
 #: Cells a side of a tile by default (a tile's 40-odd float32 layers: about 170 MB).
@@ -101,8 +101,6 @@ def dem_header(dem: str | None, site_path):
         heights, transform, crs, cell = load_dem(None, None)
         return heights.shape, transform, crs, cell
     import rasterio
-
-    from csuas.render.site import dem_path
 
     path = dem_path(dem, site_path)
     with rasterio.open(path) as src:
