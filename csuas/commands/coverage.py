@@ -44,6 +44,7 @@ from csuas.commands.coverage_tiles import (
     dem_header,
     inputs_digest,
     nodata_fill_m,
+    peak_rss_mib,
     run_tiles,
     window_tiles,
 )
@@ -372,6 +373,7 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
                 "tiles_run": ran["run"],
                 "tiles_resumed": ran["tiles"] - ran["run"],
                 "peak_rss_mib": ran["peak_rss_mib"],
+                "client_peak_rss_mib": peak_rss_mib(),
                 "wall_time_s": time.perf_counter() - started,
             },
         }

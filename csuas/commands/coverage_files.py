@@ -27,6 +27,8 @@ from csuas.base.plots import _pyplot
 GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockxsize": 256, "blockysize": 256}
 #: Cloud Optimised GeoTIFF creation options (GDAL's COG driver) of the layers written by tiles.
 COG_OPTIONS = {"compress": "DEFLATE", "predictor": "YES", "blocksize": 256, "overview_resampling": "NEAREST"}
+#: GDAL's block cache while a COG is mosaicked [MB]: bounds the memory of the process that writes them.
+COG_CACHE_MB = 256
 #: GeoPackage version written: 1.2 opens without a warning in GDAL 3.6 and later, 1.4 warns before 3.12.
 GEOPACKAGE_VERSION = "1.2"
 #: Geographic CRS of GeoJSON (RFC 7946 Section 4) and KML.
@@ -230,5 +232,5 @@ def write_cog(path: Path, mosaic: Path, sources: list[tuple[Path, int, tuple]], 
     )
     write_text_atomic(mosaic, vrt)
     with atomic_path(path) as tmp:
-        with rasterio.Env(GDAL_NUM_THREADS="1"):
+        with rasterio.Env(GDAL_NUM_THREADS="1", GDAL_CACHEMAX=COG_CACHE_MB):  # GDAL's default: 5 % of the memory
             rasterio.shutil.copy(mosaic, tmp, driver="COG", **COG_OPTIONS)

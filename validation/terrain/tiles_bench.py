@@ -117,5 +117,6 @@ def bench_coverage_tiles(cells: int = CELLS, tile: int | None = None, workers: i
         "wall_s": wall_s,
         "peak_rss_per_worker_mib": peak,
         "bytes_per_cell": peak * 2**20 / (cells * cells),
+        "client_peak_rss_mib": tiles["client_peak_rss_mib"],
         "cog_mb": cog_mb,
     }
