@@ -27,7 +27,7 @@ so a bearing, clockwise from grid north, is atan2(east, north) = atan2(d_col, -d
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from csuas.core.scenario import Scenario
 from csuas.core.terrain import (
     RayLimits,
     bearing_deg,
+    cells_around,
     curvature_drop_m,
     fresnel_clearance,
     height_at,
@@ -164,8 +165,35 @@ def mapped_reach_m(scenario: Scenario, sensor_name: str, farthest_m: float) -> f
     return max(detection, float(grid[above[-1] + 1 if above.size else 0]))
 
 
-def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: SitedSensor, altitudes_m) -> dict:
+def farthest_ground_m(shape, sited: SitedSensor, cell_m: float) -> float:
+    """The farthest ground distance [m] from the sensor to a cell of a grid of ``shape``: to a corner cell."""
+    corners = [(r, c) for r in (0, shape[0] - 1) for c in (0, shape[1] - 1)]
+    return max(float(np.hypot(r - sited.row, c - sited.col) * cell_m) for r, c in corners)
+
+
+def reach_window(shape, sited: SitedSensor, reach_m: float, cell_m: float) -> tuple[slice, slice]:
+    """The rows and columns of a grid of ``shape`` within the sensor's mapped reach each way (inf: all).
+
+    Every cell a sensor's layers judge (within ``reach_m``), the terrain between it and the sensor and its
+    bilinear neighbours lie inside (:func:`csuas.core.terrain.cells_around`). Each sensor's line of sight is
+    computed on this window of the DEM, so a run by tiles (``csuas coverage --scheduler``), which reads the
+    same window, gives the same answers cell for cell whatever the viewshed's method.
+    """
+    return cells_around(shape, sited.row, sited.col, reach_m / cell_m)
+
+
+def in_window(sited: SitedSensor, window: tuple[slice, slice]) -> SitedSensor:
+    """The sensor placed in the window's own cell coordinates (exact: the window starts at or before it)."""
+    return replace(sited, row=sited.row - window[0].start, col=sited.col - window[1].start)
+
+
+def sensor_layers(
+    dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: SitedSensor, altitudes_m, reach_m=None
+) -> dict:
     """Visible, detected and Pd grids (altitude, rows, cols) of one sensor, and its minimum detectable altitude.
+
+    The line of sight is traced on the sensor's :func:`reach_window` of the DEM (cells beyond the reach are
+    not traced, as before); the other grids are cell by cell.
 
     Parameters
     ----------
@@ -179,6 +207,9 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         The sensor's place, mast, pointing and dead zones.
     altitudes_m : sequence of float
         Flight levels above the terrain of each cell [m].
+    reach_m : float, optional
+        The sensor's mapped reach [m] (:func:`mapped_reach_m`) when ``dem_m`` is a window of a larger DEM
+        (its value over the whole DEM); None: found on ``dem_m``'s own extent.
 
     Returns
     -------
@@ -192,31 +223,42 @@ def sensor_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: S
         ``regard`` (bool, (A, rows, cols): the cells in the sensor's sector, elevation limits and
         beyond its minimum range).
     """
+    if reach_m is None:
+        reach_m = mapped_reach_m(scenario, sited.name, farthest_ground_m(dem_m.shape, sited, cell_m))
+    window = reach_window(dem_m.shape, sited, reach_m, cell_m)
+    if (window[0].stop - window[0].start, window[1].stop - window[1].start) == dem_m.shape:
+        return _window_layers(dem_m, cell_m, scenario, sited, altitudes_m, reach_m)
+    inner = _window_layers(dem_m[window], cell_m, scenario, in_window(sited, window), altitudes_m, reach_m)
+    whole = _window_layers(dem_m, cell_m, scenario, sited, altitudes_m, reach_m, trace=False)
+    for key in ("visible", "detected", "pd"):
+        whole[key][(slice(None), *window)] = inner[key]
+    whole["min_altitude_m"][window] = inner["min_altitude_m"]
+    return whole
+
+
+def _window_layers(dem_m, cell_m, scenario: Scenario, sited: SitedSensor, altitudes_m, reach, trace=True) -> dict:
+    """:func:`sensor_layers` on a grid holding the sensor's whole reach; ``trace`` False: nothing visible
+    (the caller pastes the window's lines of sight), the geometry and field of regard alone."""
     spec = scenario.sensors[sited.name]
     k = K_FACTOR[spec.modality]
     detection = float(np.asarray(evaluate(scenario)[sited.name].range_m))
     rows, cols = np.indices(dem_m.shape)
     d_row, d_col = rows - sited.row, cols - sited.col
     ground = np.hypot(d_row, d_col) * cell_m
-    reach = mapped_reach_m(scenario, sited.name, float(ground.max()))
     eye = float(height_at(dem_m, np.array([sited.row]), np.array([sited.col]))[0]) + sited.mast_m  # as the viewshed
     # the sensor's own cell (the drone overhead) lies in every sector
     aimed = (np.abs(off_boresight_deg(bearing_deg(d_row, d_col), sited.azimuth_deg)) <= sited.sector_deg / 2) | (
         ground == 0.0
     )
     traced = (ground <= reach) & aimed
-    barrier = barrier_frequency_hz(scenario, sited.name) is not None
+    barrier = trace and barrier_frequency_hz(scenario, sited.name) is not None
     visible, detected, pd, regards = [], [], [], []
     for altitude in altitudes_m:
-        seen = viewshed(
-            dem_m,
-            cell_m,
-            sited.row,
-            sited.col,
-            sited.mast_m,
-            altitude,
-            k,
-            _sensor_limits(sited, reach),
+        limits = _sensor_limits(sited, reach)
+        seen = (
+            viewshed(dem_m, cell_m, sited.row, sited.col, sited.mast_m, altitude, k, limits)
+            if trace
+            else np.zeros(dem_m.shape, dtype=bool)
         )
         rise = dem_m + altitude - eye
         slant = np.hypot(ground, rise)
@@ -280,9 +322,14 @@ def fresnel_layers(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited: 
     wavelength = float(units.wavelength_m(link_frequency_ghz(scenario, sited.name)))
     k = K_FACTOR[scenario.sensors[sited.name].modality]
     limits = _sensor_limits(sited, layers["reach_m"])
+    window = reach_window(dem_m.shape, sited, layers["reach_m"], cell_m)
+    placed = in_window(sited, window)
     clearance, obstructed = [], []
     for visible, altitude in zip(layers["visible"], layers["altitudes_m"]):
-        ratio = fresnel_clearance(dem_m, cell_m, (sited.row, sited.col, sited.mast_m), altitude, wavelength, k, limits)
+        ratio = np.full(dem_m.shape, np.nan)
+        ratio[window] = fresnel_clearance(
+            dem_m[window], cell_m, (placed.row, placed.col, placed.mast_m), altitude, wavelength, k, limits
+        )
         ratio[np.isinf(ratio)] = np.nan
         judged = visible & np.isfinite(ratio)
         obstructed.append(float((ratio[judged] < FRESNEL_CLEAR).mean()) if judged.any() else float("nan"))
@@ -429,9 +476,13 @@ def fused_visibility(dem_m: np.ndarray, cell_m: float, scenario: Scenario, sited
     lowest = np.full(dem_m.shape, np.inf)
     for name, placed in sited.items():
         k = K_FACTOR[scenario.sensors[name].modality]
-        limits = _sensor_limits(placed, per_sensor[name]["reach_m"])
-        seen = lowest_visible_height_m(dem_m, cell_m, placed.row, placed.col, placed.mast_m, k, limits)
-        lowest = np.minimum(lowest, seen)
+        reach = per_sensor[name]["reach_m"]
+        window = reach_window(dem_m.shape, placed, reach, cell_m)
+        local = in_window(placed, window)
+        seen = lowest_visible_height_m(
+            dem_m[window], cell_m, local.row, local.col, local.mast_m, k, _sensor_limits(placed, reach)
+        )
+        lowest[window] = np.minimum(lowest[window], seen)
     layers = list(per_sensor.values())
     return {
         "visible_count": np.sum([layer["visible"] for layer in layers], axis=0),

@@ -124,3 +124,49 @@ def coverage_estimate(
         + f" ({layers:,} layers)"
     )
     return Estimate(what, seconds, peak)
+
+
+#: Bytes per cell of a tile a worker holds: its layers (float32) and each sensor's grids cut to it (float64, bool).
+TILE_LAYER_CELL_BYTES = 4.0
+#: Bytes per cell of the reach window a worker traces (the DEM's float64 heights, one viewshed's horizons,
+#: the sensor's grids over the window): 480 MiB peak per worker measured with a 1363^2 window and 500^2 tiles
+#: (csuas bench --only coverage_tiles --coverage-cells 2000), less the process and the tile: about 170 B.
+WINDOW_CELL_BYTES = 200.0
+#: Start of a Dask cluster of local workers, each importing csuas [s].
+CLUSTER_START_SECONDS = 5.0
+
+
+def coverage_tiles_estimate(cells: tuple[int, int], windows: list, tiling: tuple, levels: int, layers: int) -> Estimate:
+    """Time and peak memory per worker of a coverage run by tiles (``csuas coverage --scheduler``).
+
+    Each tile traces, for every sensor whose reach window touches it, that whole window
+    (:func:`csuas.core.coverage.reach_window`), so a window is traced once per tile it touches; every layer is
+    written once by tiles and once as a COG (the per-cell part of :data:`LAYER_CELL_SECONDS`). The tiles share the
+    workers; a worker holds one tile's layers and one sensor's window at its peak.
+
+    Parameters
+    ----------
+    cells : (int, int)
+        The DEM's rows and columns.
+    windows : list of (int, int, bool)
+        Per sensor: the cells of its reach window, the tiles it touches, and whether it has a Fresnel layer.
+    tiling : (int, int)
+        Cells of a tile, and the workers (1 for ``serial``).
+    levels, layers : int
+        Flight levels, and layers written.
+    """
+    n = float(cells[0]) * float(cells[1])
+    tile_cells, workers = tiling
+    traced = sum(float(w) * touched for w, touched, _ in windows)
+    fresnel = sum(float(w) ** 1.5 * touched for w, touched, has in windows if has)
+    work = levels * (TRACE_CELL_SECONDS * traced + FRESNEL_CELL_SAMPLE_SECONDS * fresnel)
+    work += 2.0 * layers * LAYER_CELL_SECONDS * n
+    seconds = START_SECONDS + (CLUSTER_START_SECONDS if workers > 1 else 0.0) + work / workers
+    largest = max((float(w) for w, _, _ in windows), default=0.0)
+    kept = layers * TILE_LAYER_CELL_BYTES + levels * len(windows) * (SENSOR_LEVEL_CELL_BYTES + FRESNEL_LEVEL_CELL_BYTES)
+    peak = PROCESS_BYTES + tile_cells * kept + largest * WINDOW_CELL_BYTES
+    what = (
+        f"coverage by tiles of {cells[0]:,} x {cells[1]:,} cells, {len(windows)} sensor(s), {levels} flight "
+        f"level(s) ({layers:,} layers), memory per worker"
+    )
+    return Estimate(what, seconds, peak)

@@ -30,10 +30,10 @@ from csuas.base.errors import CsuasError, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 
+from .cluster import check_scheduler, show_progress
+from .cluster import open_client as _client
 from .spec import SweepSpec
 
-#: Seconds to wait for a ``tcp://`` scheduler before giving up.
-CONNECT_TIMEOUT_S = 10.0
 #: Seconds a cluster may have no worker at all before the sweep stops (``--no-worker-timeout-s``).
 NO_WORKER_TIMEOUT_S = 60.0
 
@@ -143,36 +143,6 @@ def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
     return True
 
 
-def _client(scheduler: str, workers: int | None):
-    from distributed import Client, LocalCluster
-
-    if scheduler == "local":
-        cluster = LocalCluster(
-            n_workers=workers or max(1, (os.cpu_count() or 1)),
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=40,
-        )
-        return Client(cluster), cluster
-    security = None
-    if scheduler.startswith("tls://"):
-        from distributed.security import Security
-
-        security = Security()  # Dask's own settings: distributed.comm.tls.* (docs/sweeps.md)
-        if not (security.tls_ca_file and security.tls_client_cert):
-            raise ParameterError(
-                "scheduler",
-                scheduler,
-                "a tls:// scheduler with Dask's TLS settings in place (distributed.comm.tls.ca-file and "
-                "distributed.comm.tls.client.cert/key, e.g. DASK_DISTRIBUTED__COMM__TLS__CA_FILE; docs/sweeps.md)",
-            )
-    try:
-        return Client(scheduler, timeout=CONNECT_TIMEOUT_S, security=security), None
-    except (OSError, TimeoutError) as exc:
-        raise ParameterError("scheduler", scheduler, f"a reachable Dask scheduler ({type(exc).__name__})") from None
-
-
 def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_timeout_s: float, progress) -> tuple:
     """Run the chunks ``todo`` on ``client``'s cluster; the number of workers at the start and the pids that ran them.
 
@@ -216,7 +186,7 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
             following = next(queue, None)
             if following is not None:
                 pending.add(submit(following))
-            _progress(done, len(todo), started, progress)
+            show_progress("sweep: chunks", done, len(todo), started, progress)
     return n_workers, pids
 
 
@@ -269,17 +239,6 @@ class _Watchdog:
         )
 
 
-def _progress(done: int, total: int, started: float, stream) -> None:
-    if stream is None:
-        return
-    elapsed = time.perf_counter() - started
-    eta = elapsed / done * (total - done) if done else float("nan")
-    stream.write(f"\rsweep: {done}/{total} chunks, {elapsed:.0f} s, ETA {eta:.0f} s   ")
-    stream.flush()
-    if done == total:
-        stream.write("\n")
-
-
 def run_sweep(
     spec: SweepSpec,
     out,
@@ -301,8 +260,7 @@ def run_sweep(
         workers, the worker processes that ran this run's chunks (recycled workers count anew),
         points, chunks (run now and resumed), wall time, and the results' path.
     """
-    if scheduler not in ("serial", "local") and not scheduler.startswith(("tcp://", "tls://")):
-        raise ParameterError("scheduler", scheduler, "serial, local, tcp://HOST:PORT or tls://HOST:PORT")
+    check_scheduler(scheduler)
     if not (0.0 < no_worker_timeout_s < float("inf")):
         raise ParameterError("no_worker_timeout_s", no_worker_timeout_s, "> 0 [s], finite")
     out = Path(out)
@@ -329,7 +287,7 @@ def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None,
     if scheduler == "serial" or not todo:
         for done, i in enumerate(todo, 1):
             pids.add(_task(spec, i, *bounds[i], str(out))[0])
-            _progress(done, len(todo), started, progress)
+            show_progress("sweep: chunks", done, len(todo), started, progress)
     else:
         client, cluster = _client(scheduler, workers)
         try:

@@ -30,6 +30,7 @@ SUITES = {
     "engage_runs": "csuas.commands.engage:bench_runs",
     "sweep_engage": "csuas.validation.sweep.bench:bench_engage_sweep",
     "detector_loop": "csuas.validation.detector.detector_loop:bench_detector_loop",
+    "coverage_tiles": "csuas.validation.terrain.tiles_bench:bench_coverage_tiles",
 }
 
 
@@ -42,6 +43,13 @@ def add_arguments(parser):
         default=None,
         metavar="N",
         help="runs of the sweep_engage suite (default 16, minutes on 2 cores; issue 24's figure is 10000, hours)",
+    )
+    parser.add_argument(
+        "--coverage-cells",
+        type=int,
+        default=None,
+        metavar="N",
+        help="cells a side of the coverage_tiles DEM (default 20000, issue 25's figure: tens of minutes on 2 cores)",
     )
     parser.add_argument(
         "--out",
@@ -58,7 +66,13 @@ def run(args) -> dict:
 
     if args.engage_runs is not None and args.engage_runs < 1:
         raise ParameterError("--engage-runs", args.engage_runs, "a whole number >= 1")
-    sizes = {"sweep_engage": {"runs": args.engage_runs} if args.engage_runs else {}}
+    cells = getattr(args, "coverage_cells", None)
+    if cells is not None and cells < 64:
+        raise ParameterError("--coverage-cells", cells, "a whole number >= 64")
+    sizes = {
+        "sweep_engage": {"runs": args.engage_runs} if args.engage_runs else {},
+        "coverage_tiles": {"cells": cells} if cells else {},
+    }
     out = {}
     for name in args.only or SUITES:
         print(f"bench: {name} ...", file=sys.stderr, flush=True)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -22,29 +23,48 @@ import numpy as np
 from csuas.base.cost import add_limit_arguments, check_limits
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import exclusive_lock, prepare_output_dir, read_spec, write_text_atomic
-from csuas.base.paths import checked_path, inside
+from csuas.base.paths import checked_path, inside, sub_folder
 from csuas.commands.coverage_files import (
     MapWriter,
     covered_polygons,
     to_wgs84,
+    write_cog,
     write_geojson,
     write_geopackage,
     write_geotiff,
     write_kml,
 )
 from csuas.commands.coverage_radio import radio_map_errors, radio_map_layers, radio_map_settings
+from csuas.commands.coverage_tiles import (
+    MIN_TILE_CELLS,
+    STATE_NAME,
+    TILE_CELLS,
+    TILES_DIR,
+    TiledSite,
+    dem_header,
+    inputs_digest,
+    nodata_fill_m,
+    peak_rss_mib,
+    run_tiles,
+    window_tiles,
+)
 from csuas.core.coverage import (
     POINTING,
     SitedSensor,
+    farthest_ground_m,
     fresnel_layers,
     fused_layers,
     fused_visibility,
+    mapped_reach_m,
+    reach_window,
     sensor_layers,
 )
-from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.coverage_cost import coverage_estimate, coverage_tiles_estimate
+from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario
 from csuas.defaults import site_path
 from csuas.render.site import DEMO, dem_path, load_dem, sensor_xy, validated_site
+from csuas.sweep.cluster import DEFAULT_WORKERS, check_scheduler, show_progress
 
 #: Lock file inside the output folder: one coverage run writes into a folder at a time.
 LOCK_NAME = ".csuas-coverage.lock"
@@ -104,6 +124,17 @@ def add_arguments(parser):
     """Declare the options of ``csuas coverage``."""
     parser.add_argument("site", help="site TOML file, or an embedded site (demo)")
     parser.add_argument("--out", required=True, help="output folder (coverage.json, GeoTIFF and PNG layers)")
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        help="run by tiles on Dask, one Cloud Optimised GeoTIFF a layer (no PNG, GeoJSON or radio map): serial "
+        "(this process), local (a LocalCluster), tcp://HOST:PORT or tls://HOST:PORT (docs/coverage.md); "
+        "default: the whole DEM in this process",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="workers of --scheduler local (default: CPU count)")
+    parser.add_argument(
+        "--tile", type=int, default=None, help=f"tile size with --scheduler [cells a side] (default {TILE_CELLS})"
+    )
     add_limit_arguments(parser)
 
 
@@ -143,27 +174,60 @@ def _checked_site(site: dict):
     return validated_site(site, scenario, extra), scenario
 
 
-def run(args) -> dict:
-    """Compute and write every layer of the site."""
+def _tile_options(args, radio) -> None:
+    """``--scheduler``, ``--workers`` and ``--tile`` in their domains, together (all mistakes at once)."""
+    errors = []
+    scheduler = getattr(args, "scheduler", None)
+    workers, tile = getattr(args, "workers", None), getattr(args, "tile", None)
+    if scheduler is None:
+        given = (("--workers", workers), ("--tile", tile))
+        errors += [ParameterError(o, v, "only with --scheduler") for o, v in given if v is not None]
+    else:
+        try:
+            check_scheduler(scheduler, "--scheduler")
+        except ParameterError as exc:
+            errors.append(exc)
+        if radio is not None:
+            why = "no radio map with --scheduler (Sionna traces the whole scene): run without it"
+            errors.append(ParameterError("radio_map", radio["sensors"], why))
+    if workers is not None and workers < 1:
+        errors.append(ParameterError("--workers", workers, "a whole number >= 1"))
+    if tile is not None and tile < MIN_TILE_CELLS:
+        errors.append(ParameterError("--tile", tile, f"a whole number of cells >= {MIN_TILE_CELLS}"))
+    raise_all(errors)
 
-    source = Path(args.site)
-    site, scenario = _checked_site(read_spec(args.site, site_path, "site"))
-    radio = radio_map_settings(site, scenario)
-    checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
-    links = len(_fresnel_sensors(site.sensors, scenario))
-    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
-    dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
+
+def _site_sensors(site, transform, crs, shape) -> dict:
+    """Each sensor of the site placed on the DEM's grid (:class:`SitedSensor`); every one outside it refused."""
     inverse = ~transform
     sited, outside = {}, []
     for name, table in site.sensors.items():
         col, row = inverse @ sensor_xy(table, crs)
         col, row = col - 0.5, row - 0.5  # cell centres at half-integers of the transform
-        if not (0.0 <= row <= dem.shape[0] - 1 and 0.0 <= col <= dem.shape[1] - 1):
+        if not (0.0 <= row <= shape[0] - 1 and 0.0 <= col <= shape[1] - 1):
             given = (table.x, table.y) if table.x is not None else (table.lat, table.lon)
             outside.append(ParameterError(f"sensors.{name}", given, "a position inside the DEM"))
         pointing = {key: float(getattr(table, key)) for key in POINTING}
         sited[name] = SitedSensor(name, row, col, float(table.mast_m), **pointing)
     raise_all(outside)
+    return sited
+
+
+def run(args) -> dict:
+    """Compute and write every layer of the site."""
+
+    source = Path(args.site)
+    table = read_spec(args.site, site_path, "site")
+    site, scenario = _checked_site(table)
+    radio = radio_map_settings(site, scenario)
+    checked_path(args.out, "--out")  # the folder's name is refused before the estimate is announced
+    _tile_options(args, radio)
+    if getattr(args, "scheduler", None) is not None:
+        return _run_tiled(args, (table, site, scenario), source if source.is_file() else None)
+    links = len(_fresnel_sensors(site.sensors, scenario))
+    _check_cost(site, source if source.is_file() else None, radio, args, links)  # before the DEM is read
+    dem, transform, crs, cell = load_dem(site.dem, source if source.is_file() else None)
+    sited = _site_sensors(site, transform, crs, dem.shape)
     altitudes = [float(a) for a in site.altitudes_agl_m]
     k = site.fusion_k
     out = prepare_output_dir(args.out)
@@ -230,6 +294,113 @@ def run(args) -> dict:
         write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
         summary["out"] = str(out)
         return summary
+
+
+def _tiled_layers(sensors, altitudes: list, k, fresnel_sensors) -> list[tuple]:
+    """``(sensor, altitude or None, kind)`` of every layer a tiled run writes, in the single-process run's order."""
+    layers = []
+    for name in sensors:
+        layers += [(name, a, kind) for a in altitudes for kind in SENSOR_KINDS] + [(name, None, "min_altitude")]
+    layers += [(name, a, "fresnel_clearance") for name in fresnel_sensors for a in altitudes]
+    fused = FUSED_QUANTITIES + (() if k is None else FUSED_K_QUANTITIES)
+    layers += [("fused", a, quantity) for a in altitudes for quantity in fused]
+    return layers + [("fused", None, quantity) for quantity in FUSED_HEIGHTS]
+
+
+def _run_tiled(args, inputs: tuple, source) -> dict:
+    """The coverage by tiles on Dask (:mod:`csuas.commands.coverage_tiles`): one COG a layer, and coverage.json."""
+    table, site, scenario = inputs
+    shape, transform, crs, cell = dem_header(site.dem, source)
+    sited = _site_sensors(site, transform, crs, shape)
+    altitudes, k = [float(a) for a in site.altitudes_agl_m], site.fusion_k
+    fresnel = tuple(_fresnel_sensors(sited, scenario))
+    specs = _tiled_layers(sited, altitudes, k, fresnel)
+    reach = {n: mapped_reach_m(scenario, n, farthest_ground_m(shape, p, cell)) for n, p in sited.items()}
+    tile = args.tile or TILE_CELLS
+    windows = [
+        (*window_tiles(shape, reach_window(shape, p, reach[n], cell), tile), n in fresnel) for n, p in sited.items()
+    ]
+    workers = 1 if args.scheduler == "serial" else args.workers or DEFAULT_WORKERS
+    estimate = coverage_tiles_estimate(
+        shape, windows, (min(tile, shape[0]) * min(tile, shape[1]), workers), len(altitudes), len(specs)
+    )
+    check_limits(estimate, args, "coverage")  # before the DEM is read
+    out = prepare_output_dir(args.out)
+    sub_folder(out, TILES_DIR)
+    for name in ["coverage.json", STATE_NAME] + [_stem(*spec) + ".tif" for spec in specs]:
+        inside(out, name)  # outside --out, or a special file there: refused now, not after the work
+    dem = None if site.dem is None else str(dem_path(site.dem, source))
+    tiled = TiledSite(
+        dem, shape, cell, nodata_fill_m(dem), scenario, sited, reach, tuple(altitudes), k, fresnel, tuple(specs),
+        VALUE_KINDS, tile,
+    )  # fmt: skip
+    where = {"transform": transform, "crs": crs}
+    run = {"scheduler": args.scheduler, "workers": args.workers}
+    with exclusive_lock(out / LOCK_NAME, "--out"):
+        started = time.perf_counter()
+        run["digest"] = inputs_digest(table, scenario, dem, tiled.tile)
+        ran = run_tiles(tiled, out, run, where)
+        layers = _tiled_files(out, tiled, ran["counts"], {**where, "shape": shape, "cell_km2": cell * cell / 1e6})
+        summary = {
+            "site": str(args.site),
+            "crs": crs,
+            "cell_m": cell,
+            "altitudes_agl_m": altitudes,
+            "fusion_k": k,
+            "sensors": {
+                n: {
+                    "range_m": float(np.asarray(evaluate(scenario)[n].range_m)),
+                    "reach_m": None if math.isinf(reach[n]) else reach[n],
+                    "row": p.row,
+                    "col": p.col,
+                    **{key: getattr(p, key) for key in POINTING},
+                }
+                for n, p in sited.items()
+            },
+            "layers": layers,
+            "vectors": {},
+            "tiles": {
+                "scheduler": args.scheduler,
+                "workers": ran["workers"],
+                "tile_cells": tiled.tile,
+                "tiles": ran["tiles"],
+                "tiles_run": ran["run"],
+                "tiles_resumed": ran["tiles"] - ran["run"],
+                "peak_rss_mib": ran["peak_rss_mib"],
+                "client_peak_rss_mib": peak_rss_mib(),
+                "wall_time_s": time.perf_counter() - started,
+            },
+        }
+        write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
+        summary["out"] = str(out)
+        return summary
+
+
+def _tiled_files(out: Path, tiled, counts: dict, where: dict) -> list[dict]:
+    """Mosaic each layer's tiles into its COG; describe the layers for coverage.json (areas from the tiles' counts)."""
+    folder = out / TILES_DIR
+    order = sorted(counts)
+    n_alt = len(tiled.altitudes)
+    started = time.perf_counter()
+    layers = []
+    for band, (sensor, altitude, kind) in enumerate(tiled.layers):
+        stem = _stem(sensor, altitude, kind)
+        title = f"{sensor}: {kind}" + ("" if altitude is None else f" at {altitude:g} m AGL")
+        sources = [(folder / f"tile-{b[0]:06d}-{b[2]:06d}.tif", band + 1, b) for b in order]
+        unit = UNITS.get(kind, "") or BAND_UNITS.get(kind, "")
+        write_cog(inside(out, f"{stem}.tif"), folder / f"{stem}.vrt", sources, where, (title, unit))
+        area = sum(counts[b]["covered"][band] for b in order) * where["cell_km2"]
+        layer = {"sensor": sensor, "altitude_m": altitude, "kind": kind, "path": f"{stem}.tif", "area_km2": float(area)}
+        if kind == "fresnel_clearance":
+            i = tiled.fresnel.index(sensor) * n_alt + tiled.altitudes.index(altitude)
+            obstructed, judged = (sum(counts[b]["fresnel"][i][j] for b in order) for j in (0, 1))
+            layer["obstructed_fraction"] = obstructed / judged if judged else None
+        if sensor == "fused":
+            extra = {"k": tiled.fusion_k, "n": len(tiled.sited)} if kind.endswith("k_of_n") else {}
+            layer = {**layer, "kind": "fused", "quantity": kind, **extra}
+        layers.append(layer)
+        show_progress("coverage: layers", band + 1, len(tiled.layers), started, sys.stderr)
+    return layers
 
 
 def _fused_files(out: Path, fused: dict, altitudes: list, k_of_n: tuple, where: dict) -> list[dict]:

@@ -31,6 +31,10 @@ from csuas.base.plots import _pyplot
 
 #: GeoTIFF creation options (GDAL's GTiff driver).
 GEOTIFF_OPTIONS = {"compress": "deflate", "predictor": 3, "tiled": True, "blockxsize": 256, "blockysize": 256}
+#: Cloud Optimised GeoTIFF creation options (GDAL's COG driver) of the layers written by tiles.
+COG_OPTIONS = {"compress": "DEFLATE", "predictor": "YES", "blocksize": 256, "overview_resampling": "NEAREST"}
+#: GDAL's block cache while a COG is mosaicked [MB]: bounds the memory of the process that writes them.
+COG_CACHE_MB = 256
 #: GeoPackage version written: 1.2 opens without a warning in GDAL 3.6 and later, 1.4 warns before 3.12.
 GEOPACKAGE_VERSION = "1.2"
 #: Geographic CRS of GeoJSON (RFC 7946 Section 4) and KML.
@@ -282,3 +286,46 @@ def _set_map_frame(where: dict) -> None:
 
 def _write_queued_map(path: Path, grid: np.ndarray, title: str, legend: dict) -> None:
     write_map_png(path, grid, _map_frame, title, legend)
+
+
+def write_cog(path: Path, mosaic: Path, sources: list[tuple[Path, int, tuple]], grid: dict, text: tuple) -> None:
+    """One float32 layer mosaicked from tiles' bands into a Cloud Optimised GeoTIFF (GDAL's COG driver).
+
+    Parameters
+    ----------
+    path : Path
+        The COG, written atomically.
+    mosaic : Path
+        The GDAL VRT mosaic of the tiles written on the way (kept), in the tiles' folder.
+    sources : list of (Path, int, (row0, row1, col0, col1))
+        Each tile's GeoTIFF (in ``mosaic``'s folder), the layer's band in it, and the tile's cells.
+    grid : dict
+        ``shape`` (rows, cols), ``transform`` and ``crs`` of the whole layer.
+    text : (str, str)
+        The band's description and unit.
+    """
+    import rasterio
+    import rasterio.shutil
+    from rasterio.crs import CRS
+
+    rows, cols = grid["shape"]
+    description, unit = text
+    band = [
+        f'<SimpleSource><SourceFilename relativeToVRT="1">{escape(tile.name)}'
+        f'</SourceFilename><SourceBand>{index}</SourceBand><SrcRect xOff="0" yOff="0" xSize="{c1 - c0}" '
+        f'ySize="{r1 - r0}"/><DstRect xOff="{c0}" yOff="{r0}" xSize="{c1 - c0}" ySize="{r1 - r0}"/></SimpleSource>'
+        for tile, index, (r0, r1, c0, c1) in sources
+    ]
+    wkt = escape(CRS.from_user_input(grid["crs"]).to_wkt())
+    vrt = (
+        f'<VRTDataset rasterXSize="{cols}" rasterYSize="{rows}"><SRS>{wkt}</SRS>'
+        f"<GeoTransform>{', '.join(repr(v) for v in grid['transform'].to_gdal())}</GeoTransform>"
+        f'<VRTRasterBand dataType="Float32" band="1"><NoDataValue>nan</NoDataValue>'
+        f"<Description>{escape(description)}</Description><UnitType>{escape(unit)}</UnitType>"
+        + "".join(band)
+        + "</VRTRasterBand></VRTDataset>"
+    )
+    write_text_atomic(mosaic, vrt)
+    with atomic_path(path) as tmp:
+        with rasterio.Env(GDAL_NUM_THREADS="1", GDAL_CACHEMAX=COG_CACHE_MB):  # GDAL's default: 5 % of the memory
+            rasterio.shutil.copy(mosaic, tmp, driver="COG", **COG_OPTIONS)
