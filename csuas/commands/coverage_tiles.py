@@ -347,9 +347,11 @@ def _done(folder: Path, bounds: tuple, bands: int) -> dict | None:
     return counts
 
 
-def run_tiles(site: TiledSite, out: Path, run: dict, where: dict, progress=sys.stderr) -> dict:
+def run_tiles(site: TiledSite, out: Path, run: dict, where: dict, progress=None) -> dict:
     """Run every tile not yet done in ``out`` (``run``: ``scheduler``, ``workers``, ``digest``); the counts of each
-    tile, by its bounds, what ran, and the peak resident memory of each process that ran tiles [MiB]."""
+    tile, by its bounds, what ran, and the peak resident memory of each process that ran tiles [MiB].
+    ``progress``: the stream of the progress line (default: ``sys.stderr`` as it is at the call)."""
+    progress = sys.stderr if progress is None else progress
     _check_state(out, run["digest"])
     folder = sub_folder(out, TILES_DIR)
     bounds = tile_bounds(site.shape, site.tile)
