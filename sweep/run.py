@@ -104,19 +104,15 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple
     Returns the process id and the Dask worker address that ran it (None in this process), for
     the provenance and for recycling.
     """
+    if spec.kind.simulator:
+        _one_thread_per_worker()
+    _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
     try:
         from distributed import get_worker
 
         address = get_worker().address
     except (ImportError, ValueError):
-        address = None  # in this process
-    else:
-        from .warm import wait_warm
-
-        wait_warm(spec.job)
-    if spec.kind.simulator:
-        _one_thread_per_worker()
-    _write_table(run_chunk(spec, start, stop), _chunk_path(Path(out), index))
+        address = None
     return os.getpid(), address
 
 
@@ -208,9 +204,11 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
     """
     from distributed import wait
 
-    from .warm import WarmUp
+    from .warm import WarmUp, plugin_name, wait_warm
 
-    client.register_plugin(WarmUp(spec))  # once per worker and job; each chunk waits for its worker's
+    client.register_plugin(WarmUp(spec))  # every worker warms once a job (csuas.sweep.warm)
+    client.run(wait_warm, spec.job)
+    client.unregister_worker_plugin(plugin_name(spec.job))  # a recycled worker warms in its first chunk
     bounds, started = chunk_bounds(spec), time.perf_counter()
     info = client.scheduler_info()
     n_workers = len(info.get("workers", {}))

@@ -4,19 +4,25 @@ Without it, each worker's first task pays the job's imports (Mitsuba and Dr.Jit:
 kernel compilation while its clock runs, and a sweep of a minute loses a large share of it to
 start-up. The plugin runs the job's ``warm_up`` (:class:`csuas.sweep.kinds.JobKind`) in the worker's
 ``setup`` (Dask's ``WorkerPlugin``, docs: https://distributed.dask.org/en/stable/plugins.html), which
-Dask calls on every worker when the plugin is registered and on every worker that joins later (a
-recycled or replaced one). The warm-up runs in a thread of its own, so the worker registers and its
-nanny sees it started at once (a warm-up inside ``setup`` delays both, and a worker recycled before
-its nanny saw it start is not restarted); each chunk waits for it first (:func:`wait_warm`). The plugin
-is registered under one name a job (:func:`plugin_name`) and idempotently, so a cluster kept across
-sweeps (``--scheduler tcp://...``) warms each worker once a job, not once a sweep.
+Dask calls on every worker when the plugin is registered. The warm-up runs in the worker's own task
+thread (its ``default`` executor, the thread that then runs its chunks: Dr.Jit's state stays in the
+thread that uses it), so the worker keeps answering its scheduler and nanny meanwhile. The sweep waits
+until every worker is warm, then unregisters the plugin (:func:`csuas.sweep.run.run_sweep`): a worker that joins later
+(recycled after ``recycle_after`` tasks, or replaced) warms in its first chunk, as without the
+plugin, so a recycle costs no more than it did. A process warms once a job (:data:`WARMED`), so a
+cluster kept across sweeps (``--scheduler tcp://...``) warms each worker once a job, not once a sweep.
 """
 
 from __future__ import annotations
 
 import threading
+from concurrent.futures import Future
 
 from distributed import WorkerPlugin
+
+#: Warm-ups this process has run, per job: at most one (a second registration finds the job warm).
+WARMED: dict[str, int] = {}
+_WARMING = threading.Lock()
 
 
 def plugin_name(job: str) -> str:
@@ -25,65 +31,59 @@ def plugin_name(job: str) -> str:
 
 
 class WarmUp(WorkerPlugin):
-    """Runs ``spec``'s job ``warm_up`` once in each worker (after setting Dr.Jit to one thread for simulators).
+    """Runs ``spec``'s job ``warm_up`` once in each worker process (Dr.Jit set to one thread first for simulators).
 
     Attributes
     ----------
     spec : SweepSpec
         The sweep whose first warm-up this is (its job's ``warm_up`` reads it: the first point).
-    warm_ups : int
-        Warm-ups this worker's copy ran (1 once done; read by the tests through ``Worker.plugins``).
     """
-
-    idempotent = True  # registered again by a later sweep of the same job: left as it is
 
     def __init__(self, spec):
         self.spec = spec
         self.name = plugin_name(spec.job)
-        self.warm_ups = 0
-        self._thread: threading.Thread | None = None
+        self._done: Future | None = None
         self._error: BaseException | None = None
 
     def setup(self, worker) -> None:
-        """Start this worker's warm-up in a thread of its own."""
-        self._thread = threading.Thread(target=self._warm, name=self.name, daemon=True)
-        self._thread.start()
+        """Start this worker's warm-up in the thread that runs its tasks."""
+        self._done = worker.executors["default"].submit(self._warm)
 
-    def wait(self) -> int:
-        """Wait until this worker is warm; its warm-ups (1).
+    def wait(self) -> None:
+        """Wait until this worker is warm.
 
         Raises
         ------
         BaseException
-            What the job's warm-up raised (the chunk that waits fails with it, as it would have itself).
+            What the job's warm-up raised (the sweep stops with it, as its first chunk would have).
         """
-        if self._thread is not None:
-            self._thread.join()
+        if self._done is not None:
+            self._done.result()
         if self._error is not None:
             raise self._error
-        return self.warm_ups
 
     def _warm(self) -> None:
         from .run import single_drjit_thread
 
         kind = self.spec.kind
-        try:
-            if kind.simulator:
-                single_drjit_thread()
-            if kind.warm_up is not None:
-                kind.warm_up(self.spec)
-        except Exception as exc:  # raised again in every chunk that waits for it
-            self._error = exc
-        else:
-            self.warm_ups += 1
+        with _WARMING:
+            if self.spec.job in WARMED:
+                return
+            try:
+                if kind.simulator:
+                    single_drjit_thread()
+                if kind.warm_up is not None:
+                    kind.warm_up(self.spec)
+            except Exception as exc:  # raised again where the sweep waits for it
+                self._error = exc
+            else:
+                WARMED[self.spec.job] = WARMED.get(self.spec.job, 0) + 1
 
 
 def wait_warm(job: str, dask_worker=None) -> int:
-    """On a Dask worker, wait for its warm-up of ``job`` (none registered: 0 at once); ``client.run`` passes
-    ``dask_worker``, a task finds its worker itself."""
-    if dask_worker is None:
-        from distributed import get_worker
-
-        dask_worker = get_worker()
-    plugin = dask_worker.plugins.get(plugin_name(job))
-    return 0 if plugin is None else plugin.wait()
+    """On a Dask worker (``client.run`` passes ``dask_worker``), wait for its warm-up of ``job`` if one is under
+    way; the warm-ups of ``job`` this process has run (0 or 1)."""
+    plugin = None if dask_worker is None else dask_worker.plugins.get(plugin_name(job))
+    if plugin is not None:
+        plugin.wait()
+    return WARMED.get(job, 0)

@@ -75,18 +75,18 @@ def test_the_warm_up_plugin_runs_once_per_worker_across_sweeps(tmp_path):
 
     data = {"job": "range", "chunk_points": 1, "axes": {"target.d_crit_m": [0.05, 0.1, 0.15, 0.2]}}
     with (
-        LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp://", host="127.0.0.1",
-                     dashboard_address=None) as cluster,
+        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                     silence_logs=40) as cluster,
         Client(cluster.scheduler_address) as client,
     ):  # fmt: skip
         wait_until(lambda: len(client.scheduler_info()["workers"]) == 2, "two workers")
+        assert sorted(client.run(wait_warm, "range").values()) == [0, 0]
         for name in ("one", "two"):
             out = run_sweep(parse_spec(data), tmp_path / name, cluster.scheduler_address, progress=None)
             assert out["workers"] == 2
-        warm_ups = client.run(wait_warm, "range")
+            assert sorted(client.run(wait_warm, "range").values()) == [1, 1]  # each worker once, not once a sweep
         plugins = client.run(lambda dask_worker: sorted(dask_worker.plugins))
-    assert sorted(warm_ups.values()) == [1, 1]  # each worker once, not once a sweep
-    assert all(plugin_name("range") in names for names in plugins.values())
+    assert not any(plugin_name("range") in names for names in plugins.values())  # unregistered once all are warm
 
 
 def _scenario_file(folder: Path, values: dict) -> Path:

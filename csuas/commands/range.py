@@ -31,7 +31,6 @@ IGNORED_EFFECTS = {
 NEVER_WITHIN_RANGE = "null: the target's altitude exceeds the slant range, it is never within range at that altitude"
 
 
-
 def add_arguments(parser):
     """Declare the options of ``csuas range``."""
     parser.add_argument(

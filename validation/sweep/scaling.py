@@ -25,7 +25,7 @@ from pathlib import Path
 
 from csuas.sweep import parse_spec, run_sweep
 from csuas.sweep.run import chunk_bounds, run_chunk
-from csuas.sweep.warm import WarmUp, wait_warm
+from csuas.sweep.warm import WarmUp, plugin_name, wait_warm
 
 from .bench import _worker_cpu_s
 
@@ -64,6 +64,7 @@ def _timed(spec, n_workers: int, folder: Path) -> dict:
                       silence_logs=40) as cluster, Client(cluster.scheduler_address) as client:  # fmt: skip
         client.register_plugin(WarmUp(spec))
         client.run(wait_warm, spec.job)  # every worker warm before the clock starts
+        client.unregister_worker_plugin(plugin_name(spec.job))
         cpu_before = client.run(_worker_cpu_s)
         load_before = os.getloadavg()[0]
         start = time.perf_counter()
