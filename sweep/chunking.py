@@ -15,8 +15,8 @@ recorded in the output folder's ``sweep-state.json``, so a resumed sweep keeps i
 its workers then (:func:`csuas.sweep.run.run_sweep`).
 
 The overhead was measured by ``csuas bench --only sweep_scaling`` (200 one-point range chunks on one
-warm worker against the same chunks in this process, docs/sweeps.md): 37 ms a task at a load average
-of about 8 on 2 cores, 8-25 ms in earlier runs (``sweep_dask``).
+warm worker against the same chunks in this process, docs/sweeps.md): 14 ms a task at a load average
+of about 3 on 2 cores, 37 ms at about 8, 8-25 ms in earlier runs (``sweep_dask``).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .spec import SweepSpec
 
-#: Wall time a task costs beyond its points' work on a warm local cluster [s] (measured 8-37 ms, module docstring).
+#: Wall time a task costs beyond its points' work on a warm local cluster [s] (measured 8-37 ms: module docstring).
 TASK_OVERHEAD_S = 0.02
 #: Largest share of a task's time the overhead may take when points are plenty.
 OVERHEAD_SHARE = 0.05
