@@ -515,15 +515,30 @@ def _explain_short_range(scenario: Scenario, sensor: SensorSpec, result: RangeRe
             f"{sensor.params['tl_path_km']:g} km path, whatever the range (docs/conventions.md point 8)"
         )
     else:
-        causes = [
-            f"{t.name} = {float(np.max(t.value)):.3g}" + ("" if t.unit == "-" else f" {t.unit}")
-            for t in result.terms
-            if (t.unit == "dB" and ("loss" in t.name or "budget" in t.name or t.name.startswith("l_")))
-            or t.name.startswith("eta_")
-            or t.name.endswith("_no_loss_m")
-        ]
-        text = "the budget is spent before 1 m" + (f" ({', '.join(causes)})" if causes else "")
+        _explain_spent_budget(result, unexplained)
+        return
     _add_reason(result, unexplained, f"range below {SHORT_RANGE_M:g} m: {text}")
+
+
+def _explain_spent_budget(result: RangeResult, unexplained) -> None:
+    """Name, per element, the losses that spend the budget before 1 m (each element's own values)."""
+    terms = [
+        t
+        for t in result.terms
+        if (t.unit == "dB" and ("loss" in t.name or "budget" in t.name or t.name.startswith("l_")))
+        or t.name.startswith("eta_")
+        or t.name.endswith("_no_loss_m")
+    ]
+    shape = np.shape(unexplained)
+    values = np.array([np.broadcast_to(np.asarray(t.value, float), shape)[unexplained] for t in terms])
+    values = values.reshape(len(terms), int(np.count_nonzero(unexplained)))
+    combos, which = np.unique(values, axis=1, return_inverse=True)
+    where = np.zeros(shape, dtype=np.int64)
+    where[unexplained] = which.reshape(-1)
+    for j in range(combos.shape[1]):
+        causes = [f"{t.name} = {v:.3g}" + ("" if t.unit == "-" else f" {t.unit}") for t, v in zip(terms, combos[:, j])]
+        text = "the budget is spent before 1 m" + (f" ({', '.join(causes)})" if causes else "")
+        _add_reason(result, unexplained & (where == j), f"range below {SHORT_RANGE_M:g} m: {text}")
 
 
 def horizontal_range_m(slant_range_m, altitude_m):

@@ -33,7 +33,14 @@ def _sweep_tables() -> dict:
     common = key_rows(SweepCommon)
     per_job = [("job", "required", ", ".join(JOB_KINDS), "what each point computes")]
     chunks = ", ".join(f"{job} {kind.chunk_points}" for job, kind in JOB_KINDS.items())
-    per_job.append(("chunk_points", chunks, "a whole number >= 1", "points per task"))
+    per_job.append(
+        (
+            "chunk_points",
+            chunks,
+            "a whole number >= 1",
+            "points per task; absent: sized from the points and workers, at most the default (sweep/chunking.py)",
+        )
+    )
     tables = {"sweep": key_table(per_job + common)}
     for job, kind in JOB_KINDS.items():
         options = [row for row in key_rows(kind.schema) if row[0].startswith("options.")]

@@ -112,7 +112,7 @@ def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, wo
     chunk = chunk if isinstance(chunk, int) and not isinstance(chunk, bool) and chunk >= 1 else kind.chunk_points
     n_workers = workers_of(scheduler, workers)
     parallel = min(n_workers, os.cpu_count() or 1) if scheduler == "local" else 1
-    per_point = cost.seconds_per_point_sensor * max(n_sensors, 1) + cost.seconds_per_point
+    per_point = cost.point_seconds(n_sensors)
     seconds = START_SECONDS.get(scheduler, START_SECONDS["local"]) + samples * AXIS_SAMPLE_SECONDS + cost.start_s
     seconds += points * per_point / parallel
     chunk_bytes = cost.chunk_bytes_per_point_sensor * max(n_sensors, 1) * min(chunk, points)

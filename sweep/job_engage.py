@@ -64,6 +64,11 @@ def runs_estimate(spec: SweepSpec, base, n_workers: int):
     return Estimate(f"an engage sweep of {spec.n_points:,} runs on {n_workers} worker(s)", seconds, base.bytes)
 
 
+def warm_up(spec: SweepSpec) -> None:
+    """Import the engagement's modules (Stone Soup among them, seconds) once per worker, not a run (3.5 s)."""
+    from csuas.render.engagement import simulate  # noqa: F401
+
+
 def engage_columns(spec: SweepSpec) -> list[str]:
     """Columns of the ``engage`` job (module docstring), the sensors' in the engagement's order."""
     from csuas.render.engagement.simulate import CAUSES

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fused_pd_of_range, range_at_pd, sensor_pd
+from csuas.core.range_notes import sensor_notes
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import Scenario, johnson_derived
 from csuas.defaults import load_parameters
@@ -95,9 +96,38 @@ def _is_scalar(scenario: Scenario, key: str) -> bool:
     return "choices" in spec or parts[-1] in SCALAR_NAMES or isinstance(spec.get("value"), int)
 
 
+def warm_first_point(spec: SweepSpec) -> None:
+    """Compute the sweep's first point and drop it: a worker imports the job's modules and compiles its
+    kernels (Dr.Jit's, the SBR engine of the target) before its first chunk (:class:`csuas.sweep.warm.WarmUp`)."""
+    spec.kind.chunk(spec, spec.points(0, 1), 0, 1)
+
+
 def range_columns(spec: SweepSpec) -> list[str]:
-    """Columns of the ``range`` job: ``range_m.SENSOR`` [m] of every sensor of the scenario."""
-    return [f"range_m.{name}" for name in spec.scenario.sensors]
+    """Columns of the ``range`` job: ``range_m.SENSOR`` [m] of every sensor of the scenario, then its
+    :func:`explanation_columns`."""
+    return [f"range_m.{name}" for name in spec.scenario.sensors] + explanation_columns(spec)
+
+
+def explanation_columns(spec: SweepSpec) -> list[str]:
+    """``reason.SENSOR`` (why a range is zero, short, unbounded or capped; empty when none) and ``notes.SENSOR``
+    (the sensor's notes, one a line; empty when none) of every sensor, as ``csuas range`` reports them."""
+    names = list(spec.scenario.sensors)
+    return [f"reason.{name}" for name in names] + [f"notes.{name}" for name in names]
+
+
+def _explain(out: dict, idx, scenario: Scenario, results: dict) -> None:
+    """Write the ``reason.SENSOR`` and ``notes.SENSOR`` of points ``idx`` from their range results."""
+    for name, result in results.items():
+        reason = "" if result.reason is None else result.reason
+        out[f"reason.{name}"][idx] = np.broadcast_to(np.asarray(reason, dtype=object), np.shape(idx))
+        sensor = scenario.sensors[name]
+        out[f"notes.{name}"][idx] = "\n".join(sensor_notes(sensor.modality, sensor.preset, sensor.explicit))
+
+
+def _empty_columns(names: list[str], n: int) -> dict:
+    """NaN columns of ``n`` points, text (empty) for the reason and notes columns."""
+    text = ("reason.", "notes.")
+    return {c: np.full(n, "", dtype=object) if c.startswith(text) else np.full(n, np.nan) for c in names}
 
 
 def range_chunk(spec: SweepSpec, columns: dict) -> dict:
@@ -114,7 +144,7 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
         group = np.unique(np.stack(codes), axis=1, return_inverse=True)[1].reshape(-1)
     else:
         group = np.zeros(n, dtype=np.int64)
-    out = {column: np.full(n, np.nan) for column in range_columns(spec)}
+    out = _empty_columns(range_columns(spec), n)
     for g in np.unique(group):
         idx = np.nonzero(group == g)[0]
         first = with_values(scenario, {k: v[idx[0]] for k, v in columns.items()})
@@ -124,6 +154,7 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
         results = evaluate(batch, spec.options.get("convention"))
         for name, result in results.items():
             out[f"range_m.{name}"][idx] = np.broadcast_to(np.asarray(result.range_m, float), idx.shape)
+        _explain(out, idx, batch, results)
     return out
 
 
@@ -136,17 +167,19 @@ def pd_columns(spec: SweepSpec) -> list[str]:
     at its deterministic range."""
     names = list(spec.scenario.sensors)
     ranges = [f"range_at_pd_{p:g}.{name}" for name in [*names, "fused"] for p in REPORTED_PD]
-    return ranges + [f"pd_at_deterministic_range.{name}" for name in names]
+    return ranges + [f"pd_at_deterministic_range.{name}" for name in names] + explanation_columns(spec)
 
 
 def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
-    """Per point: each sensor's Pd at its deterministic range and its ranges at Pd 0.5 and 0.9, and fused."""
+    """Per point: each sensor's Pd at its deterministic range and its ranges at Pd 0.5 and 0.9, and fused; the
+    reason and notes of each sensor's deterministic range (:func:`explanation_columns`)."""
     n = len(next(iter(columns.values()))) if columns else 1
     names = list(spec.scenario.sensors)
-    out = {column: np.full(n, np.nan) for column in pd_columns(spec)}
+    out = _empty_columns(pd_columns(spec), n)
     convention = spec.options.get("convention")
     for i in range(n):
         scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items()})
+        _explain(out, np.array([i]), scenario, evaluate(scenario, convention))
         grid = default_range_grid(scenario, convention)
         curves = [sensor_pd(scenario, name, grid, convention) for name in names]
         for c in curves:

@@ -63,6 +63,10 @@ class JobCost:
     start_s: float = 0.0
     refine: Callable[[Any, Any, int], Any] | None = None
 
+    def point_seconds(self, n_sensors: int) -> float:
+        """Wall time of one point [s] on a scenario of ``n_sensors`` sensors (at least one counted)."""
+        return self.seconds_per_point_sensor * max(n_sensors, 1) + self.seconds_per_point
+
 
 def no_needs(axes: dict, options: dict, n_sensors: int) -> list:
     """A job that needs nothing beside its schema."""
@@ -96,6 +100,9 @@ class JobKind:
         ``needs(axes, options, n_sensors) -> [ParameterError, ...]``: what the job needs beside its schema.
     prepare : callable or None
         ``prepare(spec) -> spec``: what the job adds to a validated spec (engage: its runs as the points).
+    warm_up : callable or None
+        ``warm_up(spec)``: what a Dask worker does once, before its first chunk of this job (imports the
+        job's modules, compiles its kernels; :class:`csuas.sweep.warm.WarmUp`).
     schema : type
         The job's whole spec schema (:func:`csuas.sweep.schema.sweep_schema`), made from the fields above.
     """
@@ -111,6 +118,7 @@ class JobKind:
     simulator: bool = False
     needs: Callable[[dict, dict, int], list] = no_needs
     prepare: Callable[[Any], Any] | None = None
+    warm_up: Callable[[Any], None] | None = jobs.warm_first_point
     schema: type[SweepCommon] = field(init=False)
 
     def __post_init__(self):
@@ -199,6 +207,7 @@ JOB_KINDS: dict[str, JobKind] = {
             ),
             takes_scenario=False,
             prepare=job_engage.prepare,
+            warm_up=job_engage.warm_up,
         ),
     )
 }

@@ -22,6 +22,7 @@ import json
 import os
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +33,7 @@ from csuas.base.paths import inside, sub_folder
 
 from .cluster import check_scheduler, show_progress
 from .cluster import open_client as _client
+from .chunking import auto_chunk_points
 from .spec import SweepSpec
 
 #: Seconds a cluster may have no worker at all before the sweep stops (``--no-worker-timeout-s``).
@@ -85,6 +87,11 @@ def _one_thread_per_worker() -> None:
         get_worker()
     except (ImportError, ValueError):
         return  # in this process (serial): Dr.Jit keeps its threads
+    single_drjit_thread()
+
+
+def single_drjit_thread() -> None:
+    """Dr.Jit's thread pool set to one thread (a worker process's, whose cluster is the parallelism)."""
     import drjit
 
     if drjit.thread_count() != 1:
@@ -109,17 +116,27 @@ def _task(spec: SweepSpec, index: int, start: int, stop: int, out: str) -> tuple
     return os.getpid(), address
 
 
-def _check_state(spec: SweepSpec, out: Path) -> None:
-    """Refuse a folder holding another sweep; record this sweep's digest."""
+def _check_state(spec: SweepSpec, out: Path) -> int | None:
+    """Refuse a folder holding another sweep; the points per task of this sweep's earlier run, None in a new folder.
+
+    A state written before chunks were sized (no ``chunk_points``) had the spec's own.
+    """
     state = inside(out, "sweep-state.json")
-    if state.exists():
-        old = json.loads(state.read_text()).get("digest")
-        if old != spec.digest:
-            raise ParameterError(
-                "out", str(out), "a new folder, or the folder of this same sweep (it holds another sweep's chunks)"
-            )
-    else:
-        write_text_atomic(state, json.dumps({"digest": spec.digest}))
+    if not state.exists():
+        return None
+    recorded = json.loads(state.read_text())
+    if recorded.get("digest") != spec.digest:
+        raise ParameterError(
+            "out", str(out), "a new folder, or the folder of this same sweep (it holds another sweep's chunks)"
+        )
+    return int(recorded.get("chunk_points", spec.chunk_points))
+
+
+def _record_state(spec: SweepSpec, out: Path) -> None:
+    """Record the sweep's digest and points per task, before its first chunk."""
+    write_text_atomic(
+        inside(out, "sweep-state.json"), json.dumps({"digest": spec.digest, "chunk_points": spec.chunk_points})
+    )
 
 
 def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
@@ -143,6 +160,11 @@ def _unreadable_chunk(out: Path, index: int, rows: int, progress) -> bool:
     return True
 
 
+def _worker_count(client) -> int:
+    """Workers of ``client``'s cluster now (at least one); one in this process (``client`` None)."""
+    return 1 if client is None else max(1, len(client.scheduler_info().get("workers", {})))
+
+
 def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_timeout_s: float, progress) -> tuple:
     """Run the chunks ``todo`` on ``client``'s cluster; the number of workers at the start and the pids that ran them.
 
@@ -152,6 +174,11 @@ def _run_on_cluster(client, spec: SweepSpec, todo: list, out: Path, no_worker_ti
     """
     from distributed import wait
 
+    from .warm import WarmUp, plugin_name, wait_warm
+
+    client.register_plugin(WarmUp(spec))  # every worker warms once a job (csuas.sweep.warm)
+    client.run(wait_warm, spec.job)
+    client.unregister_worker_plugin(plugin_name(spec.job))  # a recycled worker warms in its first chunk
     bounds, started = chunk_bounds(spec), time.perf_counter()
     info = client.scheduler_info()
     n_workers = len(info.get("workers", {}))
@@ -278,24 +305,34 @@ LOCK_NAME = ".csuas-sweep.lock"
 
 def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None, no_worker_timeout_s, progress) -> dict:
     """The body of :func:`run_sweep`, holding the folder's lock."""
-    _check_state(spec, out)
-    bounds = chunk_bounds(spec)
-    redone = [i for i, (start, stop) in enumerate(bounds) if _unreadable_chunk(out, i, stop - start, progress)]
-    todo = [i for i in range(len(bounds)) if i in redone or not _chunk_path(out, i).exists()]
+    recorded = _check_state(spec, out)
     started = time.perf_counter()
-    n_workers, pids = 1, set()
-    if scheduler == "serial" or not todo:
-        for done, i in enumerate(todo, 1):
-            pids.add(_task(spec, i, *bounds[i], str(out))[0])
-            show_progress("sweep: chunks", done, len(todo), started, progress)
-    else:
-        client, cluster = _client(scheduler, workers)
-        try:
+    client = cluster = None
+    try:
+        if recorded is None:  # a new sweep: its chunks sized for the workers there are
+            if scheduler != "serial":
+                client, cluster = _client(scheduler, workers)
+            spec = replace(spec, chunk_points=auto_chunk_points(spec, _worker_count(client)))
+            _record_state(spec, out)
+        else:  # resumed: the chunks of its first run, whatever the workers now
+            spec = replace(spec, chunk_points=recorded)
+        bounds = chunk_bounds(spec)
+        redone = [i for i, (start, stop) in enumerate(bounds) if _unreadable_chunk(out, i, stop - start, progress)]
+        todo = [i for i in range(len(bounds)) if i in redone or not _chunk_path(out, i).exists()]
+        n_workers, pids = 1, set()
+        if scheduler == "serial" or not todo:
+            for done, i in enumerate(todo, 1):
+                pids.add(_task(spec, i, *bounds[i], str(out))[0])
+                show_progress("sweep: chunks", done, len(todo), started, progress)
+        else:
+            if client is None:
+                client, cluster = _client(scheduler, workers)
             n_workers, pids = _run_on_cluster(client, spec, todo, out, no_worker_timeout_s, progress)
-        finally:
+    finally:
+        if client is not None:
             client.close()
-            if cluster is not None:
-                cluster.close()
+        if cluster is not None:
+            cluster.close()
     results = gather(out, len(bounds))
     provenance = {
         "csuas_version": _version(),
@@ -308,6 +345,7 @@ def _run_locked(spec: SweepSpec, out: Path, scheduler: str, workers: int | None,
         "worker_processes": len(pids),
         "points": spec.n_points,
         "chunks": len(bounds),
+        "chunk_points": spec.chunk_points,
         "chunks_run": len(todo),
         "chunks_resumed": len(bounds) - len(todo),
         "chunks_redone": redone,

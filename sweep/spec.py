@@ -74,6 +74,9 @@ class SweepSpec:
         The points of a job whose points are not a grid of axes (engage: its runs); None: the axes'.
     context : object
         What the job built from its options before the chunks (engage: the engagement), sent with each task.
+    chunk_auto : bool
+        The spec gave no ``chunk_points``: the run sizes its chunks from the points and workers, at most
+        ``chunk_points`` (:mod:`csuas.sweep.chunking`).
     """
 
     job: str
@@ -88,6 +91,7 @@ class SweepSpec:
     digest: str = ""
     count: int | None = None
     context: Any = None
+    chunk_auto: bool = False
 
     @property
     def kind(self) -> JobKind:
@@ -190,6 +194,7 @@ def parse_spec(data: dict) -> SweepSpec:
         options,
         model.chunk_points,
         model.recycle_after,
+        chunk_auto="chunk_points" not in data,
     )
     if spec.n_points > MAX_POINTS:
         raise ParameterError("axes", f"{spec.n_points:,} points", f"at most {MAX_POINTS:,} points in one sweep")

@@ -442,6 +442,7 @@ COVERED_ELSEWHERE = {
     "radiometry.radiance_temperature": "tests/test_core_thermal.py",
     "radiometry.spectral_radiance": "tests/test_core_direct.py; tests/test_core_thermal.py",
     "result.check_convention": "tests/test_core_direct.py; tests/test_core_hostile.py",
+    "range_notes.sensor_notes": "tests/test_sweep_scaling.py (Table 39's default radar; none once its budget is set)",
     "result.unbounded_reason": "tests/test_core_direct.py; tests/test_core_hostile.py",
     "sensitivity.acoustic_model": "tests/test_core_direct.py; tests/test_sensitivity.py (Section 4.9.2)",
     "sensitivity.eo_johnson_model": "tests/test_core_direct.py; tests/test_sensitivity.py (Section 4.9.1)",

@@ -29,6 +29,7 @@ SUITES = {
     "cost_models": "csuas.validation.cost.bench:bench_cost_models",
     "engage_runs": "csuas.commands.engage:bench_runs",
     "sweep_engage": "csuas.validation.sweep.bench:bench_engage_sweep",
+    "sweep_scaling": "csuas.validation.sweep.scaling:bench_sweep_scaling",
     "detector_loop": "csuas.validation.detector.detector_loop:bench_detector_loop",
     "coverage_tiles": "csuas.validation.terrain.tiles_bench:bench_coverage_tiles",
 }

@@ -18,6 +18,7 @@ import sys
 import numpy as np
 
 from csuas.core.radar import radar_wavelength_m
+from csuas.core.range_notes import sensor_notes
 from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario, provenance
 from csuas.core.swarm_detection import formation_json, swarm_range
@@ -30,35 +31,8 @@ IGNORED_EFFECTS = {
     "fog_layer": "the paper's fog fills the whole path (Eqs. 19-21): fog_top_m changes no range (the physical "
     "convention's EO path crosses fog only below it)",
 }
-#: Why Table 39's default radar reaches only tens of metres (shown for radars at the default preset).
-DEFAULT_RADAR_NOTE = (
-    "Table 39's default radar (10 W, 25 dB, 200 MHz, 10 pulses integrated coherently) loses Table 44's "
-    "13 dB (10 dB hardware + 3 dB processing, a factor 10^(-13/40) = 0.47 on the range): 47 m on the "
-    "default 0.01 m^2 target (100 m without the losses, 56 m with neither losses nor integration). The "
-    "paper's Section 4.9.3 radar, preset paper_section_4_9 (100 W, 35 dB, 50 MHz, no losses, no "
-    "integration), gives 445.3 m."
-)
-
-
 #: Meaning of a null horizontal range (the target higher above the sensor than the slant range).
 NEVER_WITHIN_RANGE = "null: the target's altitude exceeds the slant range, it is never within range at that altitude"
-
-#: Radar parameters whose change makes DEFAULT_RADAR_NOTE's figures wrong.
-RADAR_BUDGET_KEYS = {
-    "p_tx_w",
-    "g_tx_db",
-    "g_rx_db",
-    "wavelength_m",
-    "frequency_ghz",
-    "snr_min_db",
-    "noise_figure_db",
-    "bandwidth_mhz",
-    "n_pulses",
-    "integration",
-    "l_hardware_db",
-    "l_processing_db",
-    "model",
-}
 
 
 def add_arguments(parser):
@@ -108,8 +82,7 @@ def run(args) -> dict:
                 "unit": "m",
                 "source": "derived from frequency_ghz (c = 3e8 m/s in the paper convention, Section 4.9.3)",
             }
-        at_table_39 = spec.preset == "default" and not spec.explicit & RADAR_BUDGET_KEYS
-        entry["notes"] = [DEFAULT_RADAR_NOTE] if spec.modality == "radar" and at_table_39 else []
+        entry["notes"] = sensor_notes(spec.modality, spec.preset, spec.explicit)
         if scenario.swarm is not None:
             entry["swarm"] = swarm_range(scenario, name, convention)
         sensors[name] = entry
