@@ -31,9 +31,9 @@ from csuas.base.errors import CsuasError, ParameterError
 from csuas.base.fileio import atomic_path, exclusive_lock, prepare_output_dir, write_text_atomic
 from csuas.base.paths import inside, sub_folder
 
+from .chunking import auto_chunk_points
 from .cluster import check_scheduler, show_progress
 from .cluster import open_client as _client
-from .chunking import auto_chunk_points
 from .spec import SweepSpec
 
 #: Seconds a cluster may have no worker at all before the sweep stops (``--no-worker-timeout-s``).
