@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from affine import Affine
 from PIL import Image
+from rasterio.transform import Affine
 
 from csuas.commands import coverage_files as files
 from csuas.core.coverage import SitedSensor

@@ -14,7 +14,7 @@ from csuas.core.swarm import array_factor, line_of_sight_axes, target_frame_offs
 from csuas.render.rcs import canonical
 from csuas.render.rcs.geometry import formation_target, load_target
 from csuas.render.rcs.solver import compute_rcs
-from validation.rcs.model_error import po_sphere_over_pia2
+from csuas.validation.rcs.model_error import po_sphere_over_pia2
 
 C = 299_792_458.0
 A_M, KA = 0.05, 10.0
