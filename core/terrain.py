@@ -280,6 +280,7 @@ def _fresnel_ratios(dem, sensor, height, wavelength, judged, clearance):
 _JUDGED, _VISIBLE, _LOWEST = 0, 1, 2
 #: Columns copied at once into a strip for the east and west wedges (:func:`_sweep_wedge`).
 _STRIP_LINES = 8
+_FAST_MATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
 
 @dataclass(frozen=True)
@@ -395,7 +396,7 @@ def _fill_strip(view, strip, first, step):
     return count
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath=_FAST_MATH)
 def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
     """One wedge of the sweep: its lines from the sensor outward, each judging its cells on the rays' horizons
     so far, then adding its own samples to them.
@@ -412,7 +413,9 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
     n_lines, n_cross = (view.shape[1], view.shape[0]) if transposed else (view.shape[0], view.shape[1])
     if slopes.size == 0:
         return
-    rays = (slopes, np.sqrt(1.0 + slopes * slopes), np.full(slopes.size, -np.inf))  # slope, secant, horizon
+    secants = np.sqrt(1.0 + slopes * slopes)
+    horizon, scratch = np.full(slopes.size, -np.inf), np.empty((2, slopes.size))
+    rays = (slopes, secants, 1.0 / secants, horizon, scratch)  # slope, secant, cosine, horizon, scratch
     strip = np.empty((_STRIP_LINES if transposed else 0, n_cross))
     lo, hi, used, filled = 0, slopes.size - 1, 0, 0  # the active rays; the strip's lines swept and copied
     a = int(np.floor(a0)) + 1 if step > 0 else int(np.ceil(a0)) - 1
@@ -428,10 +431,10 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
                 used, filled = 0, _fill_strip(view, strip, a - a_off, step)
             heights = strip[used]
             used += 1
-            _judge_line(heights, line, sensor, (slopes, rays[2], lo, hi), bounds, mode, target, out)
+            _judge_line(heights, line, sensor, (slopes, rays[3], lo, hi), bounds, mode, target, out)
             _sample_line(heights, (da, b0, b_off), sensor, rays, (lo, hi))
         else:
-            _judge_line(view[a - a_off], line, sensor, (slopes, rays[2], lo, hi), bounds, mode, target, out)
+            _judge_line(view[a - a_off], line, sensor, (slopes, rays[3], lo, hi), bounds, mode, target, out)
             _sample_line(view[a - a_off], (da, b0, b_off), sensor, rays, (lo, hi))
         a += step
 
@@ -439,20 +442,30 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
 @numba.njit(cache=True, nogil=True, inline="always")
 def _sample_line(heights, line, sensor, rays, active):
     """Each active ray's terrain where it crosses the line (linear between the two cells beside it, curvature
-    dropped) raises its horizon (tangent of the elevation angle from the eye)."""
+    dropped) raises its horizon (tangent of the elevation angle from the eye).
+
+    In three passes over the active rays (where they cross, the terrain there, the tangents) through
+    ``rays``' two scratch rows, so that the first and the last vectorise (the middle one gathers)."""
     da, b0, b_off = line
     eye, cell, drop_1m = sensor[2], sensor[3], sensor[4]
-    slopes, secants, horizon = rays
-    top = b_off + heights.size - 1
+    slopes, secants, cosines, horizon, scratch = rays
+    lo, count = active[0], active[1] + 1 - active[0]
+    slope, secant, cosine, highest = slopes[lo:], secants[lo:], cosines[lo:], horizon[lo:]
+    cells, fractions = scratch[0], scratch[1]
+    last = float(heights.size - 1)
+    for k in range(count):
+        # the crossing in the line's own indices (exact: b_off is a whole number below it)
+        y = min(max(b0 + slope[k] * da, b_off), b_off + last) - b_off
+        cells[k] = np.floor(min(y, last - 1.0))
+        fractions[k] = y - cells[k]
+    for k in range(count):
+        i = np.uint64(cells[k])  # never negative: indexes without wrap-around
+        cells[k] = heights[i] + fractions[k] * (heights[i + np.uint64(1)] - heights[i])
     along = da * cell  # [m]
-    for k in range(active[0], active[1] + 1):
-        y = min(max(b0 + slopes[k] * da, b_off), top)
-        i = min(int(y), top - 1)
-        terrain = heights[i - b_off] + (y - i) * (heights[i - b_off + 1] - heights[i - b_off])
-        distance = along * secants[k]
-        tangent = (terrain - eye) / distance - drop_1m * distance
-        if tangent > horizon[k]:
-            horizon[k] = tangent
+    per_along = 1.0 / along
+    for k in range(count):
+        tangent = (cells[k] - eye) * (per_along * cosine[k]) - drop_1m * along * secant[k]
+        highest[k] = max(highest[k], tangent)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
