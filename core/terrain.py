@@ -385,12 +385,13 @@ def _wedge_slopes(shape, origin, step: int, bounds, transposed: bool) -> np.ndar
 
 
 @numba.njit(cache=True, nogil=True)
-def _fill_strip(view, strip, first, step):
+def _fill_strip(view, strip, first, step, reach):
     """The next columns ``first``, ``first + step``, ... of ``view`` (as many as ``strip`` holds and the window
     has) as rows of ``strip``: a column swept is then contiguous, and ``view`` is read a few cache lines
-    per row at a time. Returns how many were copied."""
+    per row at a time. Only the rows ``reach`` (first, last) are copied: those the wedge reads on these
+    lines. Returns how many columns were copied."""
     count = min(strip.shape[0], view.shape[1] - first if step > 0 else first + 1)
-    for r in range(view.shape[0]):
+    for r in range(max(reach[0], 0), min(reach[1], view.shape[0] - 1) + 1):
         for t in range(count):
             strip[t, r] = view[r, first + t * step]
     return count
@@ -428,7 +429,11 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
         line = (a, da, b0, step, transposed, a_off, b_off)
         if transposed:
             if used == filled:
-                used, filled = 0, _fill_strip(view, strip, a - a_off, step)
+                # a ray crosses line da within da + 1 of the sensor (its cross offset is at most one more
+                # than the lines swept, or it is clamped to the window's edge, nearer), the judged cells within da
+                far = da + _STRIP_LINES + 2.0
+                reach = (int(np.floor(b0 - far)) - b_off, int(np.ceil(b0 + far)) - b_off)
+                used, filled = 0, _fill_strip(view, strip, a - a_off, step, reach)
             heights = strip[used]
             used += 1
             _judge_line(heights, line, sensor, (slopes, rays[3], lo, hi), bounds, mode, target, out)
