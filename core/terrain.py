@@ -428,6 +428,7 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
         return
     secants = np.sqrt(1.0 + slopes * slopes)
     horizon, scratch = np.full(slopes.size, -np.inf), np.empty((2, slopes.size))
+    midpoints = np.append(0.5 * (slopes[:-1] + slopes[1:]), np.inf)  # between neighbouring rays
     rays = (slopes, secants, 1.0 / secants, horizon, scratch)  # slope, secant, cosine, horizon, scratch
     strip = np.empty((_STRIP_LINES if transposed else 0, n_cross))
     lo, hi, used, filled = 0, slopes.size - 1, 0, 0  # the active rays; the strip's lines swept and copied
@@ -448,10 +449,10 @@ def _sweep_wedge(view, frame, sensor, slopes, bounds, mode, target, out):
                 used, filled = 0, _fill_strip(view, strip, a - a_off, step, reach)
             heights = strip[used]
             used += 1
-            _judge_line(heights, line, sensor, (slopes, rays[3], lo, hi), bounds, mode, target, out)
+            _judge_line(heights, line, sensor, (midpoints, rays[3], lo, hi), bounds, mode, target, out)
             _sample_line(heights, (da, b0, b_off), sensor, rays, (lo, hi))
         else:
-            _judge_line(view[a - a_off], line, sensor, (slopes, rays[3], lo, hi), bounds, mode, target, out)
+            _judge_line(view[a - a_off], line, sensor, (midpoints, rays[3], lo, hi), bounds, mode, target, out)
             _sample_line(view[a - a_off], (da, b0, b_off), sensor, rays, (lo, hi))
         a += step
 
@@ -491,21 +492,22 @@ def _judge_line(heights, line, sensor, rays, bounds, mode, target, out):
     ray that crosses the line nearest to it (a pointer walking up the sorted rays) and gets ``mode``'s value."""
     a, da, b0, step, transposed, a_off, b_off = line
     eye, cell, drop_1m = sensor[2], sensor[3], sensor[4]
-    slopes, horizon, lo, hi = rays
+    midpoints, horizon, lo, hi = rays
     limit, azimuth, width = bounds
     half = min(da, np.sqrt(max(limit * limit - da * da, 0.0)))
     first, last = max(int(np.ceil(b0 - half)), b_off), min(int(np.floor(b0 + half)), b_off + heights.size - 1)
     j = lo
+    all_round = np.isnan(azimuth)
     for b in range(first, last + 1):
         db = b - b0
         reach = np.sqrt(da * da + db * db)
         if (not transposed and abs(db) >= da) or reach > limit:  # the diagonals belong to the east and west
             continue
-        if not np.isnan(azimuth):
+        if not all_round:
             d_row, d_col = (db, step * da) if transposed else (step * da, db)
             if abs((np.degrees(np.arctan2(d_col, -d_row)) % 360.0 - azimuth + 180.0) % 360.0 - 180.0) > width / 2:
                 continue
-        while j < hi and (slopes[j] + slopes[j + 1]) * da < 2.0 * db:
+        while j < hi and midpoints[j] * da < db:
             j += 1
         w_a, w_b = a - a_off, b - b_off  # in the window
         r, c = (w_b, w_a) if transposed else (w_a, w_b)
