@@ -31,12 +31,14 @@ unsigned (no wrap-around test), the distances multiply by reciprocals kept per r
 the kernels use fast math without the no-NaN and no-infinity assumptions (the sector test needs NaN,
 the horizons start at -inf). Measured at 8000^2 (CPU-s, best of 2-3, load 2-4; same cells bit for bit
 at each step): 1.44 before, 1.39 fast math, 1.32 reciprocals and a branch-free max, 1.23 unsigned
-indices, 1.05 the three passes, 1.00 the strip's rows (1.08-1.18 without, alternating runs). Tried
+indices, 1.05 the three passes, 1.00 the strip's rows (1.08-1.18 without, alternating runs), 0.87-0.89
+the walk to each cell's nearest ray against midpoints between neighbouring rays kept per wedge (0.97
+without): GDAL's 0.94-1.24 s in the same minutes (bench ratios 0.92-1.17 at 8000^2). Tried
 and not taken: results written to a strip too and copied back a row at a time (slower: the strip must
 first be read from the result, the east wedge 0.63 -> 0.72 s); the judging in two passes (nearest ray,
 then the values: 1.05 -> 1.25 s); the lines' results and targets passed as 1-D views (1.15 s); the
 tangent compared as a product, not a quotient (no change); a 16-column strip (within the noise).
-Alternatives measured on an 8000^2 DEM against GDAL's 1.0 CPU-s
+Alternatives measured before that tuning on an 8000^2 DEM against GDAL's 1.0 CPU-s
 (docs/performance.md): the rays traced one by one with the cells grouped by nearest ray (the
 previous code, same method): 9.9 times GDAL's CPU, cost ~ cells^1.1, scattered in memory; the east
 and west wedges swept on a transposed copy of the DEM: 1.9 s (the copy alone 0.6 s, 8 bytes a cell
@@ -44,7 +46,7 @@ more); their columns read in place eight at a time: 1.9-2.1 s; the strip: 1.5-1.
 answers, cell for cell); rays traced only once their neighbours part by a cell, taking the nearer
 one's horizon there: 15 % less CPU, but 98.5 % of cells against the exact sight line on rough terrain
 (below 99 %). GDAL's own algorithm (Wang, Robinson & White 2000, reference planes, one
-interpolation a cell) is cheaper still but judges a cell on horizons interpolated from its
+interpolation a cell) is cheaper by design but judges a cell on horizons interpolated from its
 neighbours: on rough terrain it meets the exact sight line on 96.8-99.3 % of cells where these rays
 meet it on at least 99 % (tests/test_terrain_gdal.py), so it was not taken.
 """
