@@ -72,6 +72,25 @@ def _timed_on_cluster(spec, n_workers: int, folder: Path, repeats: int) -> float
         return best
 
 
+def task_overhead_s(folder: Path, tasks: int) -> float:
+    """Per-task overhead [s]: ``tasks`` one-point range chunks on one warm worker less the same in this process."""
+    from distributed import LocalCluster
+
+    tiny = parse_spec({"job": "range", "chunk_points": 1,
+                       "axes": {"target.d_crit_m": [0.05 + 0.001 * i for i in range(tasks)]}})  # fmt: skip
+    start = time.perf_counter()
+    for bounds in chunk_bounds(tiny):
+        run_chunk(tiny, *bounds)
+    in_process = time.perf_counter() - start
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=40) as cluster:  # fmt: skip
+        run_sweep(tiny, folder / "tiny-warm", cluster.scheduler_address, progress=None)
+        start = time.perf_counter()
+        run_sweep(tiny, folder / "tiny", cluster.scheduler_address, progress=None)
+        on_worker = time.perf_counter() - start
+    return (on_worker - in_process) / tasks
+
+
 def bench_sweep(renders: int = 1000, block: int = 100, repeats: int = 2) -> dict:
     """Scaling 1 -> 2 workers, per-task overhead, and one worker's memory over ``renders`` renders."""
     from distributed import Client, LocalCluster
@@ -81,27 +100,17 @@ def bench_sweep(renders: int = 1000, block: int = 100, repeats: int = 2) -> dict
         folder = Path(tmp)
         one = _timed_on_cluster(spec, 1, folder, repeats)
         two = _timed_on_cluster(spec, 2, folder, repeats)
-        tiny = parse_spec({"job": "range", "scenario": "default", "chunk_points": 1,
-                           "axes": {"target.d_crit_m": [0.05 + 0.001 * i for i in range(200)]}})  # fmt: skip
-        start = time.perf_counter()
-        for bounds in chunk_bounds(tiny):
-            run_chunk(tiny, *bounds)
-        in_process = time.perf_counter() - start
+        overhead = task_overhead_s(folder, 200)
         with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                          silence_logs=40) as cluster:  # fmt: skip
-            run_sweep(tiny, folder / "tiny-warm", cluster.scheduler_address, progress=None)
-            start = time.perf_counter()
-            run_sweep(tiny, folder / "tiny", cluster.scheduler_address, progress=None)
-            on_worker = time.perf_counter() - start
-            with Client(cluster.scheduler_address) as client:
-                memory = [client.submit(_render_block, block, pure=False).result() for _ in range(renders // block)]
+                          silence_logs=40) as cluster, Client(cluster.scheduler_address) as client:  # fmt: skip
+            memory = [client.submit(_render_block, block, pure=False).result() for _ in range(renders // block)]
     return {
         "rcs_points": spec.n_points,
         "rcs_tasks": len(chunk_bounds(spec)),
         "one_worker_s": one,
         "two_workers_s": two,
         "scaling_1_to_2": one / two,
-        "task_overhead_s": (on_worker - in_process) / len(chunk_bounds(tiny)),
+        "task_overhead_s": overhead,
         "renders": renders,
         "worker_rss_mb_first_block": memory[0],
         "worker_rss_mb_last_block": memory[-1],

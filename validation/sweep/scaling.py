@@ -24,10 +24,9 @@ import time
 from pathlib import Path
 
 from csuas.sweep import parse_spec, run_sweep
-from csuas.sweep.run import chunk_bounds, run_chunk
 from csuas.sweep.warm import WarmUp, plugin_name, wait_warm
 
-from .bench import _worker_cpu_s
+from .bench import _worker_cpu_s, task_overhead_s
 
 
 def _rcs_spec(azimuths: int) -> dict:
@@ -102,32 +101,13 @@ def _scaling(spec, folder: Path) -> dict:
     }
 
 
-def _task_overhead_s(folder: Path, tasks: int) -> float:
-    """Per-task overhead [s]: ``tasks`` one-point range chunks on one warm worker less the same in this process."""
-    from distributed import LocalCluster
-
-    tiny = parse_spec({"job": "range", "chunk_points": 1,
-                       "axes": {"target.d_crit_m": [0.05 + 0.001 * i for i in range(tasks)]}})  # fmt: skip
-    start = time.perf_counter()
-    for bounds in chunk_bounds(tiny):
-        run_chunk(tiny, *bounds)
-    in_process = time.perf_counter() - start
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=40) as cluster:  # fmt: skip
-        run_sweep(tiny, folder / "tiny-warm", cluster.scheduler_address, progress=None)
-        start = time.perf_counter()
-        run_sweep(tiny, folder / "tiny", cluster.scheduler_address, progress=None)
-        on_worker = time.perf_counter() - start
-    return (on_worker - in_process) / tasks
-
-
 def bench_sweep_scaling(rcs_azimuths: int = 48, pd_powers: int = 200, overhead_tasks: int = 200) -> dict:
     """One against two warm workers on an RCS sweep and a pd sweep, and the per-task overhead (module docstring)."""
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         rcs = _scaling(parse_spec(_rcs_spec(rcs_azimuths)), folder)
         pd = _scaling(parse_spec(_pd_spec(pd_powers)), folder)
-        overhead = _task_overhead_s(folder, overhead_tasks)
+        overhead = task_overhead_s(folder, overhead_tasks)
     return {
         "cpu_count": os.cpu_count(),
         "rcs": rcs,
