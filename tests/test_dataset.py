@@ -22,6 +22,18 @@ def test_every_spec_mistake_is_named_at_once():
         assert key in text
 
 
+def test_a_chain_without_quantise_is_named_not_an_internal_error(tmp_path):
+    """The frames are written as DN: a chain that never quantises is refused by key (it raised KeyError 'dn')."""
+    with pytest.raises(InputErrors, match="chain.*quantise"):
+        parse_dataset_spec({"count": 1, "chain": []})
+    with pytest.raises(InputErrors, match="chain.*quantise"):
+        parse_dataset_spec({"count": 1, "chain": ["psf", "shot_noise"]})
+    spec = tmp_path / "spec.toml"
+    spec.write_text("count = 1\nchain = []\n")
+    assert cli.main(["dataset", str(spec), "--out", str(tmp_path / "out")]) == 2
+    assert not (tmp_path / "out").exists()
+
+
 def test_list_axes_are_a_grid_and_tables_are_drawn():
     spec = parse_dataset_spec(
         {"seed": 5, "count": 3, "range_m": [100.0, 200.0], "azimuth_deg": {"min": 10.0, "max": 20.0}}

@@ -176,3 +176,15 @@ def test_siap_scores_of_a_hand_built_picture():
     assert scores["velocity_accuracy_m_s"] == pytest.approx((5 * 0 + 5 * 2) / 10)
     assert scores["track_number_changes_per_s"] == pytest.approx((2 - 1) / 8.0)  # held 0-4 s and 5-9 s
     assert scores["longest_track_segment"] == pytest.approx(4 / 9)  # 4 s of a 9 s flight
+
+
+def test_a_radar_look_without_false_alarms_sees_no_bird_and_does_not_fail():
+    """Pfa 0 puts the look's threshold at infinity: Pd 0 for a gull in plain view (it raised); Pfa 1e-6 sees it."""
+    gull = load_birds()["gull"]
+    _, quiet = _radar(np.zeros((80, 80)), LookSettings(pfa=0.0, clutter=False))
+    _, noisy = _radar(np.zeros((80, 80)), LookSettings(pfa=1e-6, clutter=False))
+    for sensor, seen in ((quiet, False), (noisy, True)):
+        geometry = sensor.geometry(np.array([sensor.x + 30.0]), np.array([sensor.y]), np.array([20.0]))
+        assert geometry.visible.all() and geometry.in_regard.all()
+        pd = sensor.bird_pd(geometry, gull, np.zeros(1))
+        assert (pd[0] > 0.5) if seen else (pd[0] == 0.0)

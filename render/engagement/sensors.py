@@ -386,7 +386,8 @@ class SensorModel:
             gain_db = 10 * np.log10(
                 float(radar.integration_gain(int(p["n_pulses"]), p["integration"], self.scenario.convention))
             )
-            pd[gate] = radar_detection.pd_exact(self.radar_snr_db(slant, rcs) - gain_db, self.pfa, n, 0, mode)
+            if self.pfa > 0:  # Pfa 0 (no noise alarms): the look's threshold is infinite, no bird crosses it
+                pd[gate] = radar_detection.pd_exact(self.radar_snr_db(slant, rcs) - gain_db, self.pfa, n, 0, mode)
             return pd
         if self.modality in ("rf", "acoustic"):
             return pd  # a bird emits no radio signal and is quiet in the drone's rotor bands: Pd 0

@@ -185,6 +185,8 @@ class DatasetSchema(Schema):
     @field_validator("chain")
     @classmethod
     def _jpeg_of_8_bits(cls, value, info: ValidationInfo):
+        if "quantise" not in value:
+            raise ValueError("stages including 'quantise' (the frames are written as the sensor's DN)")
         if "jpeg" in value and (info.data.get("bits", 8) != 8 or "quantise" not in value[: value.index("jpeg")]):
             raise ValueError("jpeg after quantise, with bits = 8")
         return value
