@@ -269,21 +269,8 @@ def run(args) -> dict:
                     layers.append(_layer(out, name, altitude, kind, grids[key][i].astype(np.float32), where))
         layers += _fused_files(out, fused, altitudes, (k, len(sited)), where)
         summary = {
-            "site": str(args.site),
-            "crs": crs,
-            "cell_m": cell,
-            "altitudes_agl_m": altitudes,
-            "fusion_k": k,
-            "sensors": {
-                n: {
-                    "range_m": g["range_m"],
-                    "reach_m": None if math.isinf(g["reach_m"]) else g["reach_m"],
-                    "row": sited[n].row,
-                    "col": sited[n].col,
-                    **{key: getattr(sited[n], key) for key in POINTING},
-                }
-                for n, g in per_sensor.items()
-            },
+            **_summary_head(args.site, crs, cell, altitudes, k),
+            "sensors": {n: _sensor_summary(sited[n], g["range_m"], g["reach_m"]) for n, g in per_sensor.items()},
             "layers": layers,
             "vectors": _write_vectors(out, where),
         }
@@ -341,21 +328,11 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
         run["digest"] = inputs_digest(table, scenario, dem, tiled.tile)
         ran = run_tiles(tiled, out, run, where)
         layers = _tiled_files(out, tiled, ran["counts"], {**where, "shape": shape, "cell_km2": cell * cell / 1e6})
+        ranges = evaluate(scenario)
         summary = {
-            "site": str(args.site),
-            "crs": crs,
-            "cell_m": cell,
-            "altitudes_agl_m": altitudes,
-            "fusion_k": k,
+            **_summary_head(args.site, crs, cell, altitudes, k),
             "sensors": {
-                n: {
-                    "range_m": float(np.asarray(evaluate(scenario)[n].range_m)),
-                    "reach_m": None if math.isinf(reach[n]) else reach[n],
-                    "row": p.row,
-                    "col": p.col,
-                    **{key: getattr(p, key) for key in POINTING},
-                }
-                for n, p in sited.items()
+                n: _sensor_summary(p, float(np.asarray(ranges[n].range_m)), reach[n]) for n, p in sited.items()
             },
             "layers": layers,
             "vectors": {},
@@ -374,6 +351,22 @@ def _run_tiled(args, inputs: tuple, source) -> dict:
         write_text_atomic(inside(out, "coverage.json"), json.dumps(summary, indent=1))
         summary["out"] = str(out)
         return summary
+
+
+def _summary_head(site, crs, cell_m: float, altitudes: list, k) -> dict:
+    """The keys of ``coverage.json`` that open it, the same for a single-process and a tiled run."""
+    return {"site": str(site), "crs": crs, "cell_m": cell_m, "altitudes_agl_m": altitudes, "fusion_k": k}
+
+
+def _sensor_summary(placed, range_m: float, reach_m: float) -> dict:
+    """``coverage.json``'s ``sensors.<name>``: range and mapped reach [m] (None: unlimited), cell and pointing."""
+    return {
+        "range_m": range_m,
+        "reach_m": None if math.isinf(reach_m) else reach_m,
+        "row": placed.row,
+        "col": placed.col,
+        **{key: getattr(placed, key) for key in POINTING},
+    }
 
 
 def _tiled_files(out: Path, tiled, counts: dict, where: dict) -> list[dict]:
