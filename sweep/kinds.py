@@ -148,8 +148,9 @@ def _frequency_needs(axes: dict, options: dict, n_sensors: int) -> list:
 
 #: Every sweep job, in the order the docs list them. Points per task: analytic points go to the core in
 #: large NumPy chunks, simulator points in small groups. Costs: range is vectorised (10^5-3x10^6 points:
-#: 3-4.6 us a point of 6 sensors; 840 MB for 10^6 points of 6 sensors); pd computes a Pd curve per sensor
-#: (47 ms a point of 6 sensors; 180 MB a Dask worker); render takes 9 EO points in 7.1 s with the start
+#: 3-4.6 us a point of 6 sensors; 840 MB for 10^6 points of 6 sensors); pd computes a Pd curve per sensor and
+#: solves its ranges at Pd 0.5 and 0.9 on the model (0.27-0.28 s a point of 6 sensors and their fusion,
+#: serial at load 0.9, 2026-11-27; 180 MB a Dask worker); render takes 9 EO points in 7.1 s with the start
 #: (290 MB serial); rcs from its tubes (:func:`~csuas.sweep.cost_rcs.rcs_estimate`; 1 to 6 frequencies of
 #: 7 aspects at draft, 10^4-10^6 tubes, took 7.5-9.5 s in all); engage from the example's runs
 #: (:mod:`csuas.sweep.job_engage`).
@@ -170,7 +171,7 @@ JOB_KINDS: dict[str, JobKind] = {
             32,
             lambda spec, columns, start, stop: jobs.pd_chunk(spec, columns),
             jobs.pd_columns,
-            JobCost(180e6, seconds_per_point_sensor=8e-3, chunk_bytes_per_point_sensor=2e4),
+            JobCost(180e6, seconds_per_point_sensor=46e-3, chunk_bytes_per_point_sensor=2e4),
             needs=_fusion_needs,
         ),
         JobKind(

@@ -46,8 +46,8 @@ def test_chunk_points_follow_the_closed_form(n, workers, lowest, highest, chunk)
 
 def test_the_lowest_chunk_hides_the_task_overhead_behind_the_cost_model():
     pd = parse_spec({"job": "pd", "axes": {"target.d_crit_m": [0.1, 0.2]}})
-    # pd: 8 ms a point and sensor, 6 sensors of the default scenario: 48 ms a point
-    assert lowest_chunk_points(pd) == math.ceil(TASK_OVERHEAD_S / (OVERHEAD_SHARE * 8e-3 * 6))
+    # pd: 46 ms a point and sensor, 6 sensors of the default scenario: 0.28 s a point
+    assert lowest_chunk_points(pd) == math.ceil(TASK_OVERHEAD_S / (OVERHEAD_SHARE * 46e-3 * 6))
     rcs = parse_spec({"job": "rcs", "axes": {"frequency_ghz": [9.4]}})
     assert lowest_chunk_points(rcs) == 1  # cost known only once traced: one point
 
