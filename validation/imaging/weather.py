@@ -29,7 +29,7 @@ from csuas.core.scenario import parse_scenario
 from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.fog_slab import fog_slab_transmittance
 from csuas.render.imaging.modes import scenario_daylight, scenario_thermal_scene
-from csuas.render.imaging.path import eo_path
+from csuas.render.imaging.path import eo_path, fog_layer_at
 from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalSensor, View
 from csuas.render.imaging.targets import plate
@@ -171,9 +171,11 @@ def layered_fog_checks(seed: int = 0) -> list:
         sc = _scenario({"fog_visibility_m": LAYER_VISIBILITY_M, "fog_top_m": LAYER_TOP_M}, sensors, h_d - h_s)
         light = scenario_daylight(sc, sc.sensors["eo"])
         slant = math.hypot(LAYER_GROUND_M, h_d - h_s)
-        path = eo_path(slant, light.visibility_km, 550.0, 1.0, 0.0, light.convention, light.fog_layer)
+        view = View(slant, 0.0, math.degrees(math.asin((h_s - h_d) / slant)))  # the render's own geometry
+        layer = fog_layer_at(light.fog_layer, view)
+        path = eo_path(slant, light.visibility_km, 550.0, 1.0, 0.0, light.convention, layer)
         rendered = next(t["value"] for t in path.terms if t["name"] == "transmittance")
-        fraction, clear_km = light.fog_layer
+        fraction, clear_km = layer
         fog_beta, clear_beta = (
             float(evaluate(_scenario(env, sensors))["eo"].term("kruse_extinction").value)
             for env in ({"fog_visibility_m": LAYER_VISIBILITY_M}, {"visibility_km": clear_km})
