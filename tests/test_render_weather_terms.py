@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import quad
+from test_thermal_fog import lwir_advection_ratio
 
 from csuas.core import eo, tir
 from csuas.core import ranges as ranges_module
@@ -20,7 +21,6 @@ from csuas.defaults import load_presets
 from csuas.render.imaging.modes import atmosphere_on, scenario_daylight, scenario_thermal_scene
 from csuas.render.imaging.path import NO_PATH, eo_path, fog_layer_at, thermal_fog_at, tir_path
 from csuas.render.imaging.records import View
-from test_thermal_fog import lwir_advection_ratio
 
 RANGE_M = 300.0
 #: Terms of the atmosphere in the range models' outputs (EO and thermal).

@@ -15,7 +15,7 @@ from csuas.base.errors import ParameterError
 from csuas.core import tir
 from csuas.core.atmosphere import fog_extinction_ratio, fog_infrared_extinction_per_km
 from csuas.core.ranges import evaluate, thermal_fog, thermal_fog_db_km
-from csuas.core.scenario import parse_scenario
+from csuas.core.scenario import load_scenario, parse_scenario
 
 #: LOWTRAN 7 VX2 [um] from 2.7 to 14.8, and the fog models' extinction over their 0.55 um extinction.
 LOWTRAN_UM = [2.7, 3.0, 3.3923, 3.75, 4.5, 5.0, 5.5, 6.0, 6.2, 6.5, 7.2, 7.9, 8.2, 8.7, 9.0, 9.2, 10.0, 10.591, 11.0]
@@ -143,3 +143,91 @@ def test_mwir_sensor_takes_the_mwir_band_ratio():
 def test_fog_terms_list_nothing_without_fog():
     assert tir.fog_terms(0.0) == [] and [t.name for t in tir.fog_terms(1.0)] == ["fog_extinction_db_km"]
     assert [t.name for t in tir.fog_terms(0.5, 0.5)] == ["fog_extinction_db_km", "fog_path_fraction"]
+
+
+LAYERED = {"fog_visibility_m": 200.0, "fog_top_m": 50.0}
+BOTH = {"eo": {"modality": "eo", "height_m": 2.0}, "mrtd": {"modality": "tir", "model": "mrtd"}}
+
+
+def _render_terms(sc, name: str, view) -> dict:
+    """The path terms a render of ``name`` seen from ``view`` lists (no Mitsuba: the render's analytic path)."""
+    from csuas.render.imaging.modes import scenario_daylight, scenario_thermal_scene
+    from csuas.render.imaging.path import eo_path, fog_layer_at, thermal_fog_at, tir_path
+
+    spec = sc.sensors[name]
+    if spec.modality == "eo":
+        light = scenario_daylight(sc, spec)
+        path = eo_path(
+            view.range_m, light.visibility_km, 550.0, 1.0, 0.0, "physical", fog_layer_at(light.fog_layer, view)
+        )
+    else:
+        scene = scenario_thermal_scene(sc, spec)
+        fog = thermal_fog_at(scene, view)
+        path = tir_path(view.range_m, scene.extinction_db_km + fog[0], 293.15, "lwir", 0.0, "physical", fog)
+    return {t["name"]: t["value"] for t in path.terms}
+
+
+@pytest.mark.parametrize("name", ["eo", "mrtd"])
+def test_the_layers_share_follows_the_renders_geometry(name):
+    """Sensor at 2 m under a 50 m top: looking up at 30 deg over 300 m the target is 150 m above it, (50 - 2) / 150
+    of the path in fog; a level path is all in fog; looking down 10 deg from 2 m the path stays in the fog."""
+    from csuas.render.imaging.records import View
+
+    sc = _scenario(LAYERED, altitude_m=100.0, sensors=BOTH)
+    full = float(thermal_fog(sc, sc.sensors["mrtd"], "physical")[0])
+    for elevation, share in ((-30.0, 48.0 / 150.0), (0.0, 1.0), (10.0, 1.0), (-90.0, 48.0 / 300.0)):
+        terms = _render_terms(sc, name, View(300.0, 0.0, elevation))
+        assert terms["fog_path_fraction"] == pytest.approx(share, rel=1e-12), elevation
+        if name == "mrtd":
+            assert terms["fog_extinction_db_km"] == pytest.approx(share * full, rel=1e-12)
+
+
+@pytest.mark.parametrize("name", ["eo", "mrtd"])
+def test_a_render_with_the_scenarios_geometry_lists_the_ranges_terms(name):
+    """The target 100 m above the sensor at 300 m: elevation -asin(1/3) gives the share csuas range applies."""
+    from csuas.render.imaging.records import View
+
+    sc = _scenario(LAYERED, altitude_m=100.0, sensors=BOTH)
+    expected = {t.name: float(np.asarray(t.value)) for t in evaluate(sc)[name].terms}
+    rendered = _render_terms(sc, name, View(300.0, 0.0, -math.degrees(math.asin(100.0 / 300.0))))
+    assert expected["fog_path_fraction"] == pytest.approx(0.48, rel=1e-12)
+    for term in ("fog_path_fraction", "fog_extinction_db_km", "extinction_db_km", "kruse_extinction"):
+        if term in expected:
+            assert rendered[term] == pytest.approx(expected[term], rel=1e-12), term
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mode", ["eo", "tir"])
+def test_render_elevation_decides_the_layers_share(mode, tmp_path, capsys):
+    """``csuas render --elevation-deg``: at -asin(100/300) the share is the range's 0.48, level it is 1."""
+    import json
+
+    from csuas import cli
+
+    scenario = tmp_path / "layer.toml"
+    scenario.write_text(
+        'name = "layer"\nconvention = "physical"\n[target]\naltitude_m = 100.0\n[environment]\n'
+        'fog_visibility_m = 200.0\nfog_top_m = 50.0\n[sensors.eo]\nmodality = "eo"\nheight_m = 2.0\n'
+        '[sensors.t]\nmodality = "tir"\nmodel = "mrtd"\n'
+    )
+    upward = -math.degrees(math.asin(100.0 / 300.0))
+    argv = ["render", mode, str(scenario), "--range-m", "300", "--quality", "draft", "--quiet", "--json"]
+    assert cli.main([*argv, "--elevation-deg", repr(upward), "0"]) == 0
+    rows = json.loads(capsys.readouterr().out)["results"]
+    shares = [next(t["value"] for t in row["terms"] if t["name"] == "fog_path_fraction") for row in rows]
+    assert shares[0] == pytest.approx(0.48, rel=1e-12) and shares[1] == 1.0
+    name = "eo" if mode == "eo" else "t"
+    ranged = {t.name: float(np.asarray(t.value)) for t in evaluate(load_scenario(str(scenario)))[name].terms}
+    assert shares[0] == pytest.approx(ranged["fog_path_fraction"], rel=1e-12)
+
+
+def test_the_clear_part_and_the_layers_geometry():
+    from csuas.core.ranges import fog_layer_geometry, thermal_extinction_no_fog_db_km
+
+    sc = _scenario({"fog_visibility_m": 200.0, "fog_top_m": 50.0, "rain_rate_mm_h": 6.0}, sensors=BOTH)
+    clear, rain = thermal_extinction_no_fog_db_km(sc, sc.sensors["mrtd"], "physical")
+    assert float(rain) == pytest.approx(DB_PER_NEPER * math.pi * 8000.0 / (4.1 * 6.0**-0.21) ** 3 * 1e-3, rel=1e-9)
+    assert float(clear) == pytest.approx(sc.sensors["mrtd"].params["extinction_db_km"] + float(rain), rel=1e-12)
+    assert fog_layer_geometry(sc, sc.sensors["eo"]) == (2.0, 50.0, 10.0)  # height_m, top, Table 24's visibility
+    assert fog_layer_geometry(_scenario(LAYERED), _scenario(LAYERED).sensors["mrtd"])[0] == 2.0  # mast-less
+    assert fog_layer_geometry(_scenario({}), _scenario({}).sensors["mrtd"]) is None
