@@ -156,9 +156,16 @@ def fog_layer_at(layer, view: View) -> tuple | None:
     """
     if not isinstance(layer, FogLayer):
         return layer
+    return float(
+        layer_share(layer, view.range_m, -math.sin(math.radians(view.elevation_deg)))
+    ), layer.clear_visibility_km
+
+
+def layer_share(layer: FogLayer, range_m, up):
+    """L_fog / R of straight paths [-] from the sensor to points ``range_m`` away along directions whose upward
+    component is ``up`` (arrays alike; :func:`csuas.core.atmosphere.fog_path_fraction`)."""
     h_s = layer.sensor_height_m
-    h_t = h_s - view.range_m * math.sin(math.radians(view.elevation_deg))
-    return float(fog_path_fraction(h_s, h_t, layer.top_m)), layer.clear_visibility_km
+    return fog_path_fraction(h_s, h_s + np.asarray(range_m, float) * np.asarray(up, float), layer.top_m)
 
 
 def thermal_fog_at(scene: ThermalScene, view: View) -> tuple:
@@ -210,11 +217,7 @@ def tir_path(
         return NO_PATH
     if not np.isfinite(extinction_db_km) or extinction_db_km < 0:
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
-    check_convention(convention)
-    if convention == "paper":
-        tau = float(transmittance(extinction_db_km, range_m, "physical"))
-    else:
-        tau = float(db_transmittance(extinction_db_km, range_m))
+    tau = float(thermal_transmittance(extinction_db_km, range_m, convention))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
     terms = tuple(term_record(t) for t in path_terms(extinction_db_km, rain_db_km, *fog)) + (
         {"name": "transmittance", "value": tau, "unit": "-", "source": THERMAL_TRANSMITTANCE_SOURCE[convention]},
@@ -226,3 +229,44 @@ def tir_path(
         },
     )
     return PathEffect(tau, l_path, terms)
+
+
+def thermal_transmittance(extinction_db_km, range_m, convention: str):
+    """Thermal path transmittance [-]: ``physical`` 10^(-sigma R / 10); ``paper`` Eq. 31 as printed, exp(-sigma R)."""
+    if check_convention(convention) == "paper":
+        return transmittance(extinction_db_km, range_m, "physical")
+    return db_transmittance(extinction_db_km, range_m)
+
+
+def eo_path_at(range_m, up, light, wavelength_nm: float, horizon_radiance: float) -> tuple:
+    """Transmittance and airlight [cd/m^2] of a frame's objects at their own ranges (clutter, confusers), arrays alike.
+
+    The path of :func:`eo_path` with ``light``'s visibility, rain, convention and fog layer, the layer's share from
+    each object's own range and the upward component ``up`` of its direction (:func:`layer_share`).
+
+    Parameters
+    ----------
+    range_m, up : array_like
+        Distances [m] and upward components of the unit directions toward the objects [-].
+    light : Daylight
+        The frame's light and air (its ``visibility_km`` not None).
+    wavelength_nm, horizon_radiance : float
+        The sensor's wavelength [nm] and the horizon sky's luminance L_h [cd/m^2] (the airlight's source).
+    """
+    layer = light.fog_layer
+    if isinstance(layer, FogLayer):
+        layer = (layer_share(layer, range_m, up), layer.clear_visibility_km)
+    beta, _ = path_extinction(wavelength_nm, light.visibility_km, light.convention, light.rain_extinction_per_km, layer)
+    tau = transmittance(beta, range_m, light.convention)
+    return tau, horizon_radiance * (1.0 - tau)
+
+
+def tir_path_at(range_m, up, scene: ThermalScene, band) -> tuple:
+    """Transmittance and path radiance [W m^-2 sr^-1] of a frame's objects at their own ranges, arrays alike.
+
+    The path of :func:`tir_path` with ``scene``'s attenuation (its ``extinction_db_km`` not None), its fog on each
+    object's path (``fog_db_km`` times :func:`layer_share` of its range and ``up``), convention and air.
+    """
+    share = 1.0 if scene.fog_layer is None else layer_share(scene.fog_layer, range_m, up)
+    tau = thermal_transmittance(scene.extinction_db_km + scene.fog_db_km * share, range_m, scene.convention)
+    return tau, band_radiance(scene.air_temperature_k, band) * (1.0 - tau)
