@@ -17,13 +17,19 @@ Marshall, J. S., Palmer, W. McK. (1948). The distribution of raindrops with size
 165-166 (the drop-size distribution of rain extinction); van de Hulst, H. C. (1957). Light
 Scattering by Small Particles, Section 8.42 (extinction efficiency 2 of drops much larger than
 the wavelength).
+Shettle, E. P., Fenn, R. W. (1979). Models for the aerosols of the lower atmosphere and the effects of
+humidity variations on their optical properties. AFGL-TR-79-0214 (the advection and radiation fog models),
+tabulated in LOWTRAN 7 (Kneizys, F. X. et al. 1988, Users Guide to LOWTRAN 7, AFGL-TR-88-0177; BLOCK DATA
+EXTDTA: VX2, FG1EXT, FG2EXT).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from csuas.base.errors import ParameterError
 from csuas.core.checks import require
+from csuas.core.radiometry import band_limits_um
 from csuas.core.result import check_convention
 
 #: -ln(0.02): Koschmieder constant for a 2 % contrast threshold (Eq. 12).
@@ -246,3 +252,129 @@ def fog_path_fraction(sensor_height_m, target_height_m, fog_top_m):
     with np.errstate(divide="ignore", invalid="ignore"):
         crossing = np.clip((top - low) / np.where(rise > 0, rise, 1.0), 0.0, 1.0)
     return np.where(rise > 0, crossing, (low < top).astype(float))
+
+
+#: Wavelengths [um] of LOWTRAN 7's aerosol tables from 3 to 14.8 um (VX2, Kneizys et al. 1988).
+FOG_TABLE_UM = (
+    3.0,
+    3.3923,
+    3.75,
+    4.5,
+    5.0,
+    5.5,
+    6.0,
+    6.2,
+    6.5,
+    7.2,
+    7.9,
+    8.2,
+    8.7,
+    9.0,
+    9.2,
+    10.0,
+    10.591,
+    11.0,
+    11.5,
+    12.5,
+    14.8,
+)
+#: Extinction of LOWTRAN 7's fog models at those wavelengths over their extinction at 0.55 um (FG1EXT: advection
+#: fog, the larger drops; FG2EXT: radiation fog, the smaller; Shettle & Fenn 1979, as printed in LOWTRAN 7).
+FOG_EXTINCTION_RATIO = {
+    "advection": (
+        1.04899,
+        1.06823,
+        1.07804,
+        1.09272,
+        1.10367,
+        1.11684,
+        1.10430,
+        1.11367,
+        1.12899,
+        1.14987,
+        1.17209,
+        1.18278,
+        1.20133,
+        1.21266,
+        1.21949,
+        1.22677,
+        1.15589,
+        1.05684,
+        0.98291,
+        1.01120,
+        1.10911,
+    ),
+    "radiation": (
+        1.10816,
+        1.43285,
+        1.45272,
+        1.18709,
+        1.04367,
+        0.82354,
+        0.71747,
+        0.92405,
+        0.79342,
+        0.60266,
+        0.47677,
+        0.43171,
+        0.36734,
+        0.33259,
+        0.31184,
+        0.24139,
+        0.21601,
+        0.24006,
+        0.28816,
+        0.42671,
+        0.56861,
+    ),
+}
+#: The source of :func:`fog_infrared_extinction_per_km`, for the terms of range and render.
+FOG_INFRARED_SOURCE = (
+    "advection fog of Shettle & Fenn 1979 (LOWTRAN 7 FG1EXT), band mean of its ratio to 0.55 um, times 3.912 / V_fog"
+)
+
+
+def fog_extinction_ratio(wavelength_um, fog="advection"):
+    """Extinction of a fog at a wavelength over its extinction at 0.55 um [-] (Shettle & Fenn 1979, LOWTRAN 7).
+
+    Linear between the tabulated wavelengths of :data:`FOG_TABLE_UM` (3-14.8 um); the table's values at them.
+
+    Parameters
+    ----------
+    wavelength_um : array_like
+        Wavelength [um], 3 to 14.8.
+    fog : {"advection", "radiation"}
+        LOWTRAN 7's advection fog (FG1EXT, drops of mode radius near 10 um: as opaque in the infrared as in the
+        visible) or radiation fog (FG2EXT, smaller drops: a quarter of it near 10 um).
+    """
+    if fog not in FOG_EXTINCTION_RATIO:
+        raise ParameterError("fog", fog, ", ".join(FOG_EXTINCTION_RATIO))
+    lam = require("wavelength_um", wavelength_um, ge=FOG_TABLE_UM[0], le=FOG_TABLE_UM[-1])
+    return np.interp(lam, FOG_TABLE_UM, FOG_EXTINCTION_RATIO[fog])
+
+
+def fog_infrared_extinction_per_km(visibility_km, band="lwir", fog="advection"):
+    """Extinction of fog in a thermal band [1/km]: its 0.55 um extinction 3.912 / V times the band's mean ratio.
+
+    LOWTRAN 7 scales its fog models to a visibility the same way (Koschmieder at 0.55 um, Eq. 12). The ratio
+    (:func:`fog_extinction_ratio`) is averaged over the band uniformly in wavelength (exactly: it is linear
+    between the table's wavelengths): 1.144 over the LWIR 8-12 um and 1.081 over the MWIR 3-5 um of the
+    advection fog (0.300 and 1.281 of the radiation fog).
+
+    Parameters
+    ----------
+    visibility_km : array_like
+        Fog visibility V [km], > 0.
+    band : str or (float, float)
+        ``lwir``, ``mwir`` or (low_um, high_um) within 3-14.8 um.
+    fog : {"advection", "radiation"}
+        As :func:`fog_extinction_ratio`.
+    """
+    low, high = band_limits_um(band)
+    if low < FOG_TABLE_UM[0] or high > FOG_TABLE_UM[-1]:
+        raise ParameterError("band", band, f"within {FOG_TABLE_UM[0]:g}-{FOG_TABLE_UM[-1]:g} um (the fog table)")
+    inner = [lam for lam in FOG_TABLE_UM if low < lam < high]
+    nodes = np.array([low, *inner, high])
+    ratio = fog_extinction_ratio(nodes, fog)
+    mean = float(np.sum((ratio[1:] + ratio[:-1]) / 2.0 * np.diff(nodes)) / (high - low))
+    return koschmieder_extinction_per_km(visibility_km) * mean

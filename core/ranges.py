@@ -14,6 +14,7 @@ import numpy as np
 from csuas.base.errors import CsuasError, InputErrors, ParameterError, raise_all
 from csuas.core import acoustic, acoustic_spectrum, detection, eo, itu, johnson, lidar, radar, rf, tir
 from csuas.core.atmosphere import (
+    fog_infrared_extinction_per_km,
     fog_path_fraction,
     kruse_extinction_per_km,
     rain_extinction_per_km,
@@ -92,12 +93,24 @@ def _fog_layer(sc: Scenario, s: SensorSpec) -> tuple | None:
     (else REFERENCE_SENSOR_HEIGHT_M, a mast-less sensor) to ``target.altitude_m`` above it
     (:func:`csuas.core.atmosphere.fog_path_fraction`); above the top the air has ``visibility_km``.
     """
+    geometry = fog_layer_geometry(sc, s)
+    if geometry is None:
+        return None
+    h_s, top, clear_km = geometry
+    return fog_path_fraction(h_s, h_s + sc.target["altitude_m"], top), clear_km
+
+
+def fog_layer_geometry(sc: Scenario, s: SensorSpec) -> tuple | None:
+    """(sensor height [m], fog top [m], clear visibility above it [km]) of the scenario's fog layer, or None.
+
+    The sensor's ``height_m``, else REFERENCE_SENSOR_HEIGHT_M (a mast-less sensor); ``environment.fog_top_m``
+    and ``visibility_km``. A render takes the layer's share of its own path from it (its range and elevation).
+    """
     top = sc.environment.get("fog_top_m")
     if top is None:
         return None
     h_s = s.params.get("height_m")
-    h_s = REFERENCE_SENSOR_HEIGHT_M if h_s is None else h_s
-    return fog_path_fraction(h_s, h_s + sc.target["altitude_m"], top), sc.environment["visibility_km"]
+    return REFERENCE_SENSOR_HEIGHT_M if h_s is None else h_s, top, sc.environment["visibility_km"]
 
 
 def thermal_contrast(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
@@ -150,7 +163,7 @@ def _tir(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:
             convention=convention,
             **extra,
         )
-    result.terms += tir.rain_terms(rain_db_km)
+    result.terms += tir.rain_terms(rain_db_km) + tir.fog_terms(*thermal_fog_db_km(sc, s, convention))
     return result
 
 
@@ -167,7 +180,11 @@ def thermal_path(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
     extinction, rain = thermal_extinction_db_km(sc, s, convention)
     if s.params["model"] == "johnson" or not np.any(extinction > 0):
         return None, 0.0, []
-    return extinction, rain, tir.path_terms(extinction, rain)
+    return extinction, rain, tir.path_terms(extinction, rain, *thermal_fog_db_km(sc, s, convention))
+
+
+#: dB per neper of power: 10 log10(e), an extinction coefficient [1/km] in dB/km.
+DB_PER_NEPER = 10.0 * np.log10(np.e)
 
 
 def thermal_extinction_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
@@ -175,12 +192,50 @@ def thermal_extinction_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tu
 
     Table 27's ``extinction_db_km`` of the sensor; the physical convention adds the extinction of the
     scenario's rain (Marshall-Palmer, :func:`csuas.core.atmosphere.rain_extinction_per_km`) as
-    10 log10(e) beta dB/km. The render's thermal path takes the same (``csuas render``).
+    10 log10(e) beta dB/km, and its fog's on the sensor's path (:func:`thermal_fog_db_km`). The render's
+    thermal path takes the same (``csuas render``).
+    """
+    clear, rain = thermal_extinction_no_fog_db_km(sc, s, convention)
+    return clear + thermal_fog_db_km(sc, s, convention)[0], rain
+
+
+def thermal_extinction_no_fog_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """Table 27's attenuation of a thermal sensor plus the physical convention's rain [dB/km], and the rain's part.
+
+    What :func:`thermal_extinction_db_km` adds its fog to; a render adds the fog on its own path
+    (:func:`csuas.render.imaging.path.thermal_fog_at`).
     """
     rain = 0.0
     if convention == "physical":
-        rain = 10.0 * np.log10(np.e) * rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
+        rain = DB_PER_NEPER * rain_extinction_per_km(sc.environment["rain_rate_mm_h"])
     return np.asarray(s.params["extinction_db_km"], float) + rain, rain
+
+
+def thermal_fog(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """A thermal sensor's fog: its attenuation where it fills the path [dB/km] (0 without), and its layer.
+
+    Physical convention only, and only where the scenario declares a fog visibility (``fog_visibility_m``, as the
+    EO path; a liquid water content alone is the radio bands' fog): 10 log10(e) times
+    :func:`csuas.core.atmosphere.fog_infrared_extinction_per_km` in the sensor's band. The layer is
+    :func:`_fog_layer`'s (L_fog / R, clear visibility), or None where the fog fills the path.
+    """
+    fog_v = sc.environment.get("fog_visibility_m")
+    if check_convention(convention) == "paper" or fog_v is None:
+        return 0.0, None
+    full = DB_PER_NEPER * fog_infrared_extinction_per_km(fog_v / 1000.0, s.params["band"])
+    return full, _fog_layer(sc, s)
+
+
+def thermal_fog_db_km(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
+    """The fog's part of a thermal sensor's attenuation on the scenario's path [dB/km], and the fog layer's share.
+
+    :func:`thermal_fog`'s attenuation times L_fog / R of the layer (the path from the sensor's height to the
+    target's altitude above it, as the EO path's); the share is None where the fog fills the path.
+    """
+    full, layer = thermal_fog(sc, s, convention)
+    if layer is None:
+        return full, None
+    return full * layer[0], layer[0]
 
 
 def _acoustic(sc: Scenario, s: SensorSpec, convention: str) -> RangeResult:

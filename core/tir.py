@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csuas.core.atmosphere import RAIN_EXTINCTION_SOURCE
+from csuas.core.atmosphere import FOG_INFRARED_SOURCE, FOG_LAYER_SOURCE, RAIN_EXTINCTION_SOURCE
 from csuas.core.checks import require, require_registry_bounds
 from csuas.core.detection import blob_snr, target_pixels
 from csuas.core.johnson import ifov_rad, johnson_range_m
@@ -90,19 +90,46 @@ def attenuated_delta_t(
 EXTINCTION_SOURCE = "Eq. 31 (Table 27)"
 
 
-def path_terms(extinction_db_km, rain_db_km=0.0) -> list:
+def path_terms(extinction_db_km, rain_db_km=0.0, fog_db_km=0.0, fog_fraction=None) -> list:
     """The terms of a thermal path as the MRTD and NETD ranges list them (and the thermal render's path).
 
     Parameters
     ----------
     extinction_db_km : array_like
-        Path attenuation [dB/km] (Table 27, with the physical convention's rain); 0 lists no term.
+        Path attenuation [dB/km] (Table 27, with the physical convention's rain and fog); 0 lists no term.
     rain_db_km : array_like
         Its rain part [dB/km] (:func:`csuas.core.atmosphere.rain_extinction_per_km` in dB); 0 lists no term.
+    fog_db_km, fog_fraction
+        Its fog part and the fog layer's share of the path (:func:`fog_terms`).
     """
     terms = [Term("extinction_db_km", extinction_db_km, "dB/km", EXTINCTION_SOURCE)]
     terms = terms if np.any(np.asarray(extinction_db_km) > 0) else []
-    return terms + rain_terms(rain_db_km)
+    return terms + rain_terms(rain_db_km) + fog_terms(fog_db_km, fog_fraction)
+
+
+#: Appended to the fog term's source when a fog layer's share of the path scales it.
+FOG_LAYERED = ", times the fog layer's share of the path"
+
+
+def fog_terms(fog_db_km, fog_fraction=None) -> list:
+    """The fog terms of a thermal path (physical convention), or none without fog.
+
+    Parameters
+    ----------
+    fog_db_km : array_like
+        The fog's part of ``extinction_db_km`` [dB/km], already scaled by ``fog_fraction``
+        (:func:`csuas.core.atmosphere.fog_infrared_extinction_per_km` in dB); 0 lists no term without a layer.
+    fog_fraction : array_like or None
+        L_fog / R of a fog layer (:func:`csuas.core.atmosphere.fog_path_fraction`), listed as
+        ``fog_path_fraction`` with the fog term (0 too: a path above the fog); None: the fog fills the path.
+    """
+    if fog_fraction is None and not np.any(np.asarray(fog_db_km) > 0):
+        return []
+    source = FOG_INFRARED_SOURCE + (FOG_LAYERED if fog_fraction is not None else "") + " (in extinction_db_km)"
+    terms = [Term("fog_extinction_db_km", fog_db_km, "dB/km", source)]
+    if fog_fraction is not None:
+        terms.append(Term("fog_path_fraction", fog_fraction, "-", FOG_LAYER_SOURCE))
+    return terms
 
 
 def rain_terms(rain_db_km) -> list:

@@ -61,7 +61,7 @@ def test_a_power_line_covers_each_column_by_its_angular_width_at_its_catenarys_h
     rays, ifov = _level_rays(elevation_deg=-3.0)  # the view 3 deg up: the wires are in the frame
     context = {"band": "eo", "illuminance_lx": 1e4, "ambient_k": 290.0, "ifov_rad": ifov, "camera_height_m": 10.0}
     forward = np.array([rays[200, 100, 0], rays[200, 100, 1]]) / np.hypot(*rays[200, 100, :2])
-    coverage, light = _power_line(rays, forward, 100.0, 150.0, context)  # mid-span at the frame's centre column
+    coverage, light, _ = _power_line(rays, forward, 100.0, 150.0, context)  # mid-span at the frame's centre column
     assert light == pytest.approx(SURFACES["power_line"][0] * 1e4 / np.pi)
     column = rays[:, 100]
     along = 100.0 / float(column[0] @ [forward[0], forward[1], 0.0])  # slant distance factor of the centre column

@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import quad
+from test_thermal_fog import lwir_advection_ratio
 
 from csuas.core import eo, tir
 from csuas.core import ranges as ranges_module
@@ -18,7 +19,8 @@ from csuas.core.ranges import evaluate
 from csuas.core.scenario import load_scenario, parse_scenario
 from csuas.defaults import load_presets
 from csuas.render.imaging.modes import atmosphere_on, scenario_daylight, scenario_thermal_scene
-from csuas.render.imaging.path import NO_PATH, eo_path, tir_path
+from csuas.render.imaging.path import NO_PATH, eo_path, fog_layer_at, thermal_fog_at, tir_path
+from csuas.render.imaging.records import View
 
 RANGE_M = 300.0
 #: Terms of the atmosphere in the range models' outputs (EO and thermal).
@@ -28,6 +30,7 @@ PATH_TERMS = {
     "rain_extinction_per_km",
     "extinction_db_km",
     "rain_extinction_db_km",
+    "fog_extinction_db_km",
 }
 SENSORS = {
     "eo": {"modality": "eo", "height_m": 2.0},
@@ -50,18 +53,27 @@ def _range_path_terms(result) -> dict:
     return {t.name: (float(np.asarray(t.value)), t.unit, t.source) for t in result.terms if t.name in PATH_TERMS}
 
 
-def _render_path(sc, name: str):
-    """The path a render of ``name`` applies under ``csuas render``'s automatic atmosphere (no Mitsuba)."""
-    spec = sc.sensors[name]
+def _scenario_view(sc, range_m: float = RANGE_M) -> View:
+    """The view whose geometry is the scenario's: the target ``altitude_m`` above the sensor at ``range_m``."""
+    return View(range_m, 0.0, -math.degrees(math.asin(sc.target["altitude_m"] / range_m)))
+
+
+def _render_path(sc, name: str, view: View | None = None):
+    """The path a render of ``name`` applies under ``csuas render``'s automatic atmosphere (no Mitsuba), seen from
+    ``view`` (the scenario's geometry unless given)."""
+    spec, view = sc.sensors[name], view or _scenario_view(sc)
     if not atmosphere_on(sc, "auto", spec):
         return NO_PATH
     if spec.modality == "eo":
         light = scenario_daylight(sc, spec)
+        layer = fog_layer_at(light.fog_layer, view)
         return eo_path(
-            RANGE_M, light.visibility_km, 550.0, 1.0, light.rain_extinction_per_km, light.convention, light.fog_layer
+            view.range_m, light.visibility_km, 550.0, 1.0, light.rain_extinction_per_km, light.convention, layer
         )
     scene = scenario_thermal_scene(sc, spec)
-    return tir_path(RANGE_M, scene.extinction_db_km, scene.air_temperature_k, "lwir", scene.rain_db_km, sc.convention)
+    fog = thermal_fog_at(scene, view)
+    total = scene.extinction_db_km + fog[0]
+    return tir_path(view.range_m, total, scene.air_temperature_k, "lwir", scene.rain_db_km, sc.convention, fog)
 
 
 @pytest.mark.parametrize("convention", ["paper", "physical"])
@@ -175,7 +187,14 @@ def test_path_inputs_follow_the_convention():
     assert (float(sigma), rain, [t.name for t in terms]) == (table_27, 0.0, ["extinction_db_km"])
     sigma, rain, terms = ranges_module.thermal_path(sc, sc.sensors["mrtd"], "physical")
     assert float(rain) == pytest.approx(10 * math.log10(math.e) * 0.365 * 6.0**0.63, rel=2e-3)
-    assert [t.name for t in terms] == ["extinction_db_km", "rain_extinction_db_km"]
+    names = ["extinction_db_km", "rain_extinction_db_km", "fog_extinction_db_km", "fog_path_fraction"]
+    assert [t.name for t in terms] == names
+    fog = {t.name: float(t.value) for t in terms}
+    # the fog's 200 m visibility fills 0.48 of the path: 3.912 / 0.2 km x LWIR band ratio, in dB, times 0.48
+    assert fog["fog_extinction_db_km"] == pytest.approx(
+        10 * math.log10(math.e) * -math.log(0.02) / 0.2 * lwir_advection_ratio() * 0.48, rel=1e-9
+    )
+    assert float(sigma) == pytest.approx(table_27 + fog["rain_extinction_db_km"] + fog["fog_extinction_db_km"], 1e-12)
 
 
 def test_thermal_path_terms_list_only_what_is_applied():

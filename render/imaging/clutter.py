@@ -27,7 +27,14 @@ B(T_air)) take the figures of ``SURFACES``: visible reflectance and LWIR emissiv
 ASTER spectral library (Meerdink et al., Remote Sens. Environ. 230, 2019; Baldridge et al. 2009) rounded,
 daytime surface temperature above the air from Oke, Boundary Layer Climates, 2nd ed., 1987 (typical
 midday values: vegetation near the air temperature, asphalt and roofs well above it), assumptions within
-those ranges. No atmosphere is applied to the clutter (its aerial perspective is left out).
+those ranges.
+
+With ``context["path"]`` (a frame whose scenario declares weather, :func:`csuas.render.imaging.dataset`), each
+layer's light takes the path at its own distance along each pixel's ray, as the drone's does at its range
+(:func:`csuas.render.imaging.path.eo_path_at` / ``tir_path_at``): a L becomes tau(r) a L + a L_path(r), the
+terrain at each pixel's ground distance, the skyline at its distance over the ray's horizontal share, a power
+line at the conductor's distance. Clouds are part of the sky seen through the whole atmosphere (as the clear
+sky's gradient, :func:`csuas.render.imaging.frame.eo_frame`) and take none.
 """
 
 from __future__ import annotations
@@ -141,23 +148,26 @@ def _land_cover(x: np.ndarray, y: np.ndarray, footprint: np.ndarray, context: di
 
 
 def _terrain(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple:
-    """Land cover below the horizon: (alpha, light, class codes); flat ground, or with ``relief_m`` the seeded
-    fractal DEM (:func:`_relief_hits`). The noise is evaluated on the ground's pixels only."""
+    """Land cover below the horizon: (alpha, light, class codes, distance along each ground pixel's ray [m]); flat
+    ground, or with ``relief_m`` the seeded fractal DEM (:func:`_relief_hits`). The noise is evaluated on the
+    ground's pixels only."""
     z = rays[..., 2]
     codes = np.full(z.shape, 255, np.uint8)
-    light = np.zeros(z.shape)
+    light, along_ray = np.zeros(z.shape), np.zeros(z.shape)
     if clutter.relief_m > 0:
         ground, x, y, distance = _relief_hits(rays, clutter, context["ifov_rad"], seed)
         grazing = np.maximum(np.abs(z[ground]), 0.02)
+        along_ray[ground] = distance / np.sqrt(np.maximum(1.0 - z[ground] ** 2, 1e-12))  # horizontal -> slant
     else:
         ground = z < -1e-6
         distance = clutter.camera_height_m / np.maximum(-z[ground], 1e-9)
         x, y, grazing = distance * rays[..., 0][ground], distance * rays[..., 1][ground], -z[ground]
+        along_ray[ground] = distance
     if not ground.any():
-        return ground.astype(float), light, codes
+        return ground.astype(float), light, codes, along_ray
     footprint = np.maximum(distance * context["ifov_rad"] / np.maximum(grazing, 1e-3), 1e-3)
     codes[ground], light[ground] = _land_cover(x, y, footprint, context, seed)
-    return ground.astype(float), light, codes
+    return ground.astype(float), light, codes, along_ray
 
 
 #: Horizontal scale of the fractal DEM's largest features [m] and its samples along each column's azimuth.
@@ -244,7 +254,8 @@ def _skyline(rays: np.ndarray, clutter, context: dict, seed: int) -> list:
 
 
 def _power_line(rays: np.ndarray, forward, distance_m: float, phase_m: float, context: dict) -> tuple:
-    """One conductor across the view at ``distance_m`` ahead along ``forward`` (horizontal unit): (coverage, light)."""
+    """One conductor across the view at ``distance_m`` ahead along ``forward`` (horizontal unit): (coverage, light,
+    the conductor's distance along each pixel's column [m])."""
     lateral = np.array([-forward[1], forward[0]])
     depth = rays[..., 0] * forward[0] + rays[..., 1] * forward[1]
     t = distance_m / np.maximum(depth, 1e-6)
@@ -262,7 +273,7 @@ def _power_line(rays: np.ndarray, forward, distance_m: float, phase_m: float, co
         elevation - half_px, wire_elevation - half_wire
     )
     coverage = np.where(depth > 0, np.clip(overlap / context["ifov_rad"], 0.0, 1.0), 0.0)
-    return coverage, _surface_light("power_line", context)
+    return coverage, _surface_light("power_line", context), r
 
 
 def _soft_clouds(rays: np.ndarray, cover: float, context: dict, seed: int) -> tuple:
@@ -291,7 +302,9 @@ def clutter_layers(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple
     clutter : ClutterSchema
         The spec's ``[clutter]`` table.
     context : dict
-        ``band`` ("eo", "lwir" or "mwir"), ``illuminance_lx``, ``ambient_k``, ``ifov_rad``, ``camera_height_m``.
+        ``band`` ("eo", "lwir" or "mwir"), ``illuminance_lx``, ``ambient_k``, ``ifov_rad``, ``camera_height_m``;
+        optionally ``path``: (distance [m], upward component of the ray) -> (transmittance, path light per unit
+        opacity), the frame's path at each layer's own distance (module docstring).
     seed : int
         The frame's seed (a sequence: the video's, so that the ground stays the same).
 
@@ -308,23 +321,35 @@ def clutter_layers(rays: np.ndarray, clutter, context: dict, seed: int) -> tuple
         alpha, light = _soft_clouds(rays, clutter.clouds, context, seed)
         layers.append((alpha, light, math.inf))
         codes[alpha > 0.5] = CLASSES.index("cloud")
+    path = context.get("path")
     if clutter.terrain:
-        alpha, light, terrain_codes = _terrain(rays, clutter, context, seed)
-        layers.append((alpha, alpha * light, 1e4))
+        alpha, light, terrain_codes, along_ray = _terrain(rays, clutter, context, seed)
+        layers.append((alpha, _through_path(alpha, alpha * light, along_ray, rays, path), 1e4))
         codes = np.where(alpha > 0.5, terrain_codes, codes).astype(np.uint8)
     if clutter.skyline:
+        horizontal = np.sqrt(np.maximum(1.0 - rays[..., 2] ** 2, 1e-12))
         for covered, light, code, distance in _skyline(rays, clutter, context, seed):
-            layers.append((covered.astype(float), covered * light, distance))
+            alpha = covered.astype(float)
+            layers.append((alpha, _through_path(alpha, covered * light, distance / horizontal, rays, path), distance))
             codes[covered] = code
     if clutter.power_lines:
         rng = np.random.default_rng([int(seed), 13])
         centre = rays[rays.shape[0] // 2, rays.shape[1] // 2]
         forward = np.array([centre[0], centre[1]]) / max(math.hypot(centre[0], centre[1]), 1e-9)
         for distance in sorted(rng.uniform(50.0, 300.0, clutter.power_lines), reverse=True):
-            coverage, light = _power_line(rays, forward, float(distance), float(rng.uniform(0, 300)), context)
-            layers.append((coverage, coverage * light, float(distance)))
+            coverage, light, wire_m = _power_line(rays, forward, float(distance), float(rng.uniform(0, 300)), context)
+            layers.append((coverage, _through_path(coverage, coverage * light, wire_m, rays, path), float(distance)))
             codes[coverage > 0.5] = CLASSES.index("power_line")
     return layers, codes
+
+
+def _through_path(alpha: np.ndarray, light: np.ndarray, range_m, rays: np.ndarray, path) -> np.ndarray:
+    """A layer's light a L after the path at its own distance: tau a L + a L_path (module docstring); as it is
+    without a path (None)."""
+    if path is None:
+        return light
+    tau, added = path(range_m, rays[..., 2])
+    return tau * light + alpha * added
 
 
 #: Angular radius of the sun [rad] (0.2666 deg, its mean apparent diameter of 0.533 deg).

@@ -19,6 +19,11 @@ labelled class (docs/datasets.md, spec table ``[confusers]``).
   ``INSECT_REFLECTANCE`` lit by the horizontal illuminance (L = rho E_v / pi); thermal: a blackbody at the
   ambient air's temperature (a small ectotherm in flight is within a kelvin or two of the air).
 
+With ``render["object_path"]`` (a scenario that declares weather) a confuser takes the frame's path at its own
+range, as the drone at its range: its coverage-weighted light a L becomes tau(R) a L + a L_path(R)
+(:func:`csuas.render.imaging.path.eo_path_at` / ``tir_path_at``; the fog layer's share from its own direction), so
+a bird in fog fades with exp(-beta R) like a drone at the same range.
+
 Confusers are pasted farthest first (a nearer one hides a farther one), on the frame that already holds the
 drone: those beyond the drone under it, the nearer ones over it (:func:`csuas.render.imaging.compose.blend`).
 A confuser's label is its exact coverage as the drone's (box of the pixels with
@@ -215,7 +220,8 @@ def _paste_insect(frame: np.ndarray, draw: dict, ifov_rad: float, render: dict, 
     size = (sensor.n_h, sensor.n_v)
     blur = defocus_blur_px(draw["range_m"], render["f_number"], render["pitch_um"], ifov_rad)
     coverage, x0, y0 = insect_coverage(draw, ifov_rad, size, blur)
-    blend(frame, (x0, y0), coverage, coverage * level, _under(drone, draw))
+    light = _through_path(coverage, coverage * level, draw, render)
+    blend(frame, (x0, y0), coverage, light, _under(drone, draw))
     return {**_insect_label(draw, coverage, x0, y0, size), "blur_px": blur}
 
 
@@ -258,9 +264,20 @@ def _paste_confusers(frame, draws, ifov_rad, render: dict, drone, insect_level: 
             labels.append(None)
             continue
         res, signal = own_signal(target, view, draw)
+        signal = _through_path(res.coverage, signal, draw, render)
         blend(frame, (res.window.x0, res.window.y0), res.coverage, signal, _under(drone, draw))
         labels.append(_mesh_label(target, view, res, sensor))
     return _in_draw_order(draws, labels)
+
+
+def _through_path(coverage: np.ndarray, light: np.ndarray, draw: dict, render: dict) -> np.ndarray:
+    """A confuser's coverage-weighted light after the frame's path at its range (module docstring); as it is
+    without ``render["object_path"]``."""
+    path = render.get("object_path")
+    if path is None:
+        return light
+    tau, added = path(draw["range_m"], -math.sin(math.radians(draw["elevation_deg"])))
+    return tau * light + coverage * added
 
 
 def _view(draw: dict) -> View:

@@ -474,16 +474,33 @@ def _visible(spec: DatasetSpec, scenario, sensor, item: dict, view, seed: int) -
     if layered:
         from csuas.render.imaging.confusers import eo_render_settings
         from csuas.render.imaging.layered import with_eo_layers
+        from csuas.render.imaging.path import eo_path_at
 
         ambient_k = scenario.environment["temperature_k"]
         render = eo_render_settings(EoSensor.from_params(p), light, spec.quality, seed, p, ambient_k)
         render.update(target=target, view=view, full_well_e=p["full_well_e"], item=item, clutter=spec.clutter)
         render["max_exposure_s"] = p["max_exposure_ms"] / 1000.0
         render["clutter_seed"] = _clutter_seed(spec, item)
+        if _layers_take_path(scenario, sensor):
+            sky = float(frame["result"].values["sky_radiance"])  # the airlight's source, the drone's render's
+            render["object_path"] = lambda r, up: eo_path_at(r, up, light, p["wavelength_nm"], sky)
         frame = with_eo_layers(frame, render, chain, seed)
     frame["snr"] = target_snr(frame, p["read_noise_e"])
     _swarm_labels(frame, members, view, p, chain)
     return frame
+
+
+#: Effects of a scenario that give a frame's clutter and confusers the path at their own ranges.
+WEATHER_EFFECTS = frozenset({"fog", "haze", "rain"})
+
+
+def _layers_take_path(scenario, sensor) -> bool:
+    """Whether a frame's clutter and confusers take the path at their own ranges: where the drone's frame has one
+    (``csuas range`` applies a path to the sensor) and the scenario declares weather (fog, haze or rain); frames of
+    a scenario without weather keep today's layers, bit for bit (the clear air's extinction left off them)."""
+    from csuas.render.imaging.modes import atmosphere_on
+
+    return atmosphere_on(scenario, "auto", sensor) and bool(WEATHER_EFFECTS & scenario.effects)
 
 
 def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):
@@ -533,10 +550,13 @@ def _thermal(spec: DatasetSpec, scenario, sensor, item: dict, view, seed: int) -
     )
     if layered:
         from csuas.render.imaging.layered import with_tir_layers
+        from csuas.render.imaging.path import tir_path_at
 
         render = {"sensor": ThermalSensor.from_params(p), "scene": scene, "quality": spec.quality, "seed": seed}
         render.update(f_number=p["f_number"], pitch_um=p["pitch_um"], ambient_k=env["temperature_k"])
         render.update(target=target, view=view, item=item, clutter=spec.clutter, clutter_seed=_clutter_seed(spec, item))
+        if _layers_take_path(scenario, sensor):
+            render["object_path"] = lambda r, up: tir_path_at(r, up, scene, p["band"])
         frame = with_tir_layers(frame, render, chain, seed)
     excess = abs(frame["target_excess_k"])
     pixels = float(max(frame["label"]["pixels_on_target"], 1e-12))

@@ -33,7 +33,7 @@ from csuas.core.eo import contrast_limited_range_m
 from csuas.drone_models.geometry import direction_vector
 from csuas.render.imaging.common import prepare, progress_printer, window_notes
 from csuas.render.imaging.measure import measure_window
-from csuas.render.imaging.path import NO_PATH, eo_path
+from csuas.render.imaging.path import NO_PATH, eo_path, fog_layer_at
 from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.result import ImagingResult
@@ -141,7 +141,7 @@ def render_eo(
         sky["sky_radiance"],
         light.rain_extinction_per_km,
         light.convention,
-        light.fog_layer,
+        fog_layer_at(light.fog_layer, view),  # the layer's share of the render's own path
     )
     m = measure_window(tally, np.full(3, l_bg), path, LUMINANCE_WEIGHTS)
     inherent = measure_window(tally, np.full(3, l_bg), NO_PATH, LUMINANCE_WEIGHTS)

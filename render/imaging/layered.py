@@ -3,7 +3,9 @@
 rendered without chain stages, then the whole chain.
 
 Clutter is drawn under the drone (it lies beyond it) except a power line nearer than the drone, drawn over
-it; confusers under or over the drone by their range (:func:`csuas.render.imaging.compose.blend`).
+it; confusers under or over the drone by their range (:func:`csuas.render.imaging.compose.blend`). With
+``render["object_path"]`` (a scenario that declares weather) each layer and confuser takes the frame's path at its
+own range, as the drone does at its range (:func:`csuas.render.imaging.path.eo_path_at` / ``tir_path_at``).
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ def _add_layers(signal: np.ndarray, drone: DroneWindow, render: dict, band: str)
     if clutter is not None:
         sun = _sun_layers(signal.shape, ifov, render)
         rays = frame_rays(sensor.n_h, sensor.n_v, ifov, item)
-        context = {"band": band, "ambient_k": render["ambient_k"], "ifov_rad": ifov}
+        context = {"band": band, "ambient_k": render["ambient_k"], "ifov_rad": ifov, "path": render.get("object_path")}
         context["illuminance_lx"] = getattr(render.get("light"), "illuminance_lx", 0.0)
         layers, codes = clutter_layers(rays, clutter, context, render["clutter_seed"])
         for layer in sun[:1] + layers:

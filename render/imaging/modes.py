@@ -11,9 +11,10 @@ the same convention (the scenario's, or the request's ``convention``; docs/scena
 always (the EO range model applies Kruse's extinction at the optical visibility, 10 km clear air by
 default); for thermal with the MRTD and NETD models (Table 27's attenuation), never with the Johnson
 model (its range has no path, whatever the weather). EO then uses Koschmieder with the optical
-visibility (fog visibility in fog), averaged over a fog layer of given top on the sensor's slant path,
-plus the rain's extinction (physical); thermal the sensor's ``extinction_db_km`` plus the rain's
-(physical), with path radiance at the environment's ``temperature_k``. The extinction terms come from
+visibility (fog visibility in fog), averaged over a fog layer of given top on the render's own slant path
+(its range and elevation, the sensor at its ``height_m``), plus the rain's extinction (physical); thermal the
+sensor's ``extinction_db_km`` plus the rain's and the fog's (physical, the fog's share of the render's path
+alike), with path radiance at the environment's ``temperature_k``. The extinction terms come from
 the core functions the range models use (:func:`csuas.core.ranges.eo_path_inputs`,
 :func:`csuas.core.eo.path_extinction`, :func:`csuas.core.ranges.thermal_path`), so a scenario's weather
 changes both or neither (tests/test_render_weather_terms.py).
@@ -24,8 +25,22 @@ from __future__ import annotations
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
-from csuas.core.ranges import eo_path_inputs, thermal_extinction_db_km, thermal_path
-from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, ThermalScene, ThermalSensor, View
+from csuas.core.ranges import (
+    eo_path_inputs,
+    fog_layer_geometry,
+    thermal_extinction_no_fog_db_km,
+    thermal_fog,
+    thermal_path,
+)
+from csuas.render.imaging.records import (
+    Daylight,
+    EoSensor,
+    FogLayer,
+    RenderSettings,
+    ThermalScene,
+    ThermalSensor,
+    View,
+)
 from csuas.render.request import ATMOSPHERE_CHOICES, RenderRequest
 
 
@@ -65,24 +80,32 @@ def scenario_daylight(scenario, spec, convention: str | None = None) -> Daylight
     """
     conv = convention or scenario.convention
     path = eo_path_inputs(scenario, spec, conv)
-    layer = path["fog_layer"]
     return Daylight(
         illuminance_lx=scenario.environment["illuminance_lx"],
         visibility_km=path["visibility_km"],
         rain_extinction_per_km=float(path["rain_extinction_per_km"]),
         convention=conv,
-        fog_layer=None if layer is None else (float(layer[0]), float(layer[1])),
+        fog_layer=None if path["fog_layer"] is None else scenario_fog_layer(scenario, spec),
     )
+
+
+def scenario_fog_layer(scenario, spec) -> FogLayer | None:
+    """The scenario's fog layer as a render takes it (:func:`csuas.core.ranges.fog_layer_geometry`): the
+    render's own range and elevation decide its share of the path (:func:`csuas.render.imaging.path.fog_layer_at`)."""
+    geometry = fog_layer_geometry(scenario, spec)
+    return None if geometry is None else FogLayer(*(float(v) for v in geometry))
 
 
 def scenario_thermal_scene(scenario, spec, convention: str | None = None) -> ThermalScene:
     """Background and air of a scenario's thermal render: the path attenuation ``csuas range`` applies.
 
-    ``convention``: the scenario's unless given (the physical convention adds the rain's attenuation).
+    ``convention``: the scenario's unless given (the physical convention adds the rain's attenuation, and the
+    fog's, :func:`csuas.core.ranges.thermal_fog`, on the render's own path through its layer).
     """
 
     env, conv = scenario.environment, convention or scenario.convention
-    extinction, rain = thermal_extinction_db_km(scenario, spec, conv)
+    extinction, rain = thermal_extinction_no_fog_db_km(scenario, spec, conv)
+    fog, layer = thermal_fog(scenario, spec, conv)
     return ThermalScene(
         t_bg_k=env["t_bg_k"],
         emissivity_bg=env["emissivity_bg"],
@@ -91,6 +114,8 @@ def scenario_thermal_scene(scenario, spec, convention: str | None = None) -> The
         air_temperature_k=env["temperature_k"],
         rain_db_km=float(rain),
         convention=conv,
+        fog_db_km=float(fog),
+        fog_layer=None if layer is None else scenario_fog_layer(scenario, spec),
     )
 
 

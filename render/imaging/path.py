@@ -14,8 +14,12 @@ and :func:`csuas.core.tir.path_terms`):
   horizon sky luminance;
 * thermal infrared: L(R) = L0 tau + L_band(T_air) (1 - tau) with
   tau = 10^(-sigma R / 10) for the band attenuation sigma [dB/km] (Table 27, plus
-  the rain's; the paper's Eq. 31 as printed: exp(-sigma R)) and path radiance of
-  air at T_air (the path emits as a graybody of emissivity 1 - tau).
+  the rain's and the fog's, physical; the paper's Eq. 31 as printed: exp(-sigma R)) and
+  path radiance of air at T_air (the path emits as a graybody of emissivity 1 - tau; in fog
+  the drops scatter a radiation field near the air's Planck radiance, so the same source applies).
+
+A fog layer's share of the path (L_fog / R) comes from the render's own geometry: the sensor at its
+height, the target R sin(-elevation) above it (:func:`fog_layer_at`).
 
 Both are the solution of the radiative transfer equation along a
 homogeneous path whose source function is uniform: the horizon luminance
@@ -27,16 +31,18 @@ air's Planck radiance (thermal emission of the path). A disabled atmosphere
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from csuas.base.errors import ParameterError
-from csuas.core.atmosphere import db_transmittance, transmittance
+from csuas.core.atmosphere import db_transmittance, fog_path_fraction, transmittance
 from csuas.core.eo import path_extinction
 from csuas.core.radiometry import band_radiance
 from csuas.core.result import Term, check_convention
 from csuas.core.tir import path_terms
+from csuas.render.imaging.records import FogLayer, ThermalScene, View
 
 
 @dataclass(frozen=True)
@@ -140,6 +146,40 @@ def term_record(term: Term) -> dict:
     return {"name": term.name, "value": float(np.asarray(term.value)), "unit": term.unit, "source": term.source}
 
 
+def fog_layer_at(layer, view: View) -> tuple | None:
+    """(L_fog / R, clear visibility [km]) of a render's own path through a fog layer, or None without one.
+
+    The path runs straight from the sensor at ``layer.sensor_height_m`` to the target R sin(-elevation) above it
+    (``view``: the direction target -> sensor, so a negative elevation looks up at the target;
+    :func:`csuas.core.atmosphere.fog_path_fraction`): with R sin(-elevation) equal to the scenario's
+    ``target.altitude_m`` it is the share ``csuas range`` applies. A (share, visibility) pair is returned as given.
+    """
+    if not isinstance(layer, FogLayer):
+        return layer
+    return float(
+        layer_share(layer, view.range_m, -math.sin(math.radians(view.elevation_deg)))
+    ), layer.clear_visibility_km
+
+
+def layer_share(layer: FogLayer, range_m, up):
+    """L_fog / R of straight paths [-] from the sensor to points ``range_m`` away along directions whose upward
+    component is ``up`` (arrays alike; :func:`csuas.core.atmosphere.fog_path_fraction`)."""
+    h_s = layer.sensor_height_m
+    return fog_path_fraction(h_s, h_s + np.asarray(range_m, float) * np.asarray(up, float), layer.top_m)
+
+
+def thermal_fog_at(scene: ThermalScene, view: View) -> tuple:
+    """The fog's attenuation on a thermal render's own path [dB/km] and its layer's share (None: no layer).
+
+    ``scene.fog_db_km`` (the fog filling the path) times the layer's share of the render's path
+    (:func:`fog_layer_at`); (0, None) without fog.
+    """
+    if scene.fog_layer is None:
+        return scene.fog_db_km, None
+    share = fog_layer_at(scene.fog_layer, view)[0]
+    return scene.fog_db_km * share, share
+
+
 def tir_path(
     range_m: float,
     extinction_db_km: float | None,
@@ -147,6 +187,7 @@ def tir_path(
     band,
     rain_db_km: float = 0.0,
     convention: str = "physical",
+    fog: tuple = (0.0, None),
 ) -> PathEffect:
     """Band transmittance and path radiance for the thermal infrared.
 
@@ -165,6 +206,9 @@ def tir_path(
     convention : {"paper", "physical"}
         ``physical``: tau = 10^(-sigma R/10); ``paper``: Eq. 31 as printed, exp(-sigma R)
         (:func:`csuas.core.tir.attenuated_delta_t`).
+    fog : (float, float or None)
+        The part of ``extinction_db_km`` that is fog [dB/km] and the fog layer's share of the path
+        (:func:`thermal_fog_at`), listed as their terms; the drops emit and scatter with the rest of the path.
 
     The terms are :func:`csuas.core.tir.path_terms`' (as the MRTD and NETD ranges list them), then the
     ``transmittance`` and the ``path_radiance``.
@@ -173,13 +217,9 @@ def tir_path(
         return NO_PATH
     if not np.isfinite(extinction_db_km) or extinction_db_km < 0:
         raise ParameterError("extinction_db_km", extinction_db_km, ">= 0 dB/km")
-    check_convention(convention)
-    if convention == "paper":
-        tau = float(transmittance(extinction_db_km, range_m, "physical"))
-    else:
-        tau = float(db_transmittance(extinction_db_km, range_m))
+    tau = float(thermal_transmittance(extinction_db_km, range_m, convention))
     l_path = float(band_radiance(air_temperature_k, band)) * (1.0 - tau)
-    terms = tuple(term_record(t) for t in path_terms(extinction_db_km, rain_db_km)) + (
+    terms = tuple(term_record(t) for t in path_terms(extinction_db_km, rain_db_km, *fog)) + (
         {"name": "transmittance", "value": tau, "unit": "-", "source": THERMAL_TRANSMITTANCE_SOURCE[convention]},
         {
             "name": "path_radiance",
@@ -189,3 +229,44 @@ def tir_path(
         },
     )
     return PathEffect(tau, l_path, terms)
+
+
+def thermal_transmittance(extinction_db_km, range_m, convention: str):
+    """Thermal path transmittance [-]: ``physical`` 10^(-sigma R / 10); ``paper`` Eq. 31 as printed, exp(-sigma R)."""
+    if check_convention(convention) == "paper":
+        return transmittance(extinction_db_km, range_m, "physical")
+    return db_transmittance(extinction_db_km, range_m)
+
+
+def eo_path_at(range_m, up, light, wavelength_nm: float, horizon_radiance: float) -> tuple:
+    """Transmittance and airlight [cd/m^2] of a frame's objects at their own ranges (clutter, confusers), arrays alike.
+
+    The path of :func:`eo_path` with ``light``'s visibility, rain, convention and fog layer, the layer's share from
+    each object's own range and the upward component ``up`` of its direction (:func:`layer_share`).
+
+    Parameters
+    ----------
+    range_m, up : array_like
+        Distances [m] and upward components of the unit directions toward the objects [-].
+    light : Daylight
+        The frame's light and air (its ``visibility_km`` not None).
+    wavelength_nm, horizon_radiance : float
+        The sensor's wavelength [nm] and the horizon sky's luminance L_h [cd/m^2] (the airlight's source).
+    """
+    layer = light.fog_layer
+    if isinstance(layer, FogLayer):
+        layer = (layer_share(layer, range_m, up), layer.clear_visibility_km)
+    beta, _ = path_extinction(wavelength_nm, light.visibility_km, light.convention, light.rain_extinction_per_km, layer)
+    tau = transmittance(beta, range_m, light.convention)
+    return tau, horizon_radiance * (1.0 - tau)
+
+
+def tir_path_at(range_m, up, scene: ThermalScene, band) -> tuple:
+    """Transmittance and path radiance [W m^-2 sr^-1] of a frame's objects at their own ranges, arrays alike.
+
+    The path of :func:`tir_path` with ``scene``'s attenuation (its ``extinction_db_km`` not None), its fog on each
+    object's path (``fog_db_km`` times :func:`layer_share` of its range and ``up``), convention and air.
+    """
+    share = 1.0 if scene.fog_layer is None else layer_share(scene.fog_layer, range_m, up)
+    tau = thermal_transmittance(scene.extinction_db_km + scene.fog_db_km * share, range_m, scene.convention)
+    return tau, band_radiance(scene.air_temperature_k, band) * (1.0 - tau)

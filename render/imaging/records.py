@@ -124,8 +124,9 @@ class Daylight:
         Extinction of the scene's rain [1/km], added to the visibility's with the atmosphere on (physical).
     convention : {"paper", "physical"}
         How the path's extinction enters its transmittance (:func:`csuas.render.imaging.path.eo_path`).
-    fog_layer : (float, float) or None
-        Physical only: (L_fog / R, clear visibility [km]) of a fog layer the slant path crosses
+    fog_layer : FogLayer, (float, float) or None
+        Physical only: a fog layer whose share of the render's own path its range and elevation decide
+        (:class:`FogLayer`), or a fixed (L_fog / R, clear visibility [km]) of the slant path
         (:func:`csuas.core.ranges.eo_path_inputs`); None: the visibility fills the path.
     cloud_cover : float
         Share of the sky under seeded clouds (0..1) of a full frame's ``"clear_sky"`` background
@@ -146,6 +147,20 @@ class Daylight:
 
 
 @dataclass(frozen=True)
+class FogLayer:
+    """A fog layer from the ground to ``top_m``, seen by a sensor ``sensor_height_m`` above the same ground.
+
+    A render takes the layer's share of its own path from its range and elevation
+    (:func:`csuas.render.imaging.path.fog_layer_at`); above the top the air has ``clear_visibility_km``
+    (:func:`csuas.core.ranges.fog_layer_geometry`).
+    """
+
+    sensor_height_m: float
+    top_m: float
+    clear_visibility_km: float
+
+
+@dataclass(frozen=True)
 class ThermalScene:
     """Background, surroundings and air of a thermal render (Table 27).
 
@@ -157,13 +172,18 @@ class ThermalScene:
         Temperature of the uniform surroundings reflected by target and background [K]; used
         when the render's ``reflected_surroundings`` switch is on.
     extinction_db_km : float or None
-        Path attenuation [dB/km]; used when the render's ``atmosphere`` switch is on.
+        Path attenuation [dB/km] without the fog; used when the render's ``atmosphere`` switch is on.
     air_temperature_k : float
         Air temperature of the path radiance [K].
     rain_db_km : float
         The part of ``extinction_db_km`` that is rain [dB/km] (listed as its own term).
     convention : {"paper", "physical"}
         How the attenuation enters the path (:func:`csuas.render.imaging.path.tir_path`).
+    fog_db_km : float
+        The fog's attenuation where it fills the path [dB/km] (physical), added to ``extinction_db_km`` on the
+        render's path (:func:`csuas.render.imaging.path.thermal_fog_at`); 0: no fog.
+    fog_layer : FogLayer or None
+        The fog's layer, whose share of the render's path scales ``fog_db_km``; None: the fog fills the path.
     """
 
     t_bg_k: float = 298.15
@@ -173,6 +193,8 @@ class ThermalScene:
     air_temperature_k: float = 293.15
     rain_db_km: float = 0.0
     convention: str = "physical"
+    fog_db_km: float = 0.0
+    fog_layer: FogLayer | None = None
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ from csuas.core.tir import delta_t_linear, tir_mrtd_range
 from csuas.defaults import load_parameters
 from csuas.render.imaging.common import prepare, progress_printer, window_notes
 from csuas.render.imaging.measure import measure_window
-from csuas.render.imaging.path import NO_PATH, tir_path
+from csuas.render.imaging.path import NO_PATH, thermal_fog_at, tir_path
 from csuas.render.imaging.quality import resolve_quality
 from csuas.render.imaging.records import RenderSettings, ThermalScene, ThermalSensor, View
 from csuas.render.imaging.result import ImagingResult
@@ -108,7 +108,8 @@ def render_tir(
     _check_thermal(sensor, scene, atmosphere, reflected_surroundings)
     band, progress = sensor.band, settings.progress
     surroundings_k = scene.surroundings_k if reflected_surroundings else None
-    extinction_db_km = scene.extinction_db_km if atmosphere else None
+    fog = thermal_fog_at(scene, view)  # the fog on the render's own path (range and elevation)
+    extinction_db_km = scene.extinction_db_km + fog[0] if atmosphere else None
     t0 = time.perf_counter()
     q = resolve_quality(settings.quality)
     r, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
@@ -120,7 +121,7 @@ def render_tir(
         progress = progress_printer(f"render tir {r:g} m", progress)
     sampling = Sampling(q.n_side, q.n_batches, settings.seed, channels=1)
     tally = trace_window(mitsuba_scene, path_integrator(settings.max_depth), framing, sampling, progress=progress)
-    path = tir_path(r, extinction_db_km, scene.air_temperature_k, band, scene.rain_db_km, scene.convention)
+    path = tir_path(r, extinction_db_km, scene.air_temperature_k, band, scene.rain_db_km, scene.convention, fog)
 
     def to_temperature(radiance):
         return radiance_temperature(radiance, band)

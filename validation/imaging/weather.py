@@ -7,6 +7,10 @@
 * Beer-Lambert with path radiance: the rendered thermal Delta T of a graybody plate in a scenario's rain against
   T(tau eps_t L(T_t) + (1 - tau) L(T_air)) - T(tau eps_b L(T_b) + (1 - tau) L(T_air)), tau = 10^(-a R / 10)
   with the attenuation a the thermal range lists (Table 27 plus the rain's);
+* fog in the thermal path: the rendered LWIR Delta T of the same plate in fog against the same closed form, the
+  attenuation Table 27's plus the fog's (LOWTRAN 7's advection fog, Shettle & Fenn 1979, in the LWIR band);
+* a confuser in a dataset frame: a gull pasted on the horizon sky in uniform fog, its contrast with the frame's
+  path at its own range over its contrast without, against exp(-beta R) (Koschmieder);
 * layered fog: the EO render's path transmittance of a scenario with ``fog_top_m`` against an absorbing Mitsuba
   fog slab (:func:`csuas.render.imaging.fog_slab.fog_slab_transmittance`) times the clear air's exp(-beta L_clear),
   and the layer's airlight on a slant path against a scattering slab lit by the uniform sky
@@ -29,7 +33,7 @@ from csuas.core.scenario import parse_scenario
 from csuas.render.imaging.eo import render_eo
 from csuas.render.imaging.fog_slab import fog_slab_transmittance
 from csuas.render.imaging.modes import scenario_daylight, scenario_thermal_scene
-from csuas.render.imaging.path import eo_path
+from csuas.render.imaging.path import eo_path, fog_layer_at
 from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, RenderSettings, ThermalSensor, View
 from csuas.render.imaging.targets import plate
@@ -163,6 +167,103 @@ def thermal_path_checks(quality, seed: int = 0) -> list:
     return checks
 
 
+#: The fog of the thermal checks (visibility [m]) and the ranges rendered in it [m].
+THERMAL_FOG_M, THERMAL_FOG_RANGES_M = 400.0, (100.0, 200.0)
+
+
+def thermal_fog_checks(quality, seed: int = 0) -> list:
+    """Rendered LWIR Delta T of a graybody plate in fog vs Beer-Lambert with the air's path radiance."""
+    sc = _scenario({"fog_visibility_m": THERMAL_FOG_M}, {"tir": {"modality": "tir", "model": "mrtd"}})
+    terms = {t.name: float(np.asarray(t.value)) for t in evaluate(sc)["tir"].terms}
+    sigma = terms["extinction_db_km"]
+    scene = scenario_thermal_scene(sc, sc.sensors["tir"])
+    eps_t, t_t = THERMAL_PLATE
+    checks = []
+    for r in THERMAL_FOG_RANGES_M:
+        res = render_tir(
+            plate(emissivity=eps_t, temperature_k=t_t),
+            View(r),
+            sensor=ThermalSensor(band="lwir"),
+            scene=scene,
+            atmosphere=True,
+            settings=RenderSettings(quality=quality, seed=seed),
+        )
+        tau = 10.0 ** (-sigma * r / 1e4)
+        air = (1.0 - tau) * band_radiance(scene.air_temperature_k, "lwir")
+        target = radiance_temperature(tau * eps_t * band_radiance(t_t, "lwir") + air, "lwir")
+        background = radiance_temperature(tau * scene.emissivity_bg * band_radiance(scene.t_bg_k, "lwir") + air, "lwir")
+        se = res.stderr["delta_t_k"]
+        checks.append(
+            Check(
+                f"imaging.weather.thermal_fog.{r:g}m",
+                float(target - background),
+                res.values["delta_t_k"],
+                N_SIGMA * se + FLOAT32_K,
+                "K",
+                error_estimate=se,
+                time_s=res.time_s,
+                source=f"Beer-Lambert with path radiance, tau = 10^(-a R/10), a = {sigma:.4g} dB/km (csuas range: "
+                f"Table 27 + fog {terms['fog_extinction_db_km']:.4g} dB/km, LOWTRAN 7 advection fog of Shettle & "
+                f"Fenn 1979 at V = {THERMAL_FOG_M:g} m), air at {scene.air_temperature_k:g} K",
+                tolerance_source=f"{N_SIGMA:g} Monte Carlo standard errors (0 on a uniform plate) + {FLOAT32_K:g} K "
+                "for the render's float32 radiances",
+                method=f"Mitsuba LWIR render of a 1 m graybody plate (eps {eps_t:g}, {t_t:g} K) against the Table 27 "
+                f"background in the scenario's fog, {res.quality.name} quality",
+                details={"transmittance": tau},
+            )
+        )
+    return checks
+
+
+#: A confuser in fog: the visibility [m], its ranges [m] and the float64 rounding a ratio of sums carries.
+CONFUSER_FOG_M, CONFUSER_RANGES_M, FLOAT64_RATIO = 200.0, (80.0, 160.0), 1e-9
+
+
+def confuser_fog_checks(quality, seed: int = 0) -> list:
+    """A gull pasted in a frame with the path at its own range in uniform fog: contrast ratio vs exp(-beta R)."""
+    from csuas.render.imaging.confusers import eo_confusers, eo_render_settings
+    from csuas.render.imaging.eo import sun_and_sky
+    from csuas.render.imaging.path import eo_path_at
+    from csuas.render.imaging.records import EoSensor
+
+    sc = _scenario({"fog_visibility_m": CONFUSER_FOG_M}, {"eo": {"modality": "eo"}})
+    beta = float(evaluate(sc)["eo"].term("kruse_extinction").value)
+    light = scenario_daylight(sc, sc.sensors["eo"])
+    sensor = EoSensor(hfov_deg=4.0, n_h=320, n_v=240, wavelength_nm=sc.sensors["eo"].params["wavelength_nm"])
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    horizon = float(sky["sky_radiance"])
+    render = eo_render_settings(sensor, light, quality, seed, {"f_number": 2.0, "pixel_pitch_um": 2.9}, 288.15)
+    checks = []
+    for r in CONFUSER_RANGES_M:
+        draw = {"class": "gull", "range_m": r, "azimuth_deg": 70.0, "elevation_deg": -10.0, "target_offset_px": (0, 0)}
+        draw.update(wingbeat_phase=0.1, length_m=0.01, confuser_id=1)
+        excess, t0 = [], time.perf_counter()
+        for path in (None, lambda rr, up: eo_path_at(rr, up, light, sensor.wavelength_nm, horizon)):
+            frame = np.full((sensor.n_v, sensor.n_h), horizon)
+            eo_confusers(frame, [draw], math.radians(sensor.hfov_deg) / sensor.n_h, {**render, "object_path": path})
+            excess.append(float(np.sum(frame - horizon)))
+        expected = math.exp(-beta * r / 1000.0)
+        checks.append(
+            Check(
+                f"imaging.weather.confuser_fog.{r:g}m",
+                expected,
+                excess[1] / excess[0],
+                FLOAT64_RATIO * expected,
+                "-",
+                error_estimate=0.0,
+                time_s=time.perf_counter() - t0,
+                source=f"Koschmieder exp(-beta R), beta = {beta:.4g} /km (csuas range, fog V = {CONFUSER_FOG_M:g} m, "
+                "physical)",
+                tolerance_source=f"{FLOAT64_RATIO:g} relative (float64 sums; the same render with and without the "
+                "path, so its Monte Carlo error cancels: estimate 0)",
+                method="a gull confuser of csuas dataset pasted on the horizon sky with the frame's path at its own "
+                f"range (path.eo_path_at), its summed contrast over that without, {quality} render",
+                details={"contrast_sum_clear": excess[0], "contrast_sum_fog": excess[1]},
+            )
+        )
+    return checks
+
+
 def layered_fog_checks(seed: int = 0) -> list:
     """The EO render's path transmittance through a fog layer (scenario ``fog_top_m``) vs a Mitsuba fog slab."""
     checks = []
@@ -171,9 +272,11 @@ def layered_fog_checks(seed: int = 0) -> list:
         sc = _scenario({"fog_visibility_m": LAYER_VISIBILITY_M, "fog_top_m": LAYER_TOP_M}, sensors, h_d - h_s)
         light = scenario_daylight(sc, sc.sensors["eo"])
         slant = math.hypot(LAYER_GROUND_M, h_d - h_s)
-        path = eo_path(slant, light.visibility_km, 550.0, 1.0, 0.0, light.convention, light.fog_layer)
+        view = View(slant, 0.0, math.degrees(math.asin((h_s - h_d) / slant)))  # the render's own geometry
+        layer = fog_layer_at(light.fog_layer, view)
+        path = eo_path(slant, light.visibility_km, 550.0, 1.0, 0.0, light.convention, layer)
         rendered = next(t["value"] for t in path.terms if t["name"] == "transmittance")
-        fraction, clear_km = light.fog_layer
+        fraction, clear_km = layer
         fog_beta, clear_beta = (
             float(evaluate(_scenario(env, sensors))["eo"].term("kruse_extinction").value)
             for env in ({"fog_visibility_m": LAYER_VISIBILITY_M}, {"visibility_km": clear_km})
@@ -242,5 +345,6 @@ def weather_checks(quality="draft", seed: int = 0) -> tuple:
     """All weather checks (list of Check) and the Koschmieder rows (range, contrast, stderr, closed form)."""
     t0 = time.perf_counter()
     eo, rows = koschmieder_checks(quality, seed)
-    checks = eo + thermal_path_checks(quality, seed) + layered_fog_checks(seed) + layered_airlight_checks(seed)
+    checks = eo + thermal_path_checks(quality, seed) + thermal_fog_checks(quality, seed)
+    checks += confuser_fog_checks(quality, seed) + layered_fog_checks(seed) + layered_airlight_checks(seed)
     return checks, np.array(rows), time.perf_counter() - t0
