@@ -22,12 +22,15 @@ from csuas.render.imaging.medium_path import (
     choose_method,
     medium_samples,
     render_eo_medium,
+    single_scatter_source,
 )
 from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.targets import plate
 
 FOG = Daylight(visibility_km=0.5, convention="physical")
+#: The same fog under a uniform sky and ground (no sun): Koschmieder's airlight source is exact.
+UNIFORM_FOG = Daylight(illuminance_lx=1e4, diffuse_fraction=1.0, ground_reflectance=1.0, visibility_km=0.5)
 #: The default EO sensor's IFOV [rad]: 10 deg over 1920 px.
 IFOV = math.radians(10.0) / 1920
 
@@ -64,28 +67,36 @@ def test_auto_takes_the_medium_only_where_the_analytic_path_is_an_approximation(
     clear = Daylight(visibility_km=10.0)
     for light, weather in ((clear, False), (replace(FOG, convention="paper"), True)):
         assert choose_method("auto", light, View(300.0, 0.0, 30.0), sensor, 40.0, weather).method == "analytic"
-    # uniform fog, horizontal path, optical depth 2.3: Koschmieder's uniform path holds
-    uniform = choose_method("auto", FOG, View(300.0), sensor, None, True)
+    # uniform fog under a uniform sky, horizontal path, optical depth 2.3: Koschmieder's uniform path holds
+    uniform = choose_method("auto", UNIFORM_FOG, View(300.0), sensor, None, True)
     assert uniform.method == "analytic" and uniform.blur_share < BLUR_SHARE_LIMIT
+    # under the default sun (85 % of 70 klx at 45 deg, behind the sensor), sky (0.15 E / pi) and ground (0.2 E / pi)
+    # the fog scatters J1 = (L_sky + L_ground) / 2 + E_sun p(cos 135 deg) = 4271 cd/m^2 into a horizontal line of
+    # sight, not L_h = 3342: 28 % of it, times 1 - tau = 0.90 over 300 m of 500 m fog
+    e = 70000.0
+    hg_135 = (1.0 - 0.85**2) / (4.0 * math.pi * (1.0 + 0.85**2 + 2.0 * 0.85 * math.cos(math.radians(45.0))) ** 1.5)
+    j1 = 0.5 * (0.15 + 0.2) * e / math.pi + 0.85 * e / math.sin(math.radians(45.0)) * hg_135
+    assert single_scatter_source(FOG, View(300.0)) == pytest.approx(j1, rel=1e-4)
+    sunlit = choose_method("auto", FOG, View(300.0), sensor, None, True)
+    assert sunlit.method == "medium" and "sky is not uniform" in sunlit.reasons[0]
+    # a haze of 10 km over 150 m changes the airlight by 0.28 (1 - 0.94) = 1.6 % of the background: analytic
+    assert choose_method("auto", replace(FOG, visibility_km=10.0), View(150.0), sensor, None, True).method == "analytic"
     # a fog top 40 m above the drone: crossed by a path to a sensor 102.6 m above it, not by one 13 m below it
-    layer = replace(FOG, fog_layer=(0.39, 10.0))
+    layer = replace(UNIFORM_FOG, fog_layer=(0.39, 10.0))
     crossing = choose_method("auto", layer, View(300.0, 0.0, 20.0), sensor, 40.0, True)
     assert crossing.method == "medium" and crossing.medium.top_above_target_m == 40.0
     assert "crosses the fog's top" in crossing.reasons[0]
     below = choose_method("auto", layer, View(300.0, 0.0, -2.5), sensor, 40.0, True)
     assert below.method == "analytic"
-    # the sensor above the drone in uniform fog: the ground (0.2 E / pi) lies behind it, not the sky (0.15 E / pi)
-    looking_down = choose_method("auto", FOG, View(300.0, 0.0, 5.0), sensor, None, True)
+    # the sensor above the drone: the ground (0.2 E / pi) lies behind it, not the sky (0.15 E / pi)
+    dim_ground = replace(UNIFORM_FOG, diffuse_fraction=0.5, ground_reflectance=0.45)
+    looking_down = choose_method("auto", dim_ground, View(300.0, 0.0, 5.0), sensor, None, True)
     assert looking_down.method == "medium" and "ground" in looking_down.reasons[0]
-    assert (
-        choose_method("auto", replace(FOG, ground_reflectance=0.15), View(300.0, 0.0, 5.0), sensor, None, True).method
-        == "analytic"
-    )
     # forward scatter: the share passes 1 % at an optical depth of 0.01 / (alpha I(0.85)), I(0.85) = 6.513
     tau_limit = BLUR_SHARE_LIMIT / blur_share(1.0, IFOV)
     assert tau_limit == pytest.approx(16.89, abs=0.01)
     beta = 3.912023005 / 0.1  # 100 m fog at 550 nm [1/km] (Kruse/Kim, q = 0 below 0.5 km)
-    thick = replace(FOG, visibility_km=0.1)
+    thick = replace(UNIFORM_FOG, visibility_km=0.1)
     for range_m, method in (
         (0.99 * tau_limit / beta * 1000.0, "analytic"),
         (1.01 * tau_limit / beta * 1000.0, "medium"),
@@ -105,7 +116,7 @@ def test_auto_takes_the_medium_only_where_the_analytic_path_is_an_approximation(
 def test_the_medium_follows_koschmieder_in_uniform_isotropic_fog_under_uniform_light():
     """Radiative equilibrium (uniform sky and ground, conservative isotropic fog): Koschmieder's law is the exact
     solution, C(R) = C0 exp(-beta R), with C0 the vacuum render's inherent contrast."""
-    light = Daylight(illuminance_lx=1e4, diffuse_fraction=1.0, ground_reflectance=1.0, visibility_km=0.5)
+    light = UNIFORM_FOG
     beta = math.log(50.0) / 0.5  # [1/km] Kruse/Kim at 550 nm, V < 0.5 km: q = 0
     choice = MethodChoice("medium", ("test",), FogMedium(beta, g=0.0), 0.0)
     quality = Quality("t", 3, 8)

@@ -6,8 +6,10 @@ uniform and equal to the horizon sky L_h. It is an approximation where
 
 * a fog layer's top lies between the sensor and the drone: the source function changes along the slant path
   (the analytic path averages the extinction, :func:`csuas.core.atmosphere.fog_path_fraction`);
-* the ground, not the horizon sky, lies behind the drone (the sensor above it, ground luminance differing from
-  the sky's): the background differs from the L_h the airlight is built on;
+* the sky is not uniform: the fog's single-scattered source of sun, sky and ground
+  (:func:`single_scatter_source`) differs from L_h by more than :data:`SOURCE_SHARE_LIMIT` of the background
+  after the path, or the ground, not the horizon sky, lies behind the drone (the sensor above it, the ground's
+  luminance differing from the sky's);
 * the optical depth is large enough that light scattered forward by the droplets near the drone lands on the
   drone's own pixels and blurs it: :func:`blur_share` (single scattering of a Henyey-Greenstein phase function),
   above :data:`BLUR_SHARE_LIMIT` of the directly transmitted light (with g 0.85 and the default camera's
@@ -60,6 +62,11 @@ FOG_ALBEDO = 1.0
 #: ``auto`` takes the medium where the forward-scattered light on the drone's pixels passes this share of its
 #: directly transmitted light (:func:`blur_share`).
 BLUR_SHARE_LIMIT = 0.01
+#: ``auto`` takes the medium where the single-scattered source of the fog differs from the horizon sky of the
+#: airlight by more than this share of the background's luminance, after the path (:func:`single_scatter_source`).
+SOURCE_SHARE_LIMIT = 0.1
+#: Directions of the quadrature of :func:`single_scatter_source`: cosines of the polar angle, azimuths.
+SOURCE_GRID = (400, 128)
 #: Without a fog top, the fog reaches this share of the camera distance above the higher of camera and drone.
 SCENE_TOP_MARGIN = 0.1
 #: Half width of the fog's box, and its depth below the lower of camera and drone, in camera distances.
@@ -159,6 +166,32 @@ def blur_share(scattering_depth: float, ifov_rad: float, g: float = FOG_ASYMMETR
     return float(scattering_depth) * float(ifov_rad) * (near + far)
 
 
+def _hg(cos_theta, g: float):
+    """Henyey-Greenstein phase function [1/sr] (Henyey & Greenstein 1941)."""
+    return (1.0 - g * g) / (4.0 * np.pi * (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5)
+
+
+def single_scatter_source(light: Daylight, view: View, g: float = FOG_ASYMMETRY_G) -> float:
+    """The fog's source function for single scattering toward the sensor [cd m^-2]: the render's sky (above the
+    horizon), ground (below) and sun scattered by the phase function into the line of sight,
+    J1 = int L(w) p(-w . d) dw + E_sun p(-s . d), with d the direction from the drone toward the sensor and s
+    toward the sun. Koschmieder's airlight takes the horizon sky L_h instead (exact for a uniform sky: J1 = L_h).
+    """
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    d = direction_vector(view.azimuth_deg, view.elevation_deg)
+    n_mu, n_phi = SOURCE_GRID
+    mu = (np.arange(n_mu) + 0.5) / n_mu * 2.0 - 1.0  # cosine of each source direction's angle from the zenith
+    phi = (np.arange(n_phi) + 0.5) / n_phi * 2.0 * np.pi
+    sin = np.sqrt(1.0 - mu * mu)[:, None]
+    w = np.stack([sin * np.cos(phi), sin * np.sin(phi), np.broadcast_to(mu[:, None], (n_mu, n_phi))], axis=-1)
+    radiance = np.where(mu > 0.0, sky["sky_radiance"], sky["ground_radiance"])[:, None]
+    weight = (2.0 / n_mu) * (2.0 * np.pi / n_phi)
+    diffuse = float(np.sum(radiance * _hg(-(w @ d), g)) * weight)
+    sun_az = view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+    to_sun = direction_vector(sun_az, light.sun_elevation_deg)
+    return diffuse + sky["sun_irradiance_lx"] * float(_hg(-float(to_sun @ d), g))
+
+
 def _fog_beta(light: Daylight, sensor: EoSensor) -> tuple[float, float]:
     """Extinction of the fog (the render's visibility) and of the clear air above a layer [1/km], rain added."""
     fog = float(extinction_per_km(sensor.wavelength_nm, light.visibility_km, "physical"))
@@ -256,6 +289,13 @@ def _approximations(light: Daylight, view: View, medium: FogMedium, share: float
         reasons.append(
             f"the ground ({sky['ground_radiance']:.4g} cd/m^2) lies behind the drone, not the horizon sky "
             f"({sky['sky_radiance']:.4g} cd/m^2) of the airlight"
+        )
+    tau = math.exp(-_line_of_sight_depth(medium, view))
+    source = single_scatter_source(light, view, medium.g)
+    if abs(source - sky["sky_radiance"]) * (1.0 - tau) > SOURCE_SHARE_LIMIT * sky["sky_radiance"]:
+        reasons.append(
+            f"the sky is not uniform: the fog scatters {source:.4g} cd/m^2 of sun, sky and ground into the line of "
+            f"sight (single scattering), not the horizon sky's {sky['sky_radiance']:.4g} of the airlight"
         )
     if share > BLUR_SHARE_LIMIT:
         reasons.append(
