@@ -568,16 +568,17 @@ def _with_medium(analytic, values: dict, stderr: dict, sums: _MediumSums, choice
     return result, record
 
 
-#: Cost of a render (2 CPU cores, LLVM; measured under a load average of 5-6, so about twice an idle machine's):
-#: start (Mitsuba and the first kernels) [s], an analytic window per quality [s] (render/imaging/quality.py's
-#: 0.1-0.5 s a range), a medium's scene and kernels [s], and a medium's sample [s] at optical depth tau of
-#: beta R, times 1 + tau + 0.01 tau^2 (the scatterings of its walk in the fog's box): the default drone at
-#: 150 m, standard quality, 156,800 samples: 3.6 s (tau 0.29), 2.9 s (1.17), 7.7 s (5.9); 28,800 samples at
-#: tau 15.6: 5.6 s.
-START_SECONDS, ANALYTIC_SECONDS, MEDIUM_START_SECONDS, SAMPLE_SECONDS = 2.0, 0.5, 2.0, 6e-6
-#: Peak resident memory of a render with Mitsuba loaded [B] (ru_maxrss 0.25 GB measured), and per ray of a
-#: medium's launch [B] (its path state).
-PROCESS_BYTES, MEDIUM_RAY_BYTES = 250e6, 400.0
+#: Cost of a render (2 CPU cores, LLVM): start (Mitsuba and the first kernels) [s], an analytic window per range
+#: [s] (render/imaging/quality.py's 0.1-0.5 s), a medium's scene and kernels [s], and a medium's sample [s] at
+#: optical depth tau of beta R, times 1 + tau + 0.01 tau^2 (the scatterings of its walk in the fog's box). Fitted
+#: to the default drone at 150 m, standard quality, 156,800 samples: 3.6 s (tau 0.29), 2.9 s (1.17), 7.7 s
+#: (5.9), and 28,800 samples at tau 15.6: 5.6 s, under a load average of 5-6. ``csuas bench --only cost_models``
+#: (render-medium, load average 13): estimated 4.1 / 5.8 / 7.4 s against 11.1 / 10.4 / 15.7 s wall and 3.9 / 3.6
+#: / 5.1 CPU-s (the command's processor time, what an idle machine's wall time approaches).
+START_SECONDS, ANALYTIC_SECONDS, MEDIUM_START_SECONDS, SAMPLE_SECONDS = 2.0, 0.5, 1.0, 6e-6
+#: Peak resident memory of a render with Mitsuba loaded [B] (ru_maxrss 0.34-0.36 GB, the benchmark's three runs),
+#: and per ray of a medium's launch [B] (its path state).
+PROCESS_BYTES, MEDIUM_RAY_BYTES = 330e6, 400.0
 
 
 def medium_samples(window_pixels: int, quality) -> int:
