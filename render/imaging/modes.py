@@ -17,6 +17,10 @@ plus the rain's extinction (physical); thermal the sensor's ``extinction_db_km``
 the core functions the range models use (:func:`csuas.core.ranges.eo_path_inputs`,
 :func:`csuas.core.eo.path_extinction`, :func:`csuas.core.ranges.thermal_path`), so a scenario's weather
 changes both or neither (tests/test_render_weather_terms.py).
+
+The request's ``atmosphere_method`` (EO only; ``csuas render`` asks ``auto``) traces the path through Mitsuba's
+participating medium instead where the analytic path is an approximation (:func:`eo_method`,
+:mod:`csuas.render.imaging.medium_path`); :func:`eo_estimate` is the cost of the renders before any.
 """
 
 from __future__ import annotations
