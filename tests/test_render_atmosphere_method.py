@@ -140,9 +140,9 @@ def test_the_medium_follows_koschmieder_in_uniform_isotropic_fog_under_uniform_l
     assert record["samples"] == medium_samples(res.window.n_pixels, quality)
 
 
-def _render(capsys, *argv):
+def _render(capsys, *argv, mode="eo"):
     try:
-        code = cli.main(["render", "eo", *argv, "--quality", "draft", "--quiet", "--json"])
+        code = cli.main(["render", mode, *argv, "--quality", "draft", "--quiet", "--json"])
     except SystemExit as exc:  # argparse's own refusals (a choice that is not one)
         code = exc.code
     captured = capsys.readouterr()
@@ -204,10 +204,12 @@ def test_render_json_reports_the_medium_with_its_error_time_and_the_analytic_fig
             "max_seconds",
         ),
         (["default", "--range-m", "100", "--max-seconds", "-1"], "max_seconds"),
+        (["tir", "default", "--range-m", "100", "--atmosphere-method", "medium"], "atmosphere_method"),
     ],
 )
 def test_bad_atmosphere_method_and_limits_exit_2_naming_the_key(capsys, argv, fragment):
     cpu = time.process_time()
-    code, out, err = _render(capsys, *argv)
+    mode, argv = (argv[0], argv[1:]) if argv[0] == "tir" else ("eo", argv)
+    code, out, err = _render(capsys, *argv, mode=mode)
     assert code == 2 and out == "" and fragment in err and "Traceback" not in err
     assert time.process_time() - cpu < 5.0  # refused before any render

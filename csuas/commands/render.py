@@ -114,8 +114,9 @@ def run(args) -> dict:
         errors += [ParameterError(option, v, f"{low:g} to {high:g} [deg]") for v in values if not (low <= v <= high)]
     if not (0 <= args.seed < 2**32):
         errors.append(ParameterError("seed", args.seed, "an integer from 0 to 2^32 - 1"))
-    if args.atmosphere_method not in ATMOSPHERE_METHODS:
-        errors.append(ParameterError("atmosphere_method", args.atmosphere_method, ", ".join(ATMOSPHERE_METHODS)))
+    if args.atmosphere_method not in ATMOSPHERE_METHODS or (args.mode != "eo" and args.atmosphere_method == "medium"):
+        allowed = ", ".join(ATMOSPHERE_METHODS) + " (medium: eo only)"
+        errors.append(ParameterError("atmosphere_method", args.atmosphere_method, allowed))
     raise_all(errors)
     limits_of(args)
     directions = [(az, el) for az in args.azimuth_deg for el in args.elevation_deg]
