@@ -42,6 +42,10 @@ UNIFORM_VISIBILITY_KM, UNIFORM_RANGES_M, THICK_FOG = 0.5, {"quick": (150.0,), "f
 LAYER = {"drone_m": 10.0, "top_m": 50.0, "range_m": 300.0, "elevation_deg": 20.0, "visibility_km": 0.5}
 
 
+#: The default EO camera's IFOV [rad] (10 deg over 1920 px).
+IFOV = math.radians(EoSensor().hfov_deg) / EoSensor().n_h
+
+
 def _target():
     """A 0.3 m plate of reflectance 0.05 facing the sensor."""
     return plate(width_m=0.3, height_m=0.3, reflectance=0.05)
@@ -96,8 +100,9 @@ def uniform_checks(size: str, seed: int = 0) -> list:
                 FogMedium(beta, g=FOG_ASYMMETRY_G),
                 quality,
                 limitation="Koschmieder's law takes the light scattered onto the line of sight as the undisturbed "
-                f"sky; with forward scattering (g {FOG_ASYMMETRY_G:g}) part of it is the drone's own dark radiance "
-                "scattered forward within a metre of it (csuas render --atmosphere-method medium traces it)",
+                f"sky; with forward scattering (g {FOG_ASYMMETRY_G:g}) a share of it is the drone's own radiance "
+                f"scattered forward near it ({blur_share(beta * r / 1000.0, IFOV):.2g} of the direct on its pixels, "
+                "csuas.render.imaging.medium_path.blur_share), which the medium traces",
             )
         )
     return checks
@@ -108,7 +113,7 @@ def thick_fog_check(seed: int = 0) -> Check:
     medium); the medium's contrast against Koschmieder's C0 exp(-beta R), which is nearly 0 there."""
     visibility_km, r = THICK_FOG
     beta = float(extinction_per_km(550.0, visibility_km, "physical"))
-    share = blur_share(beta * r / 1000.0, math.radians(EoSensor().hfov_deg) / EoSensor().n_h)
+    share = blur_share(beta * r / 1000.0, IFOV)
     return _medium_check(
         f"imaging.weather.medium_forward_scatter_thick.{r:g}m",
         replace(UNIFORM_LIGHT, visibility_km=visibility_km),
