@@ -432,7 +432,8 @@ def _medium_figures(hit: np.ndarray, miss: np.ndarray, inherent: tuple) -> dict:
     ``inherent``: the vacuum render's (L_t, L_b) [cd m^-2]; the effective ``transmittance`` is the contrast
     transmittance (L_t' - L_b') / (L_t - L_b) and the ``airlight`` L_b' - tau L_b (Koschmieder's, where exact).
     """
-    lt, lb = hit[0] / max(hit[1], 1.0), miss[0] / max(miss[1], 1.0)
+    lb = float(miss[0] / max(miss[1], 1.0))
+    lt = float(hit[0] / hit[1]) if hit[1] > 0 else lb  # no ray hit the drone: its luminance is the background's
     tau = (lt - lb) / (inherent[0] - inherent[1]) if inherent[0] != inherent[1] else float("nan")
     return {
         "target_radiance_apparent": lt,
@@ -555,6 +556,8 @@ def _with_medium(analytic, values: dict, stderr: dict, sums: _MediumSums, choice
         },
     }
     notes = [*analytic.notes, f"path traced through the participating medium: {'; '.join(choice.reasons)}"]
+    if sums.hit[:, 1].sum() == 0:
+        notes.append("no ray of the medium's trace hit the drone: its apparent figures are the background's")
     result = replace(
         analytic,
         values=merged,

@@ -18,6 +18,7 @@ from pathlib import Path
 from csuas.base.cost import Estimate, run_measured
 from csuas.base.fileio import read_spec
 from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.scenario import load_scenario
 from csuas.core.terrain import gaussian_hills
 from csuas.defaults import sweep_path
 
@@ -156,7 +157,6 @@ def bench_render_medium(folder: Path) -> list[dict]:
     """The EO render's model through the participating medium (:func:`csuas.render.imaging.modes.eo_estimate`):
     the default drone at 150 m in 400 m fog at draft and standard quality, and at 300 m in 100 m fog (optical
     depth 11.7) at standard."""
-    from csuas.core.scenario import load_scenario
     from csuas.render.imaging.modes import eo_estimate
     from csuas.render.request import RenderRequest
 

@@ -59,8 +59,8 @@ def _medium_check(name: str, light: Daylight, view: View, medium: FogMedium, qua
     se = difference["stderr"]
     return Check(
         name,
-        record["analytic"]["contrast_weber"],
-        res.values["contrast_weber"],
+        float(record["analytic"]["contrast_weber"]),
+        float(res.values["contrast_weber"]),
         N_SIGMA * se,
         "-",
         error_estimate=se,
@@ -73,11 +73,11 @@ def _medium_check(name: str, light: Daylight, view: View, medium: FogMedium, qua
         method=f"Mitsuba volpath through fog (beta {medium.beta_per_km:.4g} /km, Henyey-Greenstein g {medium.g:g}, "
         f"albedo {medium.albedo:g}), a 0.3 m plate at {view.range_m:g} m, elevation {view.elevation_deg:g} deg",
         details={
-            "medium_transmittance": next(t["value"] for t in res.terms if t["name"] == "transmittance"),
-            "difference": difference["value"],
-            "background_medium": res.values["background_radiance_apparent"],
-            "background_analytic": record["analytic"]["background_radiance_apparent"],
-            "medium_time_s": record["time_s"],
+            "medium_transmittance": float(next(t["value"] for t in res.terms if t["name"] == "transmittance")),
+            "difference": float(difference["value"]),
+            "background_medium": float(res.values["background_radiance_apparent"]),
+            "background_analytic": float(record["analytic"]["background_radiance_apparent"]),
+            "medium_time_s": float(record["time_s"]),
         },
     )
 
