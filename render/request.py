@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 #: Choices of the ``atmosphere`` option of a render request.
 ATMOSPHERE_CHOICES = ("auto", "on", "off")
+#: Choices of the ``atmosphere_method`` option: how an EO render's path is computed.
+ATMOSPHERE_METHODS = ("auto", "analytic", "medium")
 
 
 @dataclass(frozen=True)
@@ -41,6 +43,9 @@ class RenderRequest:
         EO previews only: a camera set for clear daylight (night looks dark), or the brightest pixel white.
     convention : {"paper", "physical"} or None
         The convention of the path (as ``csuas range --convention``); None: the scenario's.
+    atmosphere_method : {"analytic", "medium", "auto"}
+        EO only: the analytic path, Mitsuba's participating medium, or the medium where the analytic path is an
+        approximation (:func:`csuas.render.imaging.medium_path.choose_method`); ``csuas render`` asks ``auto``.
     """
 
     ranges_m: object
@@ -54,3 +59,4 @@ class RenderRequest:
     progress: object = None
     exposure: str = "scene"
     convention: str | None = None
+    atmosphere_method: str = "analytic"

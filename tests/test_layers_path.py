@@ -101,16 +101,20 @@ def test_the_terrain_takes_the_path_at_each_pixels_ground_distance():
     assert np.array_equal(fogged[~ground], plain[~ground])
 
 
-def test_only_scenarios_with_weather_give_the_layers_a_path():
+def test_the_layers_take_a_path_wherever_range_gives_the_drone_one():
+    from csuas.core.ranges import evaluate
     from csuas.render.imaging.dataset import _layers_take_path
 
+    path_terms = {"kruse_extinction", "extinction_db_km"}  # the EO and thermal path terms of csuas range
     sensors = {"eo": {"modality": "eo"}, "tir": {"modality": "tir"}, "mrtd": {"modality": "tir", "model": "mrtd"}}
-    for preset in sorted(load_presets()["environment"]):
-        sc = parse_scenario({"convention": "physical", "environment": {"preset": preset}, "sensors": sensors})
-        weather = bool({"fog", "rain", "haze"} & sc.effects)
-        assert _layers_take_path(sc, sc.sensors["eo"]) == weather, preset
-        assert _layers_take_path(sc, sc.sensors["mrtd"]) == weather, preset
-        assert not _layers_take_path(sc, sc.sensors["tir"])  # Johnson: the drone's frame has no path either
+    for convention in ("paper", "physical"):
+        for preset in sorted(load_presets()["environment"]):
+            sc = parse_scenario({"convention": convention, "environment": {"preset": preset}, "sensors": sensors})
+            ranges = evaluate(sc)
+            for name in sensors:
+                has_path = bool(path_terms & {t.name for t in ranges[name].terms})
+                assert _layers_take_path(sc, sc.sensors[name]) == has_path, (convention, preset, name)
+            assert not _layers_take_path(sc, sc.sensors["tir"])  # Johnson: the drone's frame has no path either
 
 
 def test_no_path_leaves_the_layers_as_they_are():

@@ -12,6 +12,7 @@ from __future__ import annotations
 import sys
 import time
 
+from csuas.base.cost import add_limit_arguments, check_limits, limits_of
 from csuas.base.errors import ParameterError, raise_all
 from csuas.base.fileio import prepare_output_dir
 from csuas.base.paths import file_name_part, inside
@@ -19,7 +20,7 @@ from csuas.base.quality import RUNGS
 from csuas.base.registry import resolve
 from csuas.core.scenario import load_scenario
 from csuas.render.quality import IMAGING, LIDAR
-from csuas.render.request import RenderRequest
+from csuas.render.request import ATMOSPHERE_METHODS, RenderRequest
 
 #: Mode name -> "module:function" of a render mode ``f(scenario, request) -> list of dict``
 #: (:class:`csuas.render.request.RenderRequest`).
@@ -28,6 +29,9 @@ MODES = {
     "tir": "csuas.render.imaging.modes:tir_scenario",
     "lidar": "csuas.render.lidar.runner:render_lidar",
 }
+#: Mode name -> "module:function" of its cost before any render, ``f(scenario, request) -> Estimate``
+#: (:class:`csuas.base.cost.Estimate`), held against ``--max-seconds`` and ``--max-memory-gb``.
+ESTIMATES = {"eo": "csuas.render.imaging.modes:eo_estimate"}
 
 
 def add_arguments(parser) -> None:
@@ -72,6 +76,14 @@ def add_arguments(parser) -> None:
         "(EO always; thermal with the MRTD/NETD models or declared rain, fog or haze)",
     )
     parser.add_argument(
+        "--atmosphere-method",
+        choices=ATMOSPHERE_METHODS,
+        default="auto",
+        help="eo: the path analytic (Koschmieder), through Mitsuba's participating medium, or auto = the medium "
+        "where the analytic path is an approximation (a slant path across a fog layer's top, the ground behind the "
+        "drone, forward-scattered light on its pixels; docs/simulation.md)",
+    )
+    parser.add_argument(
         "--convention",
         choices=("paper", "physical"),
         default=None,
@@ -80,6 +92,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (deterministic results)")
     parser.add_argument("--out", metavar="DIR", default=None, help="write EXR and PNG per range into DIR")
     parser.add_argument("--quiet", action="store_true", help="no progress on standard error")
+    add_limit_arguments(parser)
 
 
 def resolve_mode(name: str):
@@ -101,32 +114,24 @@ def run(args) -> dict:
         errors += [ParameterError(option, v, f"{low:g} to {high:g} [deg]") for v in values if not (low <= v <= high)]
     if not (0 <= args.seed < 2**32):
         errors.append(ParameterError("seed", args.seed, "an integer from 0 to 2^32 - 1"))
+    if args.atmosphere_method not in ATMOSPHERE_METHODS or (args.mode != "eo" and args.atmosphere_method == "medium"):
+        allowed = ", ".join(ATMOSPHERE_METHODS) + " (medium: eo only)"
+        errors.append(ParameterError("atmosphere_method", args.atmosphere_method, allowed))
     raise_all(errors)
+    limits_of(args)
     directions = [(az, el) for az in args.azimuth_deg for el in args.elevation_deg]
     _refuse_colliding_names(args.range_m, directions)
+    scenario = load_scenario(args.scenario)
+    requests = [_request(args, azimuth, elevation) for azimuth, elevation in directions]
+    _check_cost(args, scenario, requests)
     if args.out is not None:
         prepare_output_dir(args.out)
-    scenario = load_scenario(args.scenario)
-    if args.out is not None:
         _refuse_unsafe_targets(scenario, args, directions)
     mode = resolve_mode(args.mode)
     results = []
-    for azimuth, elevation in directions:
-        request = RenderRequest(
-            ranges_m=list(args.range_m),
-            quality=args.quality,
-            azimuth_deg=azimuth,
-            elevation_deg=elevation,
-            out_dir=args.out,
-            seed=args.seed,
-            sensor=args.sensor,
-            atmosphere=args.atmosphere,
-            progress=None if args.quiet else sys.stderr,
-            exposure="auto" if args.auto_exposure else "scene",
-            convention=args.convention,
-        )
+    for request in requests:
         rows = mode(scenario, request)
-        results += [{**row, "azimuth_deg": azimuth, "elevation_deg": elevation} for row in rows]
+        results += [{**row, "azimuth_deg": request.azimuth_deg, "elevation_deg": request.elevation_deg} for row in rows]
     return {
         "mode": args.mode,
         "scenario": scenario.name,
@@ -134,6 +139,37 @@ def run(args) -> dict:
         "results": results,
         "time_s": time.perf_counter() - start,
     }
+
+
+def _request(args, azimuth: float, elevation: float) -> RenderRequest:
+    """The render mode's request of one direction from the command's options."""
+    return RenderRequest(
+        ranges_m=list(args.range_m),
+        quality=args.quality,
+        azimuth_deg=azimuth,
+        elevation_deg=elevation,
+        out_dir=args.out,
+        seed=args.seed,
+        sensor=args.sensor,
+        atmosphere=args.atmosphere,
+        progress=None if args.quiet else sys.stderr,
+        exposure="auto" if args.auto_exposure else "scene",
+        convention=args.convention,
+        atmosphere_method=args.atmosphere_method,
+    )
+
+
+def _check_cost(args, scenario, requests: list) -> None:
+    """The renders' estimated cost (:data:`ESTIMATES`, modes that have one) against ``--max-seconds`` and
+    ``--max-memory-gb``, before any render or folder."""
+    if args.mode not in ESTIMATES:
+        return
+    estimate_of = resolve(ESTIMATES[args.mode])
+    estimates = [estimate_of(scenario, request) for request in requests]
+    total = estimates[0]
+    for more in estimates[1:]:
+        total = total + more
+    check_limits(total, args, "render", announce=not args.quiet)
 
 
 def _refuse_unsafe_targets(scenario, args, directions) -> None:

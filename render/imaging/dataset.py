@@ -490,17 +490,13 @@ def _visible(spec: DatasetSpec, scenario, sensor, item: dict, view, seed: int) -
     return frame
 
 
-#: Effects of a scenario that give a frame's clutter and confusers the path at their own ranges.
-WEATHER_EFFECTS = frozenset({"fog", "haze", "rain"})
-
-
 def _layers_take_path(scenario, sensor) -> bool:
-    """Whether a frame's clutter and confusers take the path at their own ranges: where the drone's frame has one
-    (``csuas range`` applies a path to the sensor) and the scenario declares weather (fog, haze or rain); frames of
-    a scenario without weather keep today's layers, bit for bit (the clear air's extinction left off them)."""
+    """Whether a frame's clutter and confusers take the path at their own ranges: wherever the drone's frame has
+    one (``csuas range`` applies a path to the sensor, clear air's extinction included), so that a bird at the
+    drone's range fades exactly as the drone does."""
     from csuas.render.imaging.modes import atmosphere_on
 
-    return atmosphere_on(scenario, "auto", sensor) and bool(WEATHER_EFFECTS & scenario.effects)
+    return atmosphere_on(scenario, "auto", sensor)
 
 
 def _sun_in_view(light, sun_offset_deg, p: dict, item: dict):

@@ -18,14 +18,20 @@ alike), with path radiance at the environment's ``temperature_k``. The extinctio
 the core functions the range models use (:func:`csuas.core.ranges.eo_path_inputs`,
 :func:`csuas.core.eo.path_extinction`, :func:`csuas.core.ranges.thermal_path`), so a scenario's weather
 changes both or neither (tests/test_render_weather_terms.py).
+
+The request's ``atmosphere_method`` (EO only; ``csuas render`` asks ``auto``) traces the path through Mitsuba's
+participating medium instead where the analytic path is an approximation (:func:`eo_method`,
+:mod:`csuas.render.imaging.medium_path`); :func:`eo_estimate` is the cost of the renders before any.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
 from csuas.core.ranges import (
+    REFERENCE_SENSOR_HEIGHT_M,
     eo_path_inputs,
     fog_layer_geometry,
     thermal_extinction_no_fog_db_km,
@@ -167,32 +173,74 @@ def _swarm_row(row: dict, members, view: View, res, spec) -> None:
         row["swarm"] = swarm_summary(members, view, res, int(spec.params["n_h"]), int(spec.params["n_v"]))
 
 
+def fog_top_above_target_m(scenario, spec) -> float | None:
+    """The scenario's fog top above the drone [m] (``fog_top_m`` less the sensor's ``height_m`` and the target's
+    ``altitude_m`` above it, as :func:`csuas.core.ranges.eo_path_inputs` places them); None without a top."""
+    top = scenario.environment.get("fog_top_m")
+    if top is None:
+        return None
+    h_s = spec.params.get("height_m")
+    return float(top) - (REFERENCE_SENSOR_HEIGHT_M if h_s is None else h_s) - scenario.target["altitude_m"]
+
+
+#: Conditions of a scenario that make a path worth a medium (:attr:`csuas.core.scenario.Scenario.effects`).
+WEATHER = frozenset({"fog", "fog_layer", "rain", "haze"})
+
+
+def eo_method(scenario, spec, request: RenderRequest, view: View, light: Daylight, atmosphere: bool):
+    """The path of one EO render: :func:`csuas.render.imaging.medium_path.choose_method` on the request's
+    ``atmosphere_method`` (``analytic`` where the request has none)."""
+    from csuas.render.imaging.medium_path import choose_method
+
+    air = light if atmosphere else replace(light, visibility_km=None)
+    camera = EoSensor.from_params(spec.params)
+    top = fog_top_above_target_m(scenario, spec)
+    return choose_method(request.atmosphere_method, air, view, camera, top, bool(scenario.effects & WEATHER))
+
+
 def eo_scenario(scenario, request: RenderRequest) -> list:
-    """Render the scenario's EO sensor at each range of the request (mode ``eo``)."""
+    """Render the scenario's EO sensor at each range of the request (mode ``eo``), through the participating
+    medium where :func:`eo_method` chooses it (:func:`csuas.render.imaging.medium_path.render_eo_medium`)."""
     from csuas.render.imaging.eo import render_eo
+    from csuas.render.imaging.medium_path import render_eo_medium
 
     spec = _sensor(scenario, "eo", request.sensor)
     camera = EoSensor.from_params(spec.params)
     light = scenario_daylight(scenario, spec, request.convention)
     settings = RenderSettings(quality=request.quality, seed=request.seed, progress=request.progress)
     members, target = _swarm_target(scenario, request)
+    atmosphere = atmosphere_on(scenario, request.atmosphere, spec, request.convention)
     out = []
     for r in request.ranges_m:
         view = View(r, request.azimuth_deg, request.elevation_deg)
-        res = render_eo(
-            target,
-            view,
-            camera,
-            light,
-            atmosphere=atmosphere_on(scenario, request.atmosphere, spec, request.convention),
-            settings=settings,
-        )
+        choice = eo_method(scenario, spec, request, view, light, atmosphere)
+        if choice.method == "medium":
+            res, method = render_eo_medium(target, view, camera, light, choice, settings)
+        else:
+            res, method = render_eo(target, view, camera, light, atmosphere=atmosphere, settings=settings), None
         row = res.summary()
-        row.update(sensor=spec.name, convention=light.convention)
+        row.update(sensor=spec.name, convention=light.convention, atmosphere_method=method or choice.as_dict())
         row.update(files=_files(res, scenario, spec, request, request.exposure))
         _swarm_row(row, members, view, res, spec)
         out.append(row)
     return out
+
+
+def eo_estimate(scenario, request: RenderRequest):
+    """Time and peak memory of :func:`eo_scenario` (a :class:`csuas.base.cost.Estimate`), before any render:
+    the analytic windows, and the medium's traces where :func:`eo_method` chooses it
+    (:func:`csuas.render.imaging.medium_path.medium_estimate`)."""
+    from csuas.render.imaging.medium_path import render_estimate
+
+    spec = _sensor(scenario, "eo", request.sensor)
+    light = scenario_daylight(scenario, spec, request.convention)
+    atmosphere = atmosphere_on(scenario, request.atmosphere, spec, request.convention)
+    _, target = _swarm_target(scenario, request)
+    renders = []
+    for r in request.ranges_m:
+        view = View(r, request.azimuth_deg, request.elevation_deg)
+        renders.append((view, eo_method(scenario, spec, request, view, light, atmosphere)))
+    return render_estimate(target, EoSensor.from_params(spec.params), renders, request.quality)
 
 
 def tir_scenario(scenario, request: RenderRequest) -> list:

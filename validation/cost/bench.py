@@ -18,6 +18,7 @@ from pathlib import Path
 from csuas.base.cost import Estimate, run_measured
 from csuas.base.fileio import read_spec
 from csuas.core.coverage_cost import coverage_estimate
+from csuas.core.scenario import load_scenario
 from csuas.core.terrain import gaussian_hills
 from csuas.defaults import sweep_path
 
@@ -152,11 +153,44 @@ def bench_micro_doppler(folder: Path) -> list[dict]:
     return rows
 
 
+def bench_render_medium(folder: Path) -> list[dict]:
+    """The EO render's model through the participating medium (:func:`csuas.render.imaging.modes.eo_estimate`):
+    the default drone at 150 m in 400 m fog at draft and standard quality, and at 300 m in 100 m fog (optical
+    depth 11.7) at standard."""
+    from csuas.render.imaging.modes import eo_estimate
+    from csuas.render.request import RenderRequest
+
+    rows = []
+    for visibility_m, range_m, quality in (
+        (400.0, 150.0, "draft"),
+        (400.0, 150.0, "standard"),
+        (100.0, 300.0, "standard"),
+    ):
+        scenario = _toml(
+            folder / f"fog{visibility_m:g}.toml",
+            f'name = "fog"\nconvention = "physical"\n[environment]\nfog_visibility_m = {visibility_m}\n'
+            '[sensors.eo]\nmodality = "eo"\n',
+        )
+        request = RenderRequest([range_m], quality, atmosphere_method="medium")
+        estimate = eo_estimate(load_scenario(scenario), request)
+        argv = ["render", "eo", scenario, "--range-m", str(range_m), "--quality", quality, "--quiet"]
+        size = f"fog {visibility_m:g} m, {range_m:g} m, {quality}"
+        rows.append(_row("render-medium", size, estimate, [*argv, "--atmosphere-method", "medium"], folder))
+    return rows
+
+
 def bench_cost_models() -> list[dict]:
     """Every cost model on three sizes: estimated and measured time and peak memory, and their ratios."""
     rows = []
     with tempfile.TemporaryDirectory(prefix="csuas-cost-") as tmp:
         folder = Path(tmp)
-        for bench in (bench_sweeps, bench_dataset, bench_coverage, bench_rcs_statistics, bench_micro_doppler):
+        for bench in (
+            bench_sweeps,
+            bench_dataset,
+            bench_coverage,
+            bench_rcs_statistics,
+            bench_micro_doppler,
+            bench_render_medium,
+        ):
             rows += bench(folder)
     return rows

@@ -14,7 +14,11 @@
 * layered fog: the EO render's path transmittance of a scenario with ``fog_top_m`` against an absorbing Mitsuba
   fog slab (:func:`csuas.render.imaging.fog_slab.fog_slab_transmittance`) times the clear air's exp(-beta L_clear),
   and the layer's airlight on a slant path against a scattering slab lit by the uniform sky
-  (:func:`csuas.validation.imaging.medium.layered_medium_vs_analytic_airlight`).
+  (:func:`csuas.validation.imaging.medium.layered_medium_vs_analytic_airlight`);
+* the EO render through Mitsuba's participating medium (``csuas render --atmosphere-method medium``) against its
+  analytic path: equal within Monte Carlo error in uniform, isotropic fog under uniform light, the difference
+  stated under forward scattering and on a slant path across a fog layer's top
+  (:mod:`csuas.validation.imaging.medium_checks`).
 
 Each figure is a :class:`csuas.base.checks.Check` with its Monte Carlo standard error and time.
 """
@@ -39,6 +43,7 @@ from csuas.render.imaging.records import Daylight, RenderSettings, ThermalSensor
 from csuas.render.imaging.targets import plate
 from csuas.render.imaging.tir import render_tir
 from csuas.validation.imaging.medium import layered_medium_vs_analytic_airlight
+from csuas.validation.imaging.medium_checks import medium_checks
 
 #: Standard errors of the Monte Carlo estimate a check allows.
 N_SIGMA = 4.0
@@ -347,4 +352,5 @@ def weather_checks(quality="draft", seed: int = 0) -> tuple:
     eo, rows = koschmieder_checks(quality, seed)
     checks = eo + thermal_path_checks(quality, seed) + thermal_fog_checks(quality, seed)
     checks += confuser_fog_checks(quality, seed) + layered_fog_checks(seed) + layered_airlight_checks(seed)
+    checks += medium_checks("full" if quality == "reference" else "quick", seed)
     return checks, np.array(rows), time.perf_counter() - t0

@@ -592,7 +592,9 @@ SPECS = [
         "a plate's rendered contrast in fog vs C0 exp(-beta R) (C0 closed form, beta csuas range's); a graybody "
         "plate's rendered LWIR Delta T in heavy rain and in fog (LOWTRAN 7 advection fog) vs Beer-Lambert with the "
         "air's path radiance; a dataset confuser's contrast in fog at its own range vs exp(-beta R); the render's "
-        "slant-path transmittance through a fog layer (fog_top_m) vs an absorbing Mitsuba fog slab",
+        "slant-path transmittance through a fog layer (fog_top_m) vs an absorbing Mitsuba fog slab; the EO render "
+        "through the participating medium (render --atmosphere-method medium) vs its analytic path (equal in "
+        "uniform isotropic fog under uniform light; the difference stated for forward scattering and a slant layer)",
         "4 Monte Carlo standard errors (render batches, slab batches); thermal + 1e-4 K for float32 radiances",
         weather,
         "render quality (samples per pixel)",

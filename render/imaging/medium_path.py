@@ -1,0 +1,609 @@
+"""Fog as Mitsuba's participating medium in an EO render, where the analytic path is an approximation.
+
+The EO render applies its path analytically (:mod:`csuas.render.imaging.path`): L = L0 tau + L_h (1 - tau)
+(Koschmieder 1924). That is the exact solution of the transfer equation on a path whose source function is
+uniform and equal to the horizon sky L_h. It is an approximation where
+
+* a fog layer's top lies between the sensor and the drone: the source function changes along the slant path
+  (the analytic path averages the extinction, :func:`csuas.core.atmosphere.fog_path_fraction`);
+* the sky is not uniform: the fog's single-scattered source of sun, sky and ground
+  (:func:`single_scatter_source`) differs from L_h by more than :data:`SOURCE_SHARE_LIMIT` of the background
+  after the path, or the ground, not the horizon sky, lies behind the drone (the sensor above it, the ground's
+  luminance differing from the sky's);
+* the optical depth is large enough that light scattered forward by the droplets near the drone lands on the
+  drone's own pixels and blurs it: :func:`blur_share` (single scattering of a Henyey-Greenstein phase function),
+  above :data:`BLUR_SHARE_LIMIT` of the directly transmitted light (with g 0.85 and the default camera's
+  IFOV of 9.09e-5 rad, from a scattering optical depth of 16.9).
+
+There (``--atmosphere-method auto``) or on request (``medium``) the render traces the window through a
+homogeneous medium instead (:func:`render_eo_medium`): extinction beta the core's
+(:func:`csuas.core.atmosphere.extinction_per_km`, Kruse/Kim Eqs. 19-20, plus the physical convention's rain),
+single-scattering albedo :data:`FOG_ALBEDO` and a Henyey-Greenstein phase function of asymmetry
+:data:`FOG_ASYMMETRY_G` (Henyey & Greenstein 1941, ApJ 93, 70), lit by the render's own sun, sky and ground
+(:func:`csuas.render.imaging.scene.build_eo_scene`'s emitters), with Mitsuba's volumetric path tracer
+(``volpath``, all orders of scattering). Where the fog is: a box from far below the scene up to the fog's top
+(``fog_top_m``; clear air of the scenario's visibility above it, a second medium), or, without a top, up to
+:data:`SCENE_TOP_MARGIN` of the camera distance above the higher of camera and drone (the scenario's illuminance
+is taken at the fog's top). Every pixel of the window is traced, background included; rays that hit the drone
+give its apparent luminance, the others the background's, each batch apart (a jackknife standard error).
+
+References: Koschmieder, Beitr. Phys. fr. Atmos. 12 (1924); Henyey & Greenstein, ApJ 93, 70 (1941); Hess, Koepke
+& Schult, Bull. Am. Meteor. Soc. 79, 831 (1998) (OPAC: water droplets of fog and cloud at 550 nm, asymmetry
+parameter 0.85-0.87, single-scattering albedo 1.000).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from csuas.base.cost import Estimate
+from csuas.base.errors import ParameterError
+from csuas.core.atmosphere import extinction_per_km
+from csuas.drone_models.geometry import direction_vector
+from csuas.render.imaging.camera import jittered_film_samples, ray_directions
+from csuas.render.imaging.common import prepare
+from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo, sun_and_sky
+from csuas.render.imaging.quality import resolve_quality
+from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
+from csuas.render.imaging.scene import diffuse_rgb, mitsuba_mesh
+from csuas.render.imaging.trace import _Shading, camera_rays
+from csuas.render.request import ATMOSPHERE_METHODS
+
+#: Choices of ``csuas render --atmosphere-method``.
+METHODS = ATMOSPHERE_METHODS
+#: Henyey-Greenstein asymmetry of fog droplets at 550 nm (OPAC, Hess et al. 1998: 0.85-0.87).
+FOG_ASYMMETRY_G = 0.85
+#: Single-scattering albedo of water droplets in the visible (OPAC: 1.000; water's k ~ 2e-9 at 550 nm).
+FOG_ALBEDO = 1.0
+#: ``auto`` takes the medium where the forward-scattered light on the drone's pixels passes this share of its
+#: directly transmitted light (:func:`blur_share`).
+BLUR_SHARE_LIMIT = 0.01
+#: ``auto`` takes the medium where the single-scattered source of the fog differs from the horizon sky of the
+#: airlight by more than this share of the background's luminance, after the path (:func:`single_scatter_source`).
+SOURCE_SHARE_LIMIT = 0.1
+#: Directions of the quadrature of :func:`single_scatter_source`: cosines of the polar angle, azimuths.
+SOURCE_GRID = (400, 128)
+#: Without a fog top, the fog reaches this share of the camera distance above the higher of camera and drone.
+SCENE_TOP_MARGIN = 0.1
+#: Half width of the fog's box, and its depth below the lower of camera and drone, in camera distances.
+BOX_HALF_WIDTH = 4.0
+#: Longest path of the volumetric path tracer.
+MEDIUM_MAX_DEPTH = 4096
+#: Rays per launch of the medium's tracer (its paths hold more state than the vacuum's).
+MEDIUM_LAUNCH = 1 << 18
+
+
+@dataclass(frozen=True)
+class FogMedium:
+    """The participating medium of an EO render.
+
+    Attributes
+    ----------
+    beta_per_km : float
+        Extinction of the fog (or of the uniform air) [1/km].
+    clear_beta_per_km : float
+        Extinction of the clear air above a fog layer's top [1/km] (unused without a top).
+    top_above_target_m : float or None
+        Height of the fog's top above the drone [m]; None: the fog fills the scene (module docstring).
+    g, albedo : float
+        Henyey-Greenstein asymmetry and single-scattering albedo.
+    """
+
+    beta_per_km: float
+    clear_beta_per_km: float = 0.0
+    top_above_target_m: float | None = None
+    g: float = FOG_ASYMMETRY_G
+    albedo: float = FOG_ALBEDO
+
+
+@dataclass(frozen=True)
+class MethodChoice:
+    """Which path a render takes and why: ``method`` (``analytic`` or ``medium``), ``reasons`` (words),
+    the ``medium`` it traces (None for analytic) and the forward-scatter ``blur_share`` of its line of sight."""
+
+    method: str
+    reasons: tuple
+    medium: FogMedium | None
+    blur_share: float
+
+    def as_dict(self) -> dict:
+        """JSON form (``method``, ``reasons``, ``blur_share``, and the medium's coefficients)."""
+        out = {"method": self.method, "reasons": list(self.reasons), "blur_share": self.blur_share}
+        if self.medium is not None:
+            m = self.medium
+            out["medium"] = {
+                "extinction_per_km": m.beta_per_km,
+                "clear_extinction_per_km": m.clear_beta_per_km if m.top_above_target_m is not None else None,
+                "fog_top_above_target_m": m.top_above_target_m,
+                "phase_function": "henyey_greenstein",
+                "g": m.g,
+                "albedo": m.albedo,
+                "source": "extinction: csuas.core.atmosphere.extinction_per_km (Kruse/Kim, Eqs. 19-20) + rain, as "
+                "csuas range; g and albedo of fog droplets at 550 nm (OPAC, Hess et al. 1998)",
+            }
+        return out
+
+
+def _cone_share(tan_theta: float, g: float) -> float:
+    """Share of Henyey-Greenstein scattering within theta of the forward direction (its closed-form cumulative
+    distribution in cos theta), for theta given by its tangent."""
+    mu = 1.0 / math.sqrt(1.0 + tan_theta * tan_theta)
+    if g == 0.0:
+        return (1.0 - mu) / 2.0
+    return (1.0 - g * g) / (2.0 * g) * (1.0 / (1.0 - g) - (1.0 + g * g - 2.0 * g * mu) ** -0.5)
+
+
+def blur_share(scattering_depth: float, ifov_rad: float, g: float = FOG_ASYMMETRY_G) -> float:
+    """Share of a target's light scattered forward once onto its own image within one pixel, per directly
+    transmitted share (Henyey-Greenstein phase function, uniform scattering along the path).
+
+    Light scattered at a distance x in front of the target by the angle theta appears displaced by
+    x tan(theta) / R; it stays within alpha of the image where tan(theta) < alpha R / x. With P(theta) the
+    phase function's share within theta (:func:`_cone_share`), the share scattered in dx is beta_s dx
+    P(atan(alpha R / x)); with u = alpha R / x the integral over 0 < x < R is
+    tau_s alpha I(g), I(g) = int_alpha^inf P(atan u) / u^2 du, taken from 0 for alpha much below 1 rad
+    (the integrand tends to p(0) pi = (1 + g) / (4 (1 - g)^2) at u = 0).
+
+    Parameters
+    ----------
+    scattering_depth : float
+        Scattering optical depth of the line of sight tau_s = beta_s R [-].
+    ifov_rad : float
+        The pixel's angle alpha [rad].
+    g : float
+        Asymmetry parameter, -1 < g < 1.
+    """
+    from scipy import integrate
+
+    near, _ = integrate.quad(
+        lambda u: _cone_share(u, g) / (u * u) if u > 0 else (1.0 + g) / (4.0 * (1.0 - g) ** 2), 0.0, 1.0
+    )
+    far, _ = integrate.quad(lambda u: _cone_share(u, g) / (u * u), 1.0, math.inf)
+    return float(scattering_depth) * float(ifov_rad) * (near + far)
+
+
+def _hg(cos_theta, g: float):
+    """Henyey-Greenstein phase function [1/sr] (Henyey & Greenstein 1941)."""
+    return (1.0 - g * g) / (4.0 * np.pi * (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5)
+
+
+def single_scatter_source(light: Daylight, view: View, g: float = FOG_ASYMMETRY_G) -> float:
+    """The fog's source function for single scattering toward the sensor [cd m^-2]: the render's sky (above the
+    horizon), ground (below) and sun scattered by the phase function into the line of sight,
+    J1 = int L(w) p(-w . d) dw + E_sun p(-s . d), with d the direction from the drone toward the sensor and s
+    toward the sun. Koschmieder's airlight takes the horizon sky L_h instead (exact for a uniform sky: J1 = L_h).
+    """
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    d = direction_vector(view.azimuth_deg, view.elevation_deg)
+    n_mu, n_phi = SOURCE_GRID
+    mu = (np.arange(n_mu) + 0.5) / n_mu * 2.0 - 1.0  # cosine of each source direction's angle from the zenith
+    phi = (np.arange(n_phi) + 0.5) / n_phi * 2.0 * np.pi
+    sin = np.sqrt(1.0 - mu * mu)[:, None]
+    w = np.stack([sin * np.cos(phi), sin * np.sin(phi), np.broadcast_to(mu[:, None], (n_mu, n_phi))], axis=-1)
+    radiance = np.where(mu > 0.0, sky["sky_radiance"], sky["ground_radiance"])[:, None]
+    weight = (2.0 / n_mu) * (2.0 * np.pi / n_phi)
+    diffuse = float(np.sum(radiance * _hg(-(w @ d), g)) * weight)
+    sun_az = view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+    to_sun = direction_vector(sun_az, light.sun_elevation_deg)
+    return diffuse + sky["sun_irradiance_lx"] * float(_hg(-float(to_sun @ d), g))
+
+
+def _fog_beta(light: Daylight, sensor: EoSensor) -> tuple[float, float]:
+    """Extinction of the fog (the render's visibility) and of the clear air above a layer [1/km], rain added."""
+    fog = float(extinction_per_km(sensor.wavelength_nm, light.visibility_km, "physical"))
+    clear = 0.0
+    if light.fog_layer is not None and math.isfinite(light.fog_layer[1]):
+        clear = float(extinction_per_km(sensor.wavelength_nm, light.fog_layer[1], "physical"))
+    return fog + light.rain_extinction_per_km, clear + light.rain_extinction_per_km
+
+
+def fog_medium(light: Daylight, sensor: EoSensor, fog_top_above_target_m: float | None) -> FogMedium:
+    """The medium of a render's path: the core's extinction (:func:`_fog_beta`), the layer's top, fog droplets."""
+    beta, clear = _fog_beta(light, sensor)
+    return FogMedium(beta, clear, fog_top_above_target_m if light.fog_layer is not None else None)
+
+
+def choose_method(
+    requested: str,
+    light: Daylight,
+    view: View,
+    sensor: EoSensor,
+    fog_top_above_target_m: float | None,
+    weather: bool,
+) -> MethodChoice:
+    """The path a render takes: ``analytic``, ``medium``, or ``auto`` = the medium exactly where the analytic
+    path is an approximation (module docstring) and the scenario declares weather (fog, a fog layer, rain or a
+    visibility), the analytic path otherwise.
+
+    Parameters
+    ----------
+    requested : {"auto", "analytic", "medium"}
+    light : Daylight
+        With the path's visibility (None: the atmosphere is off), rain, fog layer and convention.
+    view : View
+        The sensor stands ``range_m sin(elevation_deg)`` above the drone.
+    sensor : EoSensor
+    fog_top_above_target_m : float or None
+        The fog layer's top above the drone [m] (None: no layer).
+    weather : bool
+        Whether the scenario declares weather (:attr:`csuas.core.scenario.Scenario.effects`).
+
+    Raises
+    ------
+    ParameterError
+        ``atmosphere_method``: not a choice, or ``medium`` without a path or under the paper convention.
+    """
+    if requested not in METHODS:
+        raise ParameterError("atmosphere_method", requested, ", ".join(METHODS))
+    if requested == "analytic":
+        return MethodChoice("analytic", ("requested",), None, 0.0)
+    usable = light.visibility_km is not None and light.convention == "physical"
+    if requested == "medium" and not usable:
+        raise ParameterError(
+            "atmosphere_method",
+            requested,
+            "analytic or auto (the medium needs the path on and the physical convention)",
+        )
+    if not (usable and weather):
+        why = "no weather declared" if not weather else "no path, or the paper convention's (Eq. 10 as printed)"
+        return MethodChoice("analytic", (f"auto: {why}",), None, 0.0)
+    medium = fog_medium(light, sensor, fog_top_above_target_m)
+    ifov = math.radians(sensor.hfov_deg) / sensor.n_h
+    share = blur_share(medium.albedo * _line_of_sight_depth(medium, view), ifov, medium.g)
+    reasons = _approximations(light, view, medium, share)
+    if requested == "medium":
+        return MethodChoice("medium", ("requested", *reasons), medium, share)
+    if not reasons:
+        return MethodChoice("analytic", ("auto: Koschmieder's uniform path holds",), None, share)
+    return MethodChoice("medium", reasons, medium, share)
+
+
+def _line_of_sight_depth(medium: FogMedium, view: View) -> float:
+    """Optical depth of the line of sight in the fog [-] (a layer: the share of the path below its top)."""
+    r_km = view.range_m / 1000.0
+    top = medium.top_above_target_m
+    if top is None:
+        return medium.beta_per_km * r_km
+    rise = view.range_m * math.sin(math.radians(view.elevation_deg))  # sensor above the drone [m]
+    low, high = min(0.0, rise), max(0.0, rise)
+    if high - low <= 0.0:
+        share = 1.0 if top > 0.0 else 0.0
+    else:
+        share = min(max((top - low) / (high - low), 0.0), 1.0)
+    return medium.beta_per_km * r_km * share + medium.clear_beta_per_km * r_km * (1.0 - share)
+
+
+def _approximations(light: Daylight, view: View, medium: FogMedium, share: float) -> tuple:
+    """Where Koschmieder's uniform path is an approximation on this render (module docstring), in words."""
+    reasons = []
+    top = medium.top_above_target_m
+    rise = view.range_m * math.sin(math.radians(view.elevation_deg))
+    if top is not None and min(0.0, rise) < top < max(0.0, rise):
+        reasons.append(f"the slant path crosses the fog's top ({top:.4g} m above the drone, the sensor {rise:.4g} m)")
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    if view.elevation_deg > 0.0 and sky["ground_radiance"] != sky["sky_radiance"]:
+        reasons.append(
+            f"the ground ({sky['ground_radiance']:.4g} cd/m^2) lies behind the drone, not the horizon sky "
+            f"({sky['sky_radiance']:.4g} cd/m^2) of the airlight"
+        )
+    tau = math.exp(-_line_of_sight_depth(medium, view))
+    source = single_scatter_source(light, view, medium.g)
+    if abs(source - sky["sky_radiance"]) * (1.0 - tau) > SOURCE_SHARE_LIMIT * sky["sky_radiance"]:
+        reasons.append(
+            f"the sky is not uniform: the fog scatters {source:.4g} cd/m^2 of sun, sky and ground into the line of "
+            f"sight (single scattering), not the horizon sky's {sky['sky_radiance']:.4g} of the airlight"
+        )
+    if share > BLUR_SHARE_LIMIT:
+        reasons.append(
+            f"forward-scattered light on the drone's pixels {share:.3g} of the direct (> {BLUR_SHARE_LIMIT:g})"
+        )
+    return tuple(reasons)
+
+
+def _homogeneous(beta_per_km: float, medium: FogMedium, radius_m: float):
+    """A Mitsuba homogeneous medium of extinction ``beta_per_km`` in render units (the bounding radius)."""
+    import mitsuba as mi
+
+    return mi.load_dict(
+        {
+            "type": "homogeneous",
+            "sigma_t": beta_per_km / 1000.0 * radius_m,
+            "albedo": medium.albedo,
+            "phase": {"type": "hg", "g": medium.g},
+        }
+    )
+
+
+def _box(up, centre_lateral, bottom: float, top: float, half_width: float, interior, exterior=None) -> dict:
+    """A cube from height ``bottom`` to ``top`` along ``up`` (render units), ``half_width`` across, right-handed
+    (its normals point out), with its interior (and exterior) medium."""
+    import mitsuba as mi
+
+    helper = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(up, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(up, e1)
+    matrix = np.eye(4)
+    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = e1 * half_width, e2 * half_width, up * (top - bottom) / 2.0
+    matrix[:3, 3] = centre_lateral + up * (top + bottom) / 2.0
+    shape = {"type": "cube", "bsdf": {"type": "null"}, "interior": interior, "to_world": mi.ScalarTransform4f(matrix)}
+    if exterior is not None:
+        shape["exterior"] = exterior
+    return shape
+
+
+def _fog_shapes(normalised, camera_distance: float, medium: FogMedium) -> tuple:
+    """The fog's box (and the clear air above a layer's top): shapes, the camera's medium, the drone's medium."""
+    up = np.asarray(normalised.to_render([0.0, 0.0, 1.0]), dtype=float)
+    camera = np.array([0.0, 0.0, camera_distance])
+    h_camera = float(camera @ up)
+    low, high = min(0.0, h_camera), max(0.0, h_camera)
+    lateral = camera / 2.0 - up * (h_camera / 2.0)
+    width, bottom = BOX_HALF_WIDTH * camera_distance, low - BOX_HALF_WIDTH * camera_distance
+    fog = _homogeneous(medium.beta_per_km, medium, normalised.radius_m)
+    if medium.top_above_target_m is None:
+        top = high + SCENE_TOP_MARGIN * camera_distance
+        return {"fog": _box(up, lateral, bottom, top, width, fog)}, fog, fog
+    top = medium.top_above_target_m / normalised.radius_m
+    clear = _homogeneous(medium.clear_beta_per_km, medium, normalised.radius_m)
+    outer_top = max(high, top) + SCENE_TOP_MARGIN * camera_distance
+    shapes = {
+        "clear_air": _box(up, lateral, bottom - camera_distance, outer_top, width + camera_distance, clear),
+        "fog": _box(up, lateral, bottom, top, width, fog, clear),
+    }
+    return shapes, fog if h_camera < top else clear, fog if top > 0.0 else clear
+
+
+def _medium_scene(normalised, view: View, light: Daylight, camera_distance: float, medium: FogMedium) -> tuple:
+    """The drone under the render's sun, sky and ground (:func:`csuas.render.imaging.eo.render_eo`'s light),
+    inside the fog's shapes; returns the scene and the camera's medium."""
+    import mitsuba as mi
+
+    from csuas.render.imaging.scene import _along, _sky_ground_envmap, _sky_ground_pattern
+
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    shapes, camera_medium, drone_medium = _fog_shapes(normalised, camera_distance, medium)
+    spec = {"type": "scene", **shapes}
+    for i, part in enumerate(normalised.parts):
+        spec[f"part_{i}"] = mitsuba_mesh(part, diffuse_rgb(part.material), exterior=drone_medium)
+    if sky["sun_irradiance_lx"] > 0:
+        sun_az = view.azimuth_deg if light.sun_azimuth_deg is None else light.sun_azimuth_deg
+        to_sun = normalised.to_render(direction_vector(sun_az, light.sun_elevation_deg))
+        spec["sun"] = {
+            "type": "directional",
+            "to_world": _along(-np.asarray(to_sun)),
+            "irradiance": {"type": "rgb", "value": float(sky["sun_irradiance_lx"])},
+        }
+    if sky["sky_radiance"] > 0 or sky["ground_radiance"] > 0:
+        s, g, scale = _sky_ground_pattern(sky["sky_radiance"], sky["ground_radiance"])
+        spec["environment"] = _sky_ground_envmap((s, g), scale, normalised.to_render([0.0, 0.0, 1.0]))
+    return mi.load_dict(spec), camera_medium
+
+
+@dataclass
+class _MediumSums:
+    """Per-batch sums of a medium tally: drone hits and misses (luminance, count) and each pixel's radiance."""
+
+    hit: np.ndarray  # (K, 2): luminance sum, count
+    miss: np.ndarray  # (K, 2)
+    pixels: np.ndarray  # (K, C, n_px)
+    counts: np.ndarray  # (K, n_px)
+
+
+def _trace_medium(scene, camera_medium, geometry, framing, sampling) -> _MediumSums:
+    """Every pixel of the window through the medium (volpath), batch by batch; hits by the drone's geometry."""
+    import drjit as dr
+    import mitsuba as mi
+
+    window, k, channels = framing.window, sampling.n_batches, 3
+    n_px = window.n_pixels
+    n_side = max(sampling.n_side, math.ceil(sampling.n_side * math.sqrt(64.0 / n_px)))
+    integrator = mi.load_dict({"type": "volpath", "max_depth": MEDIUM_MAX_DEPTH, "rr_depth": MEDIUM_MAX_DEPTH})
+    shading = _Shading(scene, integrator, camera_medium, framing.camera_distance, channels, sampling.seed, k)
+    sums = _MediumSums(np.zeros((k, 2)), np.zeros((k, 2)), np.zeros((k, channels, n_px)), np.zeros((k, n_px)))
+    chunk = max(1, MEDIUM_LAUNCH // (n_side * n_side))
+    weights = np.asarray(LUMINANCE_WEIGHTS)
+    for b in range(k):
+        rng = np.random.default_rng([int(sampling.seed), b, 2])
+        for p0 in range(0, n_px, chunk):
+            pixels = np.arange(p0, min(p0 + chunk, n_px))
+            x, y, _ = jittered_film_samples(window, pixels, n_side, rng)
+            d = ray_directions(x, y, framing.sensor, framing.target_px).astype(np.float32)
+            hit = np.array(geometry.ray_intersect(camera_rays(framing.camera_distance, d)).is_valid(), dtype=bool)
+            value = shading.values(d, np.arange(x.size))
+            lum = weights @ value
+            sums.hit[b] += (lum[hit].sum(), hit.sum())
+            sums.miss[b] += (lum[~hit].sum(), (~hit).sum())
+            owner = np.repeat(pixels, n_side * n_side)
+            for c in range(channels):
+                sums.pixels[b, c] += np.bincount(owner, weights=value[c], minlength=n_px)
+            sums.counts[b] += np.bincount(owner, minlength=n_px)
+    dr.sync_thread()
+    return sums
+
+
+def _medium_figures(hit: np.ndarray, miss: np.ndarray, inherent: tuple) -> dict:
+    """Apparent drone and background luminance, contrasts and the effective path of summed hits and misses.
+
+    ``inherent``: the vacuum render's (L_t, L_b) [cd m^-2]; the effective ``transmittance`` is the contrast
+    transmittance (L_t' - L_b') / (L_t - L_b) and the ``airlight`` L_b' - tau L_b (Koschmieder's, where exact).
+    """
+    lb = float(miss[0] / max(miss[1], 1.0))
+    lt = float(hit[0] / hit[1]) if hit[1] > 0 else lb  # no ray hit the drone: its luminance is the background's
+    tau = (lt - lb) / (inherent[0] - inherent[1]) if inherent[0] != inherent[1] else float("nan")
+    return {
+        "target_radiance_apparent": lt,
+        "background_radiance_apparent": lb,
+        "contrast": (lt - lb) / (lt + lb) if lt + lb > 0 else 0.0,
+        "contrast_weber": (lt - lb) / lb if lb > 0 else float("inf"),
+        "transmittance": tau,
+        "airlight": lb - tau * inherent[1],
+    }
+
+
+def _jackknife(sums: _MediumSums, inherent: tuple) -> tuple[dict, dict]:
+    """Figures of all batches and their delete-one-batch jackknife standard errors (Efron & Stein 1981)."""
+    k = sums.hit.shape[0]
+    hit, miss = sums.hit.sum(0), sums.miss.sum(0)
+    values = _medium_figures(hit, miss, inherent)
+    loo = [_medium_figures(hit - sums.hit[b], miss - sums.miss[b], inherent) for b in range(k)]
+    stderr = {}
+    for name in values:
+        theta = np.array([f[name] for f in loo], dtype=float)
+        stderr[name] = float(np.sqrt((k - 1) / k * np.sum((theta - theta.mean()) ** 2)))
+    return values, stderr
+
+
+def render_eo_medium(
+    target, view: View, sensor: EoSensor, light: Daylight, choice: MethodChoice, settings: RenderSettings
+) -> tuple:
+    """An EO render whose path is traced through the participating medium of ``choice`` (module docstring).
+
+    The drone's geometry, inherent figures and the analytic path's figures come from
+    :func:`csuas.render.imaging.eo.render_eo` (the path on); the medium's trace then replaces the apparent
+    figures, the image and the path's ``transmittance`` and ``airlight`` terms (each with its standard error).
+
+    Returns
+    -------
+    (ImagingResult, dict)
+        The render, and its ``atmosphere_method`` record: the choice (:meth:`MethodChoice.as_dict`), the medium's
+        ``stderr``, ``time_s`` and ``samples``, the ``analytic`` figures and the ``difference`` medium - analytic
+        of the contrasts with its standard error.
+    """
+    if choice.medium is None:
+        raise ParameterError("atmosphere_method", choice.method, "a choice with a medium (choose_method)")
+    from csuas.render.backend import use_variant
+
+    analytic = render_eo(target, view, sensor, light, atmosphere=True, settings=settings)
+    t0 = time.perf_counter()
+    q = resolve_quality(settings.quality)
+    _, normalised, framing = prepare(target, view, sensor, full=settings.full_frame)
+    use_variant("ad_rgb", settings.variant)
+    from csuas.render.imaging.scene import build_eo_scene
+
+    sky = sun_and_sky(light.illuminance_lx, light.diffuse_fraction, light.sun_elevation_deg, light.ground_reflectance)
+    geometry = build_eo_scene(
+        normalised,
+        sun_direction_render=[0.0, 0.0, 1.0],
+        sun_irradiance=0.0,
+        sky_radiance=sky["sky_radiance"],
+        ground_radiance=sky["ground_radiance"],
+        up_render=normalised.to_render([0.0, 0.0, 1.0]),
+    )
+    scene, camera_medium = _medium_scene(normalised, view, light, framing.camera_distance, choice.medium)
+    from csuas.render.imaging.trace import Sampling
+
+    sums = _trace_medium(scene, camera_medium, geometry, framing, Sampling(q.n_side, q.n_batches, settings.seed))
+    inherent = (analytic.values["target_radiance"], analytic.values["background_radiance"])
+    values, stderr = _jackknife(sums, inherent)
+    elapsed = time.perf_counter() - t0
+    return _with_medium(analytic, values, stderr, sums, choice, elapsed)
+
+
+#: Figures of the render that the medium's trace replaces.
+APPARENT = ("target_radiance_apparent", "background_radiance_apparent", "contrast", "contrast_weber")
+
+
+def _with_medium(analytic, values: dict, stderr: dict, sums: _MediumSums, choice: MethodChoice, elapsed: float):
+    """The analytic render with the medium's apparent figures, image and path terms; its method record."""
+    window = analytic.window
+    image = (sums.pixels.sum(0) / np.maximum(sums.counts.sum(0), 1.0)).reshape(3, window.height, window.width)
+    source = (
+        f"Mitsuba volpath through a homogeneous medium (Henyey-Greenstein g {choice.medium.g:g}, albedo "
+        f"{choice.medium.albedo:g}), lit by the render's sun, sky and ground"
+    )
+    terms = [t for t in analytic.terms if t["name"] not in ("transmittance", "airlight")]
+    terms += [
+        {
+            "name": "transmittance",
+            "value": values["transmittance"],
+            "unit": "-",
+            "stderr": stderr["transmittance"],
+            "source": source + ": contrast transmittance (L_t' - L_b') / (L_t - L_b)",
+        },
+        {
+            "name": "airlight",
+            "value": values["airlight"],
+            "unit": "cd/m^2",
+            "stderr": stderr["airlight"],
+            "source": source + ": L_b' - tau L_b",
+        },
+    ]
+    merged, merged_se = dict(analytic.values), dict(analytic.stderr)
+    for name in APPARENT:
+        merged[name], merged_se[name] = float(values[name]), float(stderr[name])
+    path = {t["name"]: t["value"] for t in analytic.terms}
+    record = {
+        **choice.as_dict(),
+        "stderr": {name: stderr[name] for name in (*APPARENT, "transmittance", "airlight")},
+        "time_s": elapsed,
+        "samples": int(sums.counts.sum()),
+        "analytic": {
+            **{name: analytic.values[name] for name in APPARENT},
+            "transmittance": path["transmittance"],
+            "airlight": path["airlight"],
+        },
+        "difference": {
+            name: {
+                "value": float(values[name] - analytic.values[name]),
+                "stderr": float(math.hypot(stderr[name], analytic.stderr[name])),
+            }
+            for name in ("contrast", "contrast_weber")
+        },
+    }
+    notes = [*analytic.notes, f"path traced through the participating medium: {'; '.join(choice.reasons)}"]
+    if sums.hit[:, 1].sum() == 0:
+        notes.append("no ray of the medium's trace hit the drone: its apparent figures are the background's")
+    result = replace(
+        analytic,
+        values=merged,
+        stderr=merged_se,
+        image=image,
+        terms=terms,
+        samples=analytic.samples + record["samples"],
+        time_s=analytic.time_s + elapsed,
+        notes=notes,
+    )
+    return result, record
+
+
+#: Cost of a render (2 CPU cores, LLVM): start (Mitsuba and the first kernels) [s], an analytic window per range
+#: [s] (render/imaging/quality.py's 0.1-0.5 s), a medium's scene and kernels [s], and a medium's sample [s] at
+#: optical depth tau of beta R, times 1 + tau + 0.01 tau^2 (the scatterings of its walk in the fog's box). Fitted
+#: to the default drone at 150 m, standard quality, 156,800 samples: 3.6 s (tau 0.29), 2.9 s (1.17), 7.7 s
+#: (5.9), and 28,800 samples at tau 15.6: 5.6 s, under a load average of 5-6. ``csuas bench --only cost_models``
+#: (render-medium, load average 13): estimated 4.1 / 5.8 / 7.4 s against 11.1 / 10.4 / 15.7 s wall and 3.9 / 3.6
+#: / 5.1 CPU-s (the command's processor time, what an idle machine's wall time approaches).
+START_SECONDS, ANALYTIC_SECONDS, MEDIUM_START_SECONDS, SAMPLE_SECONDS = 2.0, 0.5, 1.0, 6e-6
+#: Peak resident memory of a render with Mitsuba loaded [B] (ru_maxrss 0.34-0.36 GB, the benchmark's three runs),
+#: and per ray of a medium's launch [B] (its path state).
+PROCESS_BYTES, MEDIUM_RAY_BYTES = 330e6, 400.0
+
+
+def medium_samples(window_pixels: int, quality) -> int:
+    """Camera rays a medium trace of a window of ``window_pixels`` takes (:func:`_trace_medium`)."""
+    q = resolve_quality(quality)
+    n_side = max(q.n_side, math.ceil(q.n_side * math.sqrt(64.0 / window_pixels)))
+    return int(window_pixels) * n_side * n_side * q.n_batches
+
+
+def render_estimate(target, sensor: EoSensor, renders: list, quality) -> Estimate:
+    """Time and peak memory of EO renders, before any: ``renders`` lists (View, MethodChoice) pairs; each costs
+    an analytic window, and a medium trace where its choice is the medium (constants above)."""
+    seconds, peak, media = START_SECONDS, PROCESS_BYTES, 0
+    for view, choice in renders:
+        seconds += ANALYTIC_SECONDS
+        if choice.method != "medium":
+            continue
+        media += 1
+        _, _, framing = prepare(target, view, sensor)
+        tau = choice.medium.beta_per_km * view.range_m / 1000.0
+        samples = medium_samples(framing.window.n_pixels, quality)
+        seconds += MEDIUM_START_SECONDS + samples * SAMPLE_SECONDS * (1.0 + tau + 0.01 * tau * tau)
+        peak = max(peak, PROCESS_BYTES + MEDIUM_RAY_BYTES * min(samples, MEDIUM_LAUNCH))
+    what = f"{len(renders)} EO render(s) at {resolve_quality(quality).name}, {media} through the medium"
+    return Estimate(what, seconds, peak)
