@@ -169,12 +169,14 @@ def test_render_json_reports_the_medium_with_its_error_time_and_the_analytic_fig
         'name = "layer"\nconvention = "physical"\n[target]\naltitude_m = 100.0\n[environment]\n'
         'fog_visibility_m = 200.0\nfog_top_m = 50.0\n[sensors.eo]\nmodality = "eo"\n'
     )
-    # the drone 102 m up, the fog's top 52 m below it: a sensor 102.6 m below (elevation -20 deg) looks across it
+    # the sensor 2 m up, the drone R sin 20 deg = 102.6 m above it (the render's own geometry, elevation -20 deg):
+    # the fog's top 54.6 m below the drone, the path crosses it
     code, out, _ = _render(capsys, str(scenario), "--range-m", "300", "--elevation-deg", "-20")
     assert code == 0
     (row,) = json.loads(out)["results"]
     method = row["atmosphere_method"]
-    assert method["method"] == "medium" and method["medium"]["fog_top_above_target_m"] == pytest.approx(-52.0)
+    top_above_drone = 50.0 - 2.0 - 300.0 * math.sin(math.radians(20.0))
+    assert method["method"] == "medium" and method["medium"]["fog_top_above_target_m"] == pytest.approx(top_above_drone)
     assert method["medium"]["extinction_per_km"] == pytest.approx(math.log(50.0) / 0.2, rel=1e-9)
     assert method["time_s"] > 0 and method["samples"] > 0 and method["stderr"]["contrast"] > 0
     terms = {t["name"]: t for t in row["terms"]}

@@ -48,7 +48,7 @@ from csuas.render.imaging.camera import jittered_film_samples, ray_directions
 from csuas.render.imaging.common import prepare
 from csuas.render.imaging.eo import LUMINANCE_WEIGHTS, render_eo, sun_and_sky
 from csuas.render.imaging.quality import resolve_quality
-from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
+from csuas.render.imaging.records import Daylight, EoSensor, FogLayer, RenderSettings, View
 from csuas.render.imaging.scene import diffuse_rgb, mitsuba_mesh
 from csuas.render.imaging.trace import _Shading, camera_rays
 from csuas.render.request import ATMOSPHERE_METHODS
@@ -196,8 +196,10 @@ def _fog_beta(light: Daylight, sensor: EoSensor) -> tuple[float, float]:
     """Extinction of the fog (the render's visibility) and of the clear air above a layer [1/km], rain added."""
     fog = float(extinction_per_km(sensor.wavelength_nm, light.visibility_km, "physical"))
     clear = 0.0
-    if light.fog_layer is not None and math.isfinite(light.fog_layer[1]):
-        clear = float(extinction_per_km(sensor.wavelength_nm, light.fog_layer[1], "physical"))
+    layer = light.fog_layer  # a FogLayer, or a (share, clear visibility [km]) pair given as such
+    clear_km = layer.clear_visibility_km if isinstance(layer, FogLayer) else None if layer is None else layer[1]
+    if clear_km is not None and math.isfinite(clear_km):
+        clear = float(extinction_per_km(sensor.wavelength_nm, clear_km, "physical"))
     return fog + light.rain_extinction_per_km, clear + light.rain_extinction_per_km
 
 

@@ -26,12 +26,12 @@ participating medium instead where the analytic path is an approximation (:func:
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from pathlib import Path
 
 from csuas.base.errors import ParameterError
 from csuas.core.ranges import (
-    REFERENCE_SENSOR_HEIGHT_M,
     eo_path_inputs,
     fog_layer_geometry,
     thermal_extinction_no_fog_db_km,
@@ -173,14 +173,13 @@ def _swarm_row(row: dict, members, view: View, res, spec) -> None:
         row["swarm"] = swarm_summary(members, view, res, int(spec.params["n_h"]), int(spec.params["n_v"]))
 
 
-def fog_top_above_target_m(scenario, spec) -> float | None:
-    """The scenario's fog top above the drone [m] (``fog_top_m`` less the sensor's ``height_m`` and the target's
-    ``altitude_m`` above it, as :func:`csuas.core.ranges.eo_path_inputs` places them); None without a top."""
-    top = scenario.environment.get("fog_top_m")
-    if top is None:
+def fog_top_above_target_m(layer, view: View) -> float | None:
+    """A fog layer's top above the drone [m] on a render's own path: ``top_m`` less the sensor's height and the
+    R sin(-elevation) the drone stands above it (:func:`csuas.render.imaging.path.fog_layer_at` places them
+    alike); None without a layer (or with one given as its share alone)."""
+    if not isinstance(layer, FogLayer):
         return None
-    h_s = spec.params.get("height_m")
-    return float(top) - (REFERENCE_SENSOR_HEIGHT_M if h_s is None else h_s) - scenario.target["altitude_m"]
+    return layer.top_m - layer.sensor_height_m - view.range_m * -math.sin(math.radians(view.elevation_deg))
 
 
 #: Conditions of a scenario that make a path worth a medium (:attr:`csuas.core.scenario.Scenario.effects`).
@@ -194,7 +193,7 @@ def eo_method(scenario, spec, request: RenderRequest, view: View, light: Dayligh
 
     air = light if atmosphere else replace(light, visibility_km=None)
     camera = EoSensor.from_params(spec.params)
-    top = fog_top_above_target_m(scenario, spec)
+    top = fog_top_above_target_m(light.fog_layer, view)
     return choose_method(request.atmosphere_method, air, view, camera, top, bool(scenario.effects & WEATHER))
 
 
