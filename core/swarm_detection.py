@@ -151,6 +151,12 @@ def swarm_range(scenario: Scenario, name: str, convention: str) -> dict:
     }
 
 
+def swarm_first_detection_m(scenario: Scenario, name: str, convention: str | None = None) -> float:
+    """The longest range at which any resolved group of the swarm is detected by sensor ``name`` [m]
+    (:func:`swarm_range`'s ``first_detection_m``; the figure ``csuas sensitivity`` varies for a swarm)."""
+    return float(swarm_range(scenario, name, convention or scenario.convention)["first_detection_m"])
+
+
 def swarm_pd(scenario: Scenario, name: str, range_m, convention: str | None = None) -> dict:
     """Pd that any group of the swarm is detected, and the groups resolved, on ``range_m``
     (``csuas pd --json``'s ``sensors.NAME.swarm``, beside :func:`swarm_range`'s keys): ``pd_any`` =
