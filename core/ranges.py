@@ -566,7 +566,8 @@ def _current_value(scenario: Scenario, sensor_name: str, key: str) -> float:
     if key == SWARM_KEYS[1]:
         return float(scenario.swarm.spacing_m)
     section, _, name = key.partition(".")
-    current = (scenario.sensors[sensor_name].params if section == "sensor" else getattr(scenario, section, {})).get(name)
+    table = scenario.sensors[sensor_name].params if section == "sensor" else getattr(scenario, section, {})
+    current = table.get(name)
     return float(current) if current is not None else float("nan")
 
 

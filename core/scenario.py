@@ -210,7 +210,8 @@ def with_swarm_value(scenario: Scenario, key: str, value, label: str | None = No
         raise ParameterError(label, value, "one of " + ", ".join(SWARM_KEYS))
     if formation is None or formation.kind != "line":
         has = "no target.swarm" if formation is None else "target.swarm.offsets_m"
-        raise ParameterError(label, value, f"a scenario whose target.swarm is {{count, spacing_m}} (this one has {has})")
+        allowed = f"a scenario whose target.swarm is {{count, spacing_m}} (this one has {has})"
+        raise ParameterError(label, value, allowed)
     count = formation.count
     spacing = formation.spacing_m
     number = float(value) if isinstance(value, (int, float, np.number)) and not isinstance(value, bool) else None

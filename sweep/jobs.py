@@ -186,7 +186,8 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
             out[f"range_m.{name}"][idx] = np.broadcast_to(np.asarray(result.range_m, float), idx.shape)
         _explain(out, idx, batch, results)
     for i in range(n) if scenario.swarm is not None else ():  # the swarm's groups are found point by point
-        _swarm_point(out, i, with_values(scenario, {k: v[i] for k, v in columns.items()}), spec.options.get("convention"))
+        point = with_values(scenario, {k: v[i] for k, v in columns.items()})
+        _swarm_point(out, i, point, spec.options.get("convention"))
     return out
 
 

@@ -65,7 +65,7 @@ def test_a_sweep_without_swarm_columns_when_the_scenario_has_no_swarm():
 @pytest.mark.parametrize(
     ("scenario", "axes", "fragment"),
     [
-        ("default", '"target.swarm.count" = [2]', "axes.target.swarm.count.0 = 2 is invalid; allowed: a scenario whose"),
+        ("default", '"target.swarm.count" = [2]', "axes.target.swarm.count.0 = 2 is invalid; allowed: a scenario"),
         ("swarm", '"target.swarm.count" = [3, 1]', "axes.target.swarm.count.1 = 1 is invalid; allowed: a whole number"),
         ("swarm", '"target.swarm.count" = [2.5]', "axes.target.swarm.count.0"),
         ("swarm", '"target.swarm.spacing_m" = [0.0]', "axes.target.swarm.spacing_m.0 = 0.0 is invalid"),

@@ -15,8 +15,8 @@ from csuas.base.paths import file_name_part, inside
 from csuas.base.plots import tornado_plot
 from csuas.core.ranges import scenario_one_at_a_time
 from csuas.core.scenario import load_scenario
-from csuas.core.swarm_detection import swarm_first_detection_m
 from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
+from csuas.core.swarm_detection import swarm_first_detection_m
 from csuas.defaults import load_sensitivity
 
 
