@@ -68,3 +68,17 @@ def test_correlated_looks_keep_the_running_maximum_of_pd_of_any(tmp_path, capsys
     np.testing.assert_allclose(out["fused"]["swarm"]["cumulative_pd_any"], fused, rtol=1e-12)
     # one drone's keys stay one drone's: its own approach is no better than the swarm's
     assert out["sensors"]["eo"]["median_first_detection_range_m"] <= swarm["median_first_detection_range_m"]
+
+
+def test_swarm_approach_looks_at_the_sensor_rate_from_start_to_stop():
+    from csuas.core.scenario import parse_scenario
+    from csuas.core.swarm_detection import swarm_approach, swarm_pd
+
+    scenario = parse_scenario(
+        {"target": {"swarm": {"count": 4, "spacing_m": 5.0}}, "sensors": {"radar": {"modality": "radar"}}}, "s"
+    )
+    a = swarm_approach(scenario, "radar", SPEED_M_S, 200.0, 10.0)
+    np.testing.assert_allclose(a["look_range_m"], LOOKS_M[::-1], rtol=1e-12)  # 1 scan/s at 10 m/s
+    pd_any = swarm_pd(scenario, "radar", a["look_range_m"])["pd_any"]
+    np.testing.assert_allclose(a["cumulative_pd"], 1.0 - np.cumprod(1.0 - pd_any), rtol=1e-12)
+    assert a["never"] == pytest.approx(float(np.prod(1.0 - pd_any)), rel=1e-12)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from csuas.cli import main
@@ -121,3 +122,23 @@ def test_coverage_refuses_a_swarm_scenario_naming_the_key_and_why(tmp_path, caps
     err = capsys.readouterr().err
     assert "scenario = 'swarm' is invalid" in err and "target.swarm" in err and "Traceback" not in err
     assert not (tmp_path / "out").exists()
+
+
+def test_with_swarm_value_sets_a_line_formation_and_names_what_it_refuses():
+    from csuas.base.errors import ParameterError
+    from csuas.core.scenario import load_scenario, with_swarm_value
+    from csuas.core.swarm_detection import swarm_first_detection_m
+
+    swarm = load_scenario("swarm")
+    three = with_swarm_value(swarm, "target.swarm.count", 3.0)
+    np.testing.assert_array_equal(three.swarm.offsets_m[:, 1], [-5.0, 0.0, 5.0])  # 5 m kept, centred
+    wide = with_swarm_value(swarm, "target.swarm.spacing_m", 2.0)
+    np.testing.assert_array_equal(wide.swarm.offsets_m[:, 1], [-3.0, -1.0, 1.0, 3.0])
+    assert swarm_first_detection_m(three, "radar") == pytest.approx(RADAR_ONE_M * 3**0.25, rel=1e-6)
+    with pytest.raises(ParameterError) as info:
+        with_swarm_value(swarm, "target.swarm.count", 101, "axes.target.swarm.count.0")
+    assert info.value.name == "axes.target.swarm.count.0" and "2 to 100" in str(info.value)
+    offsets = load_scenario("swarm")
+    offsets.swarm = type(swarm.swarm)(swarm.swarm.offsets_m, "offsets")
+    with pytest.raises(ParameterError, match="offsets_m"):
+        with_swarm_value(offsets, "target.swarm.spacing_m", 1.0)
