@@ -140,3 +140,30 @@ def test_micro_doppler_of_the_pusher_has_lines_at_n_omega(tmp_path, capsys):
     assert rotor["elevation_above_rotor_plane_deg"] == pytest.approx(
         math.degrees(math.asin(math.cos(math.radians(10.0)) * math.cos(math.radians(60.0)))), rel=1e-12
     )
+
+
+def _pd_micro_doppler(capsys, *extra) -> dict:
+    from csuas import cli
+
+    assert cli.main(["pd", "fixed_wing", "--micro-doppler", "--range-m", "10", "50", "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out)["sensors"]["radar"]["micro_doppler"]
+
+
+def test_pd_classifies_a_pusher_by_its_propeller_lines_seen_from_its_aspect(capsys):
+    from csuas.core.radar import radar_frequency_ghz
+    from csuas.core.scenario import load_scenario
+
+    scenario = load_scenario("fixed_wing")
+    wavelength = C / (radar_frequency_ghz(scenario.sensors["radar"].params) * 1e9)
+    (rotor,), _ = drone_rotors(scenario.target_preset)
+    rate = scenario.target["blade_passing_hz"] / rotor.n_blades  # 225 Hz / 2 blades
+    nose_on = _pd_micro_doppler(capsys)  # approaching: azimuth 0, elevation 10: 80 deg above the pusher's plane
+    assert nose_on["line_spacing_hz"] == pytest.approx(scenario.target["blade_passing_hz"], rel=1e-12)
+    tip = 2.0 * (2.0 * math.pi * rotor.tip_radius_m * rate) * math.cos(math.radians(80.0)) / wavelength
+    assert nose_on["max_tip_doppler_hz"] == pytest.approx(tip, rel=1e-9)
+    assert "80 deg above the propeller plane" in " ".join(nose_on["assumptions"])
+    assert nose_on["blade_power_fraction"] > 0.01 and nose_on["pd_classified_drone"][0] > 0.5
+    # side-on the flat blades turn edge-on to the radar (beta 0: PO amplitude w sin(beta) = 0): no lines at all
+    side = _pd_micro_doppler(capsys, "--micro-doppler-azimuth-deg", "90", "--micro-doppler-elevation-deg", "0.5")
+    assert side["blade_power_fraction"] < 1e-30
+    assert side["pd_classified_drone"] == pytest.approx([side["p_bird_classified_drone"]] * 2, rel=1e-9)

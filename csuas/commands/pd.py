@@ -94,7 +94,13 @@ def add_arguments(parser):
         "--micro-doppler-elevation-deg",
         type=float,
         default=defaults.elevation_deg,
-        help="radar elevation above the rotor plane [deg] (default 10)",
+        help="radar elevation in the drone's frame, above a multirotor's rotor plane [deg] (default 10)",
+    )
+    parser.add_argument(
+        "--micro-doppler-azimuth-deg",
+        type=float,
+        default=defaults.azimuth_deg,
+        help="radar azimuth from the drone's nose [deg] (default 0: approaching; sets a pusher's aspect)",
     )
 
 
@@ -197,7 +203,10 @@ def _plot(args, scenario, grid, curves, out) -> str:
 
 def _classifier(args) -> ClassifierSettings:
     settings = ClassifierSettings(
-        args.micro_doppler_prf_hz, args.micro_doppler_dwell_s, args.micro_doppler_elevation_deg
+        args.micro_doppler_prf_hz,
+        args.micro_doppler_dwell_s,
+        args.micro_doppler_elevation_deg,
+        args.micro_doppler_azimuth_deg,
     )
     return settings.check("micro_doppler")
 
