@@ -197,6 +197,9 @@ def parse_spec(data: dict) -> SweepSpec:
         lengths = ", ".join(f"{k} {len(v)}" for k, v in axes.items())
         errors.append(ParameterError("combine", "zip", "axes of equal length: " + lengths))
     options = model.options.model_dump()
+    if kind.name == "rcs" and scenario.swarm is not None and options["target"] is None:
+        why = "a drone preset: the rcs job traces one drone, and the scenario's target.swarm is a formation"
+        errors.append(ParameterError("options.target", None, why + " (csuas rcs --swarm-count N traces one)"))
     raise_all(errors + kind.needs(axes, options, len(scenario.sensors)))
     spec = SweepSpec(
         kind.name,

@@ -142,3 +142,41 @@ def test_with_swarm_value_sets_a_line_formation_and_names_what_it_refuses():
     offsets.swarm = type(swarm.swarm)(swarm.swarm.offsets_m, "offsets")
     with pytest.raises(ParameterError, match="offsets_m"):
         with_swarm_value(offsets, "target.swarm.spacing_m", 1.0)
+
+
+def test_the_rcs_job_of_a_swarm_scenario_names_its_one_drone(tmp_path, capsys):
+    spec = tmp_path / "rcs.toml"
+    spec.write_text('job = "rcs"\nscenario = "swarm"\n[axes]\nfrequency_ghz = [10.0]\n')
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "out"), "--scheduler", "serial"]) == 2
+    assert "options.target" in capsys.readouterr().err
+    parse_spec(
+        {"job": "rcs", "scenario": "swarm", "axes": {"frequency_ghz": [10.0]}, "options": {"target": "dji_mini_4_pro"}}
+    )
+
+
+def test_the_render_job_takes_swarm_axes():
+    spec = parse_spec(
+        {
+            "job": "render",
+            "scenario": "swarm",
+            "axes": {"target.swarm.spacing_m": [1.0, 2.0]},
+            "options": {"range_m": 100.0},
+        }
+    )
+    from csuas.sweep.jobs import with_values
+
+    point = with_values(spec.scenario, {k: v[1] for k, v in spec.points(0, 2).items()})
+    np.testing.assert_array_equal(point.swarm.offsets_m[:, 1], [-3.0, -1.0, 1.0, 3.0])
+
+
+def test_a_swarm_sweep_estimate_counts_its_pairs_of_drones():
+    from csuas.sweep.cost import largest_swarm, sweep_estimate
+    from csuas.sweep.kinds import JOB_KINDS, SWARM_SECONDS_PER_PAIR_SENSOR
+
+    data = {"job": "range", "scenario": "swarm", "axes": {"target.swarm.count": [2, 8]}}
+    assert largest_swarm(data, 4) == 8 and largest_swarm({"axes": {"target.swarm.count": {"max": 12}}}, 4) == 12
+    plain = sweep_estimate(data, {"target.swarm.count": 2}, 6, "serial", None)
+    swarm = sweep_estimate(data, {"target.swarm.count": 2}, 6, "serial", None, swarm_count=8)
+    # 2 points x 6 sensors x 28 pairs (8 drones) x 1.2 ms
+    assert swarm.seconds - plain.seconds == pytest.approx(2 * 6 * 28 * SWARM_SECONDS_PER_PAIR_SENSOR, rel=1e-12)
+    assert JOB_KINDS["range"].cost.point_seconds(6, 6) > 1e3 * JOB_KINDS["range"].cost.point_seconds(6)
