@@ -167,3 +167,11 @@ def test_pd_classifies_a_pusher_by_its_propeller_lines_seen_from_its_aspect(caps
     side = _pd_micro_doppler(capsys, "--micro-doppler-azimuth-deg", "90", "--micro-doppler-elevation-deg", "0.5")
     assert side["blade_power_fraction"] < 1e-30
     assert side["pd_classified_drone"] == pytest.approx([side["p_bird_classified_drone"]] * 2, rel=1e-9)
+
+
+def test_the_report_s_axis_checks_pass():
+    from csuas.validation.report.checks_micro_doppler import axis_cases
+
+    section = axis_cases()
+    assert len(section.outcomes) == 8 and all(check.ok() for check in section.outcomes)
+    assert [row["note"].split(";")[0] for row in section.table] == ["beta 12.2 deg", "beta 73.5 deg", "beta 36.3 deg"]
