@@ -173,5 +173,5 @@ def test_the_report_s_axis_checks_pass():
     from csuas.validation.report.checks_micro_doppler import axis_cases
 
     section = axis_cases()
-    assert len(section.outcomes) == 8 and all(check.ok() for check in section.outcomes)
+    assert len(section.outcomes) == 8 and all(check.ok for check in section.outcomes)
     assert [row["note"].split(";")[0] for row in section.table] == ["beta 12.2 deg", "beta 73.5 deg", "beta 36.3 deg"]
