@@ -211,9 +211,9 @@ def swarm_approach(
     dict
         ``look_range_m`` (far to near) and ``cumulative_pd`` after each look (:func:`cumulative_pd` of
         Pd_any by the sensor's ``looks``), ``median_range_m`` of the first detection of any drone (a look;
-        None when the approach ends first), ``never``, ``resolved_count_changes`` (``time_s`` from the start,
-        ``range_m`` and ``resolved_count`` at the first look and at every look where the count changes) and
-        ``assumption`` (:data:`APPROACH_LOOKS`).
+        None when the approach ends first) and ``median_time_s`` its time from the start, ``never``,
+        ``resolved_count_changes`` (``time_s`` from the start, ``range_m`` and ``resolved_count`` at the first
+        look and at every look where the count changes) and ``assumption`` (:data:`APPROACH_LOOKS`).
     """
     correlation = scenario.sensors[name].params["looks"]
     looks = approach_looks(start_range_m, stop_range_m, speed_m_s, scenario.sensors[name].params["look_rate_hz"])
@@ -225,6 +225,9 @@ def swarm_approach(
         "look_range_m": looks,
         "cumulative_pd": cumulative,
         "median_range_m": first["median_range_m"],
+        "median_time_s": None
+        if first["median_range_m"] is None
+        else (start_range_m - first["median_range_m"]) / speed_m_s,
         "never": float(first["never"]),
         "resolved_count_changes": [
             {

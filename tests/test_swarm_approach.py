@@ -37,6 +37,7 @@ def test_independent_looks_accumulate_pd_of_any_group_look_by_look(tmp_path, cap
     np.testing.assert_allclose(approach["cumulative_pd_any"], expected[::-1], rtol=1e-12, atol=1e-15)
     median = LOOKS_M[::-1][np.searchsorted(expected, 0.5)]
     assert approach["median_first_detection_range_m"] == median
+    assert approach["median_first_detection_time_s"] == pytest.approx((200.0 - median) / SPEED_M_S, rel=1e-12)
 
 
 def test_the_radar_resolves_the_drones_when_its_beam_narrows_below_their_spacing(tmp_path, capsys):

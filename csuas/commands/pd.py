@@ -15,7 +15,8 @@ With ``target.swarm`` also a top-level ``swarm`` (the formation) and per sensor 
 swarm keys and, aligned with ``range_m``, ``pd_any`` (any resolved group detected) and
 ``resolved_count_at_range``; the other keys stay one drone's. With a swarm and ``--approach-speed-m-s``, each
 sensor's ``swarm`` also holds ``cumulative_pd_any`` (aligned with ``range_m``: any drone detected by then),
-``median_first_detection_range_m`` (of any drone), ``resolved_count_changes`` (``time_s``, ``range_m``,
+``median_first_detection_range_m`` and ``median_first_detection_time_s`` (of any drone, the time from the approach's
+start), ``resolved_count_changes`` (``time_s``, ``range_m``,
 ``resolved_count`` where the groups change along the approach) and ``approach_assumption``; ``fused.swarm``
 the fused ``cumulative_pd_any`` and ``median_first_detection_range_m`` by ``--fusion``'s rule.
 Every radio and optical sensor's Pd is 0 beyond its line-of-sight horizon: that of its
@@ -167,6 +168,7 @@ def _swarm_approaches(scenario, args, grid, out) -> None:
         sensor["swarm"].update(
             cumulative_pd_any=fused_cumulative([a], grid),
             median_first_detection_range_m=a["median_range_m"],
+            median_first_detection_time_s=a["median_time_s"],
             resolved_count_changes=a["resolved_count_changes"],
             approach_assumption=a["assumption"],
         )
