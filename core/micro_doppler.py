@@ -35,6 +35,19 @@ move at ``v_tip = 2 pi L Omega``, the largest Doppler shift being ``2 v_tip cos(
 (Eq. MD-4); complex (I/Q) samples resolve the band ``-PRF/2 .. PRF/2`` without aliasing when
 ``PRF >= 2 f_tip`` (Eq. MD-5).
 
+A rotor turning about any unit axis ``a`` (a multirotor's +z, a fixed-wing pusher's or tractor's flight
+axis +x), seen along the unit direction ``d`` toward the radar, is the rotor above with ``beta`` the angle
+between ``d`` and the rotor plane (Eq. MD-6):
+
+    sin(beta) = a . d,        cos(beta) = |a x d|,
+
+and ``theta_k`` measured in the rotor plane from ``d``'s projection onto it: Eq. MD-1 depends on the
+geometry only through ``r . d`` for points ``r`` of the blade, and a point at radius ``rho`` and azimuth
+``theta`` in the plane has ``r . d = rho cos(beta) cos(theta)``. So the flash period (Eq. MD-2) and the line
+spacing (Eq. MD-3) do not depend on the axis, while the tip Doppler (Eq. MD-4) carries the projection factor
+``cos(beta) = |a x d|``: a pusher seen nose-on (``d`` along ``a``) has no Doppler spread and flashes with its
+whole disc at once, seen from the side (``d`` perpendicular to ``a``) it flashes like a rotor seen edge-on.
+
 A flat rectangular blade of chord ``w`` adds the chord-wise factor ``sinc((2 pi / lambda) w cos(beta)
 sin(theta_k))`` (Eq. MD-1a): its physical-optics integral over the blade's area is the product of the
 two one-dimensional integrals (Knott, Shaeffer & Tuley, *Radar Cross Section*, 2nd ed., 2004, Eq. 5.8
@@ -112,6 +125,30 @@ def rotor_blade_signal(
         chord_factor = np.sinc(two_k * chord / 2.0 * cos_beta * np.sin(theta) / np.pi)
         signal = signal + length * np.sinc(phase / np.pi) * chord_factor * np.exp(1j * phase)
     return signal
+
+
+def rotor_plane_elevation_deg(spin_axis, toward_radar):
+    """Elevation of the radar above a rotor's plane, ``beta = asin(a . d)`` [deg] (Eq. MD-6).
+
+    Parameters
+    ----------
+    spin_axis : array_like (..., 3)
+        The rotor's rotation axis ``a`` (normalised here), != 0.
+    toward_radar : array_like (..., 3)
+        Direction ``d`` from the rotor toward the radar (normalised here), != 0.
+
+    Returns
+    -------
+    ndarray
+        ``beta`` in [-90, 90] deg; ``cos(beta) = |a x d|`` is the tip Doppler's projection factor.
+    """
+    axis, toward = np.asarray(spin_axis, float), np.asarray(toward_radar, float)
+    norms = [np.linalg.norm(v, axis=-1) for v in (axis, toward)]
+    for name, value, norm in (("spin_axis", spin_axis, norms[0]), ("toward_radar", toward_radar, norms[1])):
+        if not np.all(np.isfinite(norm) & (norm > 0)):
+            raise ParameterError(name, value, "a finite non-zero 3-vector")
+    sine = np.sum(axis * toward, axis=-1) / (norms[0] * norms[1])
+    return np.degrees(np.arcsin(np.clip(sine, -1.0, 1.0)))
 
 
 def blade_flash_period_s(n_blades, rotation_rate_hz):

@@ -26,7 +26,7 @@ from csuas.core.modality import RECORDS, PartTable
 from csuas.core.mrtd import sensor_mrtd
 from csuas.core.radiometry import graybody_apparent_temperature
 from csuas.core.result import RangeResult, Term, check_convention
-from csuas.core.scenario import Scenario, SensorSpec, check_value, johnson_derived
+from csuas.core.scenario import SWARM_KEYS, Scenario, SensorSpec, check_value, johnson_derived, with_swarm_value
 from csuas.core.sensitivity import TornadoBar
 from csuas.core.units import frequency_ghz
 from csuas.defaults import load_parameters
@@ -609,9 +609,29 @@ def horizontal_range_m(slant_range_m, altitude_m):
     return np.where(r >= abs(h), np.sqrt(np.maximum(r**2 - h**2, 0.0)), np.nan)
 
 
-def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:
-    """A copy of ``scenario`` with one parameter changed (``target.X``, ``environment.X`` or ``sensor.X``)."""
+def _sensor_range_m(scenario: Scenario, sensor_name: str, convention: str | None) -> float:
+    """One sensor's range [m] (:func:`evaluate`), the figure of :func:`scenario_one_at_a_time` by default."""
+    return float(evaluate(scenario, convention)[sensor_name].range_m)
+
+
+def _current_value(scenario: Scenario, sensor_name: str, key: str) -> float:
+    """The scenario's value of a varied key (NaN when it has none)."""
+    if key == SWARM_KEYS[0]:
+        return float(scenario.swarm.count)
+    if key == SWARM_KEYS[1]:
+        return float(scenario.swarm.spacing_m)
     section, _, name = key.partition(".")
+    table = scenario.sensors[sensor_name].params if section == "sensor" else getattr(scenario, section, {})
+    current = table.get(name)
+    return float(current) if current is not None else float("nan")
+
+
+def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenario:
+    """A copy of ``scenario`` with one parameter changed (``target.X``, ``environment.X``, ``sensor.X`` or a swarm
+    key, :data:`csuas.core.scenario.SWARM_KEYS`)."""
+    section, _, name = key.partition(".")
+    if key in SWARM_KEYS:
+        return with_swarm_value(scenario, key, value, f"vary {key}")
     if section in ("target", "environment"):
         table = dict(getattr(scenario, section))
         if name not in table:
@@ -631,7 +651,9 @@ def _with_value(scenario: Scenario, sensor_name: str, key: str, value) -> Scenar
     return replace(scenario, sensors=sensors)
 
 
-def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dict, convention: str | None = None):
+def scenario_one_at_a_time(
+    scenario: Scenario, sensor_name: str, variations: dict, convention: str | None = None, figure=None
+):
     """One-at-a-time sensitivity of one sensor of a scenario (Section 4.9 generalised to any modality).
 
     Parameters
@@ -642,6 +664,9 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
     variations : dict
         ``{"target.d_crit_m": (low, high), "sensor.hfov_deg": (low, high), ...}``.
     convention : {"paper", "physical"}, optional
+    figure : callable, optional
+        ``figure(scenario, sensor_name, convention)``: the range analysed [m] (default the sensor's range of
+        :func:`evaluate`; a swarm's first detection, :func:`csuas.core.swarm_detection.swarm_first_detection_m`).
 
     Returns
     -------
@@ -661,17 +686,16 @@ def scenario_one_at_a_time(scenario: Scenario, sensor_name: str, variations: dic
             except CsuasError as exc:
                 errors.append(exc)
     raise_all({str(e): e for e in errors}.values())  # a wrong key fails both bounds: said once
-    baseline = float(evaluate(only, convention)[sensor_name].range_m)
+    figure = figure or _sensor_range_m
+    baseline = figure(only, sensor_name, convention)
     bars = []
     for key, (low, high) in variations.items():
-        section, _, name = key.partition(".")
-        current = (only.sensors[sensor_name].params if section == "sensor" else getattr(only, section, {})).get(name)
-        ranges = [float(evaluate(variants[key, v], convention)[sensor_name].range_m) for v in (low, high)]
+        ranges = [figure(variants[key, v], sensor_name, convention) for v in (low, high)]
         bars.append(
             TornadoBar(
                 key,
                 float(low),
-                float(current) if current is not None else float("nan"),
+                _current_value(only, sensor_name, key),
                 float(high),
                 ranges[0],
                 ranges[1],

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NoReturn
 
@@ -30,7 +30,7 @@ from csuas.core import johnson
 from csuas.core.result import CONVENTIONS
 from csuas.core.swarm import Formation, line_formation
 from csuas.defaults import load_parameters, load_presets, load_tables, scenario_path
-from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, checked_values, scenario_schema
+from csuas.defaults.scenario_schema import ENVIRONMENT_ALIASES, MAX_SWARM, checked_values, scenario_schema
 from csuas.defaults.scenario_schema import TAGS as SCHEMA_TAGS
 
 #: Keys of a scenario file (its schema: :func:`csuas.defaults.scenario_schema.scenario_schema`).
@@ -187,6 +187,43 @@ def swarm_formation(swarm, key: str = "target.swarm") -> Formation | None:
         return line_formation(swarm.count, swarm.spacing_m)
     given = {k: v for k, v in zip(("count", "spacing_m", "offsets_m"), (*line, swarm.offsets_m)) if v is not None}
     raise ScenarioError(f"{key} = {plain(given)} is invalid; allowed: count and spacing_m together, or offsets_m alone")
+
+
+#: The swarm keys a sweep axis or a sensitivity bound may vary (a line formation's, docs/scenarios.md "Swarms").
+SWARM_KEYS = ("target.swarm.count", "target.swarm.spacing_m")
+
+
+def with_swarm_value(scenario: Scenario, key: str, value, label: str | None = None) -> Scenario:
+    """A copy of ``scenario`` whose line formation has ``target.swarm.count`` or ``target.swarm.spacing_m`` set
+    to ``value`` (the other kept); ``label`` names the value in the error (default ``key``).
+
+    Raises
+    ------
+    ParameterError
+        When ``key`` is not one of :data:`SWARM_KEYS`, the scenario has no ``target.swarm`` of ``count`` and
+        ``spacing_m`` (none, or ``offsets_m``: no count or spacing to vary), or the value is out of range
+        (a whole number 2 to MAX_SWARM drones; a spacing > 0 and <= 1e5 m, finite).
+    """
+    label = label or key
+    formation = scenario.swarm
+    if key not in SWARM_KEYS:
+        raise ParameterError(label, value, "one of " + ", ".join(SWARM_KEYS))
+    if formation is None or formation.kind != "line":
+        has = "no target.swarm" if formation is None else "target.swarm.offsets_m"
+        allowed = f"a scenario whose target.swarm is {{count, spacing_m}} (this one has {has})"
+        raise ParameterError(label, value, allowed)
+    count = formation.count
+    spacing = formation.spacing_m
+    number = float(value) if isinstance(value, (int, float, np.number)) and not isinstance(value, bool) else None
+    if key == SWARM_KEYS[0]:
+        if number is None or not number.is_integer() or not 2 <= number <= MAX_SWARM:
+            raise ParameterError(label, value, f"a whole number of drones, 2 to {MAX_SWARM}")
+        count = int(number)
+    else:
+        if number is None or not (math.isfinite(number) and 0.0 < number <= 1e5):
+            raise ParameterError(label, value, "a spacing > 0 and <= 100000 [m]")
+        spacing = number
+    return replace(scenario, swarm=line_formation(count, spacing))
 
 
 def _preset(kind: str, name: str, modality: str | None = None) -> dict:

@@ -46,6 +46,11 @@ class Formation:
         """Number of drones."""
         return int(self.offsets_m.shape[0])
 
+    @property
+    def spacing_m(self) -> float | None:
+        """Spacing of a ``line`` formation [m] (None for explicit offsets)."""
+        return float(self.offsets_m[1, 1] - self.offsets_m[0, 1]) if self.kind == "line" else None
+
 
 def line_formation(count: int, spacing_m: float) -> Formation:
     """The default formation: ``count`` drones ``spacing_m`` apart on a line along y, centred on the target."""

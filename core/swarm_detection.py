@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from csuas.core import false_alarms
+from csuas.core.fusion import approach_looks, cumulative_pd, first_detection
 from csuas.core.pd_curves import sensor_pd
 from csuas.core.ranges import evaluate
 from csuas.core.result import Term
@@ -151,24 +152,90 @@ def swarm_range(scenario: Scenario, name: str, convention: str) -> dict:
     }
 
 
-def swarm_pd(scenario: Scenario, name: str, range_m, convention: str | None = None) -> dict:
-    """Pd that any group of the swarm is detected, and the groups resolved, on ``range_m``
-    (``csuas pd --json``'s ``sensors.NAME.swarm``, beside :func:`swarm_range`'s keys): ``pd_any`` =
-    1 - prod_g (1 - Pd_g(R)), the groups' fluctuations independent; ``resolved_count_at_range``.
+def swarm_first_detection_m(scenario: Scenario, name: str, convention: str | None = None) -> float:
+    """The longest range at which any resolved group of the swarm is detected by sensor ``name`` [m]
+    (:func:`swarm_range`'s ``first_detection_m``; the figure ``csuas sensitivity`` varies for a swarm)."""
+    return float(swarm_range(scenario, name, convention or scenario.convention)["first_detection_m"])
+
+
+def _pd_any_and_counts(scenario: Scenario, name: str, range_m, convention: str | None) -> tuple:
+    """Pd that any group is detected, and the groups resolved, at each of ``range_m``.
+
+    The groups at R depend only on which link ranges lie below R (:func:`csuas.core.swarm.groups_at`), so the
+    ranges are binned by that count and each bin's groups found once: an approach's 10^5 looks cost a few
+    bins, not 10^5 graph searches. Pd_any = 1 - prod_g (1 - Pd_g(R)), the groups' fluctuations independent.
     """
     sensor = scenario.sensors[name]
     r = np.asarray(range_m, dtype=float)
     cells = sensor_cells(scenario, sensor)
     link = link_range_m(scenario.swarm.offsets_m, cells.along_m, cells.across_m, cells.across_per_m)
-    curves: dict = {}
+    below = np.searchsorted(np.unique(link[np.isfinite(link)]), r, side="left")  # link ranges under each R
     miss, counts = np.ones_like(r), np.zeros(r.shape, dtype=int)
-    for i, at in enumerate(r):
-        groups = groups_at(link, at)
-        counts[i] = len(groups)
+    for b in np.unique(below):
+        idx = np.flatnonzero(below == b)
+        groups = groups_at(link, r[idx[0]])
+        counts[idx] = len(groups)
         for g in groups:
-            key = tuple(g)
-            if key not in curves:
-                variant = replace(scenario, target=group_target(scenario, sensor.modality, g))
-                curves[key] = sensor_pd(variant, name, r, convention).pd
-            miss[i] *= 1.0 - curves[key][i]
-    return {"pd_any": 1.0 - miss, "resolved_count_at_range": counts}
+            variant = replace(scenario, target=group_target(scenario, sensor.modality, g))
+            miss[idx] *= 1.0 - sensor_pd(variant, name, r[idx], convention).pd
+    return 1.0 - miss, counts
+
+
+def swarm_pd(scenario: Scenario, name: str, range_m, convention: str | None = None) -> dict:
+    """Pd that any group of the swarm is detected, and the groups resolved, on ``range_m``
+    (``csuas pd --json``'s ``sensors.NAME.swarm``, beside :func:`swarm_range`'s keys): ``pd_any`` =
+    1 - prod_g (1 - Pd_g(R)), the groups' fluctuations independent; ``resolved_count_at_range``.
+    """
+    pd_any, counts = _pd_any_and_counts(scenario, name, range_m, convention)
+    return {"pd_any": pd_any, "resolved_count_at_range": counts}
+
+
+#: How an approach's looks at a swarm combine (``csuas pd --approach-speed-m-s``'s swarm ``assumption``).
+APPROACH_LOOKS = {
+    "independent": "each look draws every resolved group afresh: 1 - prod over looks of (1 - Pd_any)",
+    "correlated": "one draw for the whole approach: the running maximum of Pd_any (a lower bound where "
+    "separately resolved groups fluctuate independently)",
+}
+
+
+def swarm_approach(
+    scenario: Scenario, name: str, speed_m_s: float, start_range_m: float, stop_range_m: float, convention=None
+) -> dict:
+    """The swarm closing at constant speed from ``start_range_m``, seen at sensor ``name``'s look rate: the
+    cumulative Pd that any drone has been detected and the groups resolved over time
+    (``csuas pd --approach-speed-m-s``'s ``sensors.NAME.swarm``), the swarm's counterpart of
+    :func:`csuas.core.pd_curves.approach`.
+
+    Returns
+    -------
+    dict
+        ``look_range_m`` (far to near) and ``cumulative_pd`` after each look (:func:`cumulative_pd` of
+        Pd_any by the sensor's ``looks``), ``median_range_m`` of the first detection of any drone (a look;
+        None when the approach ends first) and ``median_time_s`` its time from the start, ``never``,
+        ``resolved_count_changes`` (``time_s`` from the start, ``range_m`` and ``resolved_count`` at the first
+        look and at every look where the count changes) and ``assumption`` (:data:`APPROACH_LOOKS`).
+    """
+    correlation = scenario.sensors[name].params["looks"]
+    looks = approach_looks(start_range_m, stop_range_m, speed_m_s, scenario.sensors[name].params["look_rate_hz"])
+    pd_any, counts = _pd_any_and_counts(scenario, name, looks, convention)
+    cumulative = cumulative_pd(pd_any, correlation)
+    first = first_detection(looks, cumulative)
+    changes = np.flatnonzero(np.diff(counts, prepend=-1))
+    return {
+        "look_range_m": looks,
+        "cumulative_pd": cumulative,
+        "median_range_m": first["median_range_m"],
+        "median_time_s": None
+        if first["median_range_m"] is None
+        else (start_range_m - first["median_range_m"]) / speed_m_s,
+        "never": float(first["never"]),
+        "resolved_count_changes": [
+            {
+                "time_s": float((start_range_m - looks[i]) / speed_m_s),
+                "range_m": float(looks[i]),
+                "resolved_count": int(counts[i]),
+            }
+            for i in changes
+        ],
+        "assumption": APPROACH_LOOKS[correlation],
+    }

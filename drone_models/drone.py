@@ -28,12 +28,16 @@ class Part:
         Closed surface in the body frame [m].
     material : Material
         Surface material.
+    spin_axis : tuple of float, optional
+        A propeller's rotation axis, a unit vector in the body frame (multirotor and helicopter rotors +z, a
+        fixed-wing's pusher +x); None for every other part (render/rcs/micro_doppler.py turns blades about it).
     """
 
     name: str
     kind: str
     mesh: trimesh.Trimesh
     material: Material
+    spin_axis: tuple | None = None
 
 
 @dataclass

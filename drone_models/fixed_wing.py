@@ -51,6 +51,8 @@ DEFAULT_FIXED_WING_MATERIALS = {
 
 #: How far the motor's front reaches into the fuselage's tail [m] (its mount).
 MOTOR_INSET_M = 0.005
+#: The pusher's rotation axis in the body frame: the fuselage axis, +x (forward).
+PUSHER_AXIS = (1.0, 0.0, 0.0)
 
 
 @dataclass
@@ -280,7 +282,13 @@ def build_fixed_wing(
     if propellers != "none":
         hub = np.array([motor_rear - params.propeller_thickness_m / 2.0, 0.0, axis_z])
         parts.append(
-            Part("propeller", "pusher_propeller", pusher_propeller(hub, params, propellers), mat["pusher_propeller"])
+            Part(
+                "propeller",
+                "pusher_propeller",
+                pusher_propeller(hub, params, propellers),
+                mat["pusher_propeller"],
+                spin_axis=PUSHER_AXIS,
+            )
         )
     if params.camera_extents_m is not None:
         cam = np.asarray(params.camera_extents_m, dtype=float)

@@ -34,6 +34,7 @@ from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.fixed_wing import (
     DEFAULT_FIXED_WING_MATERIALS,
     MOTOR_INSET_M,
+    PUSHER_AXIS,
     pusher_propeller,
     slab,
     wing_panel,
@@ -161,6 +162,12 @@ def build_flying_wing(
     if propellers != "none":
         hub = np.array([motor_rear - params.propeller_thickness_m / 2.0, 0.0, axis_z])
         parts.append(
-            Part("propeller", "pusher_propeller", pusher_propeller(hub, params, propellers), mat["pusher_propeller"])
+            Part(
+                "propeller",
+                "pusher_propeller",
+                pusher_propeller(hub, params, propellers),
+                mat["pusher_propeller"],
+                spin_axis=PUSHER_AXIS,
+            )
         )
     return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()

@@ -131,7 +131,7 @@ def _airframe(params: HelicopterParams, mat: dict[str, Material], propellers: st
             hub, params.main_rotor_diameter_m, params.main_rotor_thickness_m, propellers, plan, params.sections
         )
         tail = _tail_rotor(params, tail_end, propellers)
-        parts.append(Part("main_rotor", "propeller", rotor, mat["propeller"]))
+        parts.append(Part("main_rotor", "propeller", rotor, mat["propeller"], spin_axis=(0.0, 0.0, 1.0)))
         parts.append(Part("tail_rotor", "tail_rotor", tail, mat["tail_rotor"]))
     if params.camera_extents_m is not None:
         parts.append(

@@ -233,7 +233,13 @@ def _airframe(params: MultirotorParams, mat: dict[str, Material], propellers: st
         if propellers != "none":
             hub = [x, y, z + params.motor_height_m + params.propeller_gap_m + params.propeller_thickness_m / 2.0]
             parts.append(
-                Part(f"propeller_{label}", "propeller", propeller_mesh(hub, params, propellers), mat["propeller"])
+                Part(
+                    f"propeller_{label}",
+                    "propeller",
+                    propeller_mesh(hub, params, propellers),
+                    mat["propeller"],
+                    spin_axis=(0.0, 0.0, 1.0),
+                )
             )
     if params.gimbal_extents_m is not None:
         g_c = np.asarray(params.gimbal_center_m, dtype=float)

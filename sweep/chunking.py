@@ -24,6 +24,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from .kinds import swarm_pairs
+
 if TYPE_CHECKING:
     from .spec import SweepSpec
 
@@ -42,7 +44,8 @@ def lowest_chunk_points(spec: SweepSpec) -> int:
     :class:`~csuas.sweep.kinds.JobCost`) is taken as costly: one point.
     """
     kind = spec.kind
-    seconds = kind.cost.point_seconds(len(spec.scenario.sensors) if kind.takes_scenario else 0)
+    pairs = swarm_pairs(spec.scenario.swarm.count) if kind.takes_scenario and spec.scenario.swarm is not None else 0
+    seconds = kind.cost.point_seconds(len(spec.scenario.sensors) if kind.takes_scenario else 0, pairs)
     if seconds <= 0.0:
         return 1
     return max(1, math.ceil(TASK_OVERHEAD_S / (OVERHEAD_SHARE * seconds)))

@@ -24,7 +24,7 @@ import os
 from csuas.base.cost import BASE_PROCESS_BYTES, Estimate
 from csuas.base.errors import ParameterError, raise_all
 
-from .kinds import JOB_KINDS
+from .kinds import JOB_KINDS, swarm_pairs
 from .schema import MAX_POINTS
 
 #: Drawing and checking one value of an axis in the main process [s] and its memory while the axis
@@ -94,8 +94,20 @@ def workers_of(scheduler: str, workers: int | None) -> int:
     return 1
 
 
-def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, workers: int | None) -> Estimate:
-    """Time and peak memory of a sweep from its spec table and axis lengths (:func:`axis_lengths`).
+def largest_swarm(data: dict, scenario_count: int) -> int:
+    """The most drones a point of a sweep has: the scenario's swarm, or the highest value of a
+    ``target.swarm.count`` axis (a list or ``{min, max}``; its values are checked when the spec is parsed)."""
+    axis = data.get("axes", {}).get("target.swarm.count") if isinstance(data.get("axes"), dict) else None
+    values = axis if isinstance(axis, list) else [axis.get("max")] if isinstance(axis, dict) else []
+    numbers = [int(v) for v in values if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)]
+    return max([scenario_count, *numbers]) if scenario_count else 0
+
+
+def sweep_estimate(
+    data: dict, lengths: dict, n_sensors: int, scheduler: str, workers: int | None, swarm_count: int = 0
+) -> Estimate:
+    """Time and peak memory of a sweep from its spec table and axis lengths (:func:`axis_lengths`), its scenario's
+    ``swarm_count`` drones at most (0 without a swarm; :func:`largest_swarm`).
 
     Time: the axes drawn (every sample), then every point's job time shared by the workers (at most
     the CPU count of a local cluster run at once), plus the start. Memory: serial, one process with
@@ -112,7 +124,7 @@ def sweep_estimate(data: dict, lengths: dict, n_sensors: int, scheduler: str, wo
     chunk = chunk if isinstance(chunk, int) and not isinstance(chunk, bool) and chunk >= 1 else kind.chunk_points
     n_workers = workers_of(scheduler, workers)
     parallel = min(n_workers, os.cpu_count() or 1) if scheduler == "local" else 1
-    per_point = cost.point_seconds(n_sensors)
+    per_point = cost.point_seconds(n_sensors, swarm_pairs(swarm_count))
     seconds = START_SECONDS.get(scheduler, START_SECONDS["local"]) + samples * AXIS_SAMPLE_SECONDS + cost.start_s
     seconds += points * per_point / parallel
     chunk_bytes = cost.chunk_bytes_per_point_sensor * max(n_sensors, 1) * min(chunk, points)

@@ -26,7 +26,8 @@ import numpy as np
 from csuas.core.pd_curves import REPORTED_PD, default_range_grid, fused_pd_of_range, range_at_pd, sensor_pd
 from csuas.core.range_notes import sensor_notes
 from csuas.core.ranges import evaluate
-from csuas.core.scenario import Scenario, johnson_derived
+from csuas.core.scenario import SWARM_KEYS, Scenario, johnson_derived, with_swarm_value
+from csuas.core.swarm_detection import swarm_range
 from csuas.defaults import load_parameters
 
 from .schema import RENDER_AXES
@@ -63,7 +64,8 @@ def point_seed(seed: int, index) -> np.ndarray:
 
 
 def with_values(scenario: Scenario, values: dict) -> Scenario:
-    """A copy of ``scenario`` with canonical parameters set (scalars or arrays), marked explicit.
+    """A copy of ``scenario`` with canonical parameters set (scalars or arrays), marked explicit; the swarm keys
+    (:data:`csuas.core.scenario.SWARM_KEYS`, scalars) set its line formation.
 
     Derived values follow as the scenario loader derives them: ``n_ttpf`` from ``p_desired``
     (Table 21) and ``lp_task`` from ``task`` (Table 20) unless given.
@@ -71,8 +73,11 @@ def with_values(scenario: Scenario, values: dict) -> Scenario:
     target, environment = dict(scenario.target), dict(scenario.environment)
     explicit = {k: set(v) for k, v in scenario.explicit.items()}
     sensors = dict(scenario.sensors)
+    swarm = {key: values[key] for key in SWARM_KEYS if key in values}
     for key, value in values.items():
         parts = key.split(".")
+        if key in swarm:
+            continue
         if parts[0] == "target":
             target[parts[1]] = value
             explicit["target"].add(parts[1])
@@ -85,11 +90,16 @@ def with_values(scenario: Scenario, values: dict) -> Scenario:
             if parts[2] in ("p_desired", "task"):
                 params.update(johnson_derived(params, sensor.explicit))
             sensors[parts[1]] = replace(sensor, params=params, explicit=sensor.explicit | {parts[2]})
-    return replace(scenario, target=target, environment=environment, sensors=sensors, explicit=explicit)
+    out = replace(scenario, target=target, environment=environment, sensors=sensors, explicit=explicit)
+    for key, value in swarm.items():  # a line formation's count or spacing, one value a point (scalar)
+        out = with_swarm_value(out, key, value)
+    return out
 
 
 def _is_scalar(scenario: Scenario, key: str) -> bool:
     """Whether the models read this parameter as a scalar: text choices, whole numbers, SCALAR_NAMES."""
+    if key in SWARM_KEYS:
+        return True
     parts = key.split(".")
     section = scenario.sensors[parts[1]].modality if parts[0] == "sensors" else parts[0]
     spec = load_parameters()[section][parts[-1]]
@@ -103,9 +113,29 @@ def warm_first_point(spec: SweepSpec) -> None:
 
 
 def range_columns(spec: SweepSpec) -> list[str]:
-    """Columns of the ``range`` job: ``range_m.SENSOR`` [m] of every sensor of the scenario, then its
-    :func:`explanation_columns`."""
-    return [f"range_m.{name}" for name in spec.scenario.sensors] + explanation_columns(spec)
+    """Columns of the ``range`` job: ``range_m.SENSOR`` [m] of every sensor of the scenario (one drone's), then
+    its :func:`swarm_columns` and :func:`explanation_columns`."""
+    return [f"range_m.{name}" for name in spec.scenario.sensors] + swarm_columns(spec) + explanation_columns(spec)
+
+
+def swarm_columns(spec: SweepSpec) -> list[str]:
+    """With the scenario's ``target.swarm``: ``swarm_first_detection_m.SENSOR`` [m] (the longest range at which
+    any resolved group is detected) and ``swarm_resolved_count.SENSOR`` (the groups there) of every sensor, as
+    ``csuas range --json``'s ``sensors.SENSOR.swarm`` reports them; none without a swarm."""
+    if spec.scenario.swarm is None:
+        return []
+    names = list(spec.scenario.sensors)
+    return [f"swarm_first_detection_m.{n}" for n in names] + [f"swarm_resolved_count.{n}" for n in names]
+
+
+def _swarm_point(out: dict, i: int, scenario: Scenario, convention) -> None:
+    """Write point ``i``'s :func:`swarm_columns` from ``scenario`` (that point's scalar values)."""
+    if scenario.swarm is None:
+        return
+    for name in scenario.sensors:
+        figures = swarm_range(scenario, name, convention or scenario.convention)
+        out[f"swarm_first_detection_m.{name}"][i] = figures["first_detection_m"]
+        out[f"swarm_resolved_count.{name}"][i] = figures["resolved_count"]
 
 
 def explanation_columns(spec: SweepSpec) -> list[str]:
@@ -155,6 +185,9 @@ def range_chunk(spec: SweepSpec, columns: dict) -> dict:
         for name, result in results.items():
             out[f"range_m.{name}"][idx] = np.broadcast_to(np.asarray(result.range_m, float), idx.shape)
         _explain(out, idx, batch, results)
+    for i in range(n) if scenario.swarm is not None else ():  # the swarm's groups are found point by point
+        point = with_values(scenario, {k: v[i] for k, v in columns.items()})
+        _swarm_point(out, i, point, spec.options.get("convention"))
     return out
 
 
@@ -167,7 +200,8 @@ def pd_columns(spec: SweepSpec) -> list[str]:
     at its deterministic range."""
     names = list(spec.scenario.sensors)
     ranges = [f"range_at_pd_{p:g}.{name}" for name in [*names, "fused"] for p in REPORTED_PD]
-    return ranges + [f"pd_at_deterministic_range.{name}" for name in names] + explanation_columns(spec)
+    at_range = [f"pd_at_deterministic_range.{name}" for name in names]
+    return ranges + at_range + swarm_columns(spec) + explanation_columns(spec)
 
 
 def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
@@ -180,6 +214,7 @@ def pd_chunk(spec: SweepSpec, columns: dict) -> dict:
     for i in range(n):
         scenario = with_values(spec.scenario, {k: v[i] for k, v in columns.items()})
         _explain(out, np.array([i]), scenario, evaluate(scenario, convention))
+        _swarm_point(out, i, scenario, convention)
         grid = default_range_grid(scenario, convention)
         curves = [sensor_pd(scenario, name, grid, convention) for name in names]
         for c in curves:

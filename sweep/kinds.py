@@ -54,6 +54,9 @@ class JobCost:
         Start of the job's libraries on top of the scheduler's (a simulator's imports and first kernels) [s].
     refine : callable or None
         ``refine(spec, estimate, n_workers) -> Estimate``: the estimate once the spec is parsed (rcs: its tubes).
+    swarm_seconds_per_pair_sensor : float
+        Wall time a point adds per sensor and per pair of drones of a ``target.swarm`` (its groups are found
+        point by point over the intervals where pairs merge, :func:`csuas.core.swarm_detection.swarm_range`) [s].
     """
 
     process_bytes: float
@@ -62,10 +65,24 @@ class JobCost:
     chunk_bytes_per_point_sensor: float = 0.0
     start_s: float = 0.0
     refine: Callable[[Any, Any, int], Any] | None = None
+    swarm_seconds_per_pair_sensor: float = 0.0
 
-    def point_seconds(self, n_sensors: int) -> float:
-        """Wall time of one point [s] on a scenario of ``n_sensors`` sensors (at least one counted)."""
-        return self.seconds_per_point_sensor * max(n_sensors, 1) + self.seconds_per_point
+    def point_seconds(self, n_sensors: int, swarm_pairs: int = 0) -> float:
+        """Wall time of one point [s] on a scenario of ``n_sensors`` sensors (at least one counted) and a swarm of
+        ``swarm_pairs`` pairs of drones (0: none)."""
+        per_sensor = self.seconds_per_point_sensor + self.swarm_seconds_per_pair_sensor * swarm_pairs
+        return per_sensor * max(n_sensors, 1) + self.seconds_per_point
+
+
+#: What a swarm adds to a range or pd point, per sensor and pair of drones [s]: 7.0 ms a point-sensor measured
+#: for the embedded ``swarm`` (4 drones, 6 pairs, 6 sensors; 20 points of a spacing axis, ``range_chunk``, on the
+#: shared 2 cores at load 12): 1.2 ms a pair.
+SWARM_SECONDS_PER_PAIR_SENSOR = 1.2e-3
+
+
+def swarm_pairs(count: int) -> int:
+    """Pairs of drones of a swarm of ``count`` (0 without one)."""
+    return count * (count - 1) // 2
 
 
 def no_needs(axes: dict, options: dict, n_sensors: int) -> list:
@@ -163,7 +180,12 @@ JOB_KINDS: dict[str, JobKind] = {
             1_000_000,
             lambda spec, columns, start, stop: jobs.range_chunk(spec, columns),
             jobs.range_columns,
-            JobCost(180e6, seconds_per_point_sensor=0.7e-6, chunk_bytes_per_point_sensor=140.0),
+            JobCost(
+                180e6,
+                seconds_per_point_sensor=0.7e-6,
+                chunk_bytes_per_point_sensor=140.0,
+                swarm_seconds_per_pair_sensor=SWARM_SECONDS_PER_PAIR_SENSOR,
+            ),
         ),
         JobKind(
             "pd",
@@ -171,7 +193,12 @@ JOB_KINDS: dict[str, JobKind] = {
             32,
             lambda spec, columns, start, stop: jobs.pd_chunk(spec, columns),
             jobs.pd_columns,
-            JobCost(180e6, seconds_per_point_sensor=46e-3, chunk_bytes_per_point_sensor=2e4),
+            JobCost(
+                180e6,
+                seconds_per_point_sensor=46e-3,
+                chunk_bytes_per_point_sensor=2e4,
+                swarm_seconds_per_pair_sensor=SWARM_SECONDS_PER_PAIR_SENSOR,
+            ),
             needs=_fusion_needs,
         ),
         JobKind(

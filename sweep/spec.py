@@ -13,7 +13,8 @@ A spec names a job, a base scenario, a seed and axes::
 A list is a grid axis; a table with ``min``, ``max`` and ``samples`` draws that many values
 uniformly with the spec's seed (axes drawn in the order written). Axes combine as a full grid,
 or element by element with ``combine = "zip"``. Keys are the scenario's canonical names
-(``target.X``, ``environment.X``, ``sensors.NAME.X``) or a job's own (``range_m``,
+(``target.X``, ``environment.X``, ``sensors.NAME.X``; ``target.swarm.count`` and ``target.swarm.spacing_m``
+of a scenario whose swarm is a line) or a job's own (``range_m``,
 ``azimuth_deg``, ``elevation_deg`` for renders; ``frequency_ghz``, ``azimuth_deg``,
 ``elevation_deg`` for RCS). ``[options]`` holds the job's fixed settings. What each job takes and
 needs is its :class:`~csuas.sweep.kinds.JobKind`. Every mistake is reported at once, each naming
@@ -34,7 +35,7 @@ import numpy as np
 from csuas.base.errors import CsuasError, ParameterError, ScenarioError, raise_all
 from csuas.base.fileio import read_spec
 from csuas.base.schema import validate
-from csuas.core.scenario import Scenario, load_scenario
+from csuas.core.scenario import SWARM_KEYS, Scenario, load_scenario, with_swarm_value
 from csuas.defaults import load_parameters, sweep_path
 from csuas.defaults.scenario_schema import checked_values
 from csuas.sweep.kinds import JOB_KINDS, JobKind, kind_of
@@ -147,7 +148,8 @@ def _parameter_of(kind: JobKind, scenario: Scenario, key: str, values: list) -> 
         raise ParameterError(
             f"axes.{key}",
             values,
-            f"target.<param>, environment.<param> or sensors.<name>.<param> (sensors: {', '.join(scenario.sensors)}); "
+            f"target.<param>, environment.<param> or sensors.<name>.<param> (sensors: {', '.join(scenario.sensors)}), "
+            f"{' or '.join(SWARM_KEYS)}; "
             f"the job's own axes: {own}",
         )
     if not kind.takes_scenario:
@@ -156,10 +158,22 @@ def _parameter_of(kind: JobKind, scenario: Scenario, key: str, values: list) -> 
     return spec
 
 
+def _swarm_axis(kind: JobKind, scenario: Scenario, key: str, values: list):
+    """A ``target.swarm.count`` or ``target.swarm.spacing_m`` axis: jobs that take the scenario only, its swarm
+    a line of ``count`` drones ``spacing_m`` apart (:func:`csuas.core.scenario.with_swarm_value`)."""
+    if not kind.takes_scenario:
+        raise ParameterError(f"axes.{key}", values, f"job {kind.name} takes no scenario keys")
+    for i, v in enumerate(values):
+        with_swarm_value(scenario, key, v, f"axes.{key}.{i}")
+    return np.asarray(values, dtype=float)
+
+
 def _check_axis(kind: JobKind, scenario: Scenario, key: str, values: list):
     """Validated values of one axis, as an array (ParameterError naming the first bad value)."""
     if key in kind.own_axes:
         return _own_axis(kind, key, values)
+    if key in SWARM_KEYS:
+        return _swarm_axis(kind, scenario, key, values)
     spec = _parameter_of(kind, scenario, key, values)
     checked = checked_values(f"axes.{key}", spec, values)
     return np.asarray(checked, dtype=object if "choices" in spec else float)
@@ -183,6 +197,9 @@ def parse_spec(data: dict) -> SweepSpec:
         lengths = ", ".join(f"{k} {len(v)}" for k, v in axes.items())
         errors.append(ParameterError("combine", "zip", "axes of equal length: " + lengths))
     options = model.options.model_dump()
+    if kind.name == "rcs" and scenario.swarm is not None and options["target"] is None:
+        why = "a drone preset: the rcs job traces one drone, and the scenario's target.swarm is a formation"
+        errors.append(ParameterError("options.target", None, why + " (csuas rcs --swarm-count N traces one)"))
     raise_all(errors + kind.needs(axes, options, len(scenario.sensors)))
     spec = SweepSpec(
         kind.name,

@@ -511,6 +511,10 @@ COVERED_ELSEWHERE = {
     "swarm_detection.formation_json": "tests/test_swarm.py (the line's offsets)",
     "swarm_detection.swarm_range": "tests/test_swarm.py (R sigma^(1/4), Johnson R proportional to d_crit)",
     "swarm_detection.swarm_pd": "tests/test_swarm.py (1 - (1 - Pd)^N)",
+    "swarm_detection.swarm_first_detection_m": "tests/test_swarm_sweeps.py (R k^(1/4), as csuas range)",
+    "swarm_detection.swarm_approach": "tests/test_swarm_approach.py (1 - prod(1 - Pd_any), beam R theta_3)",
+    "scenario.with_swarm_value": "tests/test_swarm_sweeps.py (axes and bounds against csuas range)",
+    "micro_doppler.rotor_plane_elevation_deg": "tests/test_micro_doppler_axis.py (asin(a . d), |a x d|)",
 }
 
 

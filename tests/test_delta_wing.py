@@ -130,10 +130,10 @@ def test_dataset_labels_a_box_as_wide_as_the_span(tmp_path, capsys):
     assert coco["annotations"][0]["bbox"][2] == pytest.approx(1.0 / (250.0 * ifov), abs=3.0)
 
 
-def test_drone_json_and_micro_doppler_refusal(capsys):
+def test_drone_json_and_the_pusher_s_rotor(capsys):
     from csuas.render.rcs.micro_doppler import drone_rotors
 
     result = _cli_json(capsys, ["drone", PRESET])
     assert result["bbox_m"] == pytest.approx([0.585, 1.0, 0.22], abs=1e-12)
-    with pytest.raises(ParameterError, match="preset"):
-        drone_rotors(PRESET)  # the pusher turns about x
+    (rotor,), _ = drone_rotors(PRESET)  # the pusher turns about x (tests/test_micro_doppler_axis.py)
+    assert rotor.spin_axis.tolist() == [1.0, 0.0, 0.0]

@@ -259,9 +259,11 @@ def test_dataset_of_the_fixed_wing_labels_a_box_as_wide_as_the_span(tmp_path, ca
     assert width_px == pytest.approx(2.0 / (500.0 * ifov), abs=3.0)  # 44 px; the PSF widens the box by a pixel or two
 
 
-def test_micro_doppler_refuses_the_pusher_by_name():
-    """Micro-Doppler spins rotors about z (render/rcs/micro_doppler.py); the pusher turns about x and is refused."""
+def test_micro_doppler_turns_the_pusher_about_the_flight_axis():
+    """Micro-Doppler spins each propeller about its part's spin axis (render/rcs/micro_doppler.py): the pusher's is
+    +x, its blades in the rotor frame's xy-plane (tests/test_micro_doppler_axis.py checks the field)."""
     from csuas.render.rcs.micro_doppler import drone_rotors
 
-    with pytest.raises(ParameterError, match="preset"):
-        drone_rotors(PRESET)
+    (rotor,), _ = drone_rotors(PRESET)
+    assert rotor.spin_axis.tolist() == [1.0, 0.0, 0.0]
+    assert np.ptp(rotor.vertices[:, 2]) <= 0.012 + 1e-12  # the blades' thickness along the axis

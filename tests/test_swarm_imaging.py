@@ -102,3 +102,35 @@ def test_a_swarm_dataset_labels_every_drone(tmp_path, capsys):
         assert coco.annToMask(a).sum() == a["area"]
     yolo = (tmp_path / "d" / "labels" / "000000_dji_mini_4_pro.txt").read_text().splitlines()
     assert len(yolo) == 3
+
+
+@pytest.mark.slow
+def test_a_swarm_sequence_has_one_mot_track_per_drone_at_its_exact_box(tmp_path, capsys):
+    # flying straight at the camera along the boresight: each frame sees the formation from the nose (azimuth 0)
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(SCENARIO)
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        f'seed = 1\nscenario = {json.dumps(str(scenario))}\ndrones = ["dji_mini_4_pro"]\n'
+        "[sequence]\nframes = 2\nwaypoints_m = [[0.0, 150.0, 0.0], [0.0, 140.0, 0.0]]\nspeed_m_s = 15.0\n"
+    )
+    assert main(["dataset", str(spec), "--out", str(tmp_path / "d")]) == 0
+    capsys.readouterr()
+    from csuas.drone_models import build_drone
+    from csuas.render.imaging.swarm import member_track_id
+
+    members = formation_members(build_drone("dji_mini_4_pro").parts, line_formation(3, 2.0), 0.0, 0.0)
+    gt = (tmp_path / "d" / "mot" / "001_dji_mini_4_pro" / "gt" / "gt.txt").read_text().splitlines()
+    rows = [[int(v) for v in line.split(",")[:6]] for line in gt]
+    assert len(rows) == 2 * 3  # 2 frames x 3 drones (before: drone 0 only)
+    tracks = [1, member_track_id(1, 1), member_track_id(1, 2)]
+    assert tracks == [1, 1101, 1102]
+    for frame, range_m in ((1, 150.0), (2, 150.0 - 15.0 / 30.0)):  # one frame at 30 Hz: 0.5 m nearer
+        in_frame = {track: box for f, track, *box in rows if f == frame}
+        assert sorted(in_frame) == tracks
+        for track, parts in zip(tracks, members):
+            exact = _exact_box(parts, range_m)
+            assert all(abs(u - v) <= 1 for u, v in zip(_edges(in_frame[track]), exact)), (frame, track, exact)
+    coco = json.loads((tmp_path / "d" / "annotations.json").read_text())
+    assert [(a["image_id"], a["track_id"]) for a in coco["annotations"]] == [(f, t) for f in (1, 2) for t in tracks]
+    assert [[a["image_id"], a["track_id"], *a["bbox"]] for a in coco["annotations"]] == rows

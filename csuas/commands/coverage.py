@@ -164,6 +164,14 @@ def _check_cost(site, site_path, radio, args, fresnel_links: int) -> None:
     check_limits(estimate, args, "coverage")
 
 
+#: Why a scenario with ``target.swarm`` has no coverage map (docs/coverage.md).
+SWARM_REFUSED = (
+    "a scenario without target.swarm: a coverage map is one drone's Pd per cell, vectorised over the grid, and a "
+    "swarm's resolved groups change with each sensor's range and its line of sight to every cell (found range by "
+    "range: csuas range and pd report the swarm)"
+)
+
+
 def _checked_site(site: dict):
     """The validated site (:class:`~csuas.render.site_schema.SiteSchema`) and its scenario; every mistake
     of the file, of its sensors and of its radio map against the scenario at once."""
@@ -171,6 +179,8 @@ def _checked_site(site: dict):
     name = site.get("scenario", "default")
     scenario = load_scenario(name) if isinstance(name, str) else None
     extra = [] if scenario is None else radio_map_errors(site, scenario)
+    if scenario is not None and scenario.swarm is not None:
+        extra.append(ParameterError("scenario", name, SWARM_REFUSED))
     return validated_site(site, scenario, extra), scenario
 
 

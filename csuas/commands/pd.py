@@ -13,7 +13,12 @@ first-detection distribution: a look) per sensor and fused, the fused ones by ``
 Pfa, ``false_alarm_cumulative_pd``, what noise crossings alone put in its ``cumulative_pd``.
 With ``target.swarm`` also a top-level ``swarm`` (the formation) and per sensor ``swarm``: ``csuas range``'s
 swarm keys and, aligned with ``range_m``, ``pd_any`` (any resolved group detected) and
-``resolved_count_at_range``; the other keys stay one drone's.
+``resolved_count_at_range``; the other keys stay one drone's. With a swarm and ``--approach-speed-m-s``, each
+sensor's ``swarm`` also holds ``cumulative_pd_any`` (aligned with ``range_m``: any drone detected by then),
+``median_first_detection_range_m`` and ``median_first_detection_time_s`` (of any drone, the time from the approach's
+start), ``resolved_count_changes`` (``time_s``, ``range_m``,
+``resolved_count`` where the groups change along the approach) and ``approach_assumption``; ``fused.swarm``
+the fused ``cumulative_pd_any`` and ``median_first_detection_range_m`` by ``--fusion``'s rule.
 Every radio and optical sensor's Pd is 0 beyond its line-of-sight horizon: that of its
 ``height_m``, or without one that of the reference heights ``csuas range`` flags (2 m, 120 m).
 With ``--micro-doppler`` each radar also reports ``micro_doppler`` (:mod:`csuas.render.rcs.drone_or_bird`):
@@ -47,7 +52,7 @@ from csuas.core.pd_curves import (
     sensor_pd,
 )
 from csuas.core.scenario import load_scenario
-from csuas.core.swarm_detection import formation_json, swarm_pd, swarm_range
+from csuas.core.swarm_detection import formation_json, swarm_approach, swarm_pd, swarm_range
 from csuas.render.rcs.drone_or_bird import ClassifierSettings, drone_or_bird
 
 
@@ -90,7 +95,13 @@ def add_arguments(parser):
         "--micro-doppler-elevation-deg",
         type=float,
         default=defaults.elevation_deg,
-        help="radar elevation above the rotor plane [deg] (default 10)",
+        help="radar elevation in the drone's frame, above a multirotor's rotor plane [deg] (default 10)",
+    )
+    parser.add_argument(
+        "--micro-doppler-azimuth-deg",
+        type=float,
+        default=defaults.azimuth_deg,
+        help="radar azimuth from the drone's nose [deg] (default 0: approaching; sets a pusher's aspect)",
     )
 
 
@@ -143,6 +154,28 @@ def _approaches(scenario, args, grid, out) -> None:
     out["approach_speed_m_s"] = args.approach_speed_m_s
     out["fused"]["cumulative_pd"] = fused_cumulative(approaches, grid, args.fusion)
     out["fused"]["median_first_detection_range_m"] = fused_first_detection_m(approaches, args.fusion)
+    if scenario.swarm is not None:
+        _swarm_approaches(scenario, args, grid, out)
+
+
+def _swarm_approaches(scenario, args, grid, out) -> None:
+    """The swarm along the same approach: each sensor's and the fused first detection of any drone and the
+    groups resolved over time (:func:`swarm_approach`), beside one drone's keys."""
+    approaches = []
+    for name, sensor in out["sensors"].items():
+        a = swarm_approach(scenario, name, args.approach_speed_m_s, float(grid[-1]), float(grid[0]), args.convention)
+        approaches.append(a)
+        sensor["swarm"].update(
+            cumulative_pd_any=fused_cumulative([a], grid),
+            median_first_detection_range_m=a["median_range_m"],
+            median_first_detection_time_s=a["median_time_s"],
+            resolved_count_changes=a["resolved_count_changes"],
+            approach_assumption=a["assumption"],
+        )
+    out["fused"]["swarm"] = {
+        "cumulative_pd_any": fused_cumulative(approaches, grid, args.fusion),
+        "median_first_detection_range_m": fused_first_detection_m(approaches, args.fusion),
+    }
 
 
 def _plot(args, scenario, grid, curves, out) -> str:
@@ -172,7 +205,10 @@ def _plot(args, scenario, grid, curves, out) -> str:
 
 def _classifier(args) -> ClassifierSettings:
     settings = ClassifierSettings(
-        args.micro_doppler_prf_hz, args.micro_doppler_dwell_s, args.micro_doppler_elevation_deg
+        args.micro_doppler_prf_hz,
+        args.micro_doppler_dwell_s,
+        args.micro_doppler_elevation_deg,
+        args.micro_doppler_azimuth_deg,
     )
     return settings.check("micro_doppler")
 
@@ -272,6 +308,9 @@ def render_text(result: dict) -> str:
                 f"  {name}: swarm of {w['count']}, first detection of any {_metres(w['first_detection_m'])} "
                 f"({w['resolved_count']} resolved there); Pd of any: sensors.{name}.swarm.pd_any (--json)"
             )
+            if approach_on:
+                median = _metres(w["median_first_detection_range_m"])
+                lines.append(f"    approach: median first detection of any {median}")
     lines.append("assumptions:")
     for name, s in result["sensors"].items():
         lines.append(f"  {name}: " + "; ".join(s["assumptions"] + s.get("approach_notes", [])))

@@ -1,4 +1,9 @@
-"""``csuas sensitivity``: one-at-a-time analyses of Section 4.9 with tornado plots, and Table 52."""
+"""``csuas sensitivity``: one-at-a-time analyses of Section 4.9 with tornado plots, and Table 52.
+
+With ``--scenario`` of a ``target.swarm``, the figure varied is the swarm's first detection of any drone
+(``csuas range``'s ``sensors.NAME.swarm.first_detection_m``), its key ``figure`` in the JSON, and
+``target.swarm.count`` and ``target.swarm.spacing_m`` may be varied (a line formation's).
+"""
 
 from __future__ import annotations
 
@@ -11,6 +16,7 @@ from csuas.base.plots import tornado_plot
 from csuas.core.ranges import scenario_one_at_a_time
 from csuas.core.scenario import load_scenario
 from csuas.core.sensitivity import ANALYSES, one_at_a_time, table_52_platforms
+from csuas.core.swarm_detection import swarm_first_detection_m
 from csuas.defaults import load_sensitivity
 
 
@@ -34,7 +40,8 @@ def add_arguments(parser):
         nargs="+",
         default=[],
         metavar="KEY=LOW:HIGH",
-        help="with --scenario: e.g. target.d_crit_m=0.08:0.12 sensor.hfov_deg=1:20 environment.rain_rate_mm_h=0:30",
+        help="with --scenario: e.g. target.d_crit_m=0.08:0.12 sensor.hfov_deg=1:20 environment.rain_rate_mm_h=0:30 "
+        "target.swarm.count=2:8 target.swarm.spacing_m=1:20 (a swarm scenario: its first detection of any drone)",
     )
     parser.add_argument(
         "--convention",
@@ -70,11 +77,14 @@ def _scenario_analysis(args) -> dict:
             )
         sensor = next(iter(scenario.sensors))
     plot = _plot_path(args.out, scenario.name, sensor)
-    baseline, bars = scenario_one_at_a_time(scenario, sensor, _parse_variations(args.vary), args.convention)
+    figure = None if scenario.swarm is None else swarm_first_detection_m  # a swarm: its first detection of any
+    variations = _parse_variations(args.vary)
+    baseline, bars = scenario_one_at_a_time(scenario, sensor, variations, args.convention, figure)
     title = f"{scenario.name}: {sensor} ({scenario.sensors[sensor].modality})"
     entry = {
         "title": title,
         "source": "one-at-a-time, Section 4.9 method",
+        "figure": "range_m" if figure is None else "swarm first_detection_m (any resolved group of target.swarm)",
         "baseline_m": baseline,
         "bars": [b.as_dict() for b in bars],
     }

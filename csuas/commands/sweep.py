@@ -44,7 +44,7 @@ def add_arguments(parser):
 def run(args) -> dict:
     """Validate the spec, run or resume the sweep, and return its provenance."""
     from csuas.sweep import parse_spec, read_results, run_sweep
-    from csuas.sweep.cost import axis_lengths, sweep_estimate, workers_of
+    from csuas.sweep.cost import axis_lengths, largest_swarm, sweep_estimate, workers_of
     from csuas.sweep.kinds import JOB_KINDS
 
     if args.workers is not None and args.workers < 1:
@@ -54,8 +54,10 @@ def run(args) -> dict:
     if data.get("job") not in JOB_KINDS or not isinstance(data.get("scenario", "default"), str):
         parse_spec(data)  # refuses the job or the scenario, with every other mistake of the spec
     kind = JOB_KINDS[data["job"]]
-    sensors = len(load_scenario(data.get("scenario", "default")).sensors) if kind.takes_scenario else 0
-    estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers)
+    scenario = load_scenario(data.get("scenario", "default")) if kind.takes_scenario else None
+    sensors = len(scenario.sensors) if scenario is not None else 0
+    drones = largest_swarm(data, scenario.swarm.count) if scenario is not None and scenario.swarm is not None else 0
+    estimate = sweep_estimate(data, lengths, sensors, args.scheduler, args.workers, drones)
     refine = kind.cost.refine  # a cost that needs the parsed spec (rcs: the tubes, from the target and frequencies)
     check_limits(estimate, args, "sweep", announce=refine is None)
     spec = parse_spec(data)

@@ -331,6 +331,7 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
     """Write a frame's image, optional EXR, YOLO label and, last, its record (what resuming looks for)."""
     from csuas.render.imaging.dataset_files import preview, write_dn_png, write_preview
     from csuas.render.imaging.labels import yolo_line
+    from csuas.render.imaging.swarm import member_track_id
 
     p = sensor.params
     thermal = sensor.modality == "tir"
@@ -351,6 +352,9 @@ def _write_image(spec: DatasetSpec, sensor, item: dict, frame: dict, out: Path) 
         for member, annotation in enumerate(drones):
             if annotation is not None:
                 annotation["csuas"]["swarm_member"] = member
+                if "track_id" in item:  # a sequence: one track a drone
+                    track = member_track_id(item["track_id"], member)
+                    annotation.update(track_id=track, instance_id=track)
     confusers = _confuser_annotations(spec, item, frame.get("layers"))
     yolo = "".join(
         yolo_line(a["bbox"], width, height, a["category_id"] - 1) + "\n" for a in [*drones, *confusers] if a is not None
@@ -746,12 +750,9 @@ def _write_mot(sensor, items: list, out: Path) -> None:
         lines = []
         for item in (i for i in items if i["video_id"] == video["id"]):
             entry = json.loads((out / "records" / f"{item['name']}.json").read_text(encoding="utf-8"))
-            for annotation in [entry["annotation"], *entry.get("confusers", [])]:
-                if annotation is not None:
-                    block, class_id, track = annotation["csuas"], annotation["category_id"], annotation["track_id"]
-                    lines.append(
-                        mot_line(item["frame_id"] + 1, track, annotation["bbox"], class_id, block["visibility"])
-                    )
+            for annotation in _objects(entry):  # the drone (each drone of a swarm), then the confusers
+                block, class_id, track = annotation["csuas"], annotation["category_id"], annotation["track_id"]
+                lines.append(mot_line(item["frame_id"] + 1, track, annotation["bbox"], class_id, block["visibility"]))
         folder = sub_folder(sub_folder(out, "mot"), video["name"])
         write_text_atomic(inside(sub_folder(folder, "gt"), "gt.txt"), "".join(line + "\n" for line in lines))
         info = seqinfo(video["name"], video["frame_rate_hz"], video["frames"], int(p["n_h"]), int(p["n_v"]))

@@ -30,6 +30,12 @@ def formation_members(target, formation, azimuth_deg: float, elevation_deg: floa
     ]
 
 
+def member_track_id(track_id: int, member: int) -> int:
+    """The track of drone ``member`` (0-based) of a sequence's swarm: the video's own ``track_id`` for drone 0,
+    1000 x track_id + 100 + member for the others (beside a video's confusers, 1000 x video + 1 to 33)."""
+    return int(track_id) if member == 0 else 1000 * int(track_id) + 100 + int(member)
+
+
 def member_coverage(coverage: np.ndarray, x0: int, y0: int, box: tuple) -> np.ndarray:
     """The window's coverage kept only on pixels that overlap a film box (x_lo, x_hi, y_lo, y_hi); pixel
     (row i, column j) spans [x0 + j, x0 + j + 1] x [y0 + i, y0 + i + 1] (edges at integers)."""

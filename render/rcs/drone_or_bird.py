@@ -31,15 +31,19 @@ from csuas.defaults import load_birds
 
 @dataclass(frozen=True)
 class ClassifierSettings:
-    """The Doppler dwell of the decision: PRF [Hz], dwell [s] and the radar's elevation above the rotor plane [deg].
+    """The Doppler dwell of the decision: PRF [Hz], dwell [s] and the radar's direction in the drone's body frame,
+    elevation and azimuth from the nose [deg]. A multirotor's rotor plane is the body's xy-plane, so the elevation
+    is the radar's above it; a fixed-wing's pusher turns about +x, so seen nose-on (azimuth 0) the radar is
+    90 - elevation above its plane (Eq. MD-6).
 
-    Defaults: the X-band figures of ``csuas micro-doppler`` (20 kHz, elevation 10 deg) and a 50 ms dwell
-    (ten flash periods at 200 Hz lines), assumptions.
+    Defaults: the X-band figures of ``csuas micro-doppler`` (20 kHz, elevation 10 deg, azimuth 0: an approaching
+    drone) and a 50 ms dwell (ten flash periods at 200 Hz lines), assumptions.
     """
 
     prf_hz: float = 20_000.0
     dwell_s: float = 0.05
     elevation_deg: float = 10.0
+    azimuth_deg: float = 0.0
 
     def check(self, key: str = "micro_doppler") -> ClassifierSettings:
         """Raise every out-of-range field at once, named ``key.field``."""
@@ -47,6 +51,7 @@ class ClassifierSettings:
             ("prf_hz", self.prf_hz, "0 < PRF <= 10 MHz", 0.0 < self.prf_hz <= 1e7),
             ("dwell_s", self.dwell_s, "0 < dwell <= 1 s", 0.0 < self.dwell_s <= 1.0),
             ("elevation_deg", self.elevation_deg, "0 < elevation < 90", 0.0 < self.elevation_deg < 90.0),
+            ("azimuth_deg", self.azimuth_deg, "-360..360", -360.0 <= self.azimuth_deg <= 360.0),
         ]
         raise_all([ParameterError(f"{key}.{name}", value, why) for name, value, why, ok in checks if not ok])
         if not 1 <= round(self.prf_hz * self.dwell_s) <= 10_000:
@@ -62,17 +67,20 @@ def bird_guard_hz(frequency_ghz: float) -> float:
     )
 
 
-def preset_blade_lines(preset: str, frequency_ghz: float, blade_passing_hz: float, elevation_deg: float) -> dict:
-    """The blade lines of a preset's rotors (module docstring): ``frequency_hz``, ``rcs_m2`` (zero line left out)."""
+def preset_blade_lines(preset: str, frequency_ghz: float, blade_passing_hz: float, aspect_deg: tuple) -> dict:
+    """The blade lines of a preset's rotors (module docstring): ``frequency_hz``, ``rcs_m2`` (zero line left out),
+    seen from ``aspect_deg`` (azimuth, elevation toward the radar in the body frame [deg]); every rotor of a preset
+    turns about the same axis, the radar at ``rotor_plane_elevation_deg`` above their plane (Eq. MD-6)."""
     from csuas.drone_models.presets import preset_parameters
 
-    from .micro_doppler import drone_rotors
+    from .micro_doppler import drone_rotors, rotor_aspect_deg
 
     rotors, _ = drone_rotors(preset)
     _, params, _ = preset_parameters(preset)
     n_blades, tip = rotors[0].n_blades, max(r.tip_radius_m for r in rotors)
     chord = (params.blade_root_chord_m + params.blade_tip_chord_m) / 2.0
     rate = blade_passing_hz / n_blades
+    elevation_deg = float(rotor_aspect_deg(rotors[0], *aspect_deg)[1])
     order, frequency, rcs = blade_line_rcs_m2(tip, n_blades, rate, frequency_ghz, elevation_deg, chord, len(rotors))
     return {
         "frequency_hz": frequency[order != 0],
@@ -84,6 +92,8 @@ def preset_blade_lines(preset: str, frequency_ghz: float, blade_passing_hz: floa
         "n_blades": n_blades,
         "chord_m": chord,
         "tip_radius_m": tip,
+        "spin_axis": rotors[0].spin_axis.tolist(),
+        "rotor_plane_elevation_deg": elevation_deg,
     }
 
 
@@ -110,9 +120,8 @@ def drone_or_bird(scenario, params: dict, snr1_db, settings: ClassifierSettings,
     frequency = radar.radar_frequency_ghz(params)
     target = scenario.target
     try:
-        lines = preset_blade_lines(
-            scenario.target_preset, frequency, target["blade_passing_hz"], settings.elevation_deg
-        )
+        aspect = (settings.azimuth_deg, settings.elevation_deg)
+        lines = preset_blade_lines(scenario.target_preset, frequency, target["blade_passing_hz"], aspect)
     except ParameterError as exc:
         raise ParameterError("target.preset", scenario.target_preset, exc.allowed) from None
     body = float(target["sigma_radar_m2"])
@@ -147,6 +156,14 @@ def drone_or_bird(scenario, params: dict, snr1_db, settings: ClassifierSettings,
             f"mean chord {lines['chord_m']:.4g} m, at blade_passing_hz / N (closed form, core/micro_doppler.py)",
             f"body line: target sigma_radar_m2 = {body:g} m^2; lines add in power over rotors",
             f"dwell {n} pulses at PRF {settings.prf_hz:g} Hz, elevation {settings.elevation_deg:g} deg (assumed)",
+            *(
+                []
+                if lines["spin_axis"] == [0.0, 0.0, 1.0]
+                else [
+                    f"propeller axis {lines['spin_axis']} (body frame), radar at azimuth {settings.azimuth_deg:g} deg: "
+                    f"{lines['rotor_plane_elevation_deg']:.4g} deg above the propeller plane (assumed aspect)"
+                ]
+            ),
             f"guard band +-{guard:.0f} Hz: widest bird wing-tip Doppler (defaults/birds.toml)",
             f"each line Swerling {LINE_SWERLING}, centred in its Doppler bin; Pfa {params['pfa']:g} per bin",
             *(

@@ -1,12 +1,17 @@
 """Micro-Doppler of a drone's spinning rotors: the slow-time field, its spectrum and the blade flashes.
 
-The rotor blades of a preset (its ``propeller`` parts built as blades,
-:func:`csuas.drone_models.build_drone` ``propellers="blades"``) turn about their vertical rotor axes;
-at each slow-time sample the complex monostatic physical-optics amplitude of every rotor is the
-faceted-PO integral of :func:`csuas.render.rcs.facet_po.facet_po_amplitude` over its blades turned by
-the rotor's angle. Turning a rotor by ``psi`` about its axis through ``c`` equals turning the radar
-direction ``d`` by ``-psi`` (azimuth ``az - psi``) with the phase ``exp(2 j k (d - d_psi) . c)``, so each
-sample is one aspect of the rotor at rest. The body (every other part) is static: its RCS is one SBR-PO
+The rotor blades of a preset (its propeller parts built as blades,
+:func:`csuas.drone_models.build_drone` ``propellers="blades"``) turn about each part's ``spin_axis``: a
+multirotor's or helicopter's vertical axis, a fixed-wing pusher's flight axis +x. Each rotor is held in
+its own frame, whose z is the spin axis (rows of :func:`rotor_frame`; the identity, and no arithmetic at
+all, for a +z rotor), and the radar's direction is turned into that frame. At each slow-time sample the
+complex monostatic physical-optics amplitude of every rotor is the faceted-PO integral of
+:func:`csuas.render.rcs.facet_po.facet_po_amplitude` over its blades turned by the rotor's angle. Turning
+a rotor by ``psi`` about its axis through ``c`` equals turning the radar direction ``d`` by ``-psi``
+(azimuth ``az - psi`` in the rotor's frame) with the phase ``exp(2 j k (d - d_psi) . c)``, so each sample is
+one aspect of the rotor at rest. The radar's elevation in a rotor's frame is its elevation above the rotor
+plane, ``beta`` of :func:`csuas.core.micro_doppler.rotor_plane_elevation_deg` (Eq. MD-6), which sets the
+tip Doppler. The body (every other part) is static: its RCS is one SBR-PO
 run (:func:`csuas.render.rcs.solver.compute_rcs`) and it adds a constant of that magnitude, phase 0
 (the engine returns powers, not the body's phase against the blades), i.e. the zero-Doppler line,
 with the run's bound against the exact answer (standard quality, VV). The blades' facet integrals
@@ -19,7 +24,8 @@ back-face culling only, so no shadowing of blades by the body or by each other a
 reflections between them; blades are rigid and flat (no twist, no flapping); the rotation rate is
 the same for every rotor, diagonal pairs turning the same way (the X-quadcopter convention; which
 pair turns clockwise is assumed and does not change the magnitude spectrum's lines); a helicopter's
-tail rotor stays still, part of the body.
+tail rotor stays still, part of the body; a pusher turns counter-clockwise about +x (assumed, the same
+magnitudes either way).
 
 The spectrum is the FFT of the windowed series, normalised by the window's coherent gain so that a
 line of amplitude ``a`` reads ``4 pi |a|^2 / lambda^2`` [m^2], the RCS of that line. Lines lie at
@@ -59,7 +65,9 @@ MODEL_LIMITS = (
 
 @dataclass
 class Rotor:
-    """One rotor: its blade mesh at rest, axis point (vertical axis) and spin (+1 counter-clockwise from above)."""
+    """One rotor in its own frame (z its spin axis): its blade mesh at rest, a point of its axis, its spin (+1
+    counter-clockwise about the axis), blades and tip radius; ``frame`` the rows of :func:`rotor_frame` that
+    turn body-frame vectors into it (None: the axis is the body's +z and the frames coincide)."""
 
     name: str
     vertices: np.ndarray
@@ -68,6 +76,51 @@ class Rotor:
     spin: int
     n_blades: int
     tip_radius_m: float
+    frame: np.ndarray | None = None
+
+    @property
+    def spin_axis(self) -> np.ndarray:
+        """The rotor's axis in the body frame (unit vector)."""
+        return np.array([0.0, 0.0, 1.0]) if self.frame is None else self.frame[2].copy()
+
+
+def rotor_frame(spin_axis) -> np.ndarray | None:
+    """Rows (e1, e2, a) of a right-handed frame whose third axis is the unit spin axis ``a``: e1 = z x a
+    normalised (x when ``a`` is -z), e2 = a x e1. None for ``a`` = +z (the body frame itself)."""
+    axis = np.asarray(spin_axis, float)
+    norm = float(np.linalg.norm(axis))
+    if not (np.isfinite(norm) and norm > 0):
+        raise ParameterError("spin_axis", spin_axis, "a finite non-zero 3-vector")
+    axis = axis / norm
+    if np.array_equal(axis, [0.0, 0.0, 1.0]):
+        return None
+    across = np.cross([0.0, 0.0, 1.0], axis)
+    e1 = across / np.linalg.norm(across) if np.linalg.norm(across) > 1e-12 else np.array([1.0, 0.0, 0.0])
+    return np.stack([e1, np.cross(axis, e1), axis])
+
+
+def rotor_about(name: str, mesh, spin_axis, spin: int, n_blades: int) -> Rotor:
+    """A rotor of a blade mesh given in the body frame (trimesh) turning about ``spin_axis`` through the mesh's
+    centroid (the blades are equally spaced, so it lies on the axis), held in its own frame (:func:`rotor_frame`);
+    its tip radius the farthest vertex from the axis."""
+    frame = rotor_frame(spin_axis)
+    vertices, centre = np.asarray(mesh.vertices, float), np.asarray(mesh.centroid, float)
+    if frame is not None:
+        vertices, centre = vertices @ frame.T, frame @ centre
+    radius = float(np.max(np.linalg.norm(vertices[:, :2] - centre[:2], axis=1)))
+    return Rotor(name, vertices, np.asarray(mesh.faces, np.int64), centre, spin, n_blades, radius, frame)
+
+
+def rotor_aspect_deg(rotor: Rotor, azimuth_deg, elevation_deg) -> tuple:
+    """The radar's azimuth and elevation in ``rotor``'s frame [deg]: the elevation is that above the rotor
+    plane (Eq. MD-6). Unchanged, without arithmetic, for a +z rotor."""
+    if rotor.frame is None:
+        return azimuth_deg, elevation_deg
+    from csuas.drone_models.geometry import direction_vector
+
+    d = direction_vector(azimuth_deg, elevation_deg) @ rotor.frame.T
+    azimuth = np.degrees(np.arctan2(d[..., 1], d[..., 0]))
+    return azimuth, np.degrees(np.arcsin(np.clip(d[..., 2], -1.0, 1.0)))
 
 
 @dataclass
@@ -98,7 +151,8 @@ def drone_rotors(preset: str) -> tuple[list, object]:
     Parameters
     ----------
     preset : str
-        A multirotor or helicopter preset of :func:`csuas.drone_models.list_presets`.
+        A multirotor, helicopter or fixed-wing preset of :func:`csuas.drone_models.list_presets` (every part
+        with a ``spin_axis``).
 
     Returns
     -------
@@ -111,20 +165,16 @@ def drone_rotors(preset: str) -> tuple[list, object]:
     _, params, _ = preset_parameters(preset)
     n_blades = int(getattr(params, "n_blades", 2))
     drone = build_drone(preset, propellers="blades")
-    blades = [p for p in drone.parts if p.kind == "propeller"]
+    blades = [p for p in drone.parts if p.spin_axis is not None]
     if not blades:
-        raise ParameterError("preset", preset, "a preset with rotor blades")
+        raise ParameterError("preset", preset, "a preset with rotor or propeller blades")
     rotors = []
     for i, part in enumerate(blades):
-        vertices = np.asarray(part.mesh.vertices, float)
-        centre = np.asarray(part.mesh.centroid, float)  # on the axis: the blades are equally spaced
-        radius = float(np.max(np.linalg.norm(vertices[:, :2] - centre[:2], axis=1)))
         diagonal = "front_left" in part.name or "rear_right" in part.name
         spin = (1 if diagonal else -1) if len(blades) == 4 else (1 if i % 2 == 0 else -1)
-        faces = np.asarray(part.mesh.faces, np.int64)
-        rotors.append(Rotor(part.name, vertices, faces, centre, spin, n_blades, radius))
+        rotors.append(rotor_about(part.name, part.mesh, part.spin_axis, spin, n_blades))
     body = drone.__class__(
-        name=drone.name, mass_kg=drone.mass_kg, parts=[p for p in drone.parts if p.kind != "propeller"]
+        name=drone.name, mass_kg=drone.mass_kg, parts=[p for p in drone.parts if p.spin_axis is None]
     )
     return rotors, body
 
@@ -142,7 +192,7 @@ def rotor_field(rotor: Rotor, rotation_rate_hz: float, time_s, frequency_ghz: fl
     frequency_ghz : float
         Radar frequency [GHz].
     azimuth_deg, elevation_deg : float
-        Direction from the drone toward the radar [deg] (docs/command-line.md convention).
+        Direction from the drone toward the radar [deg] (docs/command-line.md convention), body frame.
 
     Returns
     -------
@@ -151,6 +201,7 @@ def rotor_field(rotor: Rotor, rotation_rate_hz: float, time_s, frequency_ghz: fl
     """
     from csuas.drone_models.geometry import direction_vector
 
+    azimuth_deg, elevation_deg = rotor_aspect_deg(rotor, azimuth_deg, elevation_deg)  # in the rotor's frame
     psi_deg = rotor.spin * 360.0 * rotation_rate_hz * np.asarray(time_s, float)
     turned_az = (azimuth_deg - psi_deg + 180.0) % 360.0 - 180.0
     k = 2.0 * np.pi / wavelength_m(frequency_ghz)
@@ -270,7 +321,10 @@ def plan_micro_doppler(
     _check_sampling(frequency_ghz, rpm, prf_hz, dwell_s, aspect_deg, window)
     rotors, body = drone_rotors(preset)
     rate = rpm / 60.0
-    tip = max_tip_doppler_hz(max(r.tip_radius_m for r in rotors), rate, frequency_ghz, aspect_deg[1])
+    tip = max(
+        float(max_tip_doppler_hz(r.tip_radius_m, rate, frequency_ghz, rotor_aspect_deg(r, *aspect_deg)[1]))
+        for r in rotors
+    )
     aliased = bool(prf_hz < 2.0 * tip)
     if aliased and not allow_aliasing:
         raise ParameterError("prf_hz", prf_hz, f">= 2 x the blade-tip Doppler {tip:.1f} Hz = {2 * tip:.1f} Hz")
@@ -334,7 +388,17 @@ def simulate(plan: MicroDopplerPlan) -> MicroDopplerResult:
         float(body_bound[0, 0, 0]) if body_bound is not None else float("inf"),
         plan.window,
         time.perf_counter() - start,
-        [{"name": r.name, "spin": r.spin, "n_blades": r.n_blades, "tip_radius_m": r.tip_radius_m} for r in rotors],
+        [
+            {
+                "name": r.name,
+                "spin": r.spin,
+                "n_blades": r.n_blades,
+                "tip_radius_m": r.tip_radius_m,
+                "spin_axis": r.spin_axis.tolist(),
+                "elevation_above_rotor_plane_deg": float(rotor_aspect_deg(r, azimuth, elevation)[1]),
+            }
+            for r in rotors
+        ],
     )
 
 
