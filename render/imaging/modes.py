@@ -188,13 +188,16 @@ WEATHER = frozenset({"fog", "fog_layer", "rain", "haze"})
 
 def eo_method(scenario, spec, request: RenderRequest, view: View, light: Daylight, atmosphere: bool):
     """The path of one EO render: :func:`csuas.render.imaging.medium_path.choose_method` on the request's
-    ``atmosphere_method`` (``analytic`` where the request has none)."""
+    ``atmosphere_method`` (``analytic`` where the request has none), target and quality (``auto`` compares the
+    two paths' errors at that quality)."""
     from csuas.render.imaging.medium_path import choose_method
 
     air = light if atmosphere else replace(light, visibility_km=None)
     camera = EoSensor.from_params(spec.params)
     top = fog_top_above_target_m(light.fog_layer, view)
-    return choose_method(request.atmosphere_method, air, view, camera, top, bool(scenario.effects & WEATHER))
+    weather = bool(scenario.effects & WEATHER)
+    _, target = _swarm_target(scenario, request)
+    return choose_method(request.atmosphere_method, air, view, camera, top, weather, target, request.quality)
 
 
 def eo_scenario(scenario, request: RenderRequest) -> list:
