@@ -293,7 +293,7 @@ def test_render_json_reports_the_medium_with_its_error_time_and_the_analytic_fig
 @pytest.mark.slow
 def test_the_default_fog_render_at_standard_takes_the_analytic_path_and_says_why(capsys, tmp_path):
     """fog_moderate (400 m), the default drone at 150 m, standard quality: the medium's predicted standard error
-    (~0.017; 0.019 and 0.022 measured on two seeds) is not below half the analytic path's estimated error (~0.025),
+    (~0.019; 0.019 and 0.022 measured on two seeds) is not below half the analytic path's estimated error (~0.025),
     so the render is the analytic one, its record listing the approximation, both figures and the quality that
     would remove it."""
     scenario = tmp_path / "fog.toml"
