@@ -315,6 +315,25 @@ def test_the_default_fog_render_at_standard_takes_the_analytic_path_and_says_why
     assert row["stderr"]["contrast"] < 0.005 and all("Mitsuba volpath" not in t["source"] for t in row["terms"])
 
 
+@pytest.mark.slow
+def test_a_light_fog_render_at_standard_takes_the_medium(capsys, tmp_path):
+    """fog_light (800 m), the default drone at 150 m, standard: the analytic error (~0.051) passes 2 x the
+    medium's predicted standard error (~0.019): auto traces the medium, whose measured standard error the
+    noise model predicted (within the coverage test's 0.5-2.5; 0.90 measured on seed 0)."""
+    scenario = tmp_path / "fog.toml"
+    scenario.write_text(
+        'name = "fog"\nconvention = "physical"\n[environment]\npreset = "fog_light"\n[sensors.eo]\nmodality = "eo"\n'
+    )
+    assert cli.main(["render", "eo", str(scenario), "--range-m", "150", "--quiet", "--json"]) == 0
+    (row,) = json.loads(capsys.readouterr().out)["results"]
+    method = row["atmosphere_method"]
+    cmp = method["comparison"]
+    assert method["method"] == "medium" and "the medium is the more accurate" in method["reasons"][-1]
+    assert cmp["confidence"] * cmp["medium_stderr"]["value"] < cmp["analytic_error"]["value"]
+    assert 0.5 < cmp["medium_stderr"]["value"] / method["stderr"]["contrast"] < 2.5
+    assert any("Mitsuba volpath" in t["source"] for t in row["terms"])
+
+
 @pytest.mark.parametrize(
     "argv,fragment",
     [
