@@ -80,8 +80,9 @@ def add_arguments(parser) -> None:
         choices=ATMOSPHERE_METHODS,
         default="auto",
         help="eo: the path analytic (Koschmieder), through Mitsuba's participating medium, or auto = the medium "
-        "where the analytic path is an approximation (a slant path across a fog layer's top, the ground behind the "
-        "drone, forward-scattered light on its pixels; docs/simulation.md)",
+        "where the analytic path is an approximation (a slant path across a fog layer's top, a sunlit fog, the "
+        "ground behind the drone, forward-scattered light on its pixels) and the medium is the more accurate at the "
+        "requested quality (docs/simulation.md)",
     )
     parser.add_argument(
         "--convention",

@@ -20,7 +20,8 @@ the core functions the range models use (:func:`csuas.core.ranges.eo_path_inputs
 changes both or neither (tests/test_render_weather_terms.py).
 
 The request's ``atmosphere_method`` (EO only; ``csuas render`` asks ``auto``) traces the path through Mitsuba's
-participating medium instead where the analytic path is an approximation (:func:`eo_method`,
+participating medium instead where the analytic path is an approximation and the medium the more accurate at the
+requested quality (:func:`eo_method`,
 :mod:`csuas.render.imaging.medium_path`); :func:`eo_estimate` is the cost of the renders before any.
 """
 
