@@ -58,7 +58,7 @@ def test_resonant_dipole_broadside_rcs_and_length(radius):
 
 
 def test_thicker_dipole_resonates_shorter():
-    """A thicker wire's resonance lies further below lambda / 2 (Balanis, Fig. 8.? of input reactance)."""
+    """A thicker wire's resonance lies further below lambda / 2 (Balanis sec. 8.4: the resonant length falls with the radius)."""
     lengths = [
         minimize_scalar(lambda x, r=r: -_broadside_sigma(x, r), bounds=(0.42, 0.5), method="bounded").x
         for r in (1e-3, 5e-3)
@@ -173,3 +173,23 @@ def test_drone_wiring_is_solved_not_traced():
     )
     rows = {r["name"]: r for r in radar_part_list("dji_mini_4_pro")}
     assert rows[wiring[0].name]["surface"] == "thin wire (method of moments)"
+
+
+@pytest.mark.slow
+def test_against_the_efie_of_a_closed_cylinder():
+    """A 6 mm AWG 20 lead (k a 0.20, near half-wave) at 24 GHz broadside: the MoM within its segments' bound plus
+    the EFIE's mesh error of bempp-cl's answer for the closed (capped) cylinder (validation/rcs/fullwave.py)."""
+    from csuas.validation.rcs.fullwave import EfieSettings, cylinder_mesh, monostatic_rcs_efie, richardson
+
+    length, radius = 0.006, 0.000405
+    efie = []
+    for h in (0.0003, 0.0002):
+        mesh = cylinder_mesh(radius, length, h)
+        efie.append(monostatic_rcs_efie(mesh.vertices, mesh.faces, 24.0, 0.0, 0.0, "VV", EfieSettings(solver="lu")))
+    # the two meshes differ by 1.5 in edge length (circumference 9 -> 13 cells, length 20 -> 30)
+    exact, efie_error = richardson(efie[1].sigma_m2[0], efie[0].sigma_m2[0], ratio=1.5)
+    amp, err = wire_field(
+        _dipole(length, radius), np.array([24.0]), (np.array([0.0]), np.array([0.0])), (np.zeros((1, 1)),) * 2
+    )
+    relative = abs(math.sqrt(4.0 * math.pi * abs(amp[0, 0, 0, 0]) ** 2 / exact) - 1.0)
+    assert relative <= err[0, 0, 0, 0] / abs(amp[0, 0, 0, 0]) + efie_error / (2.0 * exact)  # power -> amplitude
