@@ -58,7 +58,7 @@ def test_resonant_dipole_broadside_rcs_and_length(radius):
 
 
 def test_thicker_dipole_resonates_shorter():
-    """A thicker wire's resonance lies further below lambda / 2 (Balanis sec. 8.4: the resonant length falls with the radius)."""
+    """A thicker wire's resonance lies further below lambda / 2 (Balanis sec. 8.4: it falls with the radius)."""
     lengths = [
         minimize_scalar(lambda x, r=r: -_broadside_sigma(x, r), bounds=(0.42, 0.5), method="bounded").x
         for r in (1e-3, 5e-3)
