@@ -223,7 +223,7 @@ def run(args) -> dict:
     if formation is not None:
         offsets = target_frame_offsets_m(formation.offsets_m, args.azimuth_deg, args.elevation_deg)
         engine = get_engine(formation_target(engine.target, offsets))
-    cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
+    cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces, engine.target.wires)
     res, tried = _trace(args, engine)
     bistatic = args.observe_azimuth_deg is not None
     pol = args.polarisation
@@ -396,9 +396,11 @@ def _validate(args) -> None:
     raise_all(errors)
 
 
-def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int) -> dict:
-    """Tubes and time of the whole command, estimated before tracing; refused above ``--max-tubes``."""
+def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int, wires=None) -> dict:
+    """Tubes and time of the whole command (and of its thin wires), estimated before tracing; refused above
+    ``--max-tubes``."""
     from csuas.render.rcs.solver import REPLICAS, estimate_peak_bytes, estimate_seconds, estimate_tubes
+    from csuas.render.rcs.thin_wire import estimate_cost
 
     per_grid = estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
     # the aspect itself on REPLICAS shifted grids (one without an error estimate); the sphere average's first
@@ -414,6 +416,8 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
         "aspects": aspects,
         "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces),
     }
+    wire_seconds, wire_bytes = (0.0, 0.0) if wires is None else estimate_cost(wires, args.frequency_ghz)
+    cost["seconds_2_cpu_cores"] += wire_seconds
     if tubes > args.max_tubes:
         raise ParameterError(
             "max_tubes",
@@ -423,7 +427,9 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
         )
     what = f"{tubes:.3g} tubes over {aspects} aspect(s) at --rays-per-wavelength {rays_per_wavelength:g}"
-    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid)), args, "rcs")
+    if wires is not None:
+        what += f" and {len(wires)} thin wires"
+    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid) + wire_bytes), args, "rcs")
     return cost
 
 
