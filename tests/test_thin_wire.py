@@ -178,7 +178,8 @@ def test_drone_wiring_is_solved_not_traced():
 @pytest.mark.slow
 def test_against_the_efie_of_a_closed_cylinder():
     """A 6 mm AWG 20 lead (k a 0.20, near half-wave) at 24 GHz broadside: the MoM within its segments' bound plus
-    the EFIE's mesh error of bempp-cl's answer for the closed (capped) cylinder (validation/rcs/fullwave.py)."""
+    the EFIE's mesh error of bempp-cl's answer for the closed (capped) cylinder (validation/rcs/fullwave.py);
+    178 s at load 4-5 (numba compilation included)."""
     from csuas.validation.rcs.fullwave import EfieSettings, cylinder_mesh, monostatic_rcs_efie, richardson
 
     length, radius = 0.006, 0.000405
