@@ -223,7 +223,7 @@ def run(args) -> dict:
     if formation is not None:
         offsets = target_frame_offsets_m(formation.offsets_m, args.azimuth_deg, args.elevation_deg)
         engine = get_engine(formation_target(engine.target, offsets))
-    cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces)
+    cost = _cost(args, engine.target.bounding_radius_m, rays_per_wavelength, max_bounces, engine.target.wires)
     res, tried = _trace(args, engine)
     bistatic = args.observe_azimuth_deg is not None
     pol = args.polarisation
@@ -269,11 +269,14 @@ def run(args) -> dict:
         "variant": res.variant,
         "method": "SBR-PO (Ling, Chou & Lee 1989) with per-tube footprint sinc factors (Bhalla & Ling 1995), "
         "exact single reflections of fully lit facets"
-        + (", PTD fringe currents of conducting edges (Michaeli 1984)" if args.edge_diffraction else ""),
+        + (", PTD fringe currents of conducting edges (Michaeli 1984)" if args.edge_diffraction else "")
+        + (", thin wires by the method of moments" if target.wires is not None else ""),
         "edge_diffraction": bool(args.edge_diffraction),
         "replicas": res.replicas,
         "bounces_tried": tried,
     }
+    if target.wires is not None:
+        out["thin_wires"] = _thin_wires(target.wires, res, pol)
     if formation is not None:
         out["swarm"] = _swarm(args, formation, single_engine, res, pol)
     if args.sphere_average:
@@ -284,6 +287,30 @@ def run(args) -> dict:
     out["time_s"] = time.perf_counter() - start
     out["sbr_time_s"] = res.time_s
     return out
+
+
+def _thin_wires(wires, res, pol: str) -> dict:
+    """The target's thin wires alone at the run's aspect: their share of the coherent field (method of moments)."""
+    from csuas.render.rcs.solver import POLARISATIONS
+    from csuas.render.rcs.thin_wire import wire_field
+
+    amplitude, error = wire_field(
+        wires,
+        res.frequency_ghz[:1],
+        (res.azimuth_deg[:1], res.elevation_deg[:1]),
+        (res.observe_azimuth_deg[:1, :1], res.observe_elevation_deg[:1, :1]),
+    )
+    rx, tx = POLARISATIONS[pol]
+    field, bound = amplitude[0, 0, rx, tx], float(error[0, 0, rx, tx])
+    sigma = 4.0 * math.pi * abs(field) ** 2
+    return {
+        "count": len(wires),
+        "rcs_m2": sigma,
+        "rcs_dbsm": _dbsm(sigma),
+        "amplitude_error_relative": bound / abs(field) if field != 0.0 else None,
+        "method": "thin-wire method of moments (Galerkin, triangle functions; Harrington 1968), added coherently "
+        "to the SBR field; no coupling with the body",
+    }
 
 
 def _sphere_average(args, engine) -> dict:
@@ -369,9 +396,11 @@ def _validate(args) -> None:
     raise_all(errors)
 
 
-def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int) -> dict:
-    """Tubes and time of the whole command, estimated before tracing; refused above ``--max-tubes``."""
+def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounces: int, wires=None) -> dict:
+    """Tubes and time of the whole command (and of its thin wires), estimated before tracing; refused above
+    ``--max-tubes``."""
     from csuas.render.rcs.solver import REPLICAS, estimate_peak_bytes, estimate_seconds, estimate_tubes
+    from csuas.render.rcs.thin_wire import estimate_cost
 
     per_grid = estimate_tubes(bounding_radius_m, args.frequency_ghz, rays_per_wavelength)
     # the aspect itself on REPLICAS shifted grids (one without an error estimate); the sphere average's first
@@ -387,6 +416,8 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
         "aspects": aspects,
         "seconds_2_cpu_cores": estimate_seconds(tubes, max_bounces),
     }
+    wire_seconds, wire_bytes = (0.0, 0.0) if wires is None else estimate_cost(wires, args.frequency_ghz)
+    cost["seconds_2_cpu_cores"] += wire_seconds
     if tubes > args.max_tubes:
         raise ParameterError(
             "max_tubes",
@@ -396,7 +427,9 @@ def _cost(args, bounding_radius_m: float, rays_per_wavelength: float, max_bounce
             f"{rays_per_wavelength:g}; raise --max-tubes to run it, or lower the density",
         )
     what = f"{tubes:.3g} tubes over {aspects} aspect(s) at --rays-per-wavelength {rays_per_wavelength:g}"
-    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid)), args, "rcs")
+    if wires is not None:
+        what += f" and {len(wires)} thin wires"
+    check_limits(Estimate(what, cost["seconds_2_cpu_cores"], estimate_peak_bytes(per_grid) + wire_bytes), args, "rcs")
     return cost
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from csuas.base.errors import ParameterError
 
 from .materials import DRONE_SHELL_THICKNESS_M, SHELL_MAX_CONDUCTIVITY_S_M, RadioMaterial, resolve_material
+from .thin_wire import ThinWires, wire_of_cylinder
 
 
 def polarisation_basis(azimuth_deg, elevation_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -63,6 +64,9 @@ class TargetMesh:
         Degenerate (zero-area or non-finite) faces removed on input.
     centre_m : ndarray (3,)
         The bounding-box centre subtracted from the input coordinates [m].
+    wires : ThinWires or None
+        Thin wires solved by the method of moments (:mod:`csuas.render.rcs.thin_wire`) instead of traced,
+        in the same centred frame; a drone preset's ``wiring`` parts.
     """
 
     name: str
@@ -73,6 +77,7 @@ class TargetMesh:
     materials: list = field(default_factory=list)
     dropped_faces: int = 0
     centre_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    wires: ThinWires | None = None
 
     @property
     def bounding_radius_m(self) -> float:
@@ -101,6 +106,7 @@ class TargetMesh:
             [resolve_material(material)],
             self.dropped_faces,
             self.centre_m,
+            self.wires,
         )
 
     def with_shells(self, thickness_m: float | None) -> TargetMesh:
@@ -118,6 +124,7 @@ class TargetMesh:
             mats,
             self.dropped_faces,
             self.centre_m,
+            self.wires,
         )
 
 
@@ -263,6 +270,10 @@ def _from_trimesh(mesh, name: str) -> TargetMesh:
 #: as a spinning rotor's are in time.
 RADAR_PROPELLERS = "blades"
 
+#: Part kinds that are thin wires (k a << 1): solved by the method of moments (:mod:`csuas.render.rcs.thin_wire`),
+#: not traced as facets (physical optics does not hold for them).
+THIN_WIRE_KINDS = ("wiring",)
+
 
 def _from_preset(name: str) -> TargetMesh:
     """A drone preset's radar model: its parts with rotor blades and the parts inside its shell."""
@@ -274,7 +285,8 @@ def _from_preset(name: str) -> TargetMesh:
         raise ParameterError("mesh", name, "an existing mesh file or a drone preset: " + ", ".join(list_presets()))
     drone = build_drone(name, propellers=RADAR_PROPELLERS)
     vertices, faces, face_material, materials, offset = [], [], [], [], 0
-    for part in drone.radar_parts():
+    wires = [wire_of_cylinder(p.mesh.vertices) for p in drone.radar_parts() if p.kind in THIN_WIRE_KINDS]
+    for part in (p for p in drone.radar_parts() if p.kind not in THIN_WIRE_KINDS):
         index = next((i for i, m in enumerate(materials) if m == part.material), None)
         if index is None:
             materials.append(part.material)
@@ -286,6 +298,8 @@ def _from_preset(name: str) -> TargetMesh:
     target = prepare_mesh(
         np.concatenate(vertices), np.concatenate(faces), np.concatenate(face_material), materials, name=name
     )
+    if wires:
+        target.wires = ThinWires.concatenate(wires).shifted(-target.centre_m)
     return target.with_shells(DRONE_SHELL_THICKNESS_M)
 
 
@@ -321,6 +335,8 @@ def radar_part_list(name: str) -> list[dict]:
             sigma = material.conductivity_s_m
             shell = _is_dielectric(material)
             surface = f"dielectric shell {DRONE_SHELL_THICKNESS_M * 1e3:g} mm" if shell else "conductor half-space"
+        if part.kind in THIN_WIRE_KINDS:
+            surface = "thin wire (method of moments)"
         rows.append(
             {
                 "name": part.name,
@@ -343,10 +359,14 @@ def formation_target(target: TargetMesh, offsets_m) -> TargetMesh:
     (a swarm: ``csuas rcs --swarm-*``); re-centred by :func:`prepare_mesh`, materials kept."""
     shifts = np.asarray(offsets_m, float).reshape(-1, 3)
     count = len(target.vertices)
-    return prepare_mesh(
+    together = prepare_mesh(
         np.concatenate([target.vertices + shift for shift in shifts]),
         np.concatenate([target.faces + i * count for i in range(len(shifts))]),
         np.tile(target.face_material, len(shifts)),
         target.materials,
         name=f"{len(shifts)} x {target.name}",
     )
+    if target.wires is not None:
+        copies = ThinWires.concatenate([target.wires.shifted(shift) for shift in shifts])
+        together.wires = copies.shifted(-together.centre_m)
+    return together

@@ -32,6 +32,7 @@ halved when the estimate moved from a half-density rerun to replicas.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,6 +44,7 @@ from csuas.render.quality import RCS
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
 from .model_error import db_from_relative, model_error_db, total_bound_db
+from .thin_wire import wire_field
 
 #: Quality presets from :data:`csuas.render.quality.RCS`: name -> ``{"rays_per_wavelength", "max_bounces"}``.
 QUALITY_PRESETS = RCS.presets(lambda name, **values: values)
@@ -90,13 +92,15 @@ def lower_side_db(relative, db_per_decade: float):
         return np.where(e < 1.0, -db_per_decade * np.log10(1.0 - np.minimum(e, 0.999999)), np.inf)
 
 
-def replica_error_db(amplitudes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def replica_error_db(amplitudes: np.ndarray, known_error=0.0) -> tuple[np.ndarray, np.ndarray]:
     """Mean amplitude and the error bound of its power [dB] (at :data:`BOUND_LEVEL`) from replicas on axis 0.
 
     Parameters
     ----------
     amplitudes : ndarray complex (K, ...)
         Field of each replica, K >= 2.
+    known_error : ndarray (...) or float
+        A bound of the amplitude's error from elsewhere [m] (the thin wires' segments), added to ``c_K SE``.
 
     Returns
     -------
@@ -109,9 +113,9 @@ def replica_error_db(amplitudes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     mean = amplitudes.mean(axis=0)
     spread = np.sqrt(np.sum(np.abs(amplitudes - mean) ** 2, axis=0) / (k - 1))
     with np.errstate(divide="ignore", invalid="ignore"):
-        error = lower_side_db(coverage_factor(k) * spread / np.sqrt(k) / np.abs(mean), 20.0)
+        error = lower_side_db((coverage_factor(k) * spread / np.sqrt(k) + known_error) / np.abs(mean), 20.0)
     # replicas that agree exactly (a field of exactly integrated facets only, or none) carry no grid error
-    error = np.where(spread == 0.0, 0.0, error)
+    error = np.where((spread == 0.0) & (np.asarray(known_error) == 0.0), 0.0, error)
     return mean, np.maximum(error, ERROR_FLOOR_DB)
 
 
@@ -527,9 +531,18 @@ def rcs_of(engine: SbrEngine, aspects: RcsAspects, tracing: RcsTracing) -> RcsRe
     if tracing.edge_diffraction:
         edge = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
         amplitude = amplitude + edge.reshape(shape)
+    wire_error, wire_start = 0.0, time.perf_counter()
+    if engine.target.wires is not None:
+        wire, wire_error = wire_field(
+            engine.target.wires,
+            f_job,
+            (np.tile(az, n_f), np.tile(el, n_f)),
+            (np.tile(oaz, (n_f, 1)), np.tile(oel, (n_f, 1))),
+        )
+        amplitude, wire_error = amplitude + wire.reshape(shape), wire_error.reshape(shape)
     error_db, error_time = None, 0.0
     if replicas > 1:
-        amplitude, error_db = replica_error_db(amplitude)
+        amplitude, error_db = replica_error_db(amplitude, wire_error)
         error_time = main.time_s * (replicas - 1) / replicas
     sigma = 4.0 * math.pi * np.abs(amplitude.reshape(shape)) ** 2
     return RcsResult(
@@ -545,7 +558,7 @@ def rcs_of(engine: SbrEngine, aspects: RcsAspects, tracing: RcsTracing) -> RcsRe
         int(main.tubes.sum()),
         int(main.ray_casts),
         main.exits_by_bounce,
-        main.time_s - error_time,
+        main.time_s - error_time + time.perf_counter() - wire_start,
         error_time,
         engine.target.name,
         [m.name for m in engine.target.materials],
