@@ -8,7 +8,8 @@ the exact faceted physical optics of PEC spheres (ka 3-50) and the NASA almond
 (:mod:`csuas.render.rcs.facet_po`); the EFIE of bempp-cl for the sphere
 (against Mie), plates with and without edge diffraction, a cylinder and a drone
 arm with its motor (:mod:`csuas.validation.rcs.fullwave_checks`, ``--full``
-only: numba compiles bempp-cl's kernels for 35 s); the shipped drone RCS
+only: numba compiles bempp-cl's kernels for 35 s); the bound's edge term on plates against the recorded
+EFIE (:mod:`csuas.validation.rcs.edge_residual_cases`; one re-solved in ``--full``); the shipped drone RCS
 statistics against 3GPP TR 38.901, published 24 GHz measurements and the measured rise of small
 drones' mean RCS from 15 to 25 GHz (judged at the table's 16 and 24 GHz bands).
 Knob: rays per wavelength and bounces (the quality presets of
