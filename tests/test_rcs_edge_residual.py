@@ -62,8 +62,9 @@ def test_bound_carries_the_edge_term_only_with_edge_diffraction():
 
 
 def test_bound_covers_the_efie_on_held_out_plates_in_the_report_check():
-    """Test plates (not the calibration's): 1.5 and 3 wavelengths square, 1 x 1.5, 1 x 2 and 2 x 1.5
-    rectangles, azimuths other than the calibration's, 0-80 deg from the normal; through the report's spec."""
+    """Test plates (not the calibration's): 1.5, 2.5 and 3 wavelengths square, 1 x 1.5, 1 x 2, 2 x 1.5 and
+    1.5 x 2.5 rectangles, azimuths other than the calibration's, 0-80 deg from the normal; through the report's
+    spec. Measured: VV 158/162 (97.5 %), HH 160/162 (98.8 %); without the edge term 40.7 % and 49.4 %."""
     from csuas.validation.report.checks_rcs import EDGE_RESIDUAL, SPECS, edge_residual
 
     assert "rcs.edge_residual" in [spec.name for spec in SPECS]

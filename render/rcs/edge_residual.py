@@ -42,7 +42,8 @@ reference quality, 72 figures. The coefficients are the least (by a linear progr
 the whole bound (discretisation, PO's model term, truncation and this term) covers every
 calibration figure (0.482, 0.336, 0.118), rounded up to 0.01. Hard exceeds soft, as the missing
 double diffraction predicts. Coverage is tested on other plates (side 1.5, 2.5 and 3 wavelengths,
-1 x 2 and 1.5 x 2.5 rectangles, other azimuths; ``tests/test_rcs_edge_residual.py``). The doubly
+1 x 1.5, 1 x 2, 2 x 1.5 and 1.5 x 2.5 rectangles, other azimuths; 162 figures per polarisation):
+VV 97.5 %, HH 98.8 % (40.7 % and 49.4 % without this term; ``tests/test_rcs_edge_residual.py``). The doubly
 diffracted wave decays as ``(k w)^(-1/2)`` with the distance ``w`` across the face (Ross), so on
 faces larger than the calibration's the term is conservative; below one wavelength it is not
 claimed, nor for curved edges, dielectric edges or wedges other than thin plates (not calibrated).
