@@ -88,8 +88,8 @@ def test_shipped_coefficients_cover_every_calibration_figure():
 
 @pytest.mark.slow
 def test_efie_of_a_recorded_plate_is_reproduced():
-    """The side-wavelength plate at normal incidence and 40 deg off it, solved again: about 40 s at load 1-2,
-    most of it numba compiling bempp-cl's kernels (546 s measured at load 13-14 on the 2 shared cores)."""
+    """The side-wavelength plate at normal incidence and 40 deg off it, solved again; most of the time is numba
+    compiling bempp-cl's kernels (measured on the 2 shared cores: 140 s at load 4-5, 546 s at load 13-14)."""
     name = cases.cases("calibration")[0]
     mesh = cases.plate(name)
     az, el = cases.aspects(name)
