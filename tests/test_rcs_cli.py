@@ -172,3 +172,25 @@ def test_truncation_fraction_raises_the_bounce_limit_until_the_corner_is_complet
     assert data["bounces_tried"][-1]["truncated_fraction"] == 0.0 and data["max_bounces"] == 3
     exact = 12 * math.pi * 0.1**4 / (C / 10e9) ** 2
     assert abs(data["rcs_dbsm"] - 10 * math.log10(exact)) <= data["error_db"]
+
+
+def test_edge_diffraction_adds_its_residual_term_to_the_bound(tmp_path, capsys):
+    """A 0.1 m plate at normal incidence: four broadside rim edges (V's H along two, its E along the other
+    two) and four corners give the edge term by hand (render/rcs/edge_residual.py)."""
+    from csuas.render.rcs.edge_residual import C_CORNER, C_HARD, C_SOFT
+
+    path = tmp_path / "plate.ply"
+    canonical.plate(0.1).export(path)
+    argv = ("rcs", str(path), "--frequency-ghz", "10", "--elevation-deg", "90", "--rays-per-wavelength", "10")
+    code, out, _ = run_cli(capsys, *argv, "--edge-diffraction", "--json")
+    assert code == 0
+    data = json.loads(out)
+    k = 2 * math.pi * 10e9 / C
+    residual = (C_HARD + C_SOFT) * 2 * 0.1 / (4 * math.pi) + C_CORNER * 4 / (4 * math.pi * k)
+    e_edge = residual / math.sqrt(data["rcs_m2"] / (4 * math.pi))
+    bound = data["error_bound"]
+    assert bound["edge_residual_db"] == pytest.approx(-20 * math.log10(1 - e_edge), rel=1e-6)
+    e_total = sum(1 - 10 ** (-bound[key] / 20) for key in ("discretisation_db", "model_db", "truncation_db"))
+    assert data["error_db"] == pytest.approx(-20 * math.log10(1 - e_total - e_edge), rel=1e-6)
+    code, out, _ = run_cli(capsys, *argv, "--json")
+    assert json.loads(out)["error_bound"]["edge_residual_db"] is None

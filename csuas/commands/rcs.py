@@ -475,18 +475,27 @@ def _error_bound(discretisation_db, res, polarisation: str, bounding_radius_m: f
 
     model_db = float(res.model_error_db[0])
     truncation_db = float(res.truncation_db(polarisation).ravel()[0])
+    edges = res.edge_residual_db(polarisation)
+    edge_residual_db = 0.0 if edges is None else float(edges.ravel()[0])
     total = None
     if discretisation_db is not None:
-        total = float(total_bound_db(discretisation_db, model_db, truncation_db))
+        total = float(total_bound_db(discretisation_db, model_db, truncation_db, edge_residual_db))
     return {
         "total_db": total if total is not None and math.isfinite(total) else None,
         "discretisation_db": discretisation_db,
         "model_db": model_db if math.isfinite(model_db) else None,
         "truncation_db": truncation_db if math.isfinite(truncation_db) else None,
+        "edge_residual_db": None if edges is None or not math.isfinite(edge_residual_db) else edge_residual_db,
         "model_ka": float(electrical_size(res.frequency_ghz[0], bounding_radius_m)),
         "model": f"physical optics against the exact answer: relative amplitude {PO_MODEL_COEFFICIENT:g}/(k a), "
         "a the bounding radius, calibrated on the Mie series of PEC spheres at ka 2-50; truncation: the tubes "
-        "alive at the bounce limit re-radiating once more at random phase",
+        "alive at the bounce limit re-radiating once more at random phase"
+        + (
+            "; edge residual: the edge waves first-order PTD misses (double diffraction), calibrated on the EFIE "
+            "of PEC plates (csuas.render.rcs.edge_residual)"
+            if edges is not None
+            else ""
+        ),
     }
 
 

@@ -50,6 +50,8 @@ Scope and limitations (documented, not hidden):
   receiver (the Keller-cone form, exact on the Keller cone, approximate off it);
 * first-order diffraction only: no double diffraction (edge to edge across a face), no corner
   diffraction beyond what the truncated edge integral gives, no creeping or travelling waves;
+  what they could add is a term of the RCS bound (:mod:`csuas.render.rcs.edge_residual`,
+  calibrated on the EFIE of plates);
 * only convex wedges (``1 < n <= 2``) and rims of open sheets; concave edges (``n <= 1``, the
   inside of a dihedral) are skipped (their fields are multiply reflected, which SBR handles);
 * only conductors (PEC, ITU metal, conductivity >= 1 S/m): an edge with a dielectric or

@@ -41,6 +41,7 @@ from csuas.base.errors import ParameterError
 from csuas.core.units import wavelength_m
 from csuas.render.quality import RCS
 
+from .edge_residual import residual_relative
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
 from .model_error import db_from_relative, model_error_db, total_bound_db
@@ -165,6 +166,9 @@ class RcsResult:
     truncated_sigma_m2 : ndarray (F, A, 2) or None
         RCS [m^2] the tubes still alive at the bounce limit could add, per transmit polarisation (V, H)
         (:class:`csuas.render.rcs.engine.TraceResult` ``live_sigma_m2``, mean of the replicas).
+    edge_residual_m : ndarray (F, A, M, 2, 2) or None
+        Bound [m] of the edge waves first-order PTD misses (:mod:`csuas.render.rcs.edge_residual`);
+        None without edge diffraction or edges.
     """
 
     sigma_m2: np.ndarray
@@ -187,6 +191,7 @@ class RcsResult:
     replicas: int = 1
     model_error_db: np.ndarray | None = None
     truncated_sigma_m2: np.ndarray | None = None
+    edge_residual_m: np.ndarray | None = None
 
     def rcs_m2(self, polarisation: str = "VV") -> np.ndarray:
         """RCS (F, A, M) [m^2] of one polarisation ("VV", "HH", "HV", "VH")."""
@@ -218,16 +223,30 @@ class RcsResult:
             ratio = np.where(sigma > 0.0, self.truncated_sigma_m2[..., tx][..., None] / sigma, np.inf)
         return db_from_relative(np.sqrt(np.where(self.truncated_sigma_m2[..., tx][..., None] > 0.0, ratio, 0.0)))
 
+    def edge_residual_db(self, polarisation: str = "VV") -> np.ndarray | None:
+        """The edge waves' term (F, A, M) [dB] of the bound (:mod:`csuas.render.rcs.edge_residual`), or None
+        without edge diffraction or edges."""
+        if self.edge_residual_m is None:
+            return None
+        rx, tx = _polarisation(polarisation)
+        return db_from_relative(residual_relative(self.edge_residual_m[..., rx, tx], self.rcs_m2(polarisation)))
+
     def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
-        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and truncation together.
+        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error, truncation and the
+        edge waves PTD misses (with edge diffraction) together.
 
         None without an error estimate or a model term; ``inf`` where a term has no bound.
         """
         disc = self.error_estimate_db(polarisation)
         if disc is None or self.model_error_db is None:
             return None
-        truncation = self.truncation_db(polarisation)
-        return total_bound_db(disc, self.model_error_db[:, None, None], 0.0 if truncation is None else truncation)
+        truncation, edges = self.truncation_db(polarisation), self.edge_residual_db(polarisation)
+        return total_bound_db(
+            disc,
+            self.model_error_db[:, None, None],
+            0.0 if truncation is None else truncation,
+            0.0 if edges is None else edges,
+        )
 
     @property
     def rays_x_bounces_per_s(self) -> float:
@@ -324,14 +343,19 @@ def get_engine(target, material=None, batch_size=None, shell_thickness_m=None) -
     return engine
 
 
-def _edge_amplitude(engine: SbrEngine, az, el, frequency_ghz, observe_az, observe_el) -> np.ndarray:
-    """PTD fringe amplitude (J, M, 2, 2) of the engine's edges, found once per engine [m]."""
+def _edge_amplitude(engine: SbrEngine, az, el, frequency_ghz, observe_az, observe_el):
+    """PTD fringe amplitude (J, M, 2, 2) of the engine's edges [m] and the bound R (J, M, 2, 2) [m] of the
+    waves it misses (:mod:`csuas.render.rcs.edge_residual`)."""
+    from .edge_residual import residual_amplitude
     from .edges import edge_amplitude, edge_visibility
 
     n_f = len(az) // len(observe_az)
     oaz, oel = np.tile(observe_az, (n_f, 1)), np.tile(observe_el, (n_f, 1))
     visible = edge_visibility(engine, engine.edges, az, el, oaz, oel)
-    return edge_amplitude(engine.edges, az, el, frequency_ghz, oaz, oel, visible=visible)
+    return (
+        edge_amplitude(engine.edges, az, el, frequency_ghz, oaz, oel, visible=visible),
+        residual_amplitude(engine.edges, az, el, frequency_ghz, oaz, oel, visible),
+    )
 
 
 def _receivers(az, el, observe_azimuth_deg, observe_elevation_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -528,8 +552,9 @@ def rcs_of(engine: SbrEngine, aspects: RcsAspects, tracing: RcsTracing) -> RcsRe
     main = engine.trace(jobs, tracing.max_bounces, tracing.radiate, tracing.power_cutoff)
     shape = (n_f, n_a, oaz.shape[1], 2, 2)
     amplitude = main.amplitude.reshape((replicas, *shape))
-    if tracing.edge_diffraction:
-        edge = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
+    edge_residual = None
+    if tracing.edge_diffraction and len(engine.edges) > 0:
+        edge, edge_residual = _edge_amplitude(engine, np.tile(az, n_f), np.tile(el, n_f), f_job, oaz, oel)
         amplitude = amplitude + edge.reshape(shape)
     wire_error, wire_start = 0.0, time.perf_counter()
     if engine.target.wires is not None:
@@ -566,4 +591,5 @@ def rcs_of(engine: SbrEngine, aspects: RcsAspects, tracing: RcsTracing) -> RcsRe
         replicas,
         model_error_db(freq, engine.target.bounding_radius_m),
         main.live_sigma_m2.reshape(replicas, n_f, n_a, 2).mean(axis=0),
+        None if edge_residual is None else edge_residual.reshape(shape),
     )

@@ -553,15 +553,17 @@ def _cells(length: float, h: float) -> int:
     return max(1, int(math.ceil(length / h - 1e-9)))
 
 
-def plate_mesh(side_m: float, h_m: float):
-    """Square plate side x side [m] in the xy-plane, centred, normal +z, edges about ``h_m`` [m].
+def plate_mesh(side_m: float, h_m: float, width_m: float | None = None):
+    """Plate side x width [m] (square without ``width_m``; side along x) in the xy-plane, centred, normal +z,
+    edges about ``h_m`` [m].
 
     A single zero-thickness sheet (the EFIE's RWG currents are the sum of both faces'
     currents); normal incidence is elevation 90 deg.
     """
     a = _positive_length("side_m", side_m)
-    n = _cells(a, _positive_length("h_m", h_m))
-    pts, tri = _grid_patch([-a / 2, -a / 2, 0.0], [a, 0, 0], [0, a, 0], n, n)
+    b = a if width_m is None else _positive_length("width_m", width_m)
+    h = _positive_length("h_m", h_m)
+    pts, tri = _grid_patch([-a / 2, -b / 2, 0.0], [a, 0, 0], [0, b, 0], _cells(a, h), _cells(b, h))
     return _trimesh(pts, tri, merge=False)
 
 

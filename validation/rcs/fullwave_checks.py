@@ -222,7 +222,8 @@ def ptd_checks(full: bool = False) -> list[Check]:
     which must be below the same median without it (the tolerance). Measured (2 lambda, 800
     triangles): VV PO 13.2 dB, PO+PTD 3.1 dB; HH PO 8.3 dB, PO+PTD 1.1 dB. VV stays a few dB off:
     the doubly diffracted wave along the plate (H along the edges) is not modelled
-    (:mod:`csuas.render.rcs.edges`).
+    (:mod:`csuas.render.rcs.edges`); the bound's edge term covers it
+    (:mod:`csuas.validation.rcs.edge_residual_cases`).
     """
     from csuas.render.rcs.solver import compute_rcs
 
