@@ -36,6 +36,11 @@ from csuas.core.units import wavelength_m
 #: over ka 2-50 (1.469 by the Mie series), rounded up.
 PO_MODEL_COEFFICIENT = 1.5
 
+#: K of the module docstring: PO's missing fields (edge, tip and creeping waves, resonant currents of
+#: parts) bounded in absolute amplitude by an RCS of K lambda^2, calibrated on the EFIE's cylinders and
+#: arm (``csuas.validation.rcs.model_error.calibrated_floor``).
+PO_FLOOR_COEFFICIENT = 0.1
+
 #: Smallest k a the calibration covers (the Mie population starts at 2); below it the bound is infinite.
 MIN_KA = 2.0
 
@@ -67,6 +72,27 @@ def db_from_relative(relative) -> np.ndarray:
 def model_error_db(frequency_ghz, size_m: float) -> np.ndarray:
     """PO's model error bound [dB] (module docstring) at ``frequency_ghz`` for a target of radius ``size_m``."""
     return db_from_relative(model_relative_error(electrical_size(frequency_ghz, size_m)))
+
+
+def floor_relative_error(frequency_ghz, sigma_m2) -> np.ndarray:
+    """Relative amplitude sqrt(K lambda^2 / sigma) of the fields PO misses (K = :data:`PO_FLOOR_COEFFICIENT`).
+
+    Parameters
+    ----------
+    frequency_ghz : float or array_like
+        Frequency [GHz], broadcast against ``sigma_m2``.
+    sigma_m2 : array_like
+        The computed RCS [m^2]; ``inf`` where it is zero.
+    """
+    lam2 = wavelength_m(np.asarray(frequency_ghz, float)) ** 2
+    sigma = np.asarray(sigma_m2, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(sigma > 0.0, np.sqrt(PO_FLOOR_COEFFICIENT * lam2 / np.where(sigma > 0.0, sigma, 1.0)), np.inf)
+
+
+def floor_error_db(frequency_ghz, sigma_m2) -> np.ndarray:
+    """PO's absolute-amplitude floor as a bound [dB] on a computed RCS ``sigma_m2`` [m^2] (module docstring)."""
+    return db_from_relative(floor_relative_error(frequency_ghz, sigma_m2))
 
 
 def total_bound_db(*terms_db) -> np.ndarray:

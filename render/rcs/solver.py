@@ -42,7 +42,7 @@ from csuas.render.quality import RCS
 
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
-from .model_error import db_from_relative, model_error_db, total_bound_db
+from .model_error import db_from_relative, floor_error_db, model_error_db, total_bound_db
 
 #: Quality presets from :data:`csuas.render.quality.RCS`: name -> ``{"rays_per_wavelength", "max_bounces"}``.
 QUALITY_PRESETS = RCS.presets(lambda name, **values: values)
@@ -215,7 +215,7 @@ class RcsResult:
         return db_from_relative(np.sqrt(np.where(self.truncated_sigma_m2[..., tx][..., None] > 0.0, ratio, 0.0)))
 
     def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
-        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and truncation together.
+        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and floor, and truncation.
 
         None without an error estimate or a model term; ``inf`` where a term has no bound.
         """
@@ -223,7 +223,12 @@ class RcsResult:
         if disc is None or self.model_error_db is None:
             return None
         truncation = self.truncation_db(polarisation)
-        return total_bound_db(disc, self.model_error_db[:, None, None], 0.0 if truncation is None else truncation)
+        floor = self.model_floor_db(polarisation)
+        return total_bound_db(disc, self.model_error_db[:, None, None], floor, 0.0 if truncation is None else truncation)
+
+    def model_floor_db(self, polarisation: str = "VV") -> np.ndarray:
+        """PO's absolute-amplitude floor (F, A, M) [dB] on this result (:func:`model_error.floor_error_db`)."""
+        return floor_error_db(self.frequency_ghz[:, None, None], self.rcs_m2(polarisation))
 
     @property
     def rays_x_bounces_per_s(self) -> float:
