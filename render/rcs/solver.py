@@ -224,7 +224,9 @@ class RcsResult:
             return None
         truncation = self.truncation_db(polarisation)
         floor = self.model_floor_db(polarisation)
-        return total_bound_db(disc, self.model_error_db[:, None, None], floor, 0.0 if truncation is None else truncation)
+        return total_bound_db(
+            disc, self.model_error_db[:, None, None], floor, 0.0 if truncation is None else truncation
+        )
 
     def model_floor_db(self, polarisation: str = "VV") -> np.ndarray:
         """PO's absolute-amplitude floor (F, A, M) [dB] on this result (:func:`model_error.floor_error_db`)."""

@@ -34,7 +34,16 @@ CYLINDER_ASPECTS = tuple((7.0, el) for el in (0.0, 10.0, 20.0, 30.0, 45.0, 60.0,
 #: Aspects (azimuth, elevation) [deg] of the arm with its motor (arm along -x from the motor, motor axis z):
 #: broadside to the arm's side and 20 deg above it, from above, end-on from the motor and from the root,
 #: and three oblique aspects.
-ARM_ASPECTS = ((90.0, 0.0), (90.0, 20.0), (0.0, 90.0), (0.0, 0.0), (180.0, 0.0), (45.0, 30.0), (135.0, 10.0), (270.0, 45.0))
+ARM_ASPECTS = (
+    (90.0, 0.0),
+    (90.0, 20.0),
+    (0.0, 90.0),
+    (0.0, 0.0),
+    (180.0, 0.0),
+    (45.0, 30.0),
+    (135.0, 10.0),
+    (270.0, 45.0),
+)
 
 #: Fine mesh edge of the arm [m]: at most lambda / 10 and at most 4 mm (the arm is 8 mm thick).
 ARM_MAX_EDGE_M = 0.004

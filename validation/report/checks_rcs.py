@@ -476,8 +476,9 @@ def bound_parts(settings) -> Section:
         )
     )
     s.notes.append(
-        f"Test parts: the bound covers {r['coverage_total']:.0%} of {r['entries']} entries ({r['finite_fraction']:.0%} "
-        f"finite, median {r['median_bound_db']:.1f} dB); without PO's floor it covered {r['coverage_without_floor']:.0%}."
+        f"Test parts: the bound covers {r['coverage_total']:.0%} of {r['entries']} entries "
+        f"({r['finite_fraction']:.0%} finite, median {r['median_bound_db']:.1f} dB); without PO's floor it covered "
+        f"{r['coverage_without_floor']:.0%}."
     )
     return s
 
