@@ -58,7 +58,7 @@ PO_MODEL_COEFFICIENT = 1.5
 #: K of the module docstring: PO's missing fields (edge, tip and creeping waves, resonant currents of
 #: parts) bounded in absolute amplitude by an RCS of K lambda^2, calibrated on the EFIE's cylinders and
 #: arm (``csuas.validation.rcs.model_error.calibrated_floor``).
-PO_FLOOR_COEFFICIENT = 0.1
+PO_FLOOR_COEFFICIENT = 0.06
 
 #: Smallest k a the calibration covers (the Mie population starts at 2); below it the bound is infinite.
 MIN_KA = 2.0
