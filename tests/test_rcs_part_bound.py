@@ -4,7 +4,7 @@ References: the dated EFIE records of validation/rcs/part_records.py (bempp-cl, 
 from two meshes; each value carries the extrapolation's correction as its own error), which the slow test
 re-solves. SBR-PO runs live on the EFIE's fine mesh. Population: closed PEC cylinders of radius x length
 0.25 x 2, 0.35 x 1.5 and 0.5 x 1 wavelengths at 10 GHz from broadside to end-on (8 elevations), and the
-arm with its motor at 2.4 and 5.8 GHz from 8 aspects, VV and HH; entries whose reference is uncertain by
+arm with its motor at 2.4, 5.8 and 10 GHz from 8 aspects, VV and HH; entries whose reference is uncertain by
 more than 3 dB (a null the two meshes place apart) judge nothing and are counted. The floor coefficient K is calibrated
 on the cylinder 0.35 x 1.5 and the arm at 5.8 GHz; the other four cases test it.
 """

@@ -13,8 +13,7 @@ truncation) is recorded beside its error against the reference.
 Cases (:data:`PART_CASES`): three closed PEC cylinders at 10 GHz (radius x length 0.25 x 2, 0.5 x 1 and
 0.35 x 1.5 wavelengths, axis z, elevations 0-90 deg: broadside to end-on), and the DJI Mini 4 Pro's front
 arm with its motor (:func:`csuas.validation.rcs.fullwave.arm_motor_mesh`, dimensions of
-``drone_models/presets.py``) at 2.4, 5.8 and 10 GHz from eight aspects (the 10 GHz case was not recorded:
-``csuas.validation.rcs.model_error.PART_CALIBRATION``). The EFIE is a PEC solver: the arm, carbon-fibre
+``drone_models/presets.py``) at 2.4, 5.8 and 10 GHz from eight aspects. The EFIE is a PEC solver: the arm, carbon-fibre
 composite in the drone's RF model (``drone_models/multirotor.py`` and ``materials.py``, isotropic 1e4 S/m:
 skin depth 0.10 mm at 2.4 GHz against its 8 mm thickness, surface resistance 0.97 ohm, a normal-incidence
 reflection loss of 0.05 dB), and the aluminium motor (3.5e7 S/m) are both solved as PEC.
