@@ -400,7 +400,8 @@ def bound_vs_exact(cases: int) -> Section:
 
 
 #: Parts of the bound's coverage (cylinders, the drone's arm with its motor) per report quality: None in the quick
-#: report (a note); --full re-solves the calibration cases' EFIE (about 4 min on 2 shared cores).
+#: report (a note); --full re-solves the calibration cases' EFIE (561 s and 1222 s measured at load 10-14 on the
+#: 2 shared cores, a few minutes on idle ones) and runs SBR-PO on every case (about 3 s).
 BOUND_PARTS = {"quick": None, "full": {"recalibrate": True}}
 
 
