@@ -1,6 +1,6 @@
 """Dated EFIE references of PEC cylinders and the DJI Mini 4 Pro's arm with its motor (2026-11-27).
 
-Written from runs of :func:`csuas.validation.rcs.part_references.efie_reference` (bempp-cl 0.4.2, numba,
+Written from runs of :func:`csuas.validation.rcs.part_references.run_case` (bempp-cl 0.4.2, numba,
 2 shared CPU cores; ``load_average`` the 1-minute load before and after the case). Per case: the
 frequency [GHz], the aspects (azimuth, elevation) [deg], the elements, RWG unknowns and mean edges per
 wavelength of the fine and the coarse mesh, their mean-edge ratio, the fine mesh's EFIE RCS [dBsm],

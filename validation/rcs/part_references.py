@@ -23,7 +23,6 @@ Recorded results: :mod:`csuas.validation.rcs.part_records`.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -159,8 +158,3 @@ def run_case(name: str) -> dict:
         for pol in ("VV", "HH")
     }
     return record
-
-
-def electrical_size(record) -> float:
-    """k a of a record's bounding radius [-]."""
-    return 2.0 * math.pi * record["bounding_radius_m"] / fw.wavelength_m(record["frequency_ghz"])
