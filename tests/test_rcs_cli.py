@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from csuas.cli import main
-from csuas.render.rcs import canonical
+from csuas.render.rcs import canonical, model_error
 
 C = 299_792_458.0
 
@@ -60,7 +60,10 @@ def test_rcs_of_a_mesh_file_json(tmp_path, capsys):
     assert bound["model_ka"] == pytest.approx(ka, rel=1e-6)
     assert bound["model_db"] == pytest.approx(-20 * math.log10(1 - 1.5 / ka), rel=1e-6)
     assert bound["truncation_db"] == 0.0  # one bounce and out: nothing truncated
-    e_total = 1.5 / ka + 1 - 10 ** (-bound["discretisation_db"] / 20)
+    # PO's floor sqrt(K lambda^2 / sigma) on the computed RCS (K = 0.1 of render/rcs/model_error.py)
+    floor = math.sqrt(model_error.PO_FLOOR_COEFFICIENT * (C / 10e9) ** 2 / data["rcs_m2"])
+    assert bound["model_floor_db"] == pytest.approx(-20 * math.log10(1 - floor), rel=1e-6)
+    e_total = 1.5 / ka + floor + 1 - 10 ** (-bound["discretisation_db"] / 20)
     assert data["error_db"] == bound["total_db"] == pytest.approx(-20 * math.log10(1 - e_total), rel=1e-6)
 
 

@@ -471,31 +471,40 @@ def _error_bound(discretisation_db, res, polarisation: str, bounding_radius_m: f
     is too small for the model (k a < 2, no model bound) or the tubes the bounce limit stopped could
     outweigh the result (raise --max-bounces).
     """
-    from csuas.render.rcs.model_error import PO_MODEL_COEFFICIENT, electrical_size, total_bound_db
+    from csuas.render.rcs.model_error import (
+        PO_FLOOR_COEFFICIENT,
+        PO_MODEL_COEFFICIENT,
+        electrical_size,
+        total_bound_db,
+    )
 
     model_db = float(res.model_error_db[0])
+    floor_db = float(res.model_floor_db(polarisation).ravel()[0])
     truncation_db = float(res.truncation_db(polarisation).ravel()[0])
     edges = res.edge_residual_db(polarisation)
     edge_residual_db = 0.0 if edges is None else float(edges.ravel()[0])
     total = None
     if discretisation_db is not None:
-        total = float(total_bound_db(discretisation_db, model_db, truncation_db, edge_residual_db))
+        total = float(total_bound_db(discretisation_db, model_db, floor_db, truncation_db, edge_residual_db))
     return {
         "total_db": total if total is not None and math.isfinite(total) else None,
         "discretisation_db": discretisation_db,
         "model_db": model_db if math.isfinite(model_db) else None,
+        "model_floor_db": floor_db if math.isfinite(floor_db) else None,
         "truncation_db": truncation_db if math.isfinite(truncation_db) else None,
         "edge_residual_db": None if edges is None or not math.isfinite(edge_residual_db) else edge_residual_db,
         "model_ka": float(electrical_size(res.frequency_ghz[0], bounding_radius_m)),
         "model": f"physical optics against the exact answer: relative amplitude {PO_MODEL_COEFFICIENT:g}/(k a), "
-        "a the bounding radius, calibrated on the Mie series of PEC spheres at ka 2-50; truncation: the tubes "
-        "alive at the bounce limit re-radiating once more at random phase"
+        "a the bounding radius, calibrated on the Mie series of PEC spheres at ka 2-50, plus "
+        f"sqrt({PO_FLOOR_COEFFICIENT:g} lambda^2 / sigma), calibrated on the EFIE's cylinders and the drone's arm "
+        "with its motor; truncation: the tubes alive at the bounce limit re-radiating once more at random phase"
         + (
             "; edge residual: the edge waves first-order PTD misses (double diffraction), calibrated on the EFIE "
             "of PEC plates (csuas.render.rcs.edge_residual)"
             if edges is not None
             else ""
         ),
+
     }
 
 

@@ -44,7 +44,7 @@ from csuas.render.quality import RCS
 from .edge_residual import residual_relative
 from .engine import BATCH_SIZE_CPU, DEFAULT_GRID_SHIFT, POWER_CUTOFF, Jobs, SbrEngine
 from .geometry import load_target
-from .model_error import db_from_relative, model_error_db, total_bound_db
+from .model_error import db_from_relative, floor_error_db, model_error_db, total_bound_db
 from .thin_wire import wire_field
 
 #: Quality presets from :data:`csuas.render.quality.RCS`: name -> ``{"rays_per_wavelength", "max_bounces"}``.
@@ -232,8 +232,8 @@ class RcsResult:
         return db_from_relative(residual_relative(self.edge_residual_m[..., rx, tx], self.rcs_m2(polarisation)))
 
     def bound_db(self, polarisation: str = "VV") -> np.ndarray | None:
-        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error, truncation and the
-        edge waves PTD misses (with edge diffraction) together.
+        """Bound (F, A, M) [dB] against the exact answer: discretisation, PO's model error and floor, truncation and
+        the edge waves PTD misses (with edge diffraction) together.
 
         None without an error estimate or a model term; ``inf`` where a term has no bound.
         """
@@ -244,9 +244,14 @@ class RcsResult:
         return total_bound_db(
             disc,
             self.model_error_db[:, None, None],
+            self.model_floor_db(polarisation),
             0.0 if truncation is None else truncation,
             0.0 if edges is None else edges,
         )
+
+    def model_floor_db(self, polarisation: str = "VV") -> np.ndarray:
+        """PO's absolute-amplitude floor (F, A, M) [dB] on this result (:func:`model_error.floor_error_db`)."""
+        return floor_error_db(self.frequency_ghz[:, None, None], self.rcs_m2(polarisation))
 
     @property
     def rays_x_bounces_per_s(self) -> float:
