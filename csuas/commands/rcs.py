@@ -504,7 +504,6 @@ def _error_bound(discretisation_db, res, polarisation: str, bounding_radius_m: f
             if edges is not None
             else ""
         ),
-
     }
 
 
