@@ -193,7 +193,8 @@ def test_edge_diffraction_adds_its_residual_term_to_the_bound(tmp_path, capsys):
     e_edge = residual / math.sqrt(data["rcs_m2"] / (4 * math.pi))
     bound = data["error_bound"]
     assert bound["edge_residual_db"] == pytest.approx(-20 * math.log10(1 - e_edge), rel=1e-6)
-    e_total = sum(1 - 10 ** (-bound[key] / 20) for key in ("discretisation_db", "model_db", "truncation_db"))
+    terms = ("discretisation_db", "model_db", "model_floor_db", "truncation_db")
+    e_total = sum(1 - 10 ** (-bound[key] / 20) for key in terms)
     assert data["error_db"] == pytest.approx(-20 * math.log10(1 - e_total - e_edge), rel=1e-6)
     code, out, _ = run_cli(capsys, *argv, "--json")
     assert json.loads(out)["error_bound"]["edge_residual_db"] is None

@@ -55,7 +55,8 @@ def test_bound_carries_the_edge_term_only_with_edge_diffraction():
     off = compute_rcs(mesh, 10.0, [0.0], [60.0], material="pec", quality="draft")
     assert off.edge_residual_m is None and off.edge_residual_db("VV") is None
     for pol in ("VV", "HH"):
-        terms = (on.error_estimate_db(pol), on.model_error_db[:, None, None], on.truncation_db(pol))
+        terms = (on.error_estimate_db(pol), on.model_error_db[:, None, None], on.model_floor_db(pol))
+        terms += (on.truncation_db(pol),)
         edge = on.edge_residual_db(pol)
         assert edge[0, 0, 0] > 0.0
         np.testing.assert_allclose(on.bound_db(pol), total_bound_db(*terms, edge), rtol=1e-12)
