@@ -133,43 +133,14 @@ def koschmieder_checks(quality, seed: int = 0) -> tuple:
 def thermal_path_checks(quality, seed: int = 0) -> list:
     """Rendered LWIR Delta T of a graybody plate in rain vs Beer-Lambert with the air's path radiance."""
     sc = _scenario({"rain_rate_mm_h": RAIN_RATE_MM_H}, {"tir": {"modality": "tir", "model": "mrtd"}})
-    sigma = float(evaluate(sc)["tir"].term("extinction_db_km").value)
-    scene = scenario_thermal_scene(sc, sc.sensors["tir"])  # rendered without reflected surroundings
-    eps_t, t_t = THERMAL_PLATE
-    checks = []
-    for r in RAIN_RANGES_M:
-        res = render_tir(
-            plate(emissivity=eps_t, temperature_k=t_t),
-            View(r),
-            sensor=ThermalSensor(band="lwir"),
-            scene=scene,
-            atmosphere=True,
-            settings=RenderSettings(quality=quality, seed=seed),
-        )
-        tau = 10.0 ** (-sigma * r / 1e4)
-        air = (1.0 - tau) * band_radiance(scene.air_temperature_k, "lwir")
-        target = radiance_temperature(tau * eps_t * band_radiance(t_t, "lwir") + air, "lwir")
-        background = radiance_temperature(tau * scene.emissivity_bg * band_radiance(scene.t_bg_k, "lwir") + air, "lwir")
-        se = res.stderr["delta_t_k"]
-        checks.append(
-            Check(
-                f"imaging.weather.thermal_beer_lambert.{r:g}m",
-                float(target - background),
-                res.values["delta_t_k"],
-                N_SIGMA * se + FLOAT32_K,
-                "K",
-                error_estimate=se,
-                time_s=res.time_s,
-                source=f"Beer-Lambert with path radiance, tau = 10^(-a R/10), a = {sigma:.4g} dB/km (csuas range: "
-                f"Table 27 + Marshall-Palmer rain {RAIN_RATE_MM_H:g} mm/h), air at {scene.air_temperature_k:g} K",
-                tolerance_source=f"{N_SIGMA:g} Monte Carlo standard errors (0 on a uniform plate) + {FLOAT32_K:g} K "
-                "for the render's float32 radiances (measured 8e-7 K)",
-                method=f"Mitsuba LWIR render of a 1 m graybody plate (eps {eps_t:g}, {t_t:g} K) against the Table 27 "
-                f"background, the scenario's path, {res.quality.name} quality",
-                details={"transmittance": tau},
-            )
-        )
-    return checks
+    return _thermal_plate_checks(
+        sc,
+        RAIN_RANGES_M,
+        "thermal_beer_lambert",
+        f"Table 27 + Marshall-Palmer rain {RAIN_RATE_MM_H:g} mm/h",
+        "the scenario's path",
+        RenderSettings(quality=quality, seed=seed),
+    )
 
 
 #: The fog of the thermal checks (visibility [m]) and the ranges rendered in it [m].
@@ -179,19 +150,33 @@ THERMAL_FOG_M, THERMAL_FOG_RANGES_M = 400.0, (100.0, 200.0)
 def thermal_fog_checks(quality, seed: int = 0) -> list:
     """Rendered LWIR Delta T of a graybody plate in fog vs Beer-Lambert with the air's path radiance."""
     sc = _scenario({"fog_visibility_m": THERMAL_FOG_M}, {"tir": {"modality": "tir", "model": "mrtd"}})
-    terms = {t.name: float(np.asarray(t.value)) for t in evaluate(sc)["tir"].terms}
-    sigma = terms["extinction_db_km"]
-    scene = scenario_thermal_scene(sc, sc.sensors["tir"])
+    fog_db_km = float(np.asarray(evaluate(sc)["tir"].term("fog_extinction_db_km").value))
+    return _thermal_plate_checks(
+        sc,
+        THERMAL_FOG_RANGES_M,
+        "thermal_fog",
+        f"Table 27 + fog {fog_db_km:.4g} dB/km, LOWTRAN 7 advection fog of Shettle & Fenn 1979 at "
+        f"V = {THERMAL_FOG_M:g} m",
+        "the scenario's fog",
+        RenderSettings(quality=quality, seed=seed),
+    )
+
+
+def _thermal_plate_checks(sc, ranges_m, kind: str, extinction_source: str, path: str, settings) -> list:
+    """A graybody plate's rendered LWIR Delta T at each range through the scenario's thermal path against
+    Beer-Lambert with the air's path radiance, tau = 10^(-a R/10) with the a ``csuas range`` applies."""
+    sigma = float(np.asarray(evaluate(sc)["tir"].term("extinction_db_km").value))
+    scene = scenario_thermal_scene(sc, sc.sensors["tir"])  # rendered without reflected surroundings
     eps_t, t_t = THERMAL_PLATE
     checks = []
-    for r in THERMAL_FOG_RANGES_M:
+    for r in ranges_m:
         res = render_tir(
             plate(emissivity=eps_t, temperature_k=t_t),
             View(r),
             sensor=ThermalSensor(band="lwir"),
             scene=scene,
             atmosphere=True,
-            settings=RenderSettings(quality=quality, seed=seed),
+            settings=settings,
         )
         tau = 10.0 ** (-sigma * r / 1e4)
         air = (1.0 - tau) * band_radiance(scene.air_temperature_k, "lwir")
@@ -200,7 +185,7 @@ def thermal_fog_checks(quality, seed: int = 0) -> list:
         se = res.stderr["delta_t_k"]
         checks.append(
             Check(
-                f"imaging.weather.thermal_fog.{r:g}m",
+                f"imaging.weather.{kind}.{r:g}m",
                 float(target - background),
                 res.values["delta_t_k"],
                 N_SIGMA * se + FLOAT32_K,
@@ -208,12 +193,11 @@ def thermal_fog_checks(quality, seed: int = 0) -> list:
                 error_estimate=se,
                 time_s=res.time_s,
                 source=f"Beer-Lambert with path radiance, tau = 10^(-a R/10), a = {sigma:.4g} dB/km (csuas range: "
-                f"Table 27 + fog {terms['fog_extinction_db_km']:.4g} dB/km, LOWTRAN 7 advection fog of Shettle & "
-                f"Fenn 1979 at V = {THERMAL_FOG_M:g} m), air at {scene.air_temperature_k:g} K",
+                f"{extinction_source}), air at {scene.air_temperature_k:g} K",
                 tolerance_source=f"{N_SIGMA:g} Monte Carlo standard errors (0 on a uniform plate) + {FLOAT32_K:g} K "
-                "for the render's float32 radiances",
+                "for the render's float32 radiances (measured 8e-7 K)",
                 method=f"Mitsuba LWIR render of a 1 m graybody plate (eps {eps_t:g}, {t_t:g} K) against the Table 27 "
-                f"background in the scenario's fog, {res.quality.name} quality",
+                f"background, {path}, {res.quality.name} quality",
                 details={"transmittance": tau},
             )
         )
