@@ -174,6 +174,19 @@ def slab(root: tuple, tip: tuple, thickness: float) -> trimesh.Trimesh:
     return trimesh.convex.convex_hull(np.array(points))
 
 
+def motor_and_pusher(params, mat: dict, motor_front: float, axis_z: float, propellers: str) -> list[Part]:
+    """The motor (a cylinder on the x axis from ``motor_front`` [m] rearward) and, unless ``propellers`` is
+    ``"none"``, the pusher propeller behind it, turning about :data:`PUSHER_AXIS`."""
+    motor_rear = motor_front - params.motor_length_m
+    motor = P.cylinder_between((motor_front, 0.0, axis_z), (motor_rear, 0.0, axis_z), params.motor_diameter_m / 2.0, 24)
+    parts = [Part("motor", "motor", motor, mat["motor"])]
+    if propellers != "none":
+        hub = np.array([motor_rear - params.propeller_thickness_m / 2.0, 0.0, axis_z])
+        propeller = pusher_propeller(hub, params, propellers)
+        parts.append(Part("propeller", "pusher_propeller", propeller, mat["pusher_propeller"], spin_axis=PUSHER_AXIS))
+    return parts
+
+
 def pusher_propeller(centre: np.ndarray, params: FixedWingParams, style: str) -> trimesh.Trimesh:
     """The pusher's swept disc (axis x) or its blades turned into the y-z plane (phase from +y toward +z)."""
     if style == "disc":
@@ -276,20 +289,7 @@ def build_fixed_wing(
     )
     parts.append(Part("stabiliser", "tail", stabiliser, mat["tail"]))
     motor_front = -params.fuselage_length_m + MOTOR_INSET_M  # mounted on the fuselage's tail
-    motor_rear = motor_front - params.motor_length_m
-    motor = P.cylinder_between((motor_front, 0.0, axis_z), (motor_rear, 0.0, axis_z), params.motor_diameter_m / 2.0, 24)
-    parts.append(Part("motor", "motor", motor, mat["motor"]))
-    if propellers != "none":
-        hub = np.array([motor_rear - params.propeller_thickness_m / 2.0, 0.0, axis_z])
-        parts.append(
-            Part(
-                "propeller",
-                "pusher_propeller",
-                pusher_propeller(hub, params, propellers),
-                mat["pusher_propeller"],
-                spin_axis=PUSHER_AXIS,
-            )
-        )
+    parts += motor_and_pusher(params, mat, motor_front, axis_z, propellers)
     if params.camera_extents_m is not None:
         cam = np.asarray(params.camera_extents_m, dtype=float)
         centre = (-0.2 * params.fuselage_length_m, 0.0, axis_z - fus_d / 2.0 + cam[2] / 4.0)

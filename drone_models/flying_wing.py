@@ -34,8 +34,7 @@ from csuas.drone_models.drone import Drone, Part
 from csuas.drone_models.fixed_wing import (
     DEFAULT_FIXED_WING_MATERIALS,
     MOTOR_INSET_M,
-    PUSHER_AXIS,
-    pusher_propeller,
+    motor_and_pusher,
     slab,
     wing_panel,
 )
@@ -156,18 +155,5 @@ def build_flying_wing(
         top = (tip_front - params.winglet_root_chord_m + params.winglet_tip_chord_m, root[1], y, params.height_m)
         parts.append(Part(f"winglet_{label}", "tail", slab(root, top, params.winglet_thickness_m), mat["tail"]))
     motor_front = trailing_edge_x(params) + MOTOR_INSET_M
-    motor_rear = motor_front - params.motor_length_m
-    motor = P.cylinder_between((motor_front, 0.0, axis_z), (motor_rear, 0.0, axis_z), params.motor_diameter_m / 2.0, 24)
-    parts.append(Part("motor", "motor", motor, mat["motor"]))
-    if propellers != "none":
-        hub = np.array([motor_rear - params.propeller_thickness_m / 2.0, 0.0, axis_z])
-        parts.append(
-            Part(
-                "propeller",
-                "pusher_propeller",
-                pusher_propeller(hub, params, propellers),
-                mat["pusher_propeller"],
-                spin_axis=PUSHER_AXIS,
-            )
-        )
+    parts += motor_and_pusher(params, mat, motor_front, axis_z, propellers)
     return Drone(name=name, mass_kg=float(mass_kg), parts=parts, spec=dict(spec or {}), propellers=propellers).centred()
