@@ -330,7 +330,8 @@ FOG_EXTINCTION_RATIO = {
 }
 #: The source of :func:`fog_infrared_extinction_per_km`, for the terms of range and render.
 FOG_INFRARED_SOURCE = (
-    "advection fog of Shettle & Fenn 1979 (LOWTRAN 7 FG1EXT), band mean of its ratio to 0.55 um, times 3.912 / V_fog"
+    "fog of Shettle & Fenn 1979 (LOWTRAN 7 FG1EXT advection / FG2EXT radiation fog, environment.fog_type), band mean "
+    "of its ratio to 0.55 um, times 3.912 / V_fog"
 )
 
 

@@ -216,13 +216,14 @@ def thermal_fog(sc: Scenario, s: SensorSpec, convention: str) -> tuple:
 
     Physical convention only, and only where the scenario declares a fog visibility (``fog_visibility_m``, as the
     EO path; a liquid water content alone is the radio bands' fog): 10 log10(e) times
-    :func:`csuas.core.atmosphere.fog_infrared_extinction_per_km` in the sensor's band. The layer is
+    :func:`csuas.core.atmosphere.fog_infrared_extinction_per_km` in the sensor's band, for the scenario's
+    ``environment.fog_type`` (advection or radiation fog). The layer is
     :func:`_fog_layer`'s (L_fog / R, clear visibility), or None where the fog fills the path.
     """
     fog_v = sc.environment.get("fog_visibility_m")
     if check_convention(convention) == "paper" or fog_v is None:
         return 0.0, None
-    full = DB_PER_NEPER * fog_infrared_extinction_per_km(fog_v / 1000.0, s.params["band"])
+    full = DB_PER_NEPER * fog_infrared_extinction_per_km(fog_v / 1000.0, s.params["band"], sc.environment["fog_type"])
     return full, _fog_layer(sc, s)
 
 

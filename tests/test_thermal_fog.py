@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from csuas.base.errors import ParameterError
+from csuas.base.errors import ParameterError, ScenarioError
 from csuas.core import tir
 from csuas.core.atmosphere import fog_extinction_ratio, fog_infrared_extinction_per_km
 from csuas.core.ranges import evaluate, thermal_fog, thermal_fog_db_km
@@ -94,6 +94,19 @@ def test_fog_presets_add_the_fog_term_in_the_physical_convention_only(preset, vi
     for name in SENSORS:
         assert not {t.name for t in paper[name].terms} & {"fog_extinction_db_km", "fog_path_fraction"}
         assert float(paper[name].range_m) == float(clear[name].range_m)  # Table 27 as printed
+
+
+def test_fog_type_picks_the_radiation_fogs_table_and_a_bad_one_is_refused_by_key():
+    advection = evaluate(_scenario({"preset": "fog_moderate"}))
+    radiation = evaluate(_scenario({"preset": "fog_moderate", "fog_type": "radiation"}))
+    fog_db_km = DB_PER_NEPER * KOSCHMIEDER / 0.4 * band_ratio(FG2EXT, 8.0, 12.0)  # 0.300 of 3.912/V, in dB
+    for name in SENSORS:
+        terms = {t.name: float(t.value) for t in radiation[name].terms}
+        assert terms["fog_extinction_db_km"] == pytest.approx(fog_db_km, rel=1e-9)
+        assert float(radiation[name].range_m) >= float(advection[name].range_m)  # smaller drops: clearer LWIR
+    assert float(radiation["netd"].range_m) > 2.0 * float(advection["netd"].range_m)  # 914 against 376 m
+    with pytest.raises(ScenarioError, match="environment.fog_type"):
+        _scenario({"preset": "fog_moderate", "fog_type": "steam"})
 
 
 def test_netd_range_in_fog_solves_the_attenuated_snr():
