@@ -45,7 +45,7 @@ class RenderRequest:
         The convention of the path (as ``csuas range --convention``); None: the scenario's.
     atmosphere_method : {"analytic", "medium", "auto"}
         EO only: the analytic path, Mitsuba's participating medium, or the medium where the analytic path is an
-        approximation (:func:`csuas.render.imaging.medium_path.choose_method`); ``csuas render`` asks ``auto``.
+        approximation (:func:`csuas.render.imaging.medium_choice.choose_method`); ``csuas render`` asks ``auto``.
     """
 
     ranges_m: object

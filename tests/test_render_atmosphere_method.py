@@ -1,5 +1,5 @@
 """``csuas render eo --atmosphere-method``: Mitsuba's participating medium instead of the analytic path
-(render/imaging/medium_path.py) where the analytic path is an approximation."""
+(render/imaging/medium_choice.py, render/imaging/medium_path.py) where the analytic path is an approximation."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from scipy import integrate
 
 from csuas import cli
 from csuas.base.errors import ParameterError
-from csuas.render.imaging.medium_path import (
+from csuas.render.imaging.medium_choice import (
     BLUR_SHARE_LIMIT,
     NOISE_BACKGROUND,
     NOISE_TARGET,
@@ -27,10 +27,10 @@ from csuas.render.imaging.medium_path import (
     footprint,
     medium_samples,
     medium_stderr,
-    render_eo_medium,
     single_scatter_source,
     sun_ratio,
 )
+from csuas.render.imaging.medium_path import render_eo_medium
 from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.targets import plate

@@ -21,7 +21,7 @@ changes both or neither (tests/test_render_weather_terms.py).
 
 The request's ``atmosphere_method`` (EO only; ``csuas render`` asks ``auto``) traces the path through Mitsuba's
 participating medium instead where the analytic path is an approximation and the medium the more accurate at the
-requested quality (:func:`eo_method`,
+requested quality (:func:`eo_method`, :mod:`csuas.render.imaging.medium_choice`,
 :mod:`csuas.render.imaging.medium_path`); :func:`eo_estimate` is the cost of the renders before any.
 """
 
@@ -188,10 +188,10 @@ WEATHER = frozenset({"fog", "fog_layer", "rain", "haze"})
 
 
 def eo_method(scenario, spec, request: RenderRequest, view: View, light: Daylight, atmosphere: bool):
-    """The path of one EO render: :func:`csuas.render.imaging.medium_path.choose_method` on the request's
+    """The path of one EO render: :func:`csuas.render.imaging.medium_choice.choose_method` on the request's
     ``atmosphere_method`` (``analytic`` where the request has none), target and quality (``auto`` compares the
     two paths' errors at that quality)."""
-    from csuas.render.imaging.medium_path import choose_method
+    from csuas.render.imaging.medium_choice import choose_method
 
     air = light if atmosphere else replace(light, visibility_km=None)
     camera = EoSensor.from_params(spec.params)
@@ -232,8 +232,8 @@ def eo_scenario(scenario, request: RenderRequest) -> list:
 def eo_estimate(scenario, request: RenderRequest):
     """Time and peak memory of :func:`eo_scenario` (a :class:`csuas.base.cost.Estimate`), before any render:
     the analytic windows, and the medium's traces where :func:`eo_method` chooses it
-    (:func:`csuas.render.imaging.medium_path.medium_estimate`)."""
-    from csuas.render.imaging.medium_path import render_estimate
+    (:func:`csuas.render.imaging.medium_choice.render_estimate`)."""
+    from csuas.render.imaging.medium_choice import render_estimate
 
     spec = _sensor(scenario, "eo", request.sensor)
     light = scenario_daylight(scenario, spec, request.convention)

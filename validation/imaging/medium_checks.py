@@ -9,7 +9,7 @@ medium's Monte Carlo error. Where the analytic path is an approximation the repo
 * forward scattering (fog droplets, Henyey-Greenstein g 0.85) in the same uniform fog and light: the light
   that reaches the drone's pixels from near the line of sight is the drone's own (dark) radiance scattered
   forward, which Koschmieder's law takes as the undisturbed sky; at large optical depth (``--full``) the
-  forward-scattered share of :func:`csuas.render.imaging.medium_path.blur_share` passes 1 % of the direct;
+  forward-scattered share of :func:`csuas.render.imaging.medium_choice.blur_share` passes 1 % of the direct;
 * a slant path across a fog layer's top under the scenario's sun, sky and ground: the fog's source function
   follows the sun scattered in it and the ground behind the drone, not the horizon sky, and changes along the
   path.
@@ -25,7 +25,8 @@ from dataclasses import replace
 
 from csuas.base.checks import Check
 from csuas.core.atmosphere import extinction_per_km, fog_path_fraction
-from csuas.render.imaging.medium_path import FOG_ASYMMETRY_G, FogMedium, MethodChoice, blur_share, render_eo_medium
+from csuas.render.imaging.medium_choice import FOG_ASYMMETRY_G, FogMedium, MethodChoice, blur_share
+from csuas.render.imaging.medium_path import render_eo_medium
 from csuas.render.imaging.quality import Quality
 from csuas.render.imaging.records import Daylight, EoSensor, RenderSettings, View
 from csuas.render.imaging.targets import plate
@@ -102,7 +103,7 @@ def uniform_checks(size: str, seed: int = 0) -> list:
                 limitation="Koschmieder's law takes the light scattered onto the line of sight as the undisturbed "
                 f"sky; with forward scattering (g {FOG_ASYMMETRY_G:g}) a share of it is the drone's own radiance "
                 f"scattered forward near it ({blur_share(beta * r / 1000.0, IFOV):.2g} of the direct on its pixels, "
-                "csuas.render.imaging.medium_path.blur_share), which the medium traces",
+                "csuas.render.imaging.medium_choice.blur_share), which the medium traces",
             )
         )
     return checks
@@ -121,7 +122,7 @@ def thick_fog_check(seed: int = 0) -> Check:
         FogMedium(beta),
         MEDIUM_QUALITY["full"],
         limitation=f"optical depth {beta * r / 1000.0:.3g}: forward-scattered light on the drone's pixels "
-        f"{share:.3g} of the direct (csuas.render.imaging.medium_path.blur_share); Koschmieder omits it",
+        f"{share:.3g} of the direct (csuas.render.imaging.medium_choice.blur_share); Koschmieder omits it",
     )
 
 
