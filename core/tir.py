@@ -86,8 +86,10 @@ def attenuated_delta_t(
     return radiance_temperature(tau * l_target + l_path, band) - radiance_temperature(tau * l_bg + l_path, band)
 
 
-#: Source of the path attenuation term of the MRTD and NETD models (and of the thermal render's path).
-EXTINCTION_SOURCE = "Eq. 31 (Table 27)"
+#: Source of the path attenuation term ``extinction_db_km`` of the MRTD and NETD models (and of the thermal render's
+#: path): Table 27's band attenuation, plus under the physical convention the rain and fog, each also listed
+#: beside it as its own term (:func:`rain_terms`, :func:`fog_terms`).
+EXTINCTION_SOURCE = "Eq. 31 (Table 27; with the rain and fog terms listed beside it, physical convention)"
 
 
 def path_terms(extinction_db_km, rain_db_km=0.0, fog_db_km=0.0, fog_fraction=None) -> list:
