@@ -19,10 +19,32 @@ import time
 
 import numpy as np
 
+from csuas.base.checks import Check
 from csuas.core.units import frequency_ghz as frequency_ghz_of
 from csuas.render.rcs.model_error import relative_from_db, total_bound_db
 
 from .fullwave_checks import mie_pec_over_pia2
+
+#: Share of a stated population whose bound against the exact answer must cover the error (issue's claim).
+BOUND_COVERAGE = 0.95
+
+
+def coverage_check(name: str, covered: float, time_s: float, source: str, method: str, details: dict) -> Check:
+    """The report's check of a bound's coverage: the fraction ``covered`` [-] of a population (``source``) whose
+    bound covers the exact answer, against :data:`BOUND_COVERAGE`."""
+    return Check(
+        name,
+        1.0,
+        covered,
+        1.0 - BOUND_COVERAGE,
+        "fraction",
+        time_s=time_s,
+        source=source,
+        method=method,
+        tolerance_source=f"the claimed coverage, {BOUND_COVERAGE:.0%}",
+        details=details,
+    )
+
 
 #: EFIE minus PO [dB] of square PEC plates at normal incidence, by side [wavelengths]
 #: (bempp-cl EFIE, 10 edges per wavelength; validation/rcs/fullwave_checks.py module docstring).

@@ -346,8 +346,6 @@ def _trend_16_to_24(preset: str, rows) -> Check:
 
 #: Spheres of the bound's coverage check per report quality (random ka in 2-50, one aspect each).
 BOUND_SPHERES = {"quick": 16, "full": 96}
-#: Coverage the bound against the exact answer claims.
-BOUND_COVERAGE = 0.95
 
 
 def bound_vs_exact(cases: int) -> Section:
@@ -357,7 +355,7 @@ def bound_vs_exact(cases: int) -> Section:
     discretisation and PO's model error) and one for the coverage of the population, beside the
     coverage of the discretisation bound alone.
     """
-    from csuas.validation.rcs.model_error import sphere_coverage
+    from csuas.validation.rcs.model_error import coverage_check, sphere_coverage
 
     s = Section()
     r = sphere_coverage(cases=cases, seed=26)
@@ -385,17 +383,13 @@ def bound_vs_exact(cases: int) -> Section:
             )
         )
     s.outcomes.append(
-        Check(
+        coverage_check(
             "rcs.bound.sphere_coverage",
-            1.0,
             r["coverage_total"],
-            1.0 - BOUND_COVERAGE,
-            "fraction",
-            time_s=r["time_s"],
-            source=f"Mie series; {n} entries (ka log-uniform in 2-50, random aspects, VV and HH)",
-            method="fraction of entries whose bound against the exact answer covers the error",
-            tolerance_source=f"the claimed coverage, {BOUND_COVERAGE:.0%}",
-            details={"coverage_discretisation_only": r["coverage_discretisation"]},
+            r["time_s"],
+            f"Mie series; {n} entries (ka log-uniform in 2-50, random aspects, VV and HH)",
+            "fraction of entries whose bound against the exact answer covers the error",
+            {"coverage_discretisation_only": r["coverage_discretisation"]},
         )
     )
     s.notes.append(
@@ -485,17 +479,13 @@ def bound_parts(settings) -> Section:
     s.outcomes += _part_entry_checks(test)
     r = me.part_coverage(test)
     s.outcomes.append(
-        Check(
+        me.coverage_check(
             "rcs.bound_parts.coverage",
-            1.0,
             r["coverage_total"],
-            1.0 - BOUND_COVERAGE,
-            "fraction",
-            time_s=test["time_s"],
-            source=f"EFIE references of {', '.join(me.PART_TEST)} ({r['entries']} entries)",
-            method="fraction of entries whose bound against the exact answer covers SBR-PO's error",
-            tolerance_source=f"the claimed coverage, {BOUND_COVERAGE:.0%}",
-            details={k: v for k, v in r.items() if k != "entries"},
+            test["time_s"],
+            f"EFIE references of {', '.join(me.PART_TEST)} ({r['entries']} entries)",
+            "fraction of entries whose bound against the exact answer covers SBR-PO's error",
+            {k: v for k, v in r.items() if k != "entries"},
         )
     )
     s.notes.append(
@@ -508,6 +498,8 @@ def bound_parts(settings) -> Section:
 
 def _part_entry_checks(entries) -> list[Check]:
     """One check per judged entry with a finite bound: SBR-PO against the EFIE reference within the figure's bound."""
+    from csuas.validation.rcs.model_error import BOUND_COVERAGE
+
     checks = []
     n = len(entries["error_db"])
     for i in np.flatnonzero(np.isfinite(entries["bound_db"]) & entries["judged"]):
