@@ -27,7 +27,6 @@ requested quality (:func:`eo_method`, :mod:`csuas.render.imaging.medium_choice`,
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from pathlib import Path
 
@@ -39,6 +38,7 @@ from csuas.core.ranges import (
     thermal_fog,
     thermal_path,
 )
+from csuas.render.imaging.path import fog_top_above_target_m
 from csuas.render.imaging.records import (
     Daylight,
     EoSensor,
@@ -172,15 +172,6 @@ def _swarm_row(row: dict, members, view: View, res, spec) -> None:
         from csuas.render.imaging.swarm import swarm_summary
 
         row["swarm"] = swarm_summary(members, view, res, int(spec.params["n_h"]), int(spec.params["n_v"]))
-
-
-def fog_top_above_target_m(layer, view: View) -> float | None:
-    """A fog layer's top above the drone [m] on a render's own path: ``top_m`` less the sensor's height and the
-    R sin(-elevation) the drone stands above it (:func:`csuas.render.imaging.path.fog_layer_at` places them
-    alike); None without a layer (or with one given as its share alone)."""
-    if not isinstance(layer, FogLayer):
-        return None
-    return layer.top_m - layer.sensor_height_m - view.range_m * -math.sin(math.radians(view.elevation_deg))
 
 
 #: Conditions of a scenario that make a path worth a medium (:attr:`csuas.core.scenario.Scenario.effects`).

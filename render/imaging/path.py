@@ -156,9 +156,20 @@ def fog_layer_at(layer, view: View) -> tuple | None:
     """
     if not isinstance(layer, FogLayer):
         return layer
-    return float(
-        layer_share(layer, view.range_m, -math.sin(math.radians(view.elevation_deg)))
-    ), layer.clear_visibility_km
+    return float(layer_share(layer, view.range_m, _upward(view))), layer.clear_visibility_km
+
+
+def fog_top_above_target_m(layer, view: View) -> float | None:
+    """A fog layer's top above the drone [m] on a render's own path (placed as :func:`fog_layer_at` places it);
+    None without a layer, or with one given as its share alone."""
+    if not isinstance(layer, FogLayer):
+        return None
+    return layer.top_m - layer.sensor_height_m - view.range_m * _upward(view)
+
+
+def _upward(view: View) -> float:
+    """Upward component of the direction sensor -> target of a render's ``view`` (target -> sensor) [-]."""
+    return -math.sin(math.radians(view.elevation_deg))
 
 
 def layer_share(layer: FogLayer, range_m, up):
